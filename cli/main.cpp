@@ -1,1 +1,13 @@
-int main() { return 0; }
+#include <exception>
+#include <iostream>
+
+#include "cli/commands.h"
+
+int main(int argc, char** argv) {
+  try {
+    return flexure::cli::runFlexure(std::vector<std::string>(argv, argv + argc));
+  } catch (const std::exception& e) {
+    std::cerr << "flexure: internal error: " << e.what() << "\nplease report this as a bug\n";
+    return 1;
+  }
+}

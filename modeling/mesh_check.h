@@ -1,6 +1,7 @@
 // Mesh checks: everything flexure requires of an input triangle mesh, reported per element.
 //
-// A Mesh is usable when checkMesh() finds no problem: at least one face, finite coordinates,
+// A Mesh is usable when checkMesh() finds no problem: at least one face, vertex indices in range,
+// finite coordinates,
 // no face repeating a vertex, no zero-area face, no unreferenced vertex, no duplicate face, no edge
 // shared by more than two faces, consistent orientation (each interior edge traversed once in
 // each direction) and no vertex whose faces form more than one fan.
@@ -16,6 +17,7 @@ namespace flexure::modeling {
 
 enum class MeshProblemKind {
   Empty,
+  VertexIndexOutOfRange,
   NonFiniteCoordinate,
   RepeatedVertexInFace,
   ZeroAreaFace,

@@ -1,0 +1,24 @@
+// The flexure subcommands. Each registers itself on the app with its options and a callback that
+// runs it; the callbacks throw InputError (exit 2) or NumericalError (exit 3) on failure.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace flexure::cli {
+
+struct GlobalOptions {
+  bool quiet = false;  // no progress or notices on stderr
+};
+
+void registerMeshCommand(CLI::App& app, const GlobalOptions& global);
+void registerInfoCommand(CLI::App& app, const GlobalOptions& global);
+void registerDemoCommand(CLI::App& app, const GlobalOptions& global);
+void registerRunCommand(CLI::App& app, const GlobalOptions& global);
+
+// Parses `args` (args[0] is the program name) and runs the chosen subcommand; returns the exit
+// code: 0 success, 2 bad input or usage, 3 numerical failure. `flexure run` re-enters here.
+int runFlexure(const std::vector<std::string>& args);
+
+}  // namespace flexure::cli
