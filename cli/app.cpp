@@ -14,11 +14,13 @@ int runFlexure(const std::vector<std::string>& args) {
   app.require_subcommand(1);
   GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "No progress or notices on stderr");
-  app.footer("Exit codes: 0 success, 2 bad input or usage, 3 numerical failure.\n"
-             "Run 'flexure COMMAND --help' for a command's options.");
+  app.footer(
+      "Exit codes: 0 success, 2 bad input or usage, 3 numerical failure.\n"
+      "Run 'flexure COMMAND --help' for a command's options.");
 
   registerMeshCommand(app, global);
   registerInfoCommand(app, global);
+  registerConvertCommand(app, global);
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
 

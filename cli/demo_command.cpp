@@ -57,12 +57,13 @@ void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
         valences += std::to_string(valence) + "x" + std::to_string(count) + " ";
       std::printf("%-9s %4d %9d %9d  %-26s %.3f\n", name.c_str(), n, info.vertices, info.faces,
                   valences.c_str(), info.meanEdgeLength * n);
-      records.push_back({{"family", name},
-                         {"n", n},
-                         {"mesh", "meshes/" + stem + ".obj"},
-                         {"height_field", {{"surface", kDemoSurface},
-                                           {"mesh", "meshes/" + stem + "-quadratic.obj"}}},
-                         {"info", meshInfoJson(info)}});
+      records.push_back(
+          {{"family", name},
+           {"n", n},
+           {"mesh", "meshes/" + stem + ".obj"},
+           {"height_field",
+            {{"surface", kDemoSurface}, {"mesh", "meshes/" + stem + "-quadratic.obj"}}},
+           {"info", meshInfoJson(info)}});
     }
   }
   writeJsonFile((dir / "meshes.json").string(), {{"meshes", records}});

@@ -60,9 +60,11 @@ void printText(const std::string& file, const modeling::Mesh& mesh, int split,
                   info->boxMin.z(), info->boxMax.z());
     row("bounding box", buffer);
   }
-  row("valid", check.valid() ? "yes" : "no (" + std::to_string(check.totalProblems()) + " problems)");
+  row("valid",
+      check.valid() ? "yes" : "no (" + std::to_string(check.totalProblems()) + " problems)");
   for (const auto& p : check.problems)
-    out << "    " << modeling::meshProblemName(p.kind) << ": " << p.element << ": " << p.reason << '\n';
+    out << "    " << modeling::meshProblemName(p.kind) << ": " << p.element << ": " << p.reason
+        << '\n';
   std::cout << out.str();
 }
 
@@ -75,8 +77,10 @@ void runInfoCommand(const InfoCommandOptions& o) {
   if (check.valid()) info = modeling::describeMesh(mesh);
 
   if (o.json) {
-    nlohmann::json report = {{"file", o.file}, {"vertices", mesh.vertexCount()},
-                             {"faces", mesh.faceCount()}, {"polygons_split", split}};
+    nlohmann::json report = {{"file", o.file},
+                             {"vertices", mesh.vertexCount()},
+                             {"faces", mesh.faceCount()},
+                             {"polygons_split", split}};
     if (info) report.update(meshInfoJson(*info));
     report["validation"] = meshCheckJson(check);
     std::cout << report.dump(2) << '\n';

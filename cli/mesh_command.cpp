@@ -28,8 +28,7 @@ void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
   generator.seed = o.seed;
   if (o.aspect != 0.0) generator.aspect = o.aspect;
   const std::optional<modeling::PolynomialSurface> surface =
-      o.height.empty() ? std::nullopt
-                       : std::optional(modeling::PolynomialSurface::parse(o.height));
+      o.height.empty() ? std::nullopt : std::optional(modeling::PolynomialSurface::parse(o.height));
 
   modeling::Mesh mesh = modeling::generateMesh(generator);
   if (surface) modeling::applyHeightField(*surface, mesh.positions);
@@ -48,7 +47,7 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
       "mesh", "Generate a test-problem mesh of the square [-1/2, 1/2]^2 (flat, or a height field)");
   sub->add_option("--family", options->family, "patch48 | stripe | criss | delaunay")
       ->capture_default_str();
-  sub->add_option("--n", options->n, "Cells per side (delaunay: boundary edges per side)")
+  sub->add_option("-n,--n", options->n, "Cells per side (delaunay: boundary edges per side)")
       ->capture_default_str();
   sub->add_option("--seed", options->seed, "Random seed of the delaunay sampling")
       ->capture_default_str();
@@ -57,7 +56,8 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--height", options->height,
                   "Height field z = p(x, y): quadratic:a,b,c or polynomial:EXPR");
   sub->add_option("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
-  sub->footer("Example: flexure mesh --family delaunay --n 32 --seed 7 --height quadratic:1,0,1 -o d.obj");
+  sub->footer(
+      "Example: flexure mesh --family delaunay --n 32 --seed 7 --height quadratic:1,0,1 -o d.obj");
   sub->callback([options, &global] { runMeshCommand(*options, global); });
 }
 

@@ -36,8 +36,9 @@ nlohmann::json meshInfoJson(const modeling::MeshInfo& info) {
 nlohmann::json meshCheckJson(const modeling::MeshCheck& check) {
   nlohmann::json problems = nlohmann::json::array();
   for (const auto& p : check.problems) {
-    problems.push_back(
-        {{"kind", modeling::meshProblemName(p.kind)}, {"element", p.element}, {"reason", p.reason}});
+    problems.push_back({{"kind", modeling::meshProblemName(p.kind)},
+                        {"element", p.element},
+                        {"reason", p.reason}});
   }
   nlohmann::json counts = nlohmann::json::object();
   for (size_t k = 0; k < check.problemCounts.size(); ++k) {

@@ -28,7 +28,8 @@ struct RunCommandOptions {
 
 std::string expandSpecDir(std::string text, const std::string& specDir) {
   const std::string token = "${spec_dir}";
-  for (size_t at = text.find(token); at != std::string::npos; at = text.find(token, at + specDir.size()))
+  for (size_t at = text.find(token); at != std::string::npos;
+       at = text.find(token, at + specDir.size()))
     text.replace(at, token.size(), specDir);
   return text;
 }
@@ -92,7 +93,8 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
     if (!spec["steps"].is_array() || spec.size() != 1)
       throw InputError(o.specFile + ": expected {\"steps\": [ ... ]} and nothing else beside it");
     for (size_t k = 0; k < spec["steps"].size(); ++k)
-      steps.push_back(commandLine(spec["steps"][k], o.specFile + ": steps[" + std::to_string(k) + "]", specDir));
+      steps.push_back(commandLine(spec["steps"][k],
+                                  o.specFile + ": steps[" + std::to_string(k) + "]", specDir));
   } else {
     steps.push_back(commandLine(spec, o.specFile, specDir));
   }
@@ -106,10 +108,12 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
       std::cout << shown << '\n';
       continue;
     }
-    if (!global.quiet) std::cerr << "flexure run: [" << k + 1 << "/" << steps.size() << "] " << shown << '\n';
+    if (!global.quiet)
+      std::cerr << "flexure run: [" << k + 1 << "/" << steps.size() << "] " << shown << '\n';
     const int code = runFlexure(args);
     if (code != 0) {
-      std::cerr << "flexure run: " << o.specFile << ": step " << k + 1 << " failed (exit " << code << ")\n";
+      std::cerr << "flexure run: " << o.specFile << ": step " << k + 1 << " failed (exit " << code
+                << ")\n";
       return code;
     }
   }

@@ -26,9 +26,9 @@ enum class MeshFamily { Patch48, Stripe, Criss, Delaunay };
 
 struct GeneratorOptions {
   MeshFamily family = MeshFamily::Patch48;
-  int n = 8;                      // cells per side (delaunay: boundary segments per side)
-  std::uint64_t seed = 1;         // delaunay only
-  std::optional<double> aspect;   // cell height / width; family default when empty
+  int n = 8;                     // cells per side (delaunay: boundary segments per side)
+  std::uint64_t seed = 1;        // delaunay only
+  std::optional<double> aspect;  // cell height / width; family default when empty
 };
 
 // "patch48" | "stripe" | "criss" | "delaunay"; throws InputError listing the names otherwise.

@@ -44,7 +44,8 @@ class ProblemCollector {
   }
   void add(MeshProblemKind kind, std::string element, std::string reason) {
     int& count = check_.problemCounts[static_cast<int>(kind)];
-    if (count++ < maxPerKind_) check_.problems.push_back({kind, std::move(element), std::move(reason)});
+    if (count++ < maxPerKind_)
+      check_.problems.push_back({kind, std::move(element), std::move(reason)});
   }
   int count(MeshProblemKind kind) const { return check_.problemCounts[static_cast<int>(kind)]; }
   MeshCheck take() { return std::move(check_); }
@@ -75,7 +76,8 @@ void checkVertices(const Mesh& mesh, ProblemCollector& out) {
       const double value = mesh.positions(v, c);
       if (!std::isfinite(value)) {
         out.add(MeshProblemKind::NonFiniteCoordinate, "vertex " + std::to_string(v),
-                std::string("coordinate ") + axis[c] + " is " + (std::isnan(value) ? "NaN" : "infinite"));
+                std::string("coordinate ") + axis[c] + " is " +
+                    (std::isnan(value) ? "NaN" : "infinite"));
         break;
       }
     }
@@ -123,7 +125,9 @@ void checkReferences(const Mesh& mesh, ProblemCollector& out) {
   for (int f = 0; f < mesh.faceCount(); ++f)
     for (int i = 0; i < 3; ++i) used[mesh.triangles(f, i)] = 1;
   for (int v = 0; v < mesh.vertexCount(); ++v)
-    if (!used[v]) out.add(MeshProblemKind::UnreferencedVertex, "vertex " + std::to_string(v), "is used by no face");
+    if (!used[v])
+      out.add(MeshProblemKind::UnreferencedVertex, "vertex " + std::to_string(v),
+              "is used by no face");
 }
 
 // Returns, per face, whether it repeats an earlier face's vertex set.
@@ -140,9 +144,10 @@ std::vector<char> checkDuplicates(const Mesh& mesh, ProblemCollector& out) {
     if (keyed[k].first != keyed[k - 1].first) continue;
     duplicate[keyed[k].second] = 1;
     const auto& key = keyed[k].first;
-    out.add(MeshProblemKind::DuplicateFace,
-            "faces " + std::to_string(keyed[k - 1].second) + " and " + std::to_string(keyed[k].second),
-            "use the same vertices (" + listOf({key[0], key[1], key[2]}) + ")");
+    out.add(
+        MeshProblemKind::DuplicateFace,
+        "faces " + std::to_string(keyed[k - 1].second) + " and " + std::to_string(keyed[k].second),
+        "use the same vertices (" + listOf({key[0], key[1], key[2]}) + ")");
   }
   return duplicate;
 }
@@ -232,16 +237,26 @@ int MeshCheck::totalProblems() const {
 
 std::string_view meshProblemName(MeshProblemKind kind) {
   switch (kind) {
-    case MeshProblemKind::Empty: return "empty";
-    case MeshProblemKind::VertexIndexOutOfRange: return "vertex_index_out_of_range";
-    case MeshProblemKind::NonFiniteCoordinate: return "non_finite_coordinate";
-    case MeshProblemKind::RepeatedVertexInFace: return "repeated_vertex_in_face";
-    case MeshProblemKind::ZeroAreaFace: return "zero_area_face";
-    case MeshProblemKind::UnreferencedVertex: return "unreferenced_vertex";
-    case MeshProblemKind::DuplicateFace: return "duplicate_face";
-    case MeshProblemKind::NonManifoldEdge: return "non_manifold_edge";
-    case MeshProblemKind::InconsistentOrientation: return "inconsistent_orientation";
-    case MeshProblemKind::NonManifoldVertex: return "non_manifold_vertex";
+    case MeshProblemKind::Empty:
+      return "empty";
+    case MeshProblemKind::VertexIndexOutOfRange:
+      return "vertex_index_out_of_range";
+    case MeshProblemKind::NonFiniteCoordinate:
+      return "non_finite_coordinate";
+    case MeshProblemKind::RepeatedVertexInFace:
+      return "repeated_vertex_in_face";
+    case MeshProblemKind::ZeroAreaFace:
+      return "zero_area_face";
+    case MeshProblemKind::UnreferencedVertex:
+      return "unreferenced_vertex";
+    case MeshProblemKind::DuplicateFace:
+      return "duplicate_face";
+    case MeshProblemKind::NonManifoldEdge:
+      return "non_manifold_edge";
+    case MeshProblemKind::InconsistentOrientation:
+      return "inconsistent_orientation";
+    case MeshProblemKind::NonManifoldVertex:
+      return "non_manifold_vertex";
   }
   return "unknown";
 }

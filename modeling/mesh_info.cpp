@@ -45,7 +45,8 @@ MeshInfo describeMesh(const Mesh& mesh) {
   info.edges = s.edgeCount();
   info.components = countComponents(s);
   info.eulerCharacteristic = info.vertices - info.edges + info.faces;
-  for (const auto& loop : boundaryLoops(s)) info.boundaryLoopLengths.push_back(static_cast<int>(loop.size()));
+  for (const auto& loop : boundaryLoops(s))
+    info.boundaryLoopLengths.push_back(static_cast<int>(loop.size()));
   std::sort(info.boundaryLoopLengths.begin(), info.boundaryLoopLengths.end(), std::greater<>());
   for (int v = 0; v < s.vertexCount(); ++v)
     ++(s.vertexOnBoundary[v] ? info.boundaryValences : info.interiorValences)[s.valence(v)];

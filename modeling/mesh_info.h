@@ -14,10 +14,10 @@ struct MeshInfo {
   int faces = 0;
   int edges = 0;
   int components = 0;
-  int eulerCharacteristic = 0;            // V − E + F: 1 for a disk, 2 for a sphere
-  std::vector<int> boundaryLoopLengths;   // vertices per loop, longest first
-  std::map<int, int> interiorValences;    // valence → number of interior vertices
-  std::map<int, int> boundaryValences;    // valence → number of boundary vertices
+  int eulerCharacteristic = 0;           // V − E + F: 1 for a disk, 2 for a sphere
+  std::vector<int> boundaryLoopLengths;  // vertices per loop, longest first
+  std::map<int, int> interiorValences;   // valence → number of interior vertices
+  std::map<int, int> boundaryValences;   // valence → number of boundary vertices
   double minEdgeLength = 0.0, meanEdgeLength = 0.0, maxEdgeLength = 0.0;
   double area = 0.0;
   Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();

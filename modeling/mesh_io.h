@@ -24,7 +24,7 @@ MeshFormat meshFormatOf(const std::string& path);
 
 // What a file holds before any check: vertices and polygons (0-based indices, each in range).
 struct PolygonSoup {
-  Positions positions;                   // #V by 3
+  Positions positions;                     // #V by 3
   std::vector<std::vector<int>> polygons;  // #P polygons, each with >= 3 vertex indices
 };
 

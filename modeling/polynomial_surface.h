@@ -20,7 +20,9 @@ struct Monomial {
 
 class PolynomialSurface {
  public:
-  PolynomialSurface() = default;
+  PolynomialSurface() = default;  // p = 0
+  // Keeps the terms as given (no merging); throws InputError for a non-finite coefficient or a
+  // negative power.
   explicit PolynomialSurface(std::vector<Monomial> terms);
 
   // z = a x² + b x y + c y², the quadratics of the convergence conditions C1/C2.
@@ -37,7 +39,9 @@ class PolynomialSurface {
   Eigen::Vector3d unitNormal(double x, double y) const;
 
   const std::vector<Monomial>& terms() const { return terms_; }
-  std::string spec() const;  // a string parse() turns back into this surface
+  // A string parse() turns back into the same terms: "quadratic:a,b,c" for the three terms of
+  // quadratic(), otherwise "polynomial:..." with shortest round-trip coefficients.
+  std::string spec() const;
 
  private:
   std::vector<Monomial> terms_;

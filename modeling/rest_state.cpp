@@ -25,8 +25,9 @@ RestState precomputeRestState(const Stencils& s, const Positions& rest) {
     const Eigen::Vector3d areaVector = (x[1] - x[0]).cross(x[2] - x[0]);
     const double twiceArea = areaVector.norm();
     if (!(twiceArea > 0.0)) {
-      throw InputError("rest face " + std::to_string(f) + " (vertices " + std::to_string(s.faces(f, 0)) +
-                       ", " + std::to_string(s.faces(f, 1)) + ", " + std::to_string(s.faces(f, 2)) +
+      throw InputError("rest face " + std::to_string(f) + " (vertices " +
+                       std::to_string(s.faces(f, 0)) + ", " + std::to_string(s.faces(f, 1)) + ", " +
+                       std::to_string(s.faces(f, 2)) +
                        ") has zero area; no bending energy is defined on it");
     }
     const double area = 0.5 * twiceArea;
@@ -52,7 +53,8 @@ RestState precomputeRestState(const Stencils& s, const Positions& rest) {
       } else {
         // The edges at v are edge i+1 (opposite vertex i+1, angle cot[i+1]) and edge i+2.
         r.vertexVoronoiAreas[v] += (lengthSquared[(i + 1) % 3] * cot[(i + 1) % 3] +
-                                    lengthSquared[(i + 2) % 3] * cot[(i + 2) % 3]) / 8.0;
+                                    lengthSquared[(i + 2) % 3] * cot[(i + 2) % 3]) /
+                                   8.0;
       }
     }
   }

@@ -14,9 +14,9 @@ using FaceVectors = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using FaceEdgeNormals = Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>;
 
 struct RestState {
-  Positions positions;          // #V by 3: X̄
-  Eigen::VectorXd faceAreas;    // #F: Ā_T
-  FaceVectors faceNormals;      // #F by 3: unit n̄_T = (x̄1 − x̄0) × (x̄2 − x̄0) / (2 Ā_T)
+  Positions positions;        // #V by 3: X̄
+  Eigen::VectorXd faceAreas;  // #F: Ā_T
+  FaceVectors faceNormals;    // #F by 3: unit n̄_T = (x̄1 − x̄0) × (x̄2 − x̄0) / (2 Ā_T)
   FaceVectors faceEdgeLengths;  // #F by 3: ℓ̄_i, edge i opposite vertex i
   // #F by 9: n̂_i for i = 0, 1, 2 (columns 3i..3i+2): the unit normal of edge i in the rest face's
   // plane, pointing out of T: n̂_i = (x̄_{i+2} − x̄_{i+1}) × n̄_T / ℓ̄_i.

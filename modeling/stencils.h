@@ -20,23 +20,23 @@ using IndexPairs = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
 using IndexQuads = Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>;
 
 struct Stencils {
-  Triangles faces;          // #F by 3: (v0, v1, v2)
-  Triangles faceFlaps;      // #F by 3: vertex across edge i in the neighbouring face, −1 if boundary
-  Triangles faceEdges;      // #F by 3: id of edge i
+  Triangles faces;      // #F by 3: (v0, v1, v2)
+  Triangles faceFlaps;  // #F by 3: vertex across edge i in the neighbouring face, −1 if boundary
+  Triangles faceEdges;  // #F by 3: id of edge i
   Triangles faceEdgeSigns;  // #F by 3: σ_{f,i} ∈ {+1, −1}
 
   IndexPairs edges;      // #E by 2: (lower, higher)
   IndexPairs edgeFaces;  // #E by 2: (f, g), f traverses lower → higher; −1 where there is no face
 
-  IndexQuads hinges;         // #H by 4: (i, j, k, l), one per interior edge, in edge order
+  IndexQuads hinges;           // #H by 4: (i, j, k, l), one per interior edge, in edge order
   Eigen::VectorXi hingeEdges;  // #H: the edge id of each hinge
 
   // Vertex one-rings in compressed rows: the neighbours of v are
   // oneRingVertices[oneRingOffsets[v] .. oneRingOffsets[v+1]), counter-clockwise. For an interior
   // vertex the ring is cyclic; for a boundary vertex it runs from one boundary neighbour to the
   // other, so every consecutive pair (a, b) spans a face (v, a, b).
-  Eigen::VectorXi oneRingOffsets;   // #V + 1
-  Eigen::VectorXi oneRingVertices;  // Σ valences
+  Eigen::VectorXi oneRingOffsets;                          // #V + 1
+  Eigen::VectorXi oneRingVertices;                         // Σ valences
   Eigen::Array<bool, Eigen::Dynamic, 1> vertexOnBoundary;  // #V
 
   int vertexCount() const { return static_cast<int>(vertexOnBoundary.size()); }

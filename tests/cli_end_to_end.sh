@@ -1,1 +1,149 @@
-exit 0
+#!/usr/bin/env bash
+# End-to-end runs of the flexure executable ($FLEXURE): exit codes, messages that name the file
+# and the element, outputs written whole or not at all, byte-identical reruns.
+set -uo pipefail
+: "${FLEXURE:?set FLEXURE to the flexure executable}"
+FLEXURE="$(realpath "$FLEXURE")"
+[ -x "$FLEXURE" ] || { echo "no flexure executable at $FLEXURE" >&2; exit 1; }
+work="$(mktemp -d "${TMPDIR:-/tmp}/flexure-e2e.XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+checks=0
+
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+
+# run EXPECTED_EXIT ARGS...: runs flexure, keeps stdout in out.txt and stderr in err.txt.
+run() {
+  local expected=$1; shift
+  checks=$((checks + 1))
+  "$FLEXURE" "$@" >out.txt 2>err.txt
+  local code=$?
+  [ "$code" -eq "$expected" ] || fail "flexure $* exited $code, expected $expected; stderr: $(cat err.txt)"
+}
+stderr_has() { grep -qF -- "$1" err.txt || fail "stderr lacks '$1': $(cat err.txt)"; }
+stdout_has() { grep -qF -- "$1" out.txt || fail "stdout lacks '$1'"; }
+absent() { [ ! -e "$1" ] || fail "$1 exists but should not"; }
+
+# --- usage ---------------------------------------------------------------------------------
+run 0 --version; stdout_has "flexure 0."
+run 0 --help; stdout_has "mesh"; stdout_has "Exit codes"
+run 0 mesh --help; stdout_has "--family"
+run 2; stderr_has "subcommand"
+run 2 frobnicate
+run 2 mesh --n 8  # no -o
+stderr_has "--output"
+
+# --- mesh: every family, checked by info ----------------------------------------------------
+for family in patch48 stripe criss delaunay; do
+  run 0 mesh --family "$family" --n 8 --seed 3 -o "$family.obj"
+  run 0 info "$family.obj" --json
+  stdout_has '"valid": true'
+  stdout_has '"euler_characteristic": 1'
+done
+run 0 info patch48.obj; stdout_has "valence, interior     4×24 8×25"; stdout_has "valid                 yes"
+run 0 mesh --family patch48 --n 4 --height quadratic:1,0,1 -o bowl.ply
+run 0 info bowl.ply --json; stdout_has '"max": ['
+
+# Same options, same bytes; a different seed, a different delaunay mesh.
+run 0 mesh --family delaunay --n 16 --seed 5 -o d1.off
+run 0 mesh --family delaunay --n 16 --seed 5 -o d2.off
+cmp -s d1.off d2.off || fail "delaunay with the same seed differs"
+run 0 mesh --family delaunay --n 16 --seed 6 -o d3.off
+cmp -s d1.off d3.off && fail "delaunay with another seed is identical"
+
+# Bad generator options: exit 2, a message, no file.
+run 2 mesh --family hexagonal --n 8 -o x.obj; stderr_has "hexagonal"; absent x.obj
+run 2 mesh --family patch48 --n 0 -o x.obj; absent x.obj
+run 2 mesh --family stripe --n 7 -o x.obj; stderr_has "stripe"; absent x.obj
+run 2 mesh --family patch48 --n 4 -o x.xyz; stderr_has "x.xyz"; stderr_has ".obj"; absent x.xyz
+run 2 mesh --family patch48 --n 4 -o no/such/dir/x.obj; stderr_has "no/such/dir"; absent no
+run 2 mesh --family patch48 --n 4 --height quadratic:1,2 -o x.obj; stderr_has "quadratic:1,2"; absent x.obj
+
+# --- bad input files: info and convert exit 2, name the file and the element, write nothing --
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > ok.off
+printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' > empty.off
+printf 'OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n3 0 1 2\n3 1 3 2\n3 1 2 4\n' > fin.off
+printf 'OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n' > bowtie.off
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' > flat.off
+printf 'OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n' > nan.off
+printf 'OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n3 0 1 2\n' > lonely.off
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n' > flipped.off
+printf 'OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 1 2 0\n' > twice.off
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n' > range.off
+printf 'OFF\n3 1 0\n0 0 0\n1 0 abc\n0 1 0\n3 0 1 2\n' > garbage.off
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n' > quad.obj
+printf 'solid x\n' > broken.stl
+printf 'not a mesh\n' > mesh.xyz
+
+bad() {  # bad FILE TEXT...: info and convert both refuse FILE, naming it and each TEXT
+  local file=$1; shift
+  run 2 info "$file"
+  stderr_has "$file"
+  run 2 convert "$file" -o "converted-$file.obj"
+  stderr_has "$file"
+  for text in "$@"; do stderr_has "$text"; done
+  absent "converted-$file.obj"
+}
+bad missing.off "cannot open"
+bad mesh.xyz "unknown extension"
+bad empty.off "no faces"
+bad fin.off "edge (1, 2)" "3 faces"
+bad bowtie.off "vertex 0" "fans"
+bad flat.off "face 0" "zero area"
+bad nan.off "vertex 1" "NaN"
+bad lonely.off "vertex 3" "no face"
+bad flipped.off "faces 0 and 1" "orientation"
+bad twice.off "faces 0 and 1" "same vertices"
+bad range.off "line"
+bad garbage.off "line 4"
+bad broken.stl "broken.stl"
+
+# info lists the problems on stdout (text and JSON) before refusing.
+run 2 info fin.off --json; stdout_has '"non_manifold_edge": 1'; stdout_has '"valid": false'
+
+# An existing output survives a failed conversion untouched.
+echo "precious" > keep.obj
+run 2 convert fin.off -o keep.obj
+[ "$(cat keep.obj)" = "precious" ] || fail "a failed convert overwrote keep.obj"
+
+# Polygons are split into triangles, with a notice.
+run 0 convert quad.obj -o quad.off; stderr_has "1 quadrilateral face split into triangles"
+run 0 info quad.off --json; stdout_has '"faces": 2'
+run 0 --quiet convert quad.obj -o quad2.off
+[ ! -s err.txt ] || fail "--quiet still printed: $(cat err.txt)"
+
+# Full precision survives OFF → PLY → OBJ.
+printf 'OFF\n3 1 0\n0.1 0.2 0.30000000000000004\n1.0000000000000002 1e-300 0.3333333333333333\n0 1 -2.5e-7\n3 0 1 2\n' > precise.off
+run 0 convert precise.off -o precise.ply
+run 0 convert precise.ply -o precise.obj
+grep -qxF "v 1.0000000000000002 1e-300 0.3333333333333333" precise.obj || fail "precision lost: $(cat precise.obj)"
+grep -qxF "v 0.1 0.2 0.30000000000000004" precise.obj || fail "precision lost: $(cat precise.obj)"
+grep -qxF "v 0 1 -2.5e-07" precise.obj || fail "precision lost: $(cat precise.obj)"
+
+# --- run specs ---------------------------------------------------------------------------
+cat > study.json <<'JSON'
+{"steps": [
+  {"command": "mesh", "options": {"family": "criss", "n": 4, "aspect": 2, "o": "${spec_dir}/criss.obj"}},
+  {"command": "info", "inputs": ["${spec_dir}/criss.obj"], "options": {"json": true}}
+]}
+JSON
+run 0 run study.json; stdout_has '"faces": 16'
+run 0 run study.json --dry-run; stdout_has "flexure mesh --aspect 2 --family criss"
+echo '{"command": "mesh", "options": {"n": 4}' > broken.json
+run 2 run broken.json; stderr_has "broken.json"; stderr_has "not valid JSON"
+echo '{"command": "run", "inputs": ["x.json"]}' > nested.json
+run 2 run nested.json; stderr_has "cannot run another"
+echo '{"command": "mesh", "option": {}}' > typo.json
+run 2 run typo.json; stderr_has 'unknown key "option"'
+echo '{"command": "info", "inputs": ["fin.off"]}' > failing.json
+run 2 run failing.json; stderr_has "step 1 failed"
+
+# --- demo --------------------------------------------------------------------------------
+run 0 demo -o demo; stdout_has "patch48"
+[ -s demo/meshes.json ] || fail "demo wrote no meshes.json"
+[ -s demo/meshes/delaunay-n32-quadratic.obj ] || fail "demo wrote no delaunay-n32-quadratic.obj"
+run 0 info demo/meshes/stripe-n16.obj --json; stdout_has '"valid": true'
+
+echo "cli_end_to_end: $checks runs, $failures failures"
+[ "$failures" -eq 0 ]

@@ -11,10 +11,10 @@
 namespace flexure::modeling {
 namespace {
 
-using ::testing::HasSubstr;
 using flexure::testing::gridMesh;
 using flexure::testing::tetrahedron;
 using flexure::testing::twoTriangleSquare;
+using ::testing::HasSubstr;
 
 int count(const MeshCheck& check, MeshProblemKind kind) {
   return check.problemCounts[static_cast<int>(kind)];

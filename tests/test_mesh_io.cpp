@@ -167,7 +167,7 @@ TEST_P(MeshIoRoundTrip, FormattingIsReproducible) {
   EXPECT_EQ(readFile(path), first);
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, MeshIoRoundTrip, ::testing::Values("obj", "off", "ply"));
+INSTANTIATE_TEST_SUITE_P(MeshIoFormats, MeshIoRoundTrip, ::testing::Values("obj", "off", "ply"));
 
 TEST(MeshIoWrite, TextLayoutOfEachFormat) {
   const Mesh mesh = makeMesh({{0.1, 0, -1}, {1, 2.5, 3}, {1e-300, -2.5e17, 0}}, {{0, 1, 2}});
@@ -519,7 +519,7 @@ TEST_P(MeshIoErrors, MessageNamesFileLocationAndProblem) {
 constexpr char kTriangleObj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
 INSTANTIATE_TEST_SUITE_P(
-    Obj, MeshIoErrors,
+    MeshIoObjFiles, MeshIoErrors,
     ::testing::Values(
         MalformedFile{"index0.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4", "index 0"},
         MalformedFile{"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n", "line 5",
@@ -536,7 +536,7 @@ INSTANTIATE_TEST_SUITE_P(
     caseName);
 
 INSTANTIATE_TEST_SUITE_P(
-    Off, MeshIoErrors,
+    MeshIoOffFiles, MeshIoErrors,
     ::testing::Values(
         MalformedFile{"header.off", "# c\nPLY\n3 1 0\n", "line 2", "'PLY'"},
         MalformedFile{"four.off", "4OFF\n", "line 1", "3-dimensional"},
@@ -554,7 +554,7 @@ INSTANTIATE_TEST_SUITE_P(
     caseName);
 
 INSTANTIATE_TEST_SUITE_P(
-    Ply, MeshIoErrors,
+    MeshIoPlyFiles, MeshIoErrors,
     ::testing::Values(
         MalformedFile{"magic.ply", "PLY\n", "line 1", "not a PLY file"},
         MalformedFile{"type.ply",
@@ -595,7 +595,7 @@ INSTANTIATE_TEST_SUITE_P(
     caseName);
 
 INSTANTIATE_TEST_SUITE_P(
-    Stl, MeshIoErrors,
+    MeshIoStlFiles, MeshIoErrors,
     ::testing::Values(
         MalformedFile{"outside.stl", "solid a\nvertex 0 0 0\nendsolid a\n", "line 2",
                       "unexpected 'vertex'"},

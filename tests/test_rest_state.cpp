@@ -24,7 +24,9 @@ Mesh triangle(Eigen::Vector3d a, Eigen::Vector3d b, Eigen::Vector3d c) {
   return m;
 }
 
-RestState restOf(const Mesh& m) { return precomputeRestState(compileStencils(m), m.positions); }
+RestState restOf(const Mesh& m) {
+  return precomputeRestState(compileStencils(m), m.positions);
+}
 
 TEST(RestState, RightTriangleByHand) {
   const RestState r = restOf(triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
@@ -92,7 +94,8 @@ TEST(RestState, InvariantUnderRigidMotionAndScalesWithSize) {
   const RestState r = restOf(mesh);
   const Eigen::Matrix3d rotation =
       Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
-  Positions moved = (mesh.positions * rotation.transpose()).rowwise() + Eigen::RowVector3d(3, -1, 2);
+  Positions moved =
+      (mesh.positions * rotation.transpose()).rowwise() + Eigen::RowVector3d(3, -1, 2);
   const RestState m = precomputeRestState(compileStencils(mesh), moved);
   EXPECT_TRUE(m.faceAreas.isApprox(r.faceAreas, 1e-12));
   EXPECT_TRUE(m.edgeLengths.isApprox(r.edgeLengths, 1e-12));

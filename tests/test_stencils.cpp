@@ -63,7 +63,8 @@ void expectConsistent(const Mesh& mesh) {
   for (int e = 0; e < s.edgeCount(); ++e) {
     const int a = s.edges(e, 0), b = s.edges(e, 1);
     ASSERT_LT(a, b);
-    if (e > 0) EXPECT_LT(std::make_pair(s.edges(e - 1, 0), s.edges(e - 1, 1)), std::make_pair(a, b));
+    if (e > 0)
+      EXPECT_LT(std::make_pair(s.edges(e - 1, 0), s.edges(e - 1, 1)), std::make_pair(a, b));
     if (s.edgeFaces(e, 0) >= 0) EXPECT_TRUE(directed.count({a, b, s.edgeFaces(e, 0)}));
     if (s.edgeFaces(e, 1) >= 0) EXPECT_TRUE(directed.count({b, a, s.edgeFaces(e, 1)}));
     ASSERT_TRUE(s.edgeFaces(e, 0) >= 0 || s.edgeFaces(e, 1) >= 0);
@@ -120,8 +121,8 @@ TEST(Stencils, InvariantsOnSmallMeshes) {
 }
 
 TEST(Stencils, InvariantsOnGeneratedFamilies) {
-  for (MeshFamily family : {MeshFamily::Patch48, MeshFamily::Stripe, MeshFamily::Criss,
-                            MeshFamily::Delaunay}) {
+  for (MeshFamily family :
+       {MeshFamily::Patch48, MeshFamily::Stripe, MeshFamily::Criss, MeshFamily::Delaunay}) {
     SCOPED_TRACE(std::string(meshFamilyName(family)));
     expectConsistent(generateMesh({family, 6, 3, {}}));
   }

@@ -1,0 +1,41 @@
+// flexure convert: read a mesh, check it, write it in another format at full precision.
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "modeling/mesh_io.h"
+
+namespace flexure::cli {
+namespace {
+
+struct ConvertCommandOptions {
+  std::string input;
+  std::string output;
+};
+
+void runConvertCommand(const ConvertCommandOptions& o, const GlobalOptions& global) {
+  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  std::vector<std::string> notices;
+  const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
+  if (!global.quiet)
+    for (const std::string& notice : notices) std::cerr << "flexure convert: " << notice << '\n';
+  modeling::writeMesh(o.output, mesh);
+  if (!global.quiet) {
+    std::cerr << "flexure convert: wrote " << o.output << " (" << mesh.vertexCount()
+              << " vertices, " << mesh.faceCount() << " faces)\n";
+  }
+}
+
+}  // namespace
+
+void registerConvertCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<ConvertCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "convert", "Check a mesh and write it as .obj, .off or .ply (polygons split into triangles)");
+  sub->add_option("input", options->input, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  sub->add_option("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
+  sub->footer("Example: flexure convert scan.stl -o scan.ply");
+  sub->callback([options, &global] { runConvertCommand(*options, global); });
+}
+
+}  // namespace flexure::cli
