@@ -60,8 +60,7 @@ void printText(const std::string& file, const modeling::Mesh& mesh, int split,
                   info->boxMin.z(), info->boxMax.z());
     row("bounding box", buffer);
   }
-  row("valid",
-      check.valid() ? "yes" : "no (" + std::to_string(check.totalProblems()) + " problems)");
+  row("valid", check.valid() ? "yes" : "no (" + std::to_string(check.totalProblems()) + " found)");
   for (const auto& p : check.problems)
     out << "    " << modeling::meshProblemName(p.kind) << ": " << p.element << ": " << p.reason
         << '\n';
@@ -89,8 +88,9 @@ void runInfoCommand(const InfoCommandOptions& o) {
   }
   std::cout.flush();
   if (!check.valid()) {
-    throw InputError(o.file + ": not usable by flexure: " + std::to_string(check.totalProblems()) +
-                     " problems (listed above)");
+    const int n = check.totalProblems();
+    throw InputError(o.file + ": not usable by flexure: " + std::to_string(n) +
+                     (n == 1 ? " problem" : " problems") + " (listed above)");
   }
 }
 

@@ -288,7 +288,8 @@ void requireValidMesh(const Mesh& mesh, std::string_view source) {
   const int more = check.totalProblems() - static_cast<int>(check.problems.size());
   if (more > 0) {
     message += "\n" + std::string(source) + ": ... and " + std::to_string(more) +
-               " more problems (flexure info " + std::string(source) + " lists them by kind)";
+               (more == 1 ? " more problem" : " more problems") + " (flexure info " +
+               std::string(source) + " lists them by kind)";
   }
   throw InputError(message);
 }

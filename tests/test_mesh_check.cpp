@@ -162,7 +162,7 @@ TEST(MeshCheck, RequireValidMeshNamesSourceElementAndCount) {
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("plate.off: vertex 121: is used by no face"));
-    EXPECT_THAT(e.what(), HasSubstr("and 1 more problems"));
+    EXPECT_THAT(e.what(), HasSubstr("and 1 more problem ("));
   }
 }
 
