@@ -38,7 +38,7 @@ void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
   const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(kDemoSurface);
 
   nlohmann::json records = nlohmann::json::array();
-  std::printf("%-9s %4s %9s %9s  %-26s %s\n", "family", "n", "vertices", "faces",
+  std::printf("%-9s %4s %9s %9s  %-34s %s\n", "family", "n", "vertices", "faces",
               "interior valences", "mean edge x n");
   for (const auto family : {modeling::MeshFamily::Patch48, modeling::MeshFamily::Stripe,
                             modeling::MeshFamily::Criss, modeling::MeshFamily::Delaunay}) {
@@ -55,7 +55,7 @@ void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
       std::string valences;
       for (const auto& [valence, count] : info.interiorValences)
         valences += std::to_string(valence) + "x" + std::to_string(count) + " ";
-      std::printf("%-9s %4d %9d %9d  %-26s %.3f\n", name.c_str(), n, info.vertices, info.faces,
+      std::printf("%-9s %4d %9d %9d  %-34s %.3f\n", name.c_str(), n, info.vertices, info.faces,
                   valences.c_str(), info.meanEdgeLength * n);
       records.push_back(
           {{"family", name},
