@@ -1,0 +1,156 @@
+// The one implementation of EnergyTerm: a list of element residual functors of one type, each
+// with a templated operator()(T const* const* blocks, T* residuals). The same functor is called
+// with doubles for values and wrapped in Ceres autodiff for derivatives.
+#pragma once
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
+#include <ceres/problem.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "curvature/cotan_mean_curvature.h"
+#include "curvature/energy_term.h"
+#include "curvature/hinge_bending.h"
+#include "curvature/membrane.h"
+#include "curvature/midedge_normals.h"
+#include "curvature/quadratic_fit.h"
+#include "curvature/triangle_averaged.h"
+#include "modeling/errors.h"
+
+namespace flexure::curvature {
+
+// Ceres' fixed-arity autodiff calls functor(b0, b1, …, b_{n−1}, residuals); this forwards to the
+// residual's array form. The residual array arrives last and is handed on writable.
+template <class Residual>
+struct FixedArity {
+  Residual residual;
+  template <class T, class... Rest>
+  bool operator()(const T* first, Rest... rest) const {
+    const T* blocks[] = {first, rest...};
+    return residual(blocks, const_cast<T*>(blocks[sizeof...(Rest)]));
+  }
+};
+
+template <class Residual, int... BlockSizes>
+ceres::CostFunction* fixedArityCost(const Residual& r) {
+  return new ceres::AutoDiffCostFunction<FixedArity<Residual>, Residual::kResiduals, BlockSizes...>(
+      new FixedArity<Residual>{r});
+}
+
+// The cost function and parameter blocks of each residual type.
+inline ceres::CostFunction* costFunction(const HingeBendingResidual& r) {
+  return fixedArityCost<HingeBendingResidual, 3, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const TriangleAveragedResidual& r) {
+  return fixedArityCost<TriangleAveragedResidual, 3, 3, 3, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const QuadraticFitResidual& r) {
+  return fixedArityCost<QuadraticFitResidual, 3, 3, 3, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const StvkMembraneResidual& r) {
+  return fixedArityCost<StvkMembraneResidual, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const EdgeSpringResidual& r) {
+  return fixedArityCost<EdgeSpringResidual, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const AreaSpringResidual& r) {
+  return fixedArityCost<AreaSpringResidual, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const MidedgeResidual& r) {
+  switch (r.flapCount) {
+    case 0:
+      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3>(r);
+    case 1:
+      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3>(r);
+    case 2:
+      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3, 3>(r);
+    default:
+      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3, 3, 3>(r);
+  }
+}
+// Valence varies, so cotan residuals take Ceres' dynamic autodiff; 27 derivatives per pass cover
+// a valence-8 vertex (the 4-8 patch) in one pass.
+inline ceres::CostFunction* costFunction(const CotanMeanCurvatureResidual& r) {
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<CotanMeanCurvatureResidual, 27>(
+      new CotanMeanCurvatureResidual(r));
+  for (size_t k = 0; k < r.vertices.size(); ++k) cost->AddParameterBlock(3);
+  cost->SetNumResiduals(1);
+  return cost;
+}
+
+template <class Residual, class Pointer>
+void parameterBlocks(const Residual& r, Pointer positions, Pointer, std::vector<Pointer>& out) {
+  out.clear();
+  for (int v : r.vertices) out.push_back(positions + 3 * v);
+}
+template <class Pointer>
+void parameterBlocks(const MidedgeResidual& r, Pointer positions, Pointer xi,
+                     std::vector<Pointer>& out) {
+  out.clear();
+  for (int e : r.edges) out.push_back(xi + e);
+  for (int k = 0; k < 3 + r.flapCount; ++k) out.push_back(positions + 3 * r.vertices[k]);
+}
+
+template <class Residual>
+class ElementTerm : public EnergyTerm {
+ public:
+  // Element e is mesh element `elementIds[e]` of kind `elementKind` ("edge", "face", "vertex"),
+  // which messages name.
+  ElementTerm(std::string name, std::string elementKind, std::vector<Residual> elements,
+              std::vector<int> elementIds, double coveredArea, bool usesEdgeUnknowns)
+      : name_(std::move(name)),
+        elementKind_(std::move(elementKind)),
+        elements_(std::move(elements)),
+        elementIds_(std::move(elementIds)),
+        coveredArea_(coveredArea),
+        usesEdgeUnknowns_(usesEdgeUnknowns) {}
+
+  std::string name() const override { return name_; }
+  std::string elementKind() const override { return elementKind_; }
+  int elementCount() const override { return static_cast<int>(elements_.size()); }
+  double coveredArea() const override { return coveredArea_; }
+  bool usesEdgeUnknowns() const override { return usesEdgeUnknowns_; }
+  const std::vector<Residual>& elements() const { return elements_; }
+
+  double energy(const Positions& x, const Eigen::VectorXd& xi) const override {
+    return elementEnergies(x, xi).sum();
+  }
+
+  Eigen::VectorXd elementEnergies(const Positions& x, const Eigen::VectorXd& xi) const override {
+    Eigen::VectorXd energies(elements_.size());
+    std::vector<const double*> blocks;
+    double r[Residual::kResiduals];
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
+      if (!elements_[e](blocks.data(), r)) {
+        throw NumericalError(name_ + ": " + elementKind_ + " " + std::to_string(elementIds_[e]) +
+                             " is degenerate in the current configuration (a collapsed edge or "
+                             "face): its energy is undefined");
+      }
+      double sum = 0.0;
+      for (double value : r) sum += value * value;
+      energies[static_cast<Eigen::Index>(e)] = 0.5 * sum;
+    }
+    return energies;
+  }
+
+  void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const override {
+    std::vector<double*> blocks;
+    for (const Residual& element : elements_) {
+      parameterBlocks(element, positions, xi, blocks);
+      problem.AddResidualBlock(costFunction(element), nullptr, blocks);
+    }
+  }
+
+ private:
+  std::string name_, elementKind_;
+  std::vector<Residual> elements_;
+  std::vector<int> elementIds_;
+  double coveredArea_;
+  bool usesEdgeUnknowns_;
+};
+
+}  // namespace flexure::curvature

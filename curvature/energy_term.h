@@ -1,0 +1,45 @@
+// An energy term: one discretization (or membrane model) bound to a rest state. Terms are what
+// the optimizer assembles; each is a sum over elements of ½ |r_e|², r_e an element's residuals,
+// so that Ceres' cost equals the energy of docs/energies.md.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "modeling/mesh.h"
+
+namespace ceres {
+class Problem;
+}
+
+namespace flexure::curvature {
+
+using modeling::Positions;
+
+class EnergyTerm {
+ public:
+  virtual ~EnergyTerm() = default;
+
+  virtual std::string name() const = 0;
+  // The mesh element each residual block belongs to ("edge", "face", "vertex"), and how many
+  // contribute.
+  virtual std::string elementKind() const = 0;
+  virtual int elementCount() const = 0;
+  // A_cov: the rest area the elements cover (docs/energies.md, C1).
+  virtual double coveredArea() const = 0;
+  // Whether the term reads one midedge unknown ξ per edge (midedge only).
+  virtual bool usesEdgeUnknowns() const { return false; }
+
+  // E at positions `x` (#V by 3) and edge unknowns `xi` (#E; read only when usesEdgeUnknowns()).
+  // Throws NumericalError naming the element when one is degenerate (e.g. a collapsed face).
+  virtual double energy(const Positions& x, const Eigen::VectorXd& xi) const = 0;
+  // Per element: its energy ½ |r_e|², in element order.
+  virtual Eigen::VectorXd elementEnergies(const Positions& x, const Eigen::VectorXd& xi) const = 0;
+
+  // Adds one residual block per element. `positions` is a row-major #V × 3 array whose rows are
+  // the vertex parameter blocks; `xi` the #E edge unknowns (one block each; midedge only). Every
+  // block the term reads must already be in `problem`.
+  virtual void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const = 0;
+};
+
+}  // namespace flexure::curvature

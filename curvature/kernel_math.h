@@ -1,0 +1,73 @@
+// Small vector algebra on raw T* triples for the element kernels: T is double or ceres::Jet, so
+// the same formula serves energy values, residuals (autodiff) and curvature fields.
+#pragma once
+
+#include <cmath>
+
+namespace flexure::curvature {
+
+template <class T>
+struct Vec3 {
+  T x, y, z;
+};
+
+template <class T>
+inline Vec3<T> load(const T* p) {
+  return {p[0], p[1], p[2]};
+}
+template <class T>
+inline Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class T>
+inline Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T, class S>
+inline Vec3<T> operator*(const S& s, const Vec3<T>& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+template <class T>
+inline T dot(const Vec3<T>& a, const Vec3<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+inline T norm(const Vec3<T>& a) {
+  using std::sqrt;
+  return sqrt(dot(a, a));
+}
+
+// A symmetric 2×2 tensor [[a, b], [b, c]] in a face's rest frame (u, v).
+template <class T>
+struct Sym2 {
+  T a, b, c;
+};
+
+}  // namespace flexure::curvature
+
+namespace flexure::curvature {
+
+// The value part of a scalar: itself for double, the real part for a ceres::Jet.
+inline double scalarPart(double v) {
+  return v;
+}
+template <class J>
+inline auto scalarPart(const J& v) -> decltype(v.a) {
+  return v.a;
+}
+template <class T>
+inline bool isFiniteScalar(const T& v) {
+  return std::isfinite(scalarPart(v));
+}
+
+// The components of a unit vector n̂ in a face's 2D rest frame as the tensor n̂ n̂ᵀ, scaled:
+// scale · (n_u², n_u n_v, n_v²).
+inline Sym2<double> scaledOuterProduct(double nu, double nv, double scale) {
+  return {scale * nu * nu, scale * nu * nv, scale * nv * nv};
+}
+
+}  // namespace flexure::curvature

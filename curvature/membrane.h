@@ -1,0 +1,71 @@
+// Membrane energies, for solves that move x and y (bending alone has no stiffness against
+// in-plane sliding). Both vanish, with their gradients, at rest.
+//
+// stvk — plane-stress St. Venant–Kirchhoff: with F the 3×2 deformation gradient of the affine map
+// from the rest triangle (in its 2D frame) to the current one and ε = ½(FᵀF − I) the Green strain,
+//
+//   E = Y / (2 (1 − ν²)) Σ_T Ā_T Ψ_ν(ε_T),
+//
+// Y Young's modulus times thickness, ν Poisson's ratio (Ψ_ν as for bending).
+//
+// springs — Discrete Shells' membrane (Grinspun et al. 2003; seed 001), edge and area springs:
+//
+//   E = k_L Σ_e (ℓ_e − ℓ̄_e)² / ℓ̄_e + k_A Σ_T (A_T − Ā_T)² / Ā_T
+//
+// (the seed's ½ dropped, as for every energy in docs/energies.md).
+#pragma once
+
+#include <array>
+
+#include "curvature/koiter_density.h"
+
+namespace flexure::curvature {
+
+struct StvkMembraneResidual {
+  static constexpr int kResiduals = 3;
+  std::array<int, 3> vertices;
+  std::array<double, 4> restEdgeInverse;  // D̄⁻¹ row-major, D̄ = [ū1 − ū0, ū2 − ū0] (2 × 2)
+  KoiterWeights weights;                  // make(ν, 2 Y/(2(1 − ν²)) Ā_T)
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    const Vec3<T> x0 = load(x[0]), e1 = load(x[1]) - x0, e2 = load(x[2]) - x0;
+    const std::array<double, 4>& m = restEdgeInverse;
+    // Columns of F = [e1 e2] D̄⁻¹.
+    const Vec3<T> fu = m[0] * e1 + m[2] * e2;
+    const Vec3<T> fv = m[1] * e1 + m[3] * e2;
+    const Sym2<T> strain{T(0.5) * (dot(fu, fu) - T(1.0)), T(0.5) * dot(fu, fv),
+                         T(0.5) * (dot(fv, fv) - T(1.0))};
+    koiterResiduals(strain, Sym2<double>{0.0, 0.0, 0.0}, weights, r);
+    return true;
+  }
+};
+
+struct EdgeSpringResidual {
+  static constexpr int kResiduals = 1;
+  std::array<int, 2> vertices;
+  double sqrtWeight;  // √(2 k_L / ℓ̄_e)
+  double restLength;  // ℓ̄_e
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    r[0] = sqrtWeight * (norm(load(x[1]) - load(x[0])) - T(restLength));
+    return isFiniteScalar(r[0]);
+  }
+};
+
+struct AreaSpringResidual {
+  static constexpr int kResiduals = 1;
+  std::array<int, 3> vertices;
+  double sqrtWeight;  // √(2 k_A / Ā_T)
+  double restArea;    // Ā_T
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    const Vec3<T> x0 = load(x[0]);
+    r[0] = sqrtWeight * (T(0.5) * norm(cross(load(x[1]) - x0, load(x[2]) - x0)) - T(restArea));
+    return isFiniteScalar(r[0]);
+  }
+};
+
+}  // namespace flexure::curvature

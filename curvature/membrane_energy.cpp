@@ -1,0 +1,99 @@
+#include "curvature/membrane_energy.h"
+
+#include <cmath>
+#include <string>
+
+#include "curvature/element_term.h"
+#include "curvature/face_frame.h"
+#include "modeling/errors.h"
+
+namespace flexure::curvature {
+namespace {
+
+using modeling::RestState;
+using modeling::Stencils;
+
+void requirePositive(double value, const char* what) {
+  if (!(value > 0.0) || !std::isfinite(value))
+    throw InputError(std::string(what) + " must be positive (got " + std::to_string(value) + ")");
+}
+
+std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
+                                     const MembraneOptions& o) {
+  requirePositive(o.young, "--young (Young's modulus × thickness)");
+  if (!(o.poisson > -1.0 && o.poisson <= 0.5)) {
+    throw InputError("stvk membrane: --membrane-poisson " + std::to_string(o.poisson) +
+                     " is outside (-1, 0.5]");
+  }
+  const double modulus = o.young / (2.0 * (1.0 - o.poisson * o.poisson));
+  std::vector<StvkMembraneResidual> elements;
+  std::vector<int> ids;
+  for (int f = 0; f < s.faceCount(); ++f) {
+    StvkMembraneResidual r;
+    Eigen::Vector3d x[3];
+    for (int i = 0; i < 3; ++i) {
+      r.vertices[i] = s.faces(f, i);
+      x[i] = rest.positions.row(r.vertices[i]).transpose();
+    }
+    const FaceFrame frame = FaceFrame::of(x[0], x[1], x[2]);
+    Eigen::Matrix2d edges;
+    edges.col(0) = frame.components(x[1] - x[0]);
+    edges.col(1) = frame.components(x[2] - x[0]);
+    const Eigen::Matrix2d inverse = edges.inverse();
+    r.restEdgeInverse = {inverse(0, 0), inverse(0, 1), inverse(1, 0), inverse(1, 1)};
+    r.weights = KoiterWeights::make(o.poisson, 2.0 * modulus * rest.faceAreas[f]);
+    elements.push_back(r);
+    ids.push_back(f);
+  }
+  return std::make_unique<ElementTerm<StvkMembraneResidual>>(
+      "stvk", "face", std::move(elements), std::move(ids), rest.faceAreas.sum(), false);
+}
+
+std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const RestState& rest,
+                                                     const MembraneOptions& o) {
+  requirePositive(o.lengthStiffness, "edge spring stiffness k_L");
+  requirePositive(o.areaStiffness, "area spring stiffness k_A");
+  std::vector<EdgeSpringResidual> edges;
+  std::vector<int> edgeIds;
+  for (int e = 0; e < s.edgeCount(); ++e) {
+    const double length = rest.edgeLengths[e];
+    edges.push_back(
+        {{s.edges(e, 0), s.edges(e, 1)}, std::sqrt(2.0 * o.lengthStiffness / length), length});
+    edgeIds.push_back(e);
+  }
+  std::vector<AreaSpringResidual> faces;
+  std::vector<int> faceIds;
+  for (int f = 0; f < s.faceCount(); ++f) {
+    const double area = rest.faceAreas[f];
+    faces.push_back({{s.faces(f, 0), s.faces(f, 1), s.faces(f, 2)},
+                     std::sqrt(2.0 * o.areaStiffness / area),
+                     area});
+    faceIds.push_back(f);
+  }
+  std::vector<std::unique_ptr<EnergyTerm>> terms;
+  const double total = rest.faceAreas.sum();
+  terms.push_back(std::make_unique<ElementTerm<EdgeSpringResidual>>(
+      "edge springs", "edge", std::move(edges), std::move(edgeIds), total, false));
+  terms.push_back(std::make_unique<ElementTerm<AreaSpringResidual>>(
+      "area springs", "face", std::move(faces), std::move(faceIds), total, false));
+  return terms;
+}
+
+}  // namespace
+
+MembraneModel parseMembraneModel(std::string_view name) {
+  if (name == "stvk") return MembraneModel::Stvk;
+  if (name == "springs") return MembraneModel::Springs;
+  throw InputError("unknown membrane '" + std::string(name) + "' (expected stvk or springs)");
+}
+
+std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const Stencils& s,
+                                                            const RestState& rest,
+                                                            const MembraneOptions& o) {
+  if (o.model == MembraneModel::Springs) return makeSprings(s, rest, o);
+  std::vector<std::unique_ptr<EnergyTerm>> terms;
+  terms.push_back(makeStvk(s, rest, o));
+  return terms;
+}
+
+}  // namespace flexure::curvature
