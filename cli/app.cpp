@@ -12,6 +12,7 @@ int runFlexure(const std::vector<std::string>& args) {
       "flexure");
   app.set_version_flag("--version", std::string("flexure ") + FLEXURE_VERSION);
   app.require_subcommand(1);
+  app.fallthrough();  // --quiet is accepted after the subcommand too
   GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "No progress or notices on stderr");
   app.footer(
@@ -21,6 +22,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerMeshCommand(app, global);
   registerInfoCommand(app, global);
   registerConvertCommand(app, global);
+  registerEnergyCommand(app, global);
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
 

@@ -121,6 +121,30 @@ grep -qxF "v 1.0000000000000002 1e-300 0.3333333333333333" precise.obj || fail "
 grep -qxF "v 0.1 0.2 0.30000000000000004" precise.obj || fail "precision lost: $(cat precise.obj)"
 grep -qxF "v 0 1 -2.5e-07" precise.obj || fail "precision lost: $(cat precise.obj)"
 
+# --- energy: C1 through the command line, option checks ------------------------------------
+run 0 mesh --family patch48 --n 8 -o flat8.obj
+run 0 mesh --family patch48 --n 8 --height quadratic:0.3,-0.7,0.5 -o p8.obj
+near() {  # near KEY VALUE TOLERANCE: the JSON on stdout has KEY within TOLERANCE of VALUE
+  python3 -c "import json,sys; d=json.load(open('out.txt')); sys.exit(0 if abs(d['$1']-$2) <= $3 else 1)" \
+    || fail "$1 is not $2 ± $3: $(cat out.txt)"
+}
+# rho = Psi_0.3([[0.6, -0.7], [-0.7, 1.0]]) = 0.7 (0.36 + 0.98 + 1) + 0.3 (1.6)^2 = 2.406
+run 0 energy --energy midedge --rest flat8.obj --current p8.obj --linearized --boundary-surface quadratic:0.3,-0.7,0.5 --json
+near energy_per_area 2.406 1e-9; stdout_has '"boundary_xi": "clamped to quadratic:0.3,-0.7,0.5"'
+run 0 energy --energy quadfit --rest flat8.obj --current p8.obj --linearized --json; near energy_per_area 2.406 1e-9
+run 0 energy --energy cotan --rest flat8.obj --current p8.obj --linearized --json; near energy_per_area 2.56 1e-9
+run 0 energy --energy hinge --rest flat8.obj --current flat8.obj --json; near energy 0 0; stdout_has '"elements": 176'  # 208 edges, 32 on the boundary
+run 0 energy --energy triavg --rest flat8.obj --current p8.obj; stdout_has "energy / area"
+run 2 energy --energy hinge --poisson 0.3 --rest flat8.obj --current p8.obj; stderr_has "no --poisson"
+run 2 energy --energy triavg --poisson 1.5 --rest flat8.obj --current p8.obj; stderr_has "outside [-1, 1]"
+run 2 energy --energy hinge --vertex-area barycentric --rest flat8.obj --current p8.obj; stderr_has "cotan only"
+run 2 energy --energy bogus --rest flat8.obj --current p8.obj; stderr_has "unknown energy 'bogus'"
+run 0 mesh --family patch48 --n 6 -o flat6.obj
+run 2 energy --energy hinge --rest flat8.obj --current flat6.obj; stderr_has "share connectivity"
+run 0 mesh --family criss --n 8 -o criss8.obj
+run 2 energy --energy hinge --rest flat8.obj --current criss8.obj; stderr_has "face 2 has vertices (1, 2, 11)"
+run 2 energy --energy hinge --rest fin.off --current fin.off; stderr_has "fin.off"
+
 # --- run specs ---------------------------------------------------------------------------
 cat > study.json <<'JSON'
 {"steps": [

@@ -1,0 +1,322 @@
+// Throughput of the five bending energies of docs/energies.md on a 4-8 patch with about one
+// million elements each, and a floor to compare them with.
+//
+// Per energy, three benchmarks:
+//   BM_Energy/<energy>          E alone: EnergyTerm::energy(x, ξ), the plain-double kernels
+//                               (single-threaded, one element after another).
+//   BM_EnergyGradient/<energy>  E and ∇E through Ceres autodiff: Problem::Evaluate on a problem
+//                               assembled once, outside the timed loop, with 2 threads and explicit
+//                               parameter blocks (what optimize::energyGradient runs per call,
+//                               minus the assembly).
+//   BM_Setup/<energy>           the one-time cost a solve pays before its first evaluation:
+//                               makeBendingEnergy (rest data per element) plus the assembly of the
+//                               ceres::Problem. The mesh, its stencils and rest state are shared by
+//                               all energies and not counted.
+// and per mesh size one floor:
+//   BM_LaplacianFloor/n:<n>     y = L X for the cotangent Laplacian L of the rest mesh and the
+//                               #V × 3 current positions X: one sparse matrix-vector product per
+//                               coordinate, the cheapest thing any mesh energy's gradient can cost.
+//
+// Each mesh size n is chosen so that its energy has about 10^6 elements: n = 578 for hinge
+// (3n² − 2n interior edges), n = 708 for triavg, quadfit (≈ 2n² − 4n interior faces) and midedge
+// (2n² faces), n = 1001 for cotan ((n − 1)² interior vertices). Counters: `elements/s` (elements
+// per second of wall time) and `floor_ratio` (time per evaluation / time of the floor on the same
+// mesh; present when the floor ran first in the same process, as it does by default).
+//
+// The configuration: rest flat (patch48 at z = 0), current = rest lifted onto a smooth,
+// non-quadratic height field, so every element is curved and no kernel branch is short-cut;
+// midedge ξ = rest ξ̄ = 0. All times are wall-clock (UseRealTime), since Ceres evaluates on
+// worker threads that a CPU-time clock of the main thread would not see.
+#include <benchmark/benchmark.h>
+#include <ceres/problem.h>
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "curvature/bending_energy.h"
+#include "modeling/generators.h"
+#include "modeling/polynomial_surface.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
+
+namespace {
+
+using flexure::curvature::BendingOptions;
+using flexure::curvature::Discretization;
+using flexure::curvature::EnergyTerm;
+using flexure::modeling::Positions;
+using flexure::modeling::RestState;
+using flexure::modeling::Stencils;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kHeightField = "polynomial:0.3*x^2-0.7*x*y+0.5*y^2+0.2*x^3";
+constexpr int kEvaluationThreads = 2;  // as optimize::energyGradient
+
+struct EnergyCase {
+  Discretization discretization;
+  int n;  // patch48 cells per side
+};
+
+const std::vector<EnergyCase>& energyCases() {
+  static const std::vector<EnergyCase> cases = {
+      {Discretization::Hinge, 578},        {Discretization::TriangleAveraged, 708},
+      {Discretization::Cotan, 1001},       {Discretization::Midedge, 708},
+      {Discretization::QuadraticFit, 708},
+  };
+  return cases;
+}
+
+// A flat patch48 mesh compiled once per size and shared by every benchmark on it.
+struct MeshData {
+  Stencils stencils;
+  RestState rest;
+  Positions current;  // rest lifted onto kHeightField
+};
+
+const MeshData& meshData(int n) {
+  static std::map<int, std::unique_ptr<MeshData>> cache;
+  std::unique_ptr<MeshData>& slot = cache[n];
+  if (!slot) {
+    const auto start = Clock::now();
+    namespace modeling = flexure::modeling;
+    const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
+    slot = std::make_unique<MeshData>();
+    slot->stencils = modeling::compileStencils(mesh);
+    slot->rest = modeling::precomputeRestState(slot->stencils, mesh.positions);
+    slot->current = mesh.positions;
+    modeling::applyHeightField(modeling::PolynomialSurface::parse(kHeightField), slot->current);
+    const std::chrono::duration<double> seconds = Clock::now() - start;
+    std::fprintf(stderr, "mesh patch48 n=%d: %d vertices, %d faces, %d edges (built in %.1f s)\n",
+                 n, slot->stencils.vertexCount(), slot->stencils.faceCount(),
+                 slot->stencils.edgeCount(), seconds.count());
+  }
+  return *slot;
+}
+
+BendingOptions optionsFor(Discretization d) {
+  BendingOptions options;
+  options.discretization = d;
+  return options;  // defaults: ν = 0.3 (1 for hinge, cotan), k_B = 1, Voronoi areas, θ
+}
+
+// One energy bound to the current state, with its Ceres problem. The problem points into x and
+// ξ, so an Evaluation never moves (it lives behind a unique_ptr).
+struct Evaluation {
+  std::unique_ptr<EnergyTerm> term;
+  Positions x;
+  Eigen::VectorXd xi;
+  ceres::Problem problem;
+  ceres::Problem::EvaluateOptions options;
+};
+
+// Parameter blocks as optimize's AssembledProblem adds them: one per vertex (3 doubles), then,
+// for a term that reads them, one per edge unknown ξ; then the term's residual blocks.
+void assemble(Evaluation& e) {
+  std::vector<double*>& blocks = e.options.parameter_blocks;
+  blocks.clear();
+  for (int v = 0; v < e.x.rows(); ++v) {
+    blocks.push_back(e.x.data() + 3 * v);
+    e.problem.AddParameterBlock(blocks.back(), 3);
+  }
+  if (e.term->usesEdgeUnknowns()) {
+    for (int k = 0; k < e.xi.size(); ++k) {
+      blocks.push_back(e.xi.data() + k);
+      e.problem.AddParameterBlock(blocks.back(), 1);
+    }
+  }
+  e.term->addResidualBlocks(e.problem, e.x.data(), e.xi.data());
+  e.options.apply_loss_function = false;
+  e.options.num_threads = kEvaluationThreads;
+}
+
+std::unique_ptr<Evaluation> makeEvaluation(const EnergyCase& c) {
+  const MeshData& mesh = meshData(c.n);
+  auto e = std::make_unique<Evaluation>();
+  e->term =
+      flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest, optionsFor(c.discretization));
+  e->x = mesh.current;
+  // ξ̄ = 0 on the flat rest mesh (docs/energies.md); the current ξ is the rest ξ.
+  e->xi = Eigen::VectorXd::Zero(mesh.stencils.edgeCount());
+  assemble(*e);
+  return e;
+}
+
+// The Evaluation of one energy, kept while that energy's benchmarks run (Google Benchmark calls
+// a benchmark function several times while it settles the iteration count) and dropped for the
+// next energy, so that only one million-element problem is alive at a time.
+Evaluation& evaluation(const EnergyCase& c) {
+  static Discretization cached;
+  static std::unique_ptr<Evaluation> current;
+  if (!current || cached != c.discretization) {
+    current.reset();
+    current = makeEvaluation(c);
+    cached = c.discretization;
+  }
+  return *current;
+}
+
+// Seconds per floor evaluation on each mesh size, for the floor_ratio counters.
+std::map<int, double>& floorSeconds() {
+  static std::map<int, double> seconds;
+  return seconds;
+}
+
+void setCounters(benchmark::State& state, const EnergyCase& c, int elements, double loopSeconds) {
+  state.counters["n"] = c.n;
+  state.counters["elements"] = elements;
+  state.counters["elements/s"] =
+      benchmark::Counter(elements, benchmark::Counter::kIsIterationInvariantRate);
+  const auto floor = floorSeconds().find(c.n);
+  if (floor != floorSeconds().end() && state.iterations() > 0) {
+    state.counters["floor_ratio"] =
+        loopSeconds / static_cast<double>(state.iterations()) / floor->second;
+  }
+}
+
+void energyOnly(benchmark::State& state, EnergyCase c) {
+  const Evaluation& e = evaluation(c);
+  const auto start = Clock::now();
+  for (auto _ : state) {
+    double energy = e.term->energy(e.x, e.xi);
+    benchmark::DoNotOptimize(energy);
+  }
+  const std::chrono::duration<double> loop = Clock::now() - start;
+  setCounters(state, c, e.term->elementCount(), loop.count());
+}
+
+void energyGradient(benchmark::State& state, EnergyCase c) {
+  Evaluation& e = evaluation(c);
+  // Evaluate's cost is ½ Σ r² = E (docs/energies.md): check once, outside the timing, that the
+  // Ceres path computes the same energy as the plain kernels.
+  double cost = 0.0;
+  std::vector<double> gradient;
+  if (!e.problem.Evaluate(e.options, &cost, nullptr, &gradient, nullptr)) {
+    state.SkipWithError("Problem::Evaluate failed");
+    return;
+  }
+  const double energy = e.term->energy(e.x, e.xi);
+  if (!(std::abs(cost - energy) <= 1e-9 * std::abs(energy))) {
+    state.SkipWithError(
+        ("Ceres cost " + std::to_string(cost) + " != energy " + std::to_string(energy)).c_str());
+    return;
+  }
+  const auto start = Clock::now();
+  for (auto _ : state) {
+    e.problem.Evaluate(e.options, &cost, nullptr, &gradient, nullptr);
+    benchmark::DoNotOptimize(cost);
+    benchmark::DoNotOptimize(gradient.data());
+    benchmark::ClobberMemory();
+  }
+  const std::chrono::duration<double> loop = Clock::now() - start;
+  setCounters(state, c, e.term->elementCount(), loop.count());
+}
+
+void setup(benchmark::State& state, EnergyCase c) {
+  const MeshData& mesh = meshData(c.n);
+  int elements = 0;
+  for (auto _ : state) {
+    auto e = std::make_unique<Evaluation>();
+    e->term = flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest,
+                                                    optionsFor(c.discretization));
+    e->x = mesh.current;
+    e->xi = Eigen::VectorXd::Zero(mesh.stencils.edgeCount());
+    assemble(*e);
+    elements = e->term->elementCount();
+    benchmark::DoNotOptimize(e.get());
+    // Tearing a million-block problem down is not part of the setup a solve pays up front.
+    state.PauseTiming();
+    e.reset();
+    state.ResumeTiming();
+  }
+  state.counters["n"] = c.n;
+  state.counters["elements"] = elements;
+  state.counters["elements/s"] =
+      benchmark::Counter(elements, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The cotangent Laplacian of the rest mesh: L_ij = −(cot α_ij + cot β_ij)/2 over the (one or
+// two) angles opposite edge ij, L_ii = −Σ_j L_ij.
+Eigen::SparseMatrix<double, Eigen::RowMajor> cotanLaplacian(const Stencils& s,
+                                                            const RestState& rest) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(12 * static_cast<size_t>(s.faceCount()));
+  for (int f = 0; f < s.faceCount(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = s.faces(f, k), i = s.faces(f, (k + 1) % 3), j = s.faces(f, (k + 2) % 3);
+      const Eigen::Vector3d a = rest.positions.row(i) - rest.positions.row(v);
+      const Eigen::Vector3d b = rest.positions.row(j) - rest.positions.row(v);
+      const double halfCot = 0.5 * a.dot(b) / a.cross(b).norm();  // ½ cot of the angle at v
+      entries.emplace_back(i, j, -halfCot);
+      entries.emplace_back(j, i, -halfCot);
+      entries.emplace_back(i, i, halfCot);
+      entries.emplace_back(j, j, halfCot);
+    }
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(s.vertexCount(), s.vertexCount());
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  return laplacian;
+}
+
+void laplacianFloor(benchmark::State& state, int n) {
+  const MeshData& mesh = meshData(n);
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian =
+      cotanLaplacian(mesh.stencils, mesh.rest);
+  const Eigen::MatrixXd x = mesh.current;  // #V × 3, one column per coordinate
+  Eigen::MatrixXd y(x.rows(), 3);
+  const auto start = Clock::now();
+  for (auto _ : state) {
+    y.noalias() = laplacian * x;
+    benchmark::DoNotOptimize(y.data());
+    benchmark::ClobberMemory();
+  }
+  const std::chrono::duration<double> loop = Clock::now() - start;
+  if (state.iterations() > 0) floorSeconds()[n] = loop.count() / state.iterations();
+  state.counters["n"] = n;
+  state.counters["vertices"] = static_cast<double>(x.rows());
+  state.counters["nnz"] = static_cast<double>(laplacian.nonZeros());
+}
+
+void registerBenchmarks() {
+  const auto timed = [](benchmark::internal::Benchmark* b, double minSeconds) {
+    b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(minSeconds);
+  };
+  // Floors first: the energies' floor_ratio counters read them.
+  std::vector<int> sizes;
+  for (const EnergyCase& c : energyCases()) {
+    if (std::find(sizes.begin(), sizes.end(), c.n) == sizes.end()) sizes.push_back(c.n);
+  }
+  for (int n : sizes) {
+    timed(benchmark::RegisterBenchmark(("BM_LaplacianFloor/n:" + std::to_string(n)).c_str(),
+                                       laplacianFloor, n),
+          0.5);
+  }
+  for (const EnergyCase& c : energyCases()) {
+    const std::string name(flexure::curvature::discretizationName(c.discretization));
+    timed(benchmark::RegisterBenchmark(("BM_Energy/" + name).c_str(), energyOnly, c), 1.0);
+    timed(benchmark::RegisterBenchmark(("BM_EnergyGradient/" + name).c_str(), energyGradient, c),
+          1.0);
+    // Each iteration is seconds long: a fixed count keeps the run short.
+    benchmark::RegisterBenchmark(("BM_Setup/" + name).c_str(), setup, c)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(2);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  registerBenchmarks();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
