@@ -30,6 +30,7 @@
 #include <benchmark/benchmark.h>
 #include <ceres/problem.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
