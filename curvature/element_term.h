@@ -94,6 +94,16 @@ void parameterBlocks(const MidedgeResidual& r, Pointer positions, Pointer xi,
   for (int k = 0; k < 3 + r.flapCount; ++k) out.push_back(positions + 3 * r.vertices[k]);
 }
 
+// The vertices an element reads: all of `vertices`, except for midedge, whose array has room for
+// three flaps it may not have.
+template <class Residual>
+int elementVertexCount(const Residual& r) {
+  return static_cast<int>(r.vertices.size());
+}
+inline int elementVertexCount(const MidedgeResidual& r) {
+  return 3 + r.flapCount;
+}
+
 template <class Residual>
 class ElementTerm : public EnergyTerm {
  public:
@@ -114,6 +124,11 @@ class ElementTerm : public EnergyTerm {
   double coveredArea() const override { return coveredArea_; }
   bool usesEdgeUnknowns() const override { return usesEdgeUnknowns_; }
   const std::vector<Residual>& elements() const { return elements_; }
+
+  void markTouchedVertices(std::vector<bool>& touched) const override {
+    for (const Residual& element : elements_)
+      for (int k = 0; k < elementVertexCount(element); ++k) touched[element.vertices[k]] = true;
+  }
 
   double energy(const Positions& x, const Eigen::VectorXd& xi) const override {
     return elementEnergies(x, xi).sum();

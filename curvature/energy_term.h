@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "modeling/mesh.h"
 
@@ -29,6 +30,9 @@ class EnergyTerm {
   virtual double coveredArea() const = 0;
   // Whether the term reads one midedge unknown ξ per edge (midedge only).
   virtual bool usesEdgeUnknowns() const { return false; }
+
+  // Sets touched[v] for every vertex an element of this term reads (touched has #V entries).
+  virtual void markTouchedVertices(std::vector<bool>& touched) const = 0;
 
   // E at positions `x` (#V by 3) and edge unknowns `xi` (#E; read only when usesEdgeUnknowns()).
   // Throws NumericalError naming the element when one is degenerate (e.g. a collapsed face).

@@ -3,7 +3,7 @@
 #include <ceres/crs_matrix.h>
 #include <ceres/problem.h>
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 
 #include "modeling/errors.h"
@@ -103,7 +103,7 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
   Eigen::SparseMatrix<double> normal = jf.transpose() * jf;
   const double ridge = 1e-13 * normal.diagonal().mean();
   for (int k = 0; k < normal.cols(); ++k) normal.coeffRef(k, k) += ridge;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(normal);
   const Eigen::VectorXd step = solver.solve(-(jf.transpose() * rhs));
   if (solver.info() != Eigen::Success || !step.allFinite()) {
     throw NumericalError("the least-squares solve for the free unknowns failed (singular system)");

@@ -1,0 +1,110 @@
+#include "optimize/boundary_conditions.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "curvature/midedge_boundary.h"
+#include "modeling/boundary_rings.h"
+#include "modeling/errors.h"
+
+namespace flexure::optimize {
+
+std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount) {
+  const Eigen::VectorXi rings = modeling::vertexRings(stencils);
+  std::vector<bool> fixed(stencils.vertexCount(), false);
+  for (int v = 0; v < stencils.vertexCount(); ++v) fixed[v] = rings[v] >= 0 && rings[v] < ringCount;
+  return fixed;
+}
+
+std::vector<bool> readFixedVertices(const std::string& path, int vertexCount) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the fixed-vertex list");
+  std::vector<bool> fixed(vertexCount, false);
+  std::string line;
+  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
+    line = line.substr(0, line.find('#'));
+    for (char& c : line)
+      if (c == ',') c = ' ';
+    std::istringstream words(line);
+    std::string word;
+    while (words >> word) {
+      int v = -1;
+      const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), v);
+      if (error != std::errc() || end != word.data() + word.size()) {
+        throw InputError(path + ": line " + std::to_string(lineNumber) + ": '" + word +
+                         "' is not a vertex index");
+      }
+      if (v < 0 || v >= vertexCount) {
+        throw InputError(path + ": line " + std::to_string(lineNumber) + ": vertex " + word +
+                         " is out of range (the mesh has " + std::to_string(vertexCount) + ")");
+      }
+      fixed[v] = true;
+    }
+  }
+  return fixed;
+}
+
+std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencils& stencils) {
+  const auto colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon),
+                    value = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  if (kind == "rings") {
+    int rings = -1;
+    const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), rings);
+    if (error != std::errc() || end != value.data() + value.size() || rings < 1) {
+      throw InputError("--fix " + spec + ": expected rings:K with K >= 1");
+    }
+    return fixedRings(stencils, rings);
+  }
+  if (kind == "vertices" && !value.empty()) return readFixedVertices(value, stencils.vertexCount());
+  throw InputError("--fix " + spec + ": expected rings:K or vertices:FILE");
+}
+
+Positions boundaryFromSurface(const Positions& rest, const std::vector<bool>& fixedVertex,
+                              const modeling::PolynomialSurface& surface) {
+  Positions start = rest;
+  for (int v = 0; v < rest.rows(); ++v)
+    if (fixedVertex[v]) start(v, 2) = surface.height(rest(v, 0), rest(v, 1));
+  return start;
+}
+
+BoundaryConditions surfaceBoundary(const modeling::Stencils& stencils, const Positions& rest,
+                                   const Eigen::VectorXd& restXi,
+                                   const std::vector<bool>& fixedVertex,
+                                   const modeling::PolynomialSurface& surface,
+                                   BoundaryNormals normals, bool linearized) {
+  BoundaryConditions bc;
+  bc.fixedVertex = fixedVertex;
+  bc.start = boundaryFromSurface(rest, fixedVertex, surface);
+  bc.xi = restXi;
+  bc.fixedEdge.assign(restXi.size(), false);
+  if (restXi.size() == 0 || normals == BoundaryNormals::Free) return bc;
+  const std::vector<bool> onBoundary = curvature::boundaryEdges(stencils);
+  const Eigen::VectorXd clamped = linearized
+                                      ? restXi + curvature::linearizedClampedBoundaryXi(
+                                                     stencils, rest, bc.start - rest, surface)
+                                      : curvature::clampedBoundaryXi(stencils, bc.start, surface);
+  for (int e = 0; e < stencils.edgeCount(); ++e) {
+    if (!onBoundary[e]) continue;
+    bc.fixedEdge[e] = true;
+    bc.xi[e] = clamped[e];
+  }
+  return bc;
+}
+
+double reproductionError(const Positions& rest, const Positions& result,
+                         const std::vector<bool>& fixedVertex,
+                         const modeling::PolynomialSurface& surface) {
+  double error = 0.0, scale = 0.0;
+  for (int v = 0; v < rest.rows(); ++v) {
+    const double p = surface.height(rest(v, 0), rest(v, 1));
+    scale = std::max(scale, std::abs(p));
+    if (!fixedVertex[v]) error = std::max(error, std::abs(result(v, 2) - p));
+  }
+  return scale > 0.0 ? error / scale : error;
+}
+
+}  // namespace flexure::optimize

@@ -1,0 +1,60 @@
+// Fixed boundaries: which vertices (and midedge unknowns) a minimization holds, and at what values.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "modeling/mesh.h"
+#include "modeling/polynomial_surface.h"
+#include "modeling/stencils.h"
+
+namespace flexure::optimize {
+
+using modeling::Positions;
+
+struct BoundaryConditions {
+  std::vector<bool> fixedVertex;  // #V
+  Positions start;                // #V by 3: values of the fixed vertices, start of the free ones
+  std::vector<bool> fixedEdge;    // #E: midedge ξ held at `xi` (clamped boundary normals)
+  Eigen::VectorXd xi;             // #E: values of the held ξ, start of the free ones
+};
+
+// The vertices of rings 0 .. ringCount − 1 (ring 0 = the boundary; 2 rings fix positions and
+// normals: "clamped").
+std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount);
+
+// Vertex indices from a text file: integers separated by white space or commas, '#' comments.
+// Throws InputError naming the file and line for a malformed entry or an index out of range.
+std::vector<bool> readFixedVertices(const std::string& path, int vertexCount);
+
+// `--fix rings:K` or `--fix vertices:FILE`.
+std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencils& stencils);
+
+// Positions that hold x̄, ȳ of `rest` and lift the fixed vertices onto z = p(x̄, ȳ); the free
+// ones keep their rest z (the interior starts at rest).
+Positions boundaryFromSurface(const Positions& rest, const std::vector<bool>& fixedVertex,
+                              const modeling::PolynomialSurface& surface);
+
+// Midedge boundary normals: clamped (boundary ξ prescribed from the boundary surface's normals)
+// or free (natural, moment-free).
+enum class BoundaryNormals { Clamped, Free };
+
+// The test problems' boundary conditions: the fixed vertices lifted onto z = p(x̄, ȳ), the
+// interior at rest, and (midedge, `restXi` non-empty) boundary ξ clamped to p's normals — for a
+// linearized solve the linearized clamp — or free. Boundary faces must be fixed for a clamp to
+// hold (two rings fix them).
+BoundaryConditions surfaceBoundary(const modeling::Stencils& stencils, const Positions& rest,
+                                   const Eigen::VectorXd& restXi,
+                                   const std::vector<bool>& fixedVertex,
+                                   const modeling::PolynomialSurface& surface,
+                                   BoundaryNormals normals, bool linearized);
+
+// C2's measure: max over the free vertices of |z − p(x, y)|, divided by max over all vertices of
+// |p(x, y)| (at the rest x, y).
+double reproductionError(const Positions& rest, const Positions& result,
+                         const std::vector<bool>& fixedVertex,
+                         const modeling::PolynomialSurface& surface);
+
+}  // namespace flexure::optimize

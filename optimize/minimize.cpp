@@ -1,0 +1,194 @@
+#include "optimize/minimize.h"
+
+#include <ceres/ceres.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "modeling/errors.h"
+#include "optimize/energy_evaluation.h"
+
+namespace flexure::optimize {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void requireWellPosed(const std::vector<const EnergyTerm*>& terms, const BoundaryConditions& bc,
+                      const MinimizeOptions& options) {
+  const int vertexCount = static_cast<int>(bc.fixedVertex.size());
+  int fixed = 0;
+  for (bool f : bc.fixedVertex) fixed += f;
+  if (fixed == vertexCount) {
+    throw InputError("every vertex is fixed: there is nothing to minimize (fix fewer rings)");
+  }
+  if (fixed == 0) {
+    throw InputError(options.dof == DofMode::Height
+                         ? "no vertex is fixed: in --dof height adding a plane z = a + bx + cy "
+                           "costs no bending energy, so the minimizer is not unique; fix the "
+                           "boundary (--fix rings:2)"
+                         : "no vertex is fixed: rigid motions cost no energy, so the minimizer is "
+                           "not unique; fix the boundary (--fix rings:2)");
+  }
+  std::vector<bool> touched(vertexCount, false);
+  for (const EnergyTerm* term : terms) term->markTouchedVertices(touched);
+  for (int v = 0; v < vertexCount; ++v) {
+    if (!bc.fixedVertex[v] && !touched[v]) {
+      throw InputError("free vertex " + std::to_string(v) +
+                       " is touched by no element of the energy, so nothing determines it; fix "
+                       "it or use more rings (--fix rings:K)");
+    }
+  }
+}
+
+class ProgressPrinter : public ceres::IterationCallback {
+ public:
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    std::fprintf(stderr, "  iteration %3d  energy %.10e  |gradient| %.3e  |step| %.3e  %s\n",
+                 s.iteration, s.cost, s.gradient_norm, s.step_norm,
+                 s.step_is_successful ? "" : "(step rejected)");
+    return ceres::SOLVER_CONTINUE;
+  }
+};
+
+MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
+                                  const BoundaryConditions& bc, const Positions& rest,
+                                  const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
+  const auto start = Clock::now();
+  MinimizeResult result;
+  const bool withXi = usesEdgeUnknowns(terms);
+  const SparseMatrix jacobian = residualJacobian(terms, rest, restXi);
+  result.report.evaluationSeconds = secondsSince(start);
+
+  // u = (X − X̄, ξ − ξ̄): the fixed entries from the boundary conditions, the free ones solved.
+  const int positionCount = static_cast<int>(rest.size());
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
+  const Positions displacement = bc.start - rest;
+  u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(displacement.data(), positionCount);
+  std::vector<bool> free(jacobian.cols(), false);
+  for (int v = 0; v < rest.rows(); ++v) {
+    if (bc.fixedVertex[v]) continue;
+    for (int c = options.dof == DofMode::Height ? 2 : 0; c < 3; ++c) free[3 * v + c] = true;
+  }
+  if (withXi) {
+    u.tail(restXi.size()) = bc.xi - restXi;
+    for (int e = 0; e < restXi.size(); ++e) free[positionCount + e] = !bc.fixedEdge[e];
+  }
+  result.report.initialEnergy = linearizedEnergy(jacobian, u);
+  const auto solveStart = Clock::now();
+  u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free);
+  result.report.linearSolverSeconds = secondsSince(solveStart);
+  result.report.finalEnergy = linearizedEnergy(jacobian, u);
+
+  const Eigen::VectorXd gradient = jacobian.transpose() * (jacobian * u);
+  double squared = 0.0;
+  for (int k = 0; k < gradient.size(); ++k)
+    if (free[k]) squared += gradient[k] * gradient[k];
+  result.report.gradientNorm = std::sqrt(squared);
+  result.positions = rest + Eigen::Map<const Positions>(u.data(), rest.rows(), 3);
+  if (withXi) result.xi = restXi + u.tail(restXi.size());
+  result.report.converged = true;
+  result.report.termination = "linearized: one sparse solve";
+  result.report.iterations = 1;
+  result.report.residuals = static_cast<int>(jacobian.rows());
+  int unknowns = 0;
+  for (bool f : free) unknowns += f;
+  result.report.unknowns = unknowns;
+  result.report.totalSeconds = secondsSince(start);
+  return result;
+}
+
+MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
+                                 const BoundaryConditions& bc, const MinimizeOptions& options) {
+  const auto start = Clock::now();
+  MinimizeResult result;
+  result.positions = bc.start;
+  const bool withXi = usesEdgeUnknowns(terms);
+  if (withXi) result.xi = bc.xi;
+
+  ceres::Problem::Options problemOptions;
+  problemOptions.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problemOptions);
+  ceres::SubsetManifold heightOnly(3, {0, 1});
+  int unknowns = 0;
+  for (int v = 0; v < result.positions.rows(); ++v) {
+    double* block = result.positions.data() + 3 * v;
+    problem.AddParameterBlock(block, 3);
+    if (bc.fixedVertex[v]) {
+      problem.SetParameterBlockConstant(block);
+    } else if (options.dof == DofMode::Height) {
+      problem.SetManifold(block, &heightOnly);
+      unknowns += 1;
+    } else {
+      unknowns += 3;
+    }
+  }
+  if (withXi) {
+    for (int e = 0; e < result.xi.size(); ++e) {
+      problem.AddParameterBlock(result.xi.data() + e, 1);
+      if (bc.fixedEdge[e]) {
+        problem.SetParameterBlockConstant(result.xi.data() + e);
+      } else {
+        ++unknowns;
+      }
+    }
+  }
+  for (const EnergyTerm* term : terms)
+    term->addResidualBlocks(problem, result.positions.data(), withXi ? result.xi.data() : nullptr);
+
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  solver.num_threads = options.threads;
+  solver.max_num_iterations = options.maxIterations;
+  solver.function_tolerance = options.functionTolerance;
+  solver.gradient_tolerance = options.gradientTolerance;
+  solver.parameter_tolerance = options.parameterTolerance;
+  solver.minimizer_progress_to_stdout = false;
+  solver.logging_type = ceres::SILENT;
+  ProgressPrinter printer;
+  if (options.progress) solver.callbacks.push_back(&printer);
+
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+
+  MinimizeReport& r = result.report;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+                  summary.message;
+  r.iterations = summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
+  r.initialEnergy = summary.initial_cost;
+  r.finalEnergy = summary.final_cost;
+  r.gradientNorm = summary.iterations.empty() ? 0.0 : summary.iterations.back().gradient_norm;
+  r.evaluationSeconds =
+      summary.residual_evaluation_time_in_seconds + summary.jacobian_evaluation_time_in_seconds;
+  r.linearSolverSeconds = summary.linear_solver_time_in_seconds;
+  r.unknowns = unknowns;
+  r.residuals = problem.NumResiduals();
+  r.totalSeconds = secondsSince(start);
+  return result;
+}
+
+}  // namespace
+
+MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
+                        const BoundaryConditions& conditions, const Positions& rest,
+                        const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
+  requireWellPosed(terms, conditions, options);
+  MinimizeResult result = options.linearized
+                              ? minimizeLinearized(terms, conditions, rest, restXi, options)
+                              : minimizeNonlinear(terms, conditions, options);
+  MinimizeReport& r = result.report;
+  r.vertices = static_cast<int>(conditions.fixedVertex.size());
+  for (bool f : conditions.fixedVertex) r.fixedVertices += f;
+  for (size_t e = 0; e < conditions.fixedEdge.size(); ++e)
+    r.freeEdgeUnknowns += usesEdgeUnknowns(terms) && !conditions.fixedEdge[e];
+  return result;
+}
+
+}  // namespace flexure::optimize

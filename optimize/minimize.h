@@ -1,0 +1,57 @@
+// Static minimizers with fixed boundaries: the shape a plate or shell takes when some vertices
+// (and, for midedge, some ξ) are held and the rest minimize the energy terms.
+//
+// Nonlinear: Ceres' trust-region Levenberg–Marquardt with SPARSE_NORMAL_CHOLESKY on SuiteSparse;
+// one parameter block per vertex, fixed vertices constant, and in height mode a SubsetManifold
+// keeps x and y. Linearized: E_lin(u) = ½ |J (u − ū)|² with J the residual Jacobian at rest,
+// minimized exactly by one sparse Cholesky solve (CHOLMOD) over the free unknowns.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "curvature/energy_term.h"
+#include "optimize/boundary_conditions.h"
+
+namespace flexure::optimize {
+
+using curvature::EnergyTerm;
+
+enum class DofMode { Height, Xyz };
+
+struct MinimizeOptions {
+  DofMode dof = DofMode::Height;
+  bool linearized = false;
+  int maxIterations = 200;
+  double functionTolerance = 1e-14;   // Ceres: |Δcost| / cost
+  double gradientTolerance = 1e-10;   // Ceres: max-norm of the projected gradient
+  double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
+  int threads = 2;
+  bool progress = false;  // one line per iteration on stderr
+};
+
+struct MinimizeReport {
+  bool converged = false;
+  std::string termination;  // Ceres' termination type and message, or "linear solve"
+  int iterations = 0;
+  double initialEnergy = 0.0, finalEnergy = 0.0;
+  double gradientNorm = 0.0;  // final |∇E| over the free unknowns (2-norm)
+  double totalSeconds = 0.0, evaluationSeconds = 0.0, linearSolverSeconds = 0.0;
+  int vertices = 0, fixedVertices = 0, freeEdgeUnknowns = 0, unknowns = 0, residuals = 0;
+};
+
+struct MinimizeResult {
+  Positions positions;  // #V by 3
+  Eigen::VectorXd xi;   // #E (midedge), else empty
+  MinimizeReport report;
+};
+
+// Throws InputError for a problem that has no unique minimizer: nothing fixed in height mode,
+// everything fixed, a free vertex no element touches. Does not throw on non-convergence: the
+// report says so (converged = false).
+MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
+                        const BoundaryConditions& conditions, const Positions& rest,
+                        const Eigen::VectorXd& restXi, const MinimizeOptions& options);
+
+}  // namespace flexure::optimize
