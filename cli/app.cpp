@@ -23,6 +23,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerInfoCommand(app, global);
   registerConvertCommand(app, global);
   registerEnergyCommand(app, global);
+  registerMinimizeCommand(app, global);
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
 

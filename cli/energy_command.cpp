@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli/bending_arguments.h"
 #include "cli/commands.h"
 #include "curvature/bending_energy.h"
 #include "curvature/midedge_boundary.h"
@@ -19,11 +20,9 @@ namespace flexure::cli {
 namespace {
 
 struct EnergyCommandOptions {
-  std::string energy;
+  BendingArguments bending;
   std::string restFile, currentFile;
-  std::optional<double> poisson;
-  std::string vertexArea, hingeAngle, boundarySurface;
-  double stiffness = 1.0;
+  std::string boundarySurface;
   bool linearized = false;
   bool json = false;
 };
@@ -48,26 +47,6 @@ void requireSameConnectivity(const EnergyCommandOptions& o, const modeling::Mesh
                        std::to_string(r(2)) + "): rest and current must share connectivity");
     }
   }
-}
-
-curvature::BendingOptions bendingOptions(const EnergyCommandOptions& o) {
-  curvature::BendingOptions b;
-  b.discretization = curvature::parseDiscretization(o.energy);
-  b.poisson = o.poisson;
-  b.stiffness = o.stiffness;
-  const auto onlyFor = [&](bool applies, const std::string& value, const char* option,
-                           const char* energy) {
-    if (!value.empty() && !applies)
-      throw InputError(std::string(option) + " applies to --energy " + energy + " only");
-  };
-  using curvature::Discretization;
-  onlyFor(b.discretization == Discretization::Cotan, o.vertexArea, "--vertex-area", "cotan");
-  onlyFor(b.discretization == Discretization::Hinge, o.hingeAngle, "--hinge-angle", "hinge");
-  onlyFor(b.discretization == Discretization::Midedge, o.boundarySurface, "--boundary-surface",
-          "midedge");
-  if (!o.vertexArea.empty()) b.vertexArea = curvature::parseVertexArea(o.vertexArea);
-  if (!o.hingeAngle.empty()) b.hingeAngle = curvature::parseHingeAngle(o.hingeAngle);
-  return b;
 }
 
 struct EnergyResult {
@@ -123,7 +102,9 @@ EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& s
 }
 
 void runEnergyCommand(const EnergyCommandOptions& o) {
-  const curvature::BendingOptions b = bendingOptions(o);
+  const curvature::BendingOptions b = bendingOptions(o.bending);
+  if (!o.boundarySurface.empty() && b.discretization != curvature::Discretization::Midedge)
+    throw InputError("--boundary-surface applies to --energy midedge only");
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   const modeling::Mesh current = modeling::readMesh(o.currentFile);
   requireSameConnectivity(o, restMesh, current);
@@ -173,18 +154,10 @@ void registerEnergyCommand(CLI::App& app, const GlobalOptions&) {
   auto options = std::make_shared<EnergyCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "energy", "Bending energy of a current mesh against a rest mesh (docs/energies.md)");
-  sub->add_option("--energy", options->energy, "hinge | triavg | cotan | midedge | quadfit")
-      ->required();
+  addBendingArguments(*sub, options->bending);
   sub->add_option("--rest", options->restFile, "Rest (undeformed) mesh")->required();
   sub->add_option("--current", options->currentFile, "Current (deformed) mesh, same connectivity")
       ->required();
-  sub->add_option(
-      "--poisson", options->poisson,
-      "Poisson's ratio nu of the Koiter density (triavg, midedge, quadfit; default 0.3)");
-  sub->add_option("--stiffness", options->stiffness, "Bending stiffness k_B")
-      ->capture_default_str();
-  sub->add_option("--vertex-area", options->vertexArea, "cotan: voronoi (default) | barycentric");
-  sub->add_option("--hinge-angle", options->hingeAngle, "hinge: theta (default) | tan");
   sub->add_option("--boundary-surface", options->boundarySurface,
                   "midedge: clamp boundary xi to this surface's normals (quadratic:a,b,c or "
                   "polynomial:EXPR); free otherwise");

@@ -145,6 +145,37 @@ run 0 mesh --family criss --n 8 -o criss8.obj
 run 2 energy --energy hinge --rest flat8.obj --current criss8.obj; stderr_has "face 2 has vertices (1, 2, 11)"
 run 2 energy --energy hinge --rest fin.off --current fin.off; stderr_has "fin.off"
 
+# --- minimize: C2 through the command line, reports, refusals ----------------------------------
+run 0 minimize --rest flat8.obj --energy cotan --boundary quadratic:0.3,-0.7,0.5 --linearized -o c2.obj --report c2.json
+python3 - <<'PY' || fail "cotan's linearized minimizer on the 4-8 patch is not the sampled quadratic"
+p = lambda x, y: 0.3 * x * x - 0.7 * x * y + 0.5 * y * y
+vs = [list(map(float, l.split()[1:])) for l in open("c2.obj") if l.startswith("v ")]
+assert max(abs(z - p(x, y)) for x, y, z in vs) < 1e-12
+PY
+python3 -c "import json; d=json.load(open('c2.json')); assert d['converged'] and d['linearized'] and d['problem']['fixed_vertices'] == 56, d" \
+  || fail "c2.json: $(cat c2.json)"
+run 0 minimize --rest flat8.obj --energy midedge --boundary quadratic:1,0,1 -o bowl.obj --report bowl.json --quiet
+python3 -c "import json; d=json.load(open('bowl.json')); assert d['converged'] and d['final_energy'] < d['initial_energy'] and len(d['xi']) == 208, d" \
+  || fail "bowl.json: $(cat bowl.json)"
+[ ! -s err.txt ] || fail "--quiet minimize printed: $(cat err.txt)"
+run 0 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o hinge-bowl.obj
+stderr_has "iteration"; stderr_has "wrote hinge-bowl.obj"
+run 0 minimize --rest flat8.obj --energy quadfit --init bowl.obj -o again.obj --quiet
+printf '0 1 2\n# the rest of the boundary\n3, 4, 5\n' > fixed.txt
+run 0 minimize --rest flat8.obj --energy triavg --fix vertices:fixed.txt --boundary quadratic:1,0,0 --dof xyz --membrane stvk -o xyz.obj --quiet --max-iterations 500
+run 3 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o slow.obj --report slow.json --max-iterations 1 --quiet
+stderr_has "did not converge"; absent slow.obj
+python3 -c "import json; d=json.load(open('slow.json')); assert not d['converged'] and 'NO_CONVERGENCE' in d['termination']" || fail "slow.json"
+run 2 minimize --rest flat8.obj --energy hinge -o x.obj; stderr_has "--boundary"; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --dof xyz -o x.obj; stderr_has "needs a membrane"
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:9 -o x.obj; stderr_has "every vertex is fixed"
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:0 -o x.obj; stderr_has "rings:K"
+printf '0 1 999\n' > badfixed.txt
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix vertices:badfixed.txt -o x.obj
+stderr_has "badfixed.txt: line 1: vertex 999 is out of range"; absent x.obj
+run 2 minimize --rest flat8.obj --energy midedge --init bowl.obj --boundary-normals clamped -o x.obj; stderr_has "needs a boundary surface"
+run 2 minimize --rest flat8.obj --energy hinge --init flat6.obj -o x.obj; stderr_has "does not share the connectivity"
+
 # --- run specs ---------------------------------------------------------------------------
 cat > study.json <<'JSON'
 {"steps": [

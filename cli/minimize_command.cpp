@@ -1,0 +1,241 @@
+// flexure minimize: the static minimizer of a bending energy (plus a membrane in xyz mode) with
+// fixed boundary vertices, written as a mesh, with a JSON report.
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "cli/bending_arguments.h"
+#include "cli/commands.h"
+#include "cli/mesh_json.h"
+#include "curvature/membrane_energy.h"
+#include "curvature/midedge_boundary.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_io.h"
+#include "modeling/polynomial_surface.h"
+#include "modeling/rest_state.h"
+#include "optimize/minimize.h"
+
+namespace flexure::cli {
+namespace {
+
+struct MinimizeCommandOptions {
+  BendingArguments bending;
+  std::string restFile, output, reportFile;
+  std::string dof = "height";
+  std::string membrane;
+  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3;
+  std::string fix = "rings:2";
+  std::string initFile, boundary, boundaryNormals;
+  bool linearized = false;
+  optimize::MinimizeOptions solver;
+};
+
+void requireSameConnectivity(const std::string& file, const modeling::Mesh& mesh,
+                             const std::string& restFile, const modeling::Mesh& rest) {
+  if (mesh.vertexCount() != rest.vertexCount() || mesh.triangles != rest.triangles) {
+    throw InputError(
+        file + ": does not share the connectivity of " + restFile + " (" +
+        std::to_string(mesh.vertexCount()) + " vs " + std::to_string(rest.vertexCount()) +
+        " vertices, or different faces): --init must be the rest mesh in other positions");
+  }
+}
+
+optimize::BoundaryNormals boundaryNormals(const MinimizeCommandOptions& o, bool haveSurface,
+                                          bool midedge, const GlobalOptions& global) {
+  if (!o.boundaryNormals.empty() && !midedge)
+    throw InputError("--boundary-normals applies to --energy midedge only");
+  if (o.boundaryNormals == "free") return optimize::BoundaryNormals::Free;
+  if (o.boundaryNormals == "clamped") {
+    if (!haveSurface) {
+      throw InputError(
+          "--boundary-normals clamped needs a boundary surface to take the normals "
+          "from: give --boundary quadratic:a,b,c");
+    }
+    return optimize::BoundaryNormals::Clamped;
+  }
+  if (!o.boundaryNormals.empty())
+    throw InputError("--boundary-normals " + o.boundaryNormals + ": expected clamped or free");
+  if (midedge && !haveSurface && !global.quiet)
+    std::cerr << "flexure minimize: no boundary surface: midedge boundary normals are free\n";
+  return haveSurface ? optimize::BoundaryNormals::Clamped : optimize::BoundaryNormals::Free;
+}
+
+nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::BendingOptions& b,
+                          const optimize::MinimizeResult& result, bool meshWritten) {
+  const optimize::MinimizeReport& r = result.report;
+  nlohmann::json report = {
+      {"rest", o.restFile},
+      {"output", meshWritten ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
+      {"energy_name", std::string(curvature::discretizationName(b.discretization))},
+      {"poisson", curvature::effectivePoisson(b)},
+      {"dof", o.dof},
+      {"membrane", o.membrane.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.membrane)},
+      {"fix", o.fix},
+      {"linearized", o.linearized},
+      {"converged", r.converged},
+      {"termination", r.termination},
+      {"iterations", r.iterations},
+      {"initial_energy", r.initialEnergy},
+      {"final_energy", r.finalEnergy},
+      {"final_gradient_norm", r.gradientNorm},
+      {"seconds",
+       {{"total", r.totalSeconds},
+        {"evaluation", r.evaluationSeconds},
+        {"linear_solver", r.linearSolverSeconds}}},
+      {"problem",
+       {{"vertices", r.vertices},
+        {"fixed_vertices", r.fixedVertices},
+        {"free_edge_unknowns", r.freeEdgeUnknowns},
+        {"unknowns", r.unknowns},
+        {"residuals", r.residuals}}},
+  };
+  if (!o.boundary.empty()) report["boundary"] = o.boundary;
+  if (!o.initFile.empty()) report["init"] = o.initFile;
+  if (result.xi.size() > 0) {
+    report["xi"] = std::vector<double>(result.xi.data(), result.xi.data() + result.xi.size());
+  }
+  return report;
+}
+
+void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
+  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  const curvature::BendingOptions b = bendingOptions(o.bending);
+  const bool midedge = b.discretization == curvature::Discretization::Midedge;
+  optimize::MinimizeOptions solver = o.solver;
+  solver.linearized = o.linearized;
+  solver.progress = !global.quiet && !o.linearized;
+  if (o.dof == "height") {
+    solver.dof = optimize::DofMode::Height;
+    if (!o.membrane.empty())
+      throw InputError("--membrane applies to --dof xyz (height mode keeps x and y at rest)");
+  } else if (o.dof == "xyz") {
+    solver.dof = optimize::DofMode::Xyz;
+    if (o.membrane.empty()) {
+      throw InputError(
+          "--dof xyz needs a membrane (--membrane stvk|springs): bending alone has "
+          "no stiffness against sliding in the surface");
+    }
+  } else {
+    throw InputError("--dof " + o.dof + ": expected height or xyz");
+  }
+  if (!o.initFile.empty() && !o.boundary.empty())
+    throw InputError("give either --init or --boundary, not both");
+  if (o.initFile.empty() && o.boundary.empty())
+    throw InputError(
+        "the fixed vertices need values: give --boundary quadratic:a,b,c or --init FILE");
+
+  const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
+  const modeling::Stencils stencils = modeling::compileStencils(restMesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
+  const std::unique_ptr<curvature::EnergyTerm> bending =
+      curvature::makeBendingEnergy(stencils, rest, b);
+  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
+  if (!o.membrane.empty()) {
+    curvature::MembraneOptions m;
+    m.model = curvature::parseMembraneModel(o.membrane);
+    m.young = o.young;
+    m.poisson = o.membranePoisson;
+    m.lengthStiffness = o.lengthStiffness;
+    m.areaStiffness = o.areaStiffness;
+    membrane = curvature::makeMembraneEnergy(stencils, rest, m);
+  }
+  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
+  for (const auto& term : membrane) terms.push_back(term.get());
+
+  const Eigen::VectorXd restXi =
+      midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
+  const std::vector<bool> fixed = optimize::parseFixedSet(o.fix, stencils);
+  std::optional<modeling::PolynomialSurface> surface;
+  if (!o.boundary.empty()) surface = modeling::PolynomialSurface::parse(o.boundary);
+  const optimize::BoundaryNormals normals =
+      boundaryNormals(o, surface.has_value(), midedge, global);
+
+  optimize::BoundaryConditions bc;
+  if (surface) {
+    bc = optimize::surfaceBoundary(stencils, rest.positions, restXi, fixed, *surface, normals,
+                                   o.linearized);
+  } else {
+    const modeling::Mesh init = modeling::readMesh(o.initFile);
+    requireSameConnectivity(o.initFile, init, o.restFile, restMesh);
+    bc.fixedVertex = fixed;
+    bc.start = init.positions;
+    bc.xi = restXi;
+    bc.fixedEdge.assign(restXi.size(), false);
+  }
+
+  const optimize::MinimizeResult result =
+      optimize::minimize(terms, bc, rest.positions, restXi, solver);
+  if (result.report.converged) {
+    modeling::Mesh out = restMesh;
+    out.positions = result.positions;
+    modeling::writeMesh(o.output, out);
+  }
+  const nlohmann::json report = reportJson(o, b, result, result.report.converged);
+  if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+  if (!result.report.converged) {
+    throw NumericalError("the solve did not converge (" + result.report.termination + "); " +
+                         o.output + " not written" +
+                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
+                         "; raise --max-iterations or loosen the tolerances");
+  }
+  if (!global.quiet) {
+    std::cerr << "flexure minimize: wrote " << o.output << " (energy "
+              << result.report.initialEnergy << " -> " << result.report.finalEnergy << ", "
+              << result.report.iterations << " iterations, " << result.report.totalSeconds
+              << " s)\n";
+  }
+}
+
+}  // namespace
+
+void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<MinimizeCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "minimize", "Minimize a bending energy with fixed boundary vertices (static equilibrium)");
+  sub->add_option("--rest", options->restFile, "Rest mesh (flat plate or curved shell)")
+      ->required();
+  addBendingArguments(*sub, options->bending);
+  sub->add_option("--dof", options->dof, "height (z only; x, y at rest) | xyz (needs --membrane)")
+      ->capture_default_str();
+  sub->add_option("--membrane", options->membrane, "xyz mode: stvk | springs");
+  sub->add_option("--young", options->young, "stvk: Young's modulus x thickness")
+      ->capture_default_str();
+  sub->add_option("--membrane-poisson", options->membranePoisson, "stvk: Poisson's ratio")
+      ->capture_default_str();
+  sub->add_option("--length-stiffness", options->lengthStiffness, "springs: k_L")
+      ->capture_default_str();
+  sub->add_option("--area-stiffness", options->areaStiffness, "springs: k_A")
+      ->capture_default_str();
+  sub->add_option("--fix", options->fix,
+                  "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
+                  "vertices:FILE (indices)")
+      ->capture_default_str();
+  sub->add_option("--boundary", options->boundary,
+                  "Fixed vertices lifted onto z = p(x, y) at their rest x, y (quadratic:a,b,c or "
+                  "polynomial:EXPR); the interior starts at rest");
+  sub->add_option("--init", options->initFile,
+                  "A mesh (rest connectivity) giving the fixed vertices' values and the start");
+  sub->add_option("--boundary-normals", options->boundaryNormals,
+                  "midedge: clamped (boundary xi from --boundary's normals; the default with "
+                  "--boundary) | free");
+  sub->add_flag("--linearized", options->linearized,
+                "Minimize the linearized energy E_lin exactly (one sparse solve)");
+  sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
+  sub->add_option("--function-tolerance", options->solver.functionTolerance, "|dE| / E")
+      ->capture_default_str();
+  sub->add_option("--gradient-tolerance", options->solver.gradientTolerance)->capture_default_str();
+  sub->add_option("--parameter-tolerance", options->solver.parameterTolerance)
+      ->capture_default_str();
+  sub->add_option("--threads", options->solver.threads)->capture_default_str();
+  sub->add_option("-o,--output", options->output, "Minimizer mesh (.obj, .off, .ply)")->required();
+  sub->add_option("--report", options->reportFile,
+                  "JSON report (written even when the solve fails)");
+  sub->footer(
+      "Exit 3 when the solve does not converge (the report says why; no mesh is written).\n"
+      "Example: flexure minimize --rest plate.obj --energy midedge --boundary quadratic:1,0,1 "
+      "-o bowl.obj --report bowl.json");
+  sub->callback([options, &global] { runMinimizeCommand(*options, global); });
+}
+
+}  // namespace flexure::cli
