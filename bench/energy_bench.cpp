@@ -1,32 +1,35 @@
 // Throughput of the five bending energies of docs/energies.md on a 4-8 patch with about one
 // million elements each, and a floor to compare them with.
 //
-// Per energy, three benchmarks:
+// Per energy, in this order:
+//   BM_Setup/<energy>           the one-time cost a solve pays before its first evaluation:
+//                               makeBendingEnergy (rest data per element; counter term_ms) plus
+//                               the assembly of the ceres::Problem (problem_ms). The mesh, its
+//                               stencils and rest state are shared by all energies and not counted.
 //   BM_Energy/<energy>          E alone: EnergyTerm::energy(x, ξ), the plain-double kernels
 //                               (single-threaded, one element after another).
-//   BM_EnergyGradient/<energy>  E and ∇E through Ceres autodiff: Problem::Evaluate on a problem
-//                               assembled once, outside the timed loop, with 2 threads and explicit
-//                               parameter blocks (what optimize::energyGradient runs per call,
-//                               minus the assembly).
-//   BM_Setup/<energy>           the one-time cost a solve pays before its first evaluation:
-//                               makeBendingEnergy (rest data per element) plus the assembly of the
-//                               ceres::Problem. The mesh, its stencils and rest state are shared by
-//                               all energies and not counted.
-// and per mesh size one floor:
+//   BM_EnergyCeres/<energy>     E alone through Problem::Evaluate (cost only): the same double
+//                               kernels behind Ceres' per-call bookkeeping. A diagnostic that
+//                               splits the gradient's cost into bookkeeping and autodiff.
+//   BM_EnergyGradient/<energy>  E and ∇E through Ceres autodiff: Problem::Evaluate on the problem
+//                               BM_Setup assembled (outside the timed loop), with 2 threads and
+//                               explicit parameter blocks — what optimize::energyGradient runs per
+//                               call, minus the assembly.
+// and, first, per mesh size one floor:
 //   BM_LaplacianFloor/n:<n>     y = L X for the cotangent Laplacian L of the rest mesh and the
 //                               #V × 3 current positions X: one sparse matrix-vector product per
-//                               coordinate, the cheapest thing any mesh energy's gradient can cost.
+//                               coordinate, about the least any gradient of a mesh energy costs.
 //
 // Each mesh size n is chosen so that its energy has about 10^6 elements: n = 578 for hinge
 // (3n² − 2n interior edges), n = 708 for triavg, quadfit (≈ 2n² − 4n interior faces) and midedge
 // (2n² faces), n = 1001 for cotan ((n − 1)² interior vertices). Counters: `elements/s` (elements
 // per second of wall time) and `floor_ratio` (time per evaluation / time of the floor on the same
-// mesh; present when the floor ran first in the same process, as it does by default).
+// mesh; present when that floor ran earlier in the same process, as it does by default).
 //
 // The configuration: rest flat (patch48 at z = 0), current = rest lifted onto a smooth,
-// non-quadratic height field, so every element is curved and no kernel branch is short-cut;
-// midedge ξ = rest ξ̄ = 0. All times are wall-clock (UseRealTime), since Ceres evaluates on
-// worker threads that a CPU-time clock of the main thread would not see.
+// non-quadratic height field, so every element is bent and no kernel takes a flat short cut;
+// midedge ξ = rest ξ̄ = 0. Times are wall-clock (UseRealTime), since Ceres evaluates on a
+// worker thread as well; the CPU column is the whole process's CPU time.
 #include <benchmark/benchmark.h>
 #include <ceres/problem.h>
 
@@ -137,30 +140,47 @@ void assemble(Evaluation& e) {
   e.options.num_threads = kEvaluationThreads;
 }
 
-std::unique_ptr<Evaluation> makeEvaluation(const EnergyCase& c) {
+// The energy of one case at the current state; `termSeconds` and `problemSeconds` receive the
+// wall time of makeBendingEnergy and of the problem assembly.
+std::unique_ptr<Evaluation> makeEvaluation(const EnergyCase& c, double& termSeconds,
+                                           double& problemSeconds) {
   const MeshData& mesh = meshData(c.n);
   auto e = std::make_unique<Evaluation>();
-  e->term =
-      flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest, optionsFor(c.discretization));
   e->x = mesh.current;
   // ξ̄ = 0 on the flat rest mesh (docs/energies.md); the current ξ is the rest ξ.
   e->xi = Eigen::VectorXd::Zero(mesh.stencils.edgeCount());
+  const auto start = Clock::now();
+  e->term =
+      flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest, optionsFor(c.discretization));
+  const auto built = Clock::now();
   assemble(*e);
+  termSeconds = std::chrono::duration<double>(built - start).count();
+  problemSeconds = std::chrono::duration<double>(Clock::now() - built).count();
   return e;
 }
 
 // The Evaluation of one energy, kept while that energy's benchmarks run (Google Benchmark calls
-// a benchmark function several times while it settles the iteration count) and dropped for the
+// a benchmark function several times while it settles the iteration count) and replaced for the
 // next energy, so that only one million-element problem is alive at a time.
+struct EvaluationCache {
+  Discretization discretization{};
+  std::unique_ptr<Evaluation> evaluation;
+};
+
+EvaluationCache& evaluationCache() {
+  static EvaluationCache cache;
+  return cache;
+}
+
 Evaluation& evaluation(const EnergyCase& c) {
-  static Discretization cached;
-  static std::unique_ptr<Evaluation> current;
-  if (!current || cached != c.discretization) {
-    current.reset();
-    current = makeEvaluation(c);
-    cached = c.discretization;
+  EvaluationCache& cache = evaluationCache();
+  if (!cache.evaluation || cache.discretization != c.discretization) {
+    cache.evaluation.reset();
+    double termSeconds = 0.0, problemSeconds = 0.0;
+    cache.evaluation = makeEvaluation(c, termSeconds, problemSeconds);
+    cache.discretization = c.discretization;
   }
-  return *current;
+  return *cache.evaluation;
 }
 
 // Seconds per floor evaluation on each mesh size, for the floor_ratio counters.
@@ -181,6 +201,40 @@ void setCounters(benchmark::State& state, const EnergyCase& c, int elements, dou
   }
 }
 
+// BM_Setup: makeBendingEnergy + problem assembly, what a solve pays once before evaluating. The
+// Evaluation built last is handed to the cache, so the benchmarks after it reuse it instead of
+// building their own.
+void setup(benchmark::State& state, EnergyCase c) {
+  evaluationCache().evaluation.reset();  // free the previous energy's problem first
+  std::unique_ptr<Evaluation> e;
+  double termSeconds = 0.0, problemSeconds = 0.0;
+  for (auto _ : state) {
+    if (e) {
+      // Tearing a million-block problem down is not part of the setup.
+      state.PauseTiming();
+      e.reset();
+      state.ResumeTiming();
+    }
+    double term = 0.0, problem = 0.0;
+    e = makeEvaluation(c, term, problem);
+    benchmark::DoNotOptimize(e.get());
+    termSeconds += term;
+    problemSeconds += problem;
+  }
+  if (!e) return;
+  state.counters["n"] = c.n;
+  state.counters["elements"] = e->term->elementCount();
+  state.counters["elements/s"] =
+      benchmark::Counter(e->term->elementCount(), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["term_ms"] =
+      benchmark::Counter(1e3 * termSeconds, benchmark::Counter::kAvgIterations);
+  state.counters["problem_ms"] =
+      benchmark::Counter(1e3 * problemSeconds, benchmark::Counter::kAvgIterations);
+  evaluationCache().evaluation = std::move(e);
+  evaluationCache().discretization = c.discretization;
+}
+
+// BM_Energy: E from the plain-double element kernels.
 void energyOnly(benchmark::State& state, EnergyCase c) {
   const Evaluation& e = evaluation(c);
   const auto start = Clock::now();
@@ -192,13 +246,18 @@ void energyOnly(benchmark::State& state, EnergyCase c) {
   setCounters(state, c, e.term->elementCount(), loop.count());
 }
 
-void energyGradient(benchmark::State& state, EnergyCase c) {
+// BM_EnergyCeres (cost only) and BM_EnergyGradient (cost and gradient): Problem::Evaluate on the
+// assembled problem. The cost-only variant runs the same double kernels as BM_Energy behind
+// Ceres' per-call bookkeeping, so EnergyCeres − Energy is that bookkeeping and
+// EnergyGradient − EnergyCeres the autodiff (Jet) evaluation and gradient accumulation.
+void ceresEvaluate(benchmark::State& state, EnergyCase c, bool withGradient) {
   Evaluation& e = evaluation(c);
   // Evaluate's cost is ½ Σ r² = E (docs/energies.md): check once, outside the timing, that the
   // Ceres path computes the same energy as the plain kernels.
   double cost = 0.0;
   std::vector<double> gradient;
-  if (!e.problem.Evaluate(e.options, &cost, nullptr, &gradient, nullptr)) {
+  std::vector<double>* gradientOut = withGradient ? &gradient : nullptr;
+  if (!e.problem.Evaluate(e.options, &cost, nullptr, gradientOut, nullptr)) {
     state.SkipWithError("Problem::Evaluate failed");
     return;
   }
@@ -210,36 +269,13 @@ void energyGradient(benchmark::State& state, EnergyCase c) {
   }
   const auto start = Clock::now();
   for (auto _ : state) {
-    e.problem.Evaluate(e.options, &cost, nullptr, &gradient, nullptr);
+    e.problem.Evaluate(e.options, &cost, nullptr, gradientOut, nullptr);
     benchmark::DoNotOptimize(cost);
     benchmark::DoNotOptimize(gradient.data());
     benchmark::ClobberMemory();
   }
   const std::chrono::duration<double> loop = Clock::now() - start;
   setCounters(state, c, e.term->elementCount(), loop.count());
-}
-
-void setup(benchmark::State& state, EnergyCase c) {
-  const MeshData& mesh = meshData(c.n);
-  int elements = 0;
-  for (auto _ : state) {
-    auto e = std::make_unique<Evaluation>();
-    e->term = flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest,
-                                                    optionsFor(c.discretization));
-    e->x = mesh.current;
-    e->xi = Eigen::VectorXd::Zero(mesh.stencils.edgeCount());
-    assemble(*e);
-    elements = e->term->elementCount();
-    benchmark::DoNotOptimize(e.get());
-    // Tearing a million-block problem down is not part of the setup a solve pays up front.
-    state.PauseTiming();
-    e.reset();
-    state.ResumeTiming();
-  }
-  state.counters["n"] = c.n;
-  state.counters["elements"] = elements;
-  state.counters["elements/s"] =
-      benchmark::Counter(elements, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The cotangent Laplacian of the rest mesh: L_ij = −(cot α_ij + cot β_ij)/2 over the (one or
@@ -285,8 +321,10 @@ void laplacianFloor(benchmark::State& state, int n) {
 }
 
 void registerBenchmarks() {
-  const auto timed = [](benchmark::internal::Benchmark* b, double minSeconds) {
-    b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(minSeconds);
+  // Wall time (Ceres evaluates on worker threads); the CPU column is the whole process's CPU
+  // time, so CPU / Time shows how many cores were busy.
+  const auto configure = [](benchmark::internal::Benchmark* b) {
+    return b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
   };
   // Floors first: the energies' floor_ratio counters read them.
   std::vector<int> sizes;
@@ -294,20 +332,21 @@ void registerBenchmarks() {
     if (std::find(sizes.begin(), sizes.end(), c.n) == sizes.end()) sizes.push_back(c.n);
   }
   for (int n : sizes) {
-    timed(benchmark::RegisterBenchmark(("BM_LaplacianFloor/n:" + std::to_string(n)).c_str(),
-                                       laplacianFloor, n),
-          0.5);
+    const std::string name = "BM_LaplacianFloor/n:" + std::to_string(n);
+    configure(benchmark::RegisterBenchmark(name.c_str(), laplacianFloor, n))->MinTime(0.5);
   }
   for (const EnergyCase& c : energyCases()) {
     const std::string name(flexure::curvature::discretizationName(c.discretization));
-    timed(benchmark::RegisterBenchmark(("BM_Energy/" + name).c_str(), energyOnly, c), 1.0);
-    timed(benchmark::RegisterBenchmark(("BM_EnergyGradient/" + name).c_str(), energyGradient, c),
-          1.0);
-    // Each iteration is seconds long: a fixed count keeps the run short.
-    benchmark::RegisterBenchmark(("BM_Setup/" + name).c_str(), setup, c)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->Iterations(2);
+    // One setup per energy: it takes seconds, and its result is reused below.
+    configure(benchmark::RegisterBenchmark(("BM_Setup/" + name).c_str(), setup, c))->Iterations(1);
+    configure(benchmark::RegisterBenchmark(("BM_Energy/" + name).c_str(), energyOnly, c))
+        ->MinTime(1.0);
+    configure(
+        benchmark::RegisterBenchmark(("BM_EnergyCeres/" + name).c_str(), ceresEvaluate, c, false))
+        ->MinTime(1.0);
+    configure(
+        benchmark::RegisterBenchmark(("BM_EnergyGradient/" + name).c_str(), ceresEvaluate, c, true))
+        ->MinTime(1.0);
   }
 }
 
