@@ -16,27 +16,21 @@ struct AssembledProblem {
   Positions x;
   Eigen::VectorXd xi;
   ceres::Problem problem;
-  std::vector<double*> blocks;  // in unknown order
 
   AssembledProblem(const std::vector<const EnergyTerm*>& terms, const Positions& positions,
                    const Eigen::VectorXd& edgeUnknowns)
       : x(positions), xi(edgeUnknowns) {
-    for (int v = 0; v < x.rows(); ++v) {
-      blocks.push_back(x.data() + 3 * v);
-      problem.AddParameterBlock(blocks.back(), 3);
-    }
+    for (int v = 0; v < x.rows(); ++v) problem.AddParameterBlock(x.data() + 3 * v, 3);
     if (usesEdgeUnknowns(terms)) {
-      for (int e = 0; e < xi.size(); ++e) {
-        blocks.push_back(xi.data() + e);
-        problem.AddParameterBlock(blocks.back(), 1);
-      }
+      for (int e = 0; e < xi.size(); ++e) problem.AddParameterBlock(xi.data() + e, 1);
     }
     for (const EnergyTerm* term : terms) term->addResidualBlocks(problem, x.data(), xi.data());
   }
 
+  // No explicit parameter_blocks: Ceres then orders the unknowns as the blocks were added, which
+  // is the unknown order above, and skips a costly lookup per block on every call.
   ceres::Problem::EvaluateOptions options() const {
     ceres::Problem::EvaluateOptions o;
-    o.parameter_blocks = blocks;
     o.apply_loss_function = false;
     o.num_threads = 2;
     return o;
