@@ -27,6 +27,7 @@ struct MinimizeCommandOptions {
   double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3;
   std::string fix = "rings:2";
   std::string initFile, boundary, boundaryNormals;
+  std::string start;  // linearized | given; empty: linearized with --boundary, given with --init
   bool linearized = false;
   optimize::MinimizeOptions solver;
 };
@@ -73,6 +74,10 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
       {"membrane", o.membrane.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.membrane)},
       {"fix", o.fix},
       {"linearized", o.linearized},
+      {"start", o.linearized         ? ""
+                : !o.start.empty()   ? o.start
+                : o.initFile.empty() ? "linearized"
+                                     : "given"},
       {"converged", r.converged},
       {"termination", r.termination},
       {"iterations", r.iterations},
@@ -216,6 +221,10 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
                   "polynomial:EXPR); the interior starts at rest");
   sub->add_option("--init", options->initFile,
                   "A mesh (rest connectivity) giving the fixed vertices' values and the start");
+  sub->add_option("--start", options->start,
+                  "Start of the nonlinear solve: linearized (the linearized minimizer, one sparse "
+                  "solve; default with --boundary) | given (the interior at rest, or as in --init; "
+                  "default with --init)");
   sub->add_option("--boundary-normals", options->boundaryNormals,
                   "midedge: clamped (boundary xi from --boundary's normals; the default with "
                   "--boundary) | free");

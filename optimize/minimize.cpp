@@ -144,6 +144,10 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  // The bending Hessian is bi-Laplacian-like, condition number ~ n⁴: Ceres' default initial
+  // radius (1e4, i.e. damping 1e-4 of the diagonal) all but freezes the smooth modes, and the
+  // radius then grows only 3× per step. Start as Gauss–Newton; LM damping returns on a bad step.
+  solver.initial_trust_region_radius = 1e12;
   solver.num_threads = options.threads;
   solver.max_num_iterations = options.maxIterations;
   solver.function_tolerance = options.functionTolerance;
@@ -180,9 +184,22 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
                         const BoundaryConditions& conditions, const Positions& rest,
                         const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
   requireWellPosed(terms, conditions, options);
-  MinimizeResult result = options.linearized
-                              ? minimizeLinearized(terms, conditions, rest, restXi, options)
-                              : minimizeNonlinear(terms, conditions, options);
+  MinimizeResult result;
+  if (options.linearized) {
+    result = minimizeLinearized(terms, conditions, rest, restXi, options);
+  } else if (options.start == Start::Linearized) {
+    const MinimizeResult predictor = minimizeLinearized(terms, conditions, rest, restXi, options);
+    BoundaryConditions warm = conditions;
+    warm.start = predictor.positions;
+    if (predictor.xi.size() > 0) warm.xi = predictor.xi;
+    result = minimizeNonlinear(terms, warm, options);
+    MinimizeReport& r = result.report;
+    r.totalSeconds += predictor.report.totalSeconds;
+    r.evaluationSeconds += predictor.report.evaluationSeconds;
+    r.linearSolverSeconds += predictor.report.linearSolverSeconds;
+  } else {
+    result = minimizeNonlinear(terms, conditions, options);
+  }
   MinimizeReport& r = result.report;
   r.vertices = static_cast<int>(conditions.fixedVertex.size());
   for (bool f : conditions.fixedVertex) r.fixedVertices += f;

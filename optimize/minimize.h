@@ -20,11 +20,17 @@ using curvature::EnergyTerm;
 
 enum class DofMode { Height, Xyz };
 
+// Where the free unknowns of a nonlinear solve start. Linearized: at the minimizer of the
+// linearized energy (one sparse solve: the Newton step from rest), which leaves Gauss–Newton a
+// small correction; AsGiven: at the boundary conditions' `start` (the rest state, or --init).
+enum class Start { Linearized, AsGiven };
+
 struct MinimizeOptions {
   DofMode dof = DofMode::Height;
   bool linearized = false;
+  Start start = Start::Linearized;
   int maxIterations = 200;
-  double functionTolerance = 1e-14;   // Ceres: |Δcost| / cost
+  double functionTolerance = 1e-12;   // Ceres: |Δcost| / cost
   double gradientTolerance = 1e-10;   // Ceres: max-norm of the projected gradient
   double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
   int threads = 2;

@@ -124,10 +124,11 @@ TEST(NonlinearMinimize, ConvergesForEveryEnergyWithSmallGradient) {
     EXPECT_TRUE(r.report.converged) << r.report.termination;
     EXPECT_LT(r.report.finalEnergy, r.report.initialEnergy);
     EXPECT_GT(r.report.iterations, 0);
-    // Gauss–Newton on a non-zero-residual problem converges linearly at the end: the initial
-    // gradient (~1e2) falls below 1e-5 before the relative energy change reaches 1e-14 (measured:
-    // 5e-7 for cotan). A much tighter solve agrees with the default one to 1e-12 in energy.
-    EXPECT_LT(r.report.gradientNorm, 1e-5);
+    // Gauss–Newton on a non-zero-residual problem converges linearly at the end: the gradient
+    // (~1e2 at the start) is below 1e-4 when the relative energy change reaches the default 1e-12
+    // (measured: 5e-5 for hinge, 2e-5 for cotan). A much tighter solve agrees with the default
+    // one to 1e-12 in energy and 1e-6 in position.
+    EXPECT_LT(r.report.gradientNorm, 1e-4);
     optimize::MinimizeOptions tight;
     tight.functionTolerance = 1e-16;
     tight.gradientTolerance = 1e-14;
@@ -195,6 +196,7 @@ TEST(NonlinearMinimize, FoldedSheetWithMembraneReturnsFlat) {
     if (!problem.fixed[v]) bc.start(v, 2) = 0.4 * std::abs(bc.start(v, 0));
   optimize::MinimizeOptions options;
   options.dof = optimize::DofMode::Xyz;
+  options.start = optimize::Start::AsGiven;  // from the fold, not the linearized predictor
   const auto r = optimize::minimize({problem.term.get(), membraneTerms[0].get()}, bc,
                                     problem.rest.positions, problem.restXi, options);
   ASSERT_TRUE(r.report.converged) << r.report.termination;
