@@ -24,6 +24,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerConvertCommand(app, global);
   registerEnergyCommand(app, global);
   registerMinimizeCommand(app, global);
+  registerConvergeCommand(app, global);
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
 

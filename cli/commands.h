@@ -17,6 +17,7 @@ void registerInfoCommand(CLI::App& app, const GlobalOptions& global);
 void registerConvertCommand(CLI::App& app, const GlobalOptions& global);
 void registerEnergyCommand(CLI::App& app, const GlobalOptions& global);
 void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global);
+void registerConvergeCommand(CLI::App& app, const GlobalOptions& global);
 void registerDemoCommand(CLI::App& app, const GlobalOptions& global);
 void registerRunCommand(CLI::App& app, const GlobalOptions& global);
 

@@ -194,10 +194,60 @@ run 2 run typo.json; stderr_has 'unknown key "option"'
 echo '{"command": "info", "inputs": ["fin.off"]}' > failing.json
 run 2 run failing.json; stderr_has "step 1 failed"
 
+# --- converge: a tiny study writes the four kinds of output; bad options exit 2 -------------
+tiny=(converge --energies midedge,hinge --families patch48,delaunay --n 8 --levels 2 --amplitudes 2
+      --quadratics "1,0,0;0.3,-0.7,0.5")
+run 0 "${tiny[@]}" -o study
+for f in results.json results.csv summary.md c2_patch48.png refinement_patch48.png \
+         refinement_energy_delaunay.png nonlinear_c2_delaunay.png; do
+  [ -s "study/$f" ] || fail "converge wrote no study/$f"
+done
+stdout_has "## C1 and C2 (linearized, n = 8)"
+stderr_has "wrote results.json"
+grep -qF "| energy | C1 patch48 | C2 patch48 | C1 delaunay | C2 delaunay |" study/summary.md ||
+  fail "summary.md lacks the C1/C2 table"
+grep -qE "^\| midedge\(clamped\) \| pass [0-9.e+-]+ \| pass [0-9.e+-]+ \| pass [0-9.e+-]+ \| pass" study/summary.md ||
+  fail "summary.md: midedge does not pass everything"
+grep -qE "^\| hinge \| fail [0-9.e+-]+ \| fail" study/summary.md || fail "summary.md: hinge does not fail"
+grep -qF "## Refinement: the minimizer against u = polynomial:x^4-3*x^2*y^2" study/summary.md ||
+  fail "summary.md lacks the refinement table"
+head -1 study/results.csv | grep -q "^kind,energy,poisson,family,seed,n,level,h," || fail "results.csv header"
+python3 - study/results.json <<'PY' || fail "results.json"
+import json, sys
+d = json.load(open(sys.argv[1]))
+kinds = [r["kind"] for r in d["records"]]
+# 2 energies x (patch48, delaunay) x 2 levels x 2 quadratics; nonlinear on the coarsest; refinement per level
+assert kinds.count("quadratic") == 16 and kinds.count("nonlinear_c2") == 8 and kinds.count("refinement") == 8, kinds
+assert all(r["c2"] < 1e-9 for r in d["records"] if r["kind"] == "quadratic" and r["energy"] == "midedge(clamped)")
+assert len(d["refinement"]) == 4 and d["refinement"][0]["n"] == [8, 16]
+PY
+run 0 "${tiny[@]}" --threads 1 -o study2 --quiet
+for f in results.json results.csv summary.md; do
+  cmp -s "study/$f" "study2/$f" || fail "converge: $f differs between runs (threads 2 vs 1)"
+done
+[ ! -s err.txt ] || fail "converge --quiet wrote to stderr: $(cat err.txt)"
+run 0 converge --mesh patch48.obj --energies midedge:free --amplitudes 0 -o user --quiet
+grep -qF "| midedge(free) | — | fail" user/summary.md || fail "user mesh: midedge(free) should fail C2"
+run 2 converge --energies frobenius -o bad; stderr_has "--energies"; stderr_has "frobenius"; absent bad
+run 2 converge --families hexagonal -o bad; stderr_has "hexagonal"; absent bad
+run 2 converge --levels 0 -o bad; stderr_has "--levels 0"; absent bad
+run 2 converge --amplitudes 1 -o bad; stderr_has "--amplitudes 1"; absent bad
+run 2 converge --quadratics "1,0" -o bad; stderr_has "--quadratics"; stderr_has "'1,0'"; absent bad
+run 2 converge --solution "polynomial:x^^2" -o bad; stderr_has "x^^2"; absent bad
+run 2 converge --poisson 3 --energies triavg -o bad; stderr_has "outside [-1, 1]"; absent bad
+run 2 converge --mesh bowl.ply -o bad; stderr_has "bowl.ply: vertex"; stderr_has "flat"; absent bad
+run 2 converge --mesh missing.obj -o bad; stderr_has "missing.obj"; absent bad
+run 2 "${tiny[@]}" -o study/summary.md; stderr_has "cannot create the output directory"
+run 2 converge --n 8; stderr_has "--output"
+
 # --- demo --------------------------------------------------------------------------------
 run 0 demo -o demo; stdout_has "patch48"
 [ -s demo/meshes.json ] || fail "demo wrote no meshes.json"
 [ -s demo/meshes/delaunay-n32-quadratic.obj ] || fail "demo wrote no delaunay-n32-quadratic.obj"
+stdout_has "# Convergence study"
+for f in summary.md results.json results.csv refinement_delaunay.png nonlinear_c2_patch48.png; do
+  [ -s "demo/convergence/$f" ] || fail "demo wrote no convergence/$f"
+done
 run 0 info demo/meshes/stripe-n16.obj --json; stdout_has '"valid": true'
 
 echo "cli_end_to_end: $checks runs, $failures failures"

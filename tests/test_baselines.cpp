@@ -40,7 +40,9 @@ TEST(CotanLaplacian, AnnihilatesConstantsAndInteriorLinearFunctions) {
       sampled(plate.mesh.positions, PolynomialSurface::parse("polynomial:2*x-3*y+1"));
   const Eigen::VectorXd image = laplacian * linear;
   for (int v = 0; v < plate.mesh.vertexCount(); ++v)
-    if (!plate.stencils.vertexOnBoundary[v]) EXPECT_NEAR(image[v], 0.0, 1e-12);
+    if (!plate.stencils.vertexOnBoundary[v]) {
+      EXPECT_NEAR(image[v], 0.0, 1e-12);
+    }
   EXPECT_LT(
       (Eigen::MatrixXd(laplacian) - Eigen::MatrixXd(laplacian).transpose()).cwiseAbs().maxCoeff(),
       1e-14);
@@ -52,8 +54,9 @@ TEST(CotanLaplacian, IsTheVoronoiAreaTimesTheLaplacianOfAQuadraticOnThe48Patch) 
   const Eigen::VectorXd image =
       optimize::cotanLaplacian(plate.stencils, plate.rest) * sampled(plate.mesh.positions, p);
   for (int v = 0; v < plate.mesh.vertexCount(); ++v)
-    if (!plate.stencils.vertexOnBoundary[v])
+    if (!plate.stencils.vertexOnBoundary[v]) {
       EXPECT_NEAR(image[v], 1.6 * plate.rest.vertexVoronoiAreas[v], 1e-12);
+    }
 }
 
 TEST(Biharmonic, ReproducesQuadraticsWithTwoFixedRingsOnThe48Patch) {
@@ -90,7 +93,9 @@ TEST(CgalFair, SolvesTheCotanBiharmonicSystemOfItsInputAndHoldsTheFixedVertices)
     EXPECT_LT((faired.col(c) - ours).cwiseAbs().maxCoeff(), 1e-9) << "coordinate " << c;
   }
   for (int v = 0; v < lifted.vertexCount(); ++v)
-    if (fixed[v]) EXPECT_EQ(faired.row(v), lifted.positions.row(v));
+    if (fixed[v]) {
+      EXPECT_EQ(faired.row(v), lifted.positions.row(v));
+    }
 }
 
 }  // namespace

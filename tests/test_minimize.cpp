@@ -92,9 +92,9 @@ INSTANTIATE_TEST_SUITE_P(
         C2Case{MeshFamily::Criss, kHinge, true}, C2Case{MeshFamily::Criss, kTriavg, true},
         C2Case{MeshFamily::Criss, kCotan, true}, C2Case{MeshFamily::Criss, kCotanBarycentric, true},
         C2Case{MeshFamily::Criss, kQuadfit, true}, C2Case{MeshFamily::Criss, kMidedge, true}),
-    [](const auto& info) {
-      return std::string(modeling::meshFamilyName(info.param.family)) + "_" +
-             info.param.variant.name;
+    [](const auto& testInfo) {
+      return std::string(modeling::meshFamilyName(testInfo.param.family)) + "_" +
+             testInfo.param.variant.name;
     });
 
 TEST(C2Table, MidedgePassesOnSeveralDelaunaySeeds) {
@@ -143,8 +143,9 @@ TEST(NonlinearMinimize, ConvergesForEveryEnergyWithSmallGradient) {
     for (int v = 0; v < mesh.vertexCount(); ++v) {
       EXPECT_EQ(r.positions(v, 0), mesh.positions(v, 0));
       EXPECT_EQ(r.positions(v, 1), mesh.positions(v, 1));
-      if (problem.fixed[v])
+      if (problem.fixed[v]) {
         EXPECT_EQ(r.positions(v, 2), p.height(mesh.positions(v, 0), mesh.positions(v, 1)));
+      }
     }
   }
 }
@@ -174,7 +175,9 @@ TEST(NonlinearMinimize, MidedgeApproachesTheQuadraticAsTheAmplitudeShrinks) {
     // reproductionError divides by max |p| = O(ε): it is error / ε up to a constant.
     const double relative =
         optimize::reproductionError(problem.rest.positions, r.positions, problem.fixed, p);
-    if (k > 1) EXPECT_LT(relative, 0.35 * previous) << "eps = " << eps;
+    if (k > 1) {
+      EXPECT_LT(relative, 0.35 * previous) << "eps = " << eps;
+    }
     previous = relative;
   }
   EXPECT_LT(previous, 1e-3);

@@ -1,0 +1,155 @@
+// flexure converge: the convergence study — C1, C2, nonlinear C2 and refinement — over energies,
+// mesh families and levels, written as results.json, results.csv, summary.md and PNG plots.
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "cli/study_outputs.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_io.h"
+#include "optimize/convergence_study.h"
+
+namespace flexure::cli {
+namespace {
+
+struct ConvergeCommandOptions {
+  std::vector<std::string> energies, families, meshFiles;
+  std::vector<std::uint64_t> seeds = {1};
+  int n = 8, levels = 3, amplitudes = 4, threads = 2;
+  std::string quadratics, solution = optimize::kDefaultSolution;
+  std::optional<double> poisson;
+  std::string outputDir;
+};
+
+// "a,b,c;a,b,c;…" → quadratics. Throws InputError quoting the entry.
+std::vector<optimize::Quadratic> parseQuadratics(const std::string& text) {
+  std::vector<optimize::Quadratic> quadratics;
+  std::istringstream entries(text);
+  std::string entry;
+  while (std::getline(entries, entry, ';')) {
+    double values[3];
+    const char* cursor = entry.c_str();
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      char* end = nullptr;
+      values[k] = std::strtod(cursor, &end);
+      ok = end != cursor;
+      cursor = end;
+      while (*cursor == ' ') ++cursor;
+      if (k < 2) ok = ok && *cursor++ == ',';
+    }
+    if (!ok || *cursor != '\0') {
+      throw InputError("--quadratics '" + text + "': entry '" + entry +
+                       "' is not a,b,c (expected triples separated by ';', e.g. "
+                       "\"1,0,0;0.3,-0.7,0.5\" for x² and 0.3x² − 0.7xy + 0.5y²)");
+    }
+    quadratics.push_back({values[0], values[1], values[2]});
+  }
+  return quadratics;
+}
+
+optimize::StudyOptions studyOptions(const ConvergeCommandOptions& o, bool familiesGiven) {
+  optimize::StudyOptions study;
+  if (!o.energies.empty()) {
+    study.energies.clear();
+    for (const std::string& spec : o.energies) {
+      try {
+        study.energies.push_back(optimize::parseEnergyVariant(spec, o.poisson));
+      } catch (const InputError& e) {
+        throw InputError(std::string("--energies: ") + e.what());
+      }
+    }
+  } else {
+    study.energies = optimize::defaultEnergyVariants(o.poisson);
+  }
+  // With --mesh, the generated families run only when named.
+  if (familiesGiven || !o.meshFiles.empty()) {
+    study.families.clear();
+    for (const std::string& name : o.families) {
+      try {
+        study.families.push_back(modeling::parseMeshFamily(name));
+      } catch (const InputError& e) {
+        throw InputError(std::string("--families: ") + e.what());
+      }
+    }
+  }
+  study.seeds = o.seeds;
+  for (const std::string& file : o.meshFiles)
+    study.userMeshes.push_back({file, modeling::readMesh(file)});
+  study.baseN = o.n;
+  study.levels = o.levels;
+  if (!o.quadratics.empty()) study.quadratics = parseQuadratics(o.quadratics);
+  study.amplitudes = o.amplitudes;
+  study.solution = o.solution == "none" ? "" : o.solution;
+  study.threads = o.threads;
+  return study;
+}
+
+void runConvergeCommand(const ConvergeCommandOptions& o, bool familiesGiven,
+                        const GlobalOptions& global) {
+  const optimize::StudyOptions study = studyOptions(o, familiesGiven);
+  const std::string summary = runStudyInto(study, o.outputDir, global, "flexure converge");
+  std::cout << summary;
+  if (!global.quiet) {
+    std::cerr << "flexure converge: wrote results.json, results.csv, summary.md and the plots to "
+              << o.outputDir << '\n';
+  }
+}
+
+}  // namespace
+
+void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<ConvergeCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "converge",
+      "Convergence study: C1/C2 quadratic reproduction, nonlinear C2 and refinement against an "
+      "exact plate solution, with tables and plots");
+  sub->add_option("--energies", options->energies,
+                  "Comma-separated: hinge, hinge:tan, triavg, cotan, cotan:barycentric, midedge, "
+                  "midedge:free, quadfit (default: the spec's seven rows)")
+      ->delimiter(',');
+  CLI::Option* families =
+      sub->add_option("--families", options->families,
+                      "Comma-separated: patch48, stripe, criss, delaunay (default: all four, or "
+                      "none when --mesh is given)")
+          ->delimiter(',');
+  sub->add_option("--seeds", options->seeds,
+                  "delaunay: comma-separated seeds, one mesh sequence each")
+      ->delimiter(',')
+      ->capture_default_str();
+  sub->add_option("--mesh", options->meshFiles,
+                  "A flat mesh of yours (z = 0; repeat for several): C1, C2, nonlinear C2");
+  sub->add_option("--n", options->n, "Cells per side of the coarsest generated meshes")
+      ->capture_default_str();
+  sub->add_option("--levels", options->levels, "Refinement levels: n, 2n, …, 2^(K-1) n (1 to 8)")
+      ->capture_default_str();
+  sub->add_option("--quadratics", options->quadratics,
+                  "Quadratics a,b,c (p = a x² + b xy + c y²) separated by ';' (default "
+                  "\"1,0,0;0,1,0;1,0,1;1,0,-1;0.3,-0.7,0.5\")");
+  sub->add_option("--amplitudes", options->amplitudes,
+                  "Nonlinear C2 at eps = 2^-1 … 2^-K on the coarsest meshes (0: none)")
+      ->capture_default_str();
+  sub->add_option("--solution", options->solution,
+                  "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
+      ->capture_default_str();
+  sub->add_option("--poisson", options->poisson,
+                  "Poisson's ratio nu for triavg, midedge and quadfit (default 0.3; hinge and "
+                  "cotan are nu = 1 models)");
+  sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
+      ->capture_default_str();
+  sub->add_option("-o,--output", options->outputDir, "Output directory (created if missing)")
+      ->required();
+  sub->footer(
+      "Writes DIR/results.json (every run), DIR/results.csv (one row per solve), DIR/summary.md "
+      "(the pass/fail table and the orders; also printed) and log-log plots DIR/*.png.\n"
+      "Example: flexure converge --energies midedge,cotan,hinge --families patch48,delaunay "
+      "--levels 3 -o study");
+  sub->callback([options, families, &global] {
+    runConvergeCommand(*options, families->count() > 0, global);
+  });
+}
+
+}  // namespace flexure::cli

@@ -1,0 +1,20 @@
+// The outputs of a convergence study, shared by `flexure converge` and `flexure demo`: results.json
+// (every record, the refinement fits and the summary), results.csv (one row per solve),
+// summary.md (the spec's table computed live, plus the orders) and log-log plots (PNG).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/commands.h"
+#include "optimize/convergence_study.h"
+
+namespace flexure::cli {
+
+// Runs the study (progress on stderr unless quiet: a bar on a terminal, else a line per tenth),
+// creates `dir` and writes every output there atomically; returns summary.md's text. The
+// outputs depend only on the options, not on the thread count or the time.
+std::string runStudyInto(const optimize::StudyOptions& options, const std::string& dir,
+                         const GlobalOptions& global, const std::string& commandName);
+
+}  // namespace flexure::cli

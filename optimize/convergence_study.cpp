@@ -1,0 +1,653 @@
+#include "optimize/convergence_study.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "curvature/koiter_density.h"
+#include "curvature/midedge_boundary.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_info.h"
+
+namespace flexure::optimize {
+namespace {
+
+using modeling::PolynomialSurface;
+
+// A relative reproduction error at or below this is round-off: the point says nothing about an
+// order (nonlinear C2 fits leave it out).
+constexpr double kRoundOff = 1e-12;
+
+// Ψ_ν of the Hessian of u at (x, y).
+double hessianDensity(const PolynomialSurface& u, double poisson, double x, double y) {
+  const Eigen::Matrix2d h = u.hessian(x, y);
+  return curvature::koiterDensity({h(0, 0), h(0, 1), h(1, 1)}, poisson);
+}
+
+PolynomialSurface scaledSurface(const PolynomialSurface& p, double scale) {
+  std::vector<modeling::Monomial> terms = p.terms();
+  for (modeling::Monomial& term : terms) term.coefficient *= scale;
+  return PolynomialSurface(std::move(terms));
+}
+
+bool isZero(const PolynomialSurface& p) {
+  return std::all_of(p.terms().begin(), p.terms().end(),
+                     [](const modeling::Monomial& m) { return m.coefficient == 0.0; });
+}
+
+// The largest coefficient of Δ²u, relative to the largest |c| (i + j)⁴ of u's terms c xⁱ yʲ:
+// Δ²(xⁱ yʲ) = i(i−1)(i−2)(i−3) xⁱ⁻⁴ yʲ + 2 i(i−1) j(j−1) xⁱ⁻² yʲ⁻² + j(j−1)(j−2)(j−3) xⁱ yʲ⁻⁴.
+double relativeBilaplacian(const PolynomialSurface& u) {
+  std::map<std::pair<int, int>, double> bilaplacian;
+  double scale = 0.0;
+  for (const modeling::Monomial& m : u.terms()) {
+    const double i = m.xPower, j = m.yPower, c = m.coefficient;
+    scale = std::max(scale, std::abs(c) * std::pow(i + j, 4));
+    if (m.xPower >= 4) bilaplacian[{m.xPower - 4, m.yPower}] += c * i * (i - 1) * (i - 2) * (i - 3);
+    if (m.xPower >= 2 && m.yPower >= 2)
+      bilaplacian[{m.xPower - 2, m.yPower - 2}] += 2 * c * i * (i - 1) * j * (j - 1);
+    if (m.yPower >= 4) bilaplacian[{m.xPower, m.yPower - 4}] += c * j * (j - 1) * (j - 2) * (j - 3);
+  }
+  double largest = 0.0;
+  for (const auto& [powers, coefficient] : bilaplacian)
+    largest = std::max(largest, std::abs(coefficient));
+  return scale > 0.0 ? largest / scale : 0.0;
+}
+
+// C1's measure of an energy per area against the continuum density, relative to
+// |∇²p|² = tr (∇²p)², which is positive for any non-zero quadratic even where Ψ_ν(∇²p) = 0.
+double c1Measure(double energyPerArea, const PolynomialSurface& p, double poisson) {
+  return std::abs(energyPerArea - hessianDensity(p, poisson, 0.0, 0.0)) /
+         hessianDensity(p, 0.0, 0.0, 0.0);
+}
+
+// Gauss–Legendre nodes and weights on [−1, 1] (m points, exact for degree 2m − 1): the roots of
+// P_m by Newton's method from Tricomi's initial guesses, w = 2 / ((1 − x²) P_m'(x)²).
+void gaussLegendre(int m, std::vector<double>& nodes, std::vector<double>& weights) {
+  const double pi = std::acos(-1.0);
+  nodes.assign(m, 0.0);
+  weights.assign(m, 0.0);
+  for (int i = 0; i < m; ++i) {
+    double x = std::cos(pi * (i + 0.75) / (m + 0.5)), derivative = 1.0;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      // P_m(x) and P_{m−1}(x) by the three-term recurrence, then
+      // P_m'(x) = m (x P_m − P_{m−1}) / (x² − 1).
+      double previous = 1.0, value = x;
+      for (int k = 2; k <= m; ++k) {
+        const double nextValue = ((2 * k - 1) * x * value - (k - 1) * previous) / k;
+        previous = value;
+        value = nextValue;
+      }
+      derivative = m * (x * value - previous) / (x * x - 1.0);
+      const double step = value / derivative;
+      x -= step;
+      if (std::abs(step) < 1e-15) break;
+    }
+    nodes[i] = x;
+    weights[i] = 2.0 / ((1.0 - x * x) * derivative * derivative);
+  }
+}
+
+// One mesh of a study: a level of a generated family (and seed) or a user mesh.
+struct StudyMesh {
+  std::string family;
+  std::optional<std::uint64_t> seed;
+  std::optional<int> n;
+  int level = 0;
+  double h = 0.0;
+  modeling::Mesh mesh;
+
+  std::string describe() const {
+    std::string s = family;
+    if (seed) s += " seed " + std::to_string(*seed);
+    if (n) s += " n=" + std::to_string(*n);
+    return s;
+  }
+};
+
+std::vector<StudyMesh> studyMeshes(const StudyOptions& options) {
+  std::vector<StudyMesh> meshes;
+  for (const modeling::MeshFamily family : options.families) {
+    std::vector<std::optional<std::uint64_t>> seeds = {std::nullopt};
+    if (family == modeling::MeshFamily::Delaunay)
+      seeds.assign(options.seeds.begin(), options.seeds.end());
+    for (const auto& seed : seeds) {
+      const std::vector<modeling::Mesh> sequence = modeling::refinementSequence(
+          {family, options.baseN, seed.value_or(1), {}}, options.levels);
+      for (int level = 0; level < options.levels; ++level) {
+        StudyMesh m;
+        m.family = std::string(modeling::meshFamilyName(family));
+        m.seed = seed;
+        m.n = options.baseN << level;
+        m.level = level;
+        m.h = 1.0 / *m.n;
+        m.mesh = sequence[level];
+        meshes.push_back(std::move(m));
+      }
+    }
+  }
+  for (const UserMesh& user : options.userMeshes) {
+    StudyMesh m;
+    m.family = user.name;
+    m.h = modeling::describeMesh(user.mesh).meanEdgeLength;
+    m.mesh = user.mesh;
+    meshes.push_back(std::move(m));
+  }
+  return meshes;
+}
+
+// Everything the study computes for one energy on one mesh.
+std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
+                                 const StudyMesh& studyMesh) {
+  const EnergyVariant& variant = options.energies[energyIndex];
+  const FlatPlateProblem problem(studyMesh.mesh, variant.bending);
+  const double poisson = curvature::effectivePoisson(variant.bending);
+  const bool freeNormals =
+      problem.term->usesEdgeUnknowns() && variant.normals == BoundaryNormals::Free;
+  MinimizeOptions solver;
+  solver.threads = 1;  // cases run in parallel; one thread each keeps every sum in one order
+
+  StudyRecord base;
+  base.energy = energyIndex;
+  base.family = studyMesh.family;
+  base.seed = studyMesh.seed;
+  base.n = studyMesh.n;
+  base.level = studyMesh.level;
+  base.h = studyMesh.h;
+  base.vertices = studyMesh.mesh.vertexCount();
+  base.freeVertices =
+      static_cast<int>(std::count(problem.fixedVertex.begin(), problem.fixedVertex.end(), false));
+
+  std::vector<StudyRecord> records;
+  for (const Quadratic& q : options.quadratics) {
+    const PolynomialSurface p = q.surface();
+    StudyRecord r = base;
+    r.kind = RecordKind::Quadratic;
+    r.data = p.spec();
+    if (!freeNormals) {
+      r.energyPerArea = linearizedEnergyPerArea(problem, p);
+      r.density = plateDensity(p, poisson);
+      r.c1Error = c1Measure(*r.energyPerArea, p, poisson);
+    }
+    r.c2Error = c2Error(problem, p, variant.normals);
+    records.push_back(std::move(r));
+  }
+  if (studyMesh.level == 0 && options.amplitudes > 0) {
+    for (const Quadratic& q : options.quadratics) {
+      StudyRecord r = base;
+      r.kind = RecordKind::NonlinearC2;
+      r.data = q.surface().spec();
+      r.nonlinear = nonlinearC2(problem, q.surface(), variant.normals, options.amplitudes, solver);
+      records.push_back(std::move(r));
+    }
+  }
+  if (studyMesh.n && !options.solution.empty()) {
+    const PolynomialSurface u = PolynomialSurface::parse(options.solution);
+    StudyRecord r = base;
+    r.kind = RecordKind::Refinement;
+    r.data = u.spec();
+    const MinimizeResult result =
+        solveWithSurfaceBoundary(problem, u, variant.normals, true, solver);
+    r.solutionError =
+        reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, u);
+    r.discreteEnergy = result.report.finalEnergy;
+    r.exactEnergy = squarePlateEnergy(u, poisson);
+    r.energyError = std::abs(r.discreteEnergy - r.exactEnergy) / squarePlateEnergy(u, 0.0);
+    records.push_back(std::move(r));
+  }
+  return records;
+}
+
+// The slope of the series' errors in h over its positive errors, when they converge or stall (an
+// exact series has no order).
+std::optional<double> seriesOrder(const std::vector<double>& h, const std::vector<double>& errors,
+                                  Refinement verdict) {
+  if (verdict != Refinement::Converges && verdict != Refinement::DoesNotConverge) return {};
+  std::vector<double> x, y;
+  for (size_t k = 0; k < errors.size(); ++k) {
+    if (errors[k] > 0.0) {
+      x.push_back(h[k]);
+      y.push_back(errors[k]);
+    }
+  }
+  if (x.size() < 2) return {};
+  return logLogSlope(x, y);
+}
+
+void fitRefinements(StudyResults& results) {
+  std::vector<std::vector<size_t>> series;  // record indices of each series, in level order
+  for (size_t i = 0; i < results.records.size(); ++i) {
+    const StudyRecord& r = results.records[i];
+    if (r.kind != RecordKind::Refinement) continue;
+    if (r.level > 0 && !series.empty()) {
+      const StudyRecord& previous = results.records[series.back().back()];
+      if (previous.energy == r.energy && previous.family == r.family && previous.seed == r.seed &&
+          previous.level == r.level - 1) {
+        series.back().push_back(i);
+        continue;
+      }
+    }
+    series.push_back({i});
+  }
+  for (const std::vector<size_t>& indices : series) {
+    RefinementFit fit;
+    const StudyRecord& first = results.records[indices.front()];
+    fit.energy = first.energy;
+    fit.family = first.family;
+    fit.seed = first.seed;
+    for (size_t i : indices) {
+      const StudyRecord& r = results.records[i];
+      fit.n.push_back(r.n.value_or(0));
+      fit.h.push_back(r.h);
+      fit.solutionErrors.push_back(r.solutionError);
+      fit.energyErrors.push_back(r.energyError);
+    }
+    fit.verdict = classifyRefinement(fit.solutionErrors);
+    fit.energyVerdict = classifyRefinement(fit.energyErrors);
+    fit.order = seriesOrder(fit.h, fit.solutionErrors, fit.verdict);
+    fit.energyOrder = seriesOrder(fit.h, fit.energyErrors, fit.energyVerdict);
+    for (size_t i : indices) {
+      StudyRecord& r = results.records[i];
+      r.order = fit.order;
+      r.energyOrder = fit.energyOrder;
+      r.verdict = fit.verdict;
+      r.energyVerdict = fit.energyVerdict;
+    }
+    results.refinements.push_back(std::move(fit));
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+FlatPlateProblem::FlatPlateProblem(const modeling::Mesh& flat,
+                                   const curvature::BendingOptions& options, int fixedRingCount)
+    : stencils(modeling::compileStencils(flat)),
+      rest(modeling::precomputeRestState(stencils, flat.positions)),
+      term(curvature::makeBendingEnergy(stencils, rest, options)),
+      restXi(term->usesEdgeUnknowns()
+                 ? curvature::midedgeRestXi(stencils, rest, options.restCurvature)
+                 : Eigen::VectorXd()),
+      fixedVertex(fixedRings(stencils, fixedRingCount)),
+      restJacobian(residualJacobian({term.get()}, rest.positions, restXi)) {}
+
+double linearizedEnergyPerArea(const FlatPlateProblem& problem, const PolynomialSurface& p) {
+  const modeling::Positions& rest = problem.rest.positions;
+  modeling::Positions delta = modeling::Positions::Zero(rest.rows(), 3);
+  for (int v = 0; v < delta.rows(); ++v) delta(v, 2) = p.height(rest(v, 0), rest(v, 1));
+  // u = (δ, δξ): the displacement, then (midedge) the boundary ξ clamped to p, interior ξ free.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(problem.restJacobian.cols());
+  u.head(delta.size()) = Eigen::Map<const Eigen::VectorXd>(delta.data(), delta.size());
+  if (problem.term->usesEdgeUnknowns()) {
+    const int edges = problem.stencils.edgeCount();
+    u.tail(edges) = curvature::linearizedClampedBoundaryXi(problem.stencils, rest, delta, p);
+    const std::vector<bool> boundary = curvature::boundaryEdges(problem.stencils);
+    std::vector<bool> free(u.size(), false);
+    const int offset = static_cast<int>(u.size()) - edges;
+    for (int e = 0; e < edges; ++e) free[offset + e] = !boundary[e];
+    u = minimizeLeastSquares(problem.restJacobian, Eigen::VectorXd(), u, free);
+  }
+  return linearizedEnergy(problem.restJacobian, u) / problem.term->coveredArea();
+}
+
+double plateDensity(const PolynomialSurface& p, double poisson, double x, double y) {
+  return hessianDensity(p, poisson, x, y);
+}
+
+double hessianSquaredNorm(const PolynomialSurface& p, double x, double y) {
+  return hessianDensity(p, 0.0, x, y);  // Ψ_0(M) = tr M²
+}
+
+double c1Error(const FlatPlateProblem& problem, const PolynomialSurface& p, double poisson) {
+  return c1Measure(linearizedEnergyPerArea(problem, p), p, poisson);
+}
+
+MinimizeResult solveWithSurfaceBoundary(const FlatPlateProblem& problem, const PolynomialSurface& u,
+                                        BoundaryNormals normals, bool linearized,
+                                        MinimizeOptions options) {
+  options.linearized = linearized;
+  const BoundaryConditions bc =
+      surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi, problem.fixedVertex,
+                      u, normals, linearized);
+  return minimize({problem.term.get()}, bc, problem.rest.positions, problem.restXi, options);
+}
+
+double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
+               BoundaryNormals normals) {
+  MinimizeOptions options;
+  options.threads = 1;
+  const MinimizeResult result = solveWithSurfaceBoundary(problem, p, normals, true, options);
+  return reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, p);
+}
+
+NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialSurface& p,
+                              BoundaryNormals normals, int amplitudeCount,
+                              MinimizeOptions options) {
+  NonlinearC2Series series;
+  std::vector<double> fitAmplitudes, fitErrors;
+  for (int k = 1; k <= amplitudeCount; ++k) {
+    const double eps = std::ldexp(1.0, -k);
+    const PolynomialSurface data = scaledSurface(p, eps);
+    const MinimizeResult result = solveWithSurfaceBoundary(problem, data, normals, false, options);
+    series.converged = series.converged && result.report.converged;
+    const double error =
+        reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, data);
+    series.amplitudes.push_back(eps);
+    series.errors.push_back(error);
+    if (error > kRoundOff) {
+      fitAmplitudes.push_back(eps);
+      fitErrors.push_back(eps * error);  // ∝ the absolute error max |z − εp|
+    }
+  }
+  if (fitAmplitudes.size() >= 2) series.order = logLogSlope(fitAmplitudes, fitErrors);
+  return series;
+}
+
+double squarePlateEnergy(const PolynomialSurface& u, double poisson) {
+  // Ψ_ν(∇²u) has degree ≤ 2 d in each variable (d the largest power of u): d + 1 points suffice.
+  int degree = 0;
+  for (const modeling::Monomial& m : u.terms()) degree = std::max({degree, m.xPower, m.yPower});
+  std::vector<double> nodes, weights;
+  gaussLegendre(degree + 1, nodes, weights);
+  // [−1, 1] → [−½, ½]: x = t / 2, dx = dt / 2.
+  double sum = 0.0;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    for (size_t j = 0; j < nodes.size(); ++j)
+      sum += weights[i] * weights[j] * hessianDensity(u, poisson, nodes[i] / 2, nodes[j] / 2);
+  return sum / 4.0;
+}
+
+double logLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  const size_t count = x.size();
+  double meanX = 0.0, meanY = 0.0;
+  for (size_t k = 0; k < count; ++k) {
+    meanX += std::log(x[k]) / count;
+    meanY += std::log(y[k]) / count;
+  }
+  double sxy = 0.0, sxx = 0.0;
+  for (size_t k = 0; k < count; ++k) {
+    const double dx = std::log(x[k]) - meanX;
+    sxy += dx * (std::log(y[k]) - meanY);
+    sxx += dx * dx;
+  }
+  return sxy / sxx;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+Reproduction classifyReproduction(double worstError) {
+  if (worstError < kReproductionPass) return Reproduction::Pass;
+  if (worstError > kReproductionFail) return Reproduction::Fail;
+  return Reproduction::Inconclusive;
+}
+
+std::string_view reproductionName(Reproduction r) {
+  switch (r) {
+    case Reproduction::Pass:
+      return "pass";
+    case Reproduction::Fail:
+      return "fail";
+    case Reproduction::Inconclusive:
+      return "inconclusive";
+  }
+  return "unknown";
+}
+
+Refinement classifyRefinement(const std::vector<double>& errors) {
+  if (!errors.empty() && errors.front() < kReproductionPass) return Refinement::Exact;
+  if (errors.size() < 2) return Refinement::Unmeasured;
+  if (errors.back() >= kStallRatio * errors[errors.size() - 2]) return Refinement::DoesNotConverge;
+  return Refinement::Converges;
+}
+
+std::string_view refinementName(Refinement r) {
+  switch (r) {
+    case Refinement::Converges:
+      return "converges";
+    case Refinement::DoesNotConverge:
+      return "does not converge";
+    case Refinement::Exact:
+      return "exact";
+    case Refinement::Unmeasured:
+      return "unmeasured";
+  }
+  return "unknown";
+}
+
+// ---------------------------------------------------------------------------------------------
+
+EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> poisson) {
+  using curvature::Discretization;
+  const std::string text(spec);
+  const auto colon = text.find(':');
+  const std::string name = text.substr(0, colon);
+  const std::string option = colon == std::string::npos ? "" : text.substr(colon + 1);
+  EnergyVariant v;
+  const auto unknown = [&]() -> InputError {
+    return InputError("unknown energy '" + text +
+                      "' (expected hinge, hinge:tan, triavg, cotan, cotan:barycentric, midedge, "
+                      "midedge:free or quadfit)");
+  };
+  if (name == "hinge" && (option.empty() || option == "theta" || option == "tan")) {
+    v.bending.discretization = Discretization::Hinge;
+    v.bending.hingeAngle =
+        option == "tan" ? curvature::HingeAngle::Tan : curvature::HingeAngle::Theta;
+    v.label = option == "tan" ? "hinge(tan)" : "hinge";
+  } else if (name == "triavg" && option.empty()) {
+    v.bending.discretization = Discretization::TriangleAveraged;
+    v.label = "triavg";
+  } else if (name == "cotan" &&
+             (option.empty() || option == "voronoi" || option == "barycentric")) {
+    v.bending.discretization = Discretization::Cotan;
+    v.bending.vertexArea = option == "barycentric" ? curvature::VertexArea::Barycentric
+                                                   : curvature::VertexArea::Voronoi;
+    v.label = option == "barycentric" ? "cotan(barycentric)" : "cotan(voronoi)";
+  } else if (name == "midedge" && (option.empty() || option == "clamped" || option == "free")) {
+    v.bending.discretization = Discretization::Midedge;
+    v.normals = option == "free" ? BoundaryNormals::Free : BoundaryNormals::Clamped;
+    v.label = option == "free" ? "midedge(free)" : "midedge(clamped)";
+  } else if (name == "quadfit" && option.empty()) {
+    v.bending.discretization = Discretization::QuadraticFit;
+    v.label = "quadfit";
+  } else {
+    throw unknown();
+  }
+  const bool takesPoisson = v.bending.discretization != Discretization::Hinge &&
+                            v.bending.discretization != Discretization::Cotan;
+  if (takesPoisson) v.bending.poisson = poisson;
+  curvature::effectivePoisson(v.bending);  // rejects a ν outside [−1, 1]
+  return v;
+}
+
+std::vector<EnergyVariant> defaultEnergyVariants(std::optional<double> poisson) {
+  std::vector<EnergyVariant> variants;
+  for (const char* spec :
+       {"hinge", "triavg", "cotan", "cotan:barycentric", "quadfit", "midedge", "midedge:free"})
+    variants.push_back(parseEnergyVariant(spec, poisson));
+  return variants;
+}
+
+std::vector<Quadratic> defaultQuadratics() {
+  return {{1, 0, 0}, {0, 1, 0}, {1, 0, 1}, {1, 0, -1}, {0.3, -0.7, 0.5}};
+}
+
+std::string_view recordKindName(RecordKind kind) {
+  switch (kind) {
+    case RecordKind::Quadratic:
+      return "quadratic";
+    case RecordKind::NonlinearC2:
+      return "nonlinear_c2";
+    case RecordKind::Refinement:
+      return "refinement";
+  }
+  return "unknown";
+}
+
+void checkStudyOptions(const StudyOptions& o) {
+  if (o.energies.empty()) throw InputError("--energies: no energy to study");
+  for (const EnergyVariant& v : o.energies) curvature::effectivePoisson(v.bending);
+  if (o.families.empty() && o.userMeshes.empty())
+    throw InputError("--families, --mesh: no mesh to study (give a family or a mesh file)");
+  const bool delaunay = std::find(o.families.begin(), o.families.end(),
+                                  modeling::MeshFamily::Delaunay) != o.families.end();
+  if (delaunay && o.seeds.empty()) throw InputError("--seeds: the delaunay family needs a seed");
+  if (o.baseN < 4) {
+    throw InputError("--n " + std::to_string(o.baseN) +
+                     ": at least 4 cells per side (rings 0 and 1 are fixed; the interior must "
+                     "keep free vertices)");
+  }
+  if (o.levels < 1 || o.levels > 8)
+    throw InputError("--levels " + std::to_string(o.levels) + ": expected 1 to 8");
+  if (o.amplitudes < 0 || o.amplitudes == 1 || o.amplitudes > 12) {
+    throw InputError(
+        "--amplitudes " + std::to_string(o.amplitudes) +
+        ": expected 2 to 12 (an order needs two amplitudes), or 0 for no nonlinear C2");
+  }
+  if (o.threads < 1) throw InputError("--threads " + std::to_string(o.threads) + ": at least 1");
+  if (o.quadratics.empty()) throw InputError("--quadratics: no quadratic to reproduce");
+  for (const Quadratic& q : o.quadratics) {
+    if (!std::isfinite(q.a) || !std::isfinite(q.b) || !std::isfinite(q.c) ||
+        (q.a == 0.0 && q.b == 0.0 && q.c == 0.0)) {
+      throw InputError("--quadratics: " + q.surface().spec() +
+                       " has nothing to reproduce (zero or not finite)");
+    }
+  }
+  if (!o.solution.empty()) {
+    const PolynomialSurface u = PolynomialSurface::parse(o.solution);
+    if (isZero(u))
+      throw InputError("--solution " + o.solution +
+                       ": the zero solution has nothing to converge to");
+    if (relativeBilaplacian(u) > 1e-12) {
+      throw InputError("--solution " + o.solution +
+                       ": is not biharmonic (Δ²u ≠ 0), so it solves no clamped plate problem; "
+                       "e.g. polynomial:x^4-3*x^2*y^2 or polynomial:x^3+x*y^2");
+    }
+  }
+  for (const UserMesh& user : o.userMeshes) {
+    for (int v = 0; v < user.mesh.vertexCount(); ++v) {
+      if (user.mesh.positions(v, 2) != 0.0) {
+        throw InputError(user.name + ": vertex " + std::to_string(v) +
+                         " has z = " + std::to_string(user.mesh.positions(v, 2)) +
+                         ": a study mesh must be flat (z = 0 everywhere); its x and y are used");
+      }
+    }
+  }
+}
+
+StudyResults runConvergenceStudy(const StudyOptions& options,
+                                 const std::function<void(const StudyProgress&)>& progress) {
+  checkStudyOptions(options);
+  const std::vector<StudyMesh> meshes = studyMeshes(options);
+  const int energies = static_cast<int>(options.energies.size());
+  const int cases = energies * static_cast<int>(meshes.size());
+  const auto caseName = [&](int c) {
+    return options.energies[c / meshes.size()].label + " on " +
+           meshes[c % meshes.size()].describe();
+  };
+
+  std::vector<std::vector<StudyRecord>> caseRecords(cases);
+  std::vector<std::exception_ptr> failures(cases);
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex progressMutex;
+  int done = 0;
+  // Cases are taken in index order, so when one fails every case before it has started: stopping
+  // there still reports the first failure in case order.
+  const auto worker = [&] {
+    for (int c; !failed && (c = next++) < cases;) {
+      try {
+        caseRecords[c] =
+            runCase(options, c / static_cast<int>(meshes.size()), meshes[c % meshes.size()]);
+      } catch (const InputError& e) {
+        failures[c] = std::make_exception_ptr(InputError(caseName(c) + ": " + e.what()));
+        failed = true;
+      } catch (const NumericalError& e) {
+        failures[c] = std::make_exception_ptr(NumericalError(caseName(c) + ": " + e.what()));
+        failed = true;
+      } catch (...) {
+        failures[c] = std::current_exception();
+        failed = true;
+      }
+      std::lock_guard<std::mutex> lock(progressMutex);
+      ++done;
+      if (progress) progress({done, cases, caseName(c)});
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min(options.threads, cases); ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+
+  StudyResults results;
+  for (std::vector<StudyRecord>& records : caseRecords)
+    for (StudyRecord& r : records) results.records.push_back(std::move(r));
+  fitRefinements(results);
+  return results;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+StudySummary summarizeStudy(const StudyOptions& options, const StudyResults& results) {
+  StudySummary summary;
+  for (const EnergyVariant& v : options.energies) summary.energies.push_back(v.label);
+  for (const modeling::MeshFamily f : options.families)
+    summary.families.emplace_back(modeling::meshFamilyName(f));
+  for (const UserMesh& user : options.userMeshes) summary.families.push_back(user.name);
+  const auto column = [&](const std::string& family) {
+    return static_cast<size_t>(std::find(summary.families.begin(), summary.families.end(), family) -
+                               summary.families.begin());
+  };
+
+  summary.cells.assign(summary.energies.size(), std::vector<SummaryCell>(summary.families.size()));
+  for (const StudyRecord& r : results.records) {
+    SummaryCell& cell = summary.cells[r.energy][column(r.family)];
+    if (r.kind == RecordKind::Quadratic && r.level == 0) {
+      if (r.c1Error) cell.worstC1 = std::max(cell.worstC1.value_or(0.0), *r.c1Error);
+      cell.worstC2 = std::max(cell.worstC2, r.c2Error);
+    } else if (r.kind == RecordKind::NonlinearC2) {
+      if (r.nonlinear.order) {
+        cell.nonlinearOrder =
+            std::min(cell.nonlinearOrder.value_or(*r.nonlinear.order), *r.nonlinear.order);
+      }
+      cell.nonlinearConverged = cell.nonlinearConverged && r.nonlinear.converged;
+    }
+  }
+  for (size_t e = 0; e < summary.energies.size(); ++e) {
+    for (SummaryCell& cell : summary.cells[e]) {
+      if (cell.worstC1) cell.c1 = classifyReproduction(*cell.worstC1);
+      cell.c2 = classifyReproduction(cell.worstC2);
+    }
+  }
+  // Refinement over seeds: the smallest order; DoesNotConverge if any series stalls, then
+  // Converges if any converges, Exact if all are exact.
+  const auto combine = [](Refinement a, Refinement b) {
+    for (Refinement r : {Refinement::DoesNotConverge, Refinement::Converges, Refinement::Exact})
+      if (a == r || b == r) return r;
+    return Refinement::Unmeasured;
+  };
+  const auto smaller = [](std::optional<double> a, std::optional<double> b) {
+    if (!a) return b;
+    if (!b) return a;
+    return std::optional<double>(std::min(*a, *b));
+  };
+  for (const RefinementFit& fit : results.refinements) {
+    SummaryCell& cell = summary.cells[fit.energy][column(fit.family)];
+    cell.refinement = combine(cell.refinement, fit.verdict);
+    cell.energyRefinement = combine(cell.energyRefinement, fit.energyVerdict);
+    cell.refinementOrder = smaller(cell.refinementOrder, fit.order);
+    cell.energyOrder = smaller(cell.energyOrder, fit.energyOrder);
+    cell.finestError = std::max(cell.finestError.value_or(0.0), fit.solutionErrors.back());
+    cell.finestEnergyError =
+        std::max(cell.finestEnergyError.value_or(0.0), fit.energyErrors.back());
+  }
+  return summary;
+}
+
+}  // namespace flexure::optimize

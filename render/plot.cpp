@@ -1,0 +1,383 @@
+#include "render/plot.h"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "modeling/atomic_write.h"
+
+namespace flexure::render {
+namespace {
+
+struct Rgb {
+  double r, g, b;
+};
+
+// Tableau 10 (the first eight): distinct in hue and in grey value.
+constexpr Rgb kPalette[] = {{0.122, 0.467, 0.706}, {1.000, 0.498, 0.055}, {0.173, 0.627, 0.173},
+                            {0.839, 0.153, 0.157}, {0.580, 0.404, 0.741}, {0.549, 0.337, 0.294},
+                            {0.890, 0.467, 0.761}, {0.498, 0.498, 0.498}};
+constexpr int kMarkerKinds = 8;
+
+constexpr const char* kFont = "DejaVu Sans";
+constexpr double kTextSize = 13.0, kTitleSize = 16.0, kExponentScale = 0.72;
+
+using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
+using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+
+// A log10 axis from lo to hi, both of the form m × 10^k with m in {1, 2, 5}.
+struct Axis {
+  double lo = 0.1, hi = 1.0;
+  double pixelLo = 0.0, pixelHi = 1.0;  // where lo and hi land
+
+  double pixel(double value) const {
+    return pixelLo +
+           (std::log10(value) - std::log10(lo)) / std::log10(hi / lo) * (pixelHi - pixelLo);
+  }
+  bool contains(double value) const { return value >= lo * (1 - 1e-9) && value <= hi * (1 + 1e-9); }
+  int firstDecade() const { return static_cast<int>(std::floor(std::log10(lo) + 1e-9)); }
+  int lastDecade() const { return static_cast<int>(std::floor(std::log10(hi) + 1e-9)); }
+  // At most two decades: the 2 and 5 ticks are labelled too.
+  bool labelsMinor() const { return hi / lo <= 100.0 * (1 + 1e-9); }
+};
+
+// The largest m × 10^k (m in {1, 2, 5}) not above v, and the smallest not below.
+double niceBelow(double v) {
+  const double decade = std::pow(10.0, std::floor(std::log10(v)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * decade <= v * (1 + 1e-9)) return m * decade;
+  return decade / 2;
+}
+double niceAbove(double v) {
+  const double decade = std::pow(10.0, std::floor(std::log10(v)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * decade >= v * (1 - 1e-9)) return m * decade;
+  return 10 * decade;
+}
+
+Axis axisAround(double minimum, double maximum) {
+  Axis axis;
+  if (!(minimum > 0.0) || !(maximum >= minimum)) return axis;  // no data: [0.1, 1]
+  // A margin of 15 % keeps markers on the extreme values clear of the frame.
+  axis.lo = niceBelow(minimum / 1.15);
+  axis.hi = niceAbove(maximum * 1.15);
+  if (axis.hi <= axis.lo * (1 + 1e-9)) axis.hi = niceAbove(axis.lo * 1.5);
+  return axis;
+}
+
+bool drawable(double x, double y) {
+  return x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y);
+}
+
+double textWidth(cairo_t* cr, const std::string& text, double size) {
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, text.c_str(), &extents);
+  return extents.x_advance;
+}
+
+// Tick labels "m×10^k" (m = 1: "10^k"), the exponent raised and smaller, with a true minus sign.
+std::string mantissaText(int mantissa) {
+  return mantissa == 1 ? "10" : std::to_string(mantissa) + "×10";
+}
+std::string exponentText(int exponent) {
+  return exponent < 0 ? "−" + std::to_string(-exponent) : std::to_string(exponent);
+}
+
+double powerLabelWidth(cairo_t* cr, int mantissa, int exponent) {
+  return textWidth(cr, mantissaText(mantissa), kTextSize) +
+         textWidth(cr, exponentText(exponent), kTextSize * kExponentScale);
+}
+
+void drawPowerLabel(cairo_t* cr, int mantissa, int exponent, double x, double baseline) {
+  const std::string prefix = mantissaText(mantissa), power = exponentText(exponent);
+  cairo_set_font_size(cr, kTextSize);
+  cairo_move_to(cr, x, baseline);
+  cairo_show_text(cr, prefix.c_str());
+  cairo_set_font_size(cr, kTextSize * kExponentScale);
+  cairo_rel_move_to(cr, 0.0, -0.45 * kTextSize);
+  cairo_show_text(cr, power.c_str());
+}
+
+void drawMarker(cairo_t* cr, int kind, double x, double y, double r) {
+  const double pi = std::acos(-1.0);
+  switch (kind % kMarkerKinds) {
+    case 0:  // circle
+      cairo_arc(cr, x, y, r, 0.0, 2.0 * pi);
+      cairo_fill(cr);
+      break;
+    case 1:  // square
+      cairo_rectangle(cr, x - 0.85 * r, y - 0.85 * r, 1.7 * r, 1.7 * r);
+      cairo_fill(cr);
+      break;
+    case 2:  // triangle up
+      cairo_move_to(cr, x, y - 1.15 * r);
+      cairo_line_to(cr, x + r, y + 0.75 * r);
+      cairo_line_to(cr, x - r, y + 0.75 * r);
+      cairo_close_path(cr);
+      cairo_fill(cr);
+      break;
+    case 3:  // diamond
+      cairo_move_to(cr, x, y - 1.2 * r);
+      cairo_line_to(cr, x + r, y);
+      cairo_line_to(cr, x, y + 1.2 * r);
+      cairo_line_to(cr, x - r, y);
+      cairo_close_path(cr);
+      cairo_fill(cr);
+      break;
+    case 4:  // triangle down
+      cairo_move_to(cr, x, y + 1.15 * r);
+      cairo_line_to(cr, x + r, y - 0.75 * r);
+      cairo_line_to(cr, x - r, y - 0.75 * r);
+      cairo_close_path(cr);
+      cairo_fill(cr);
+      break;
+    case 5:  // plus
+      cairo_move_to(cr, x - 1.2 * r, y);
+      cairo_line_to(cr, x + 1.2 * r, y);
+      cairo_move_to(cr, x, y - 1.2 * r);
+      cairo_line_to(cr, x, y + 1.2 * r);
+      cairo_stroke(cr);
+      break;
+    case 6:  // cross
+      cairo_move_to(cr, x - r, y - r);
+      cairo_line_to(cr, x + r, y + r);
+      cairo_move_to(cr, x - r, y + r);
+      cairo_line_to(cr, x + r, y - r);
+      cairo_stroke(cr);
+      break;
+    default:  // hollow circle
+      cairo_arc(cr, x, y, r, 0.0, 2.0 * pi);
+      cairo_stroke(cr);
+      break;
+  }
+}
+
+cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
+
+std::string renderLogLogPlot(const LogLogPlot& plot) {
+  if (plot.width < 200 || plot.height < 150) {
+    throw std::invalid_argument("renderLogLogPlot: a plot needs at least 200 × 150 pixels (got " +
+                                std::to_string(plot.width) + " × " + std::to_string(plot.height) +
+                                ")");
+  }
+  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, plot.width, plot.height),
+                  cairo_surface_destroy);
+  Context context(cairo_create(surface.get()), cairo_destroy);
+  cairo_t* cr = context.get();
+  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_paint(cr);
+
+  // Data range over the drawable points.
+  double minX = std::numeric_limits<double>::infinity(), maxX = 0.0;
+  double minY = std::numeric_limits<double>::infinity(), maxY = 0.0;
+  double sumLogX = 0.0, sumLogY = 0.0;
+  int drawn = 0;
+  for (const PlotSeries& s : plot.series) {
+    for (size_t k = 0; k < std::min(s.x.size(), s.y.size()); ++k) {
+      if (!drawable(s.x[k], s.y[k])) continue;
+      minX = std::min(minX, s.x[k]);
+      maxX = std::max(maxX, s.x[k]);
+      minY = std::min(minY, s.y[k]);
+      maxY = std::max(maxY, s.y[k]);
+      sumLogX += std::log10(s.x[k]);
+      sumLogY += std::log10(s.y[k]);
+      ++drawn;
+    }
+  }
+  Axis xAxis = axisAround(minX, maxX), yAxis = axisAround(minY, maxY);
+
+  // Layout: title band, legend column on the right, tick labels and axis labels left and below.
+  double legendWidth = 0.0;
+  for (const PlotSeries& s : plot.series)
+    legendWidth = std::max(legendWidth, textWidth(cr, s.label, kTextSize));
+  for (const ReferenceSlope& r : plot.referenceSlopes)
+    legendWidth = std::max(legendWidth, textWidth(cr, r.label, kTextSize));
+  legendWidth = legendWidth > 0.0 ? legendWidth + 56.0 : 0.0;
+  double tickLabelWidth = 0.0;
+  for (int k = yAxis.firstDecade(); k <= yAxis.lastDecade(); ++k)
+    tickLabelWidth = std::max(tickLabelWidth, powerLabelWidth(cr, yAxis.labelsMinor() ? 5 : 1, k));
+  const double left = tickLabelWidth + 46.0, top = 44.0, bottom = plot.height - 58.0;
+  const double right = std::max(left + 60.0, plot.width - 16.0 - legendWidth);
+  xAxis.pixelLo = left;
+  xAxis.pixelHi = right;
+  yAxis.pixelLo = bottom;
+  yAxis.pixelHi = top;
+
+  // Title and axis labels.
+  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo_set_font_size(cr, kTitleSize);
+  cairo_move_to(cr, std::max(8.0, (left + right) / 2 - textWidth(cr, plot.title, kTitleSize) / 2),
+                26.0);
+  cairo_show_text(cr, plot.title.c_str());
+  cairo_set_font_size(cr, kTextSize);
+  cairo_move_to(cr, (left + right) / 2 - textWidth(cr, plot.xLabel, kTextSize) / 2,
+                plot.height - 12.0);
+  cairo_show_text(cr, plot.xLabel.c_str());
+  cairo_save(cr);
+  cairo_move_to(cr, 18.0, (top + bottom) / 2 + textWidth(cr, plot.yLabel, kTextSize) / 2);
+  cairo_rotate(cr, -std::acos(-1.0) / 2);
+  cairo_show_text(cr, plot.yLabel.c_str());
+  cairo_restore(cr);
+
+  cairo_set_line_width(cr, 1.0);
+  // Grid lines and ticks at m × 10^k: decades labelled, and 2 and 5 on short axes.
+  for (const bool vertical : {true, false}) {
+    const Axis& axis = vertical ? xAxis : yAxis;
+    for (int k = axis.firstDecade(); k <= axis.lastDecade(); ++k) {
+      for (int m = 1; m <= 9; ++m) {
+        const double value = m * std::pow(10.0, k);
+        if (!axis.contains(value)) continue;
+        const double p = std::round(axis.pixel(value)) + 0.5;
+        const double grey = m == 1 ? 0.82 : 0.93;
+        const double tick = m == 1 ? 7.0 : 4.0;
+        cairo_set_source_rgb(cr, grey, grey, grey);
+        if (vertical) {
+          cairo_move_to(cr, p, top);
+          cairo_line_to(cr, p, bottom);
+        } else {
+          cairo_move_to(cr, left, p);
+          cairo_line_to(cr, right, p);
+        }
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+        if (vertical) {
+          cairo_move_to(cr, p, bottom);
+          cairo_line_to(cr, p, bottom + tick);
+        } else {
+          cairo_move_to(cr, left - tick, p);
+          cairo_line_to(cr, left, p);
+        }
+        cairo_stroke(cr);
+        if (m == 1 || (axis.labelsMinor() && (m == 2 || m == 5))) {
+          if (vertical) {
+            drawPowerLabel(cr, m, k, p - powerLabelWidth(cr, m, k) / 2, bottom + 24.0);
+          } else {
+            drawPowerLabel(cr, m, k, left - 10.0 - powerLabelWidth(cr, m, k), p + 4.5);
+          }
+        }
+      }
+    }
+  }
+  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo_set_line_width(cr, 1.2);
+  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_stroke(cr);
+  if (drawn == 0) {
+    const char* empty = "no positive values to plot";
+    cairo_set_font_size(cr, kTextSize);
+    cairo_move_to(cr, (left + right) / 2 - textWidth(cr, empty, kTextSize) / 2, (top + bottom) / 2);
+    cairo_show_text(cr, empty);
+  }
+
+  // Reference slopes (dashed, clipped to the plot area), then the series on top.
+  cairo_save(cr);
+  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_clip(cr);
+  if (drawn > 0) {
+    const double centreX = sumLogX / drawn, centreY = sumLogY / drawn;
+    const double dashes[] = {6.0, 4.0};
+    for (size_t r = 0; r < plot.referenceSlopes.size(); ++r) {
+      const double slope = plot.referenceSlopes[r].slope;
+      const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
+      cairo_set_source_rgb(cr, grey, grey, grey);
+      cairo_set_dash(cr, dashes, 2, 0.0);
+      cairo_set_line_width(cr, 1.3);
+      const double x0 = std::log10(xAxis.lo), x1 = std::log10(xAxis.hi);
+      cairo_move_to(cr, xAxis.pixel(xAxis.lo),
+                    yAxis.pixel(std::pow(10.0, centreY + slope * (x0 - centreX))));
+      cairo_line_to(cr, xAxis.pixel(xAxis.hi),
+                    yAxis.pixel(std::pow(10.0, centreY + slope * (x1 - centreX))));
+      cairo_stroke(cr);
+    }
+    cairo_set_dash(cr, nullptr, 0, 0.0);
+  }
+  for (size_t s = 0; s < plot.series.size(); ++s) {
+    const PlotSeries& series = plot.series[s];
+    const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
+    cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+    cairo_set_line_width(cr, 2.0);
+    bool penDown = false;
+    for (size_t k = 0; k < std::min(series.x.size(), series.y.size()); ++k) {
+      if (!drawable(series.x[k], series.y[k])) {
+        penDown = false;
+        continue;
+      }
+      const double px = xAxis.pixel(series.x[k]), py = yAxis.pixel(series.y[k]);
+      if (penDown) {
+        cairo_line_to(cr, px, py);
+      } else {
+        cairo_move_to(cr, px, py);
+      }
+      penDown = true;
+    }
+    cairo_stroke(cr);
+    cairo_set_line_width(cr, 1.8);
+    for (size_t k = 0; k < std::min(series.x.size(), series.y.size()); ++k) {
+      if (drawable(series.x[k], series.y[k]))
+        drawMarker(cr, static_cast<int>(s), xAxis.pixel(series.x[k]), yAxis.pixel(series.y[k]),
+                   4.5);
+    }
+  }
+  cairo_restore(cr);
+
+  // Legend: a sample line with the marker per series, a dashed sample per reference slope.
+  if (legendWidth > 0.0) {
+    const double x = right + 14.0, rowHeight = 20.0;
+    double y = top + 14.0;
+    cairo_set_font_size(cr, kTextSize);
+    for (size_t s = 0; s < plot.series.size(); ++s, y += rowHeight) {
+      const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
+      cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+      cairo_set_line_width(cr, 2.0);
+      cairo_move_to(cr, x, y);
+      cairo_line_to(cr, x + 30.0, y);
+      cairo_stroke(cr);
+      cairo_set_line_width(cr, 1.8);
+      drawMarker(cr, static_cast<int>(s), x + 15.0, y, 4.5);
+      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      cairo_move_to(cr, x + 38.0, y + 4.5);
+      cairo_show_text(cr, plot.series[s].label.c_str());
+    }
+    const double dashes[] = {6.0, 4.0};
+    for (size_t r = 0; r < plot.referenceSlopes.size(); ++r, y += rowHeight) {
+      const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
+      cairo_set_source_rgb(cr, grey, grey, grey);
+      cairo_set_dash(cr, dashes, 2, 0.0);
+      cairo_set_line_width(cr, 1.3);
+      cairo_move_to(cr, x, y);
+      cairo_line_to(cr, x + 30.0, y);
+      cairo_stroke(cr);
+      cairo_set_dash(cr, nullptr, 0, 0.0);
+      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      cairo_move_to(cr, x + 38.0, y + 4.5);
+      cairo_show_text(cr, plot.referenceSlopes[r].label.c_str());
+    }
+  }
+
+  cairo_surface_flush(surface.get());
+  std::string png;
+  const cairo_status_t status =
+      cairo_surface_write_to_png_stream(surface.get(), appendToString, &png);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    throw std::runtime_error(std::string("renderLogLogPlot: cairo could not encode the PNG: ") +
+                             cairo_status_to_string(status));
+  }
+  return png;
+}
+
+void writeLogLogPlot(const LogLogPlot& plot, const std::string& path) {
+  modeling::writeFileAtomically(path, renderLogLogPlot(plot));
+}
+
+}  // namespace flexure::render
