@@ -1,3 +1,7 @@
+// GCC 12 reports a false "may be used uninitialized" inside OpenMesh's property vectors when
+// add_vertex is inlined here; the warning is about OpenMesh's code, not ours.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
 #include "modeling/halfedge_mesh.h"
 
 #include <stdexcept>

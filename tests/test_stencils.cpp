@@ -63,10 +63,15 @@ void expectConsistent(const Mesh& mesh) {
   for (int e = 0; e < s.edgeCount(); ++e) {
     const int a = s.edges(e, 0), b = s.edges(e, 1);
     ASSERT_LT(a, b);
-    if (e > 0)
+    if (e > 0) {
       EXPECT_LT(std::make_pair(s.edges(e - 1, 0), s.edges(e - 1, 1)), std::make_pair(a, b));
-    if (s.edgeFaces(e, 0) >= 0) EXPECT_TRUE(directed.count({a, b, s.edgeFaces(e, 0)}));
-    if (s.edgeFaces(e, 1) >= 0) EXPECT_TRUE(directed.count({b, a, s.edgeFaces(e, 1)}));
+    }
+    if (s.edgeFaces(e, 0) >= 0) {
+      EXPECT_TRUE(directed.count({a, b, s.edgeFaces(e, 0)}));
+    }
+    if (s.edgeFaces(e, 1) >= 0) {
+      EXPECT_TRUE(directed.count({b, a, s.edgeFaces(e, 1)}));
+    }
     ASSERT_TRUE(s.edgeFaces(e, 0) >= 0 || s.edgeFaces(e, 1) >= 0);
     boundaryEdges += (s.edgeFaces(e, 0) < 0 || s.edgeFaces(e, 1) < 0);
   }
@@ -82,7 +87,9 @@ void expectConsistent(const Mesh& mesh) {
       const int flap = s.faceFlaps(f, i);
       const bool boundary = s.edgeFaces(e, 0) < 0 || s.edgeFaces(e, 1) < 0;
       EXPECT_EQ(flap < 0, boundary);
-      if (flap >= 0) EXPECT_TRUE(hasCounterClockwiseFace(s, b, a, flap));
+      if (flap >= 0) {
+        EXPECT_TRUE(hasCounterClockwiseFace(s, b, a, flap));
+      }
     }
   }
   // Across an interior edge the two faces have opposite signs σ.
