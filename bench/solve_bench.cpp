@@ -121,30 +121,13 @@ json runFloor(const Problem& p, const modeling::PolynomialSurface& surface) {
 
   // The same steps as solveBiharmonic, timed apart.
   start = Clock::now();
-  const optimize::SparseMatrix laplacian = optimize::cotanLaplacian(p.stencils, p.rest);
-  const Eigen::VectorXd inverseArea = p.rest.vertexVoronoiAreas.cwiseInverse();
-  const Eigen::SparseMatrix<double> bilaplacian =
-      Eigen::SparseMatrix<double>(laplacian.transpose()) * inverseArea.asDiagonal() * laplacian;
+  const optimize::BiharmonicSystem floor =
+      optimize::assembleBiharmonic(p.stencils, p.rest, p.fixed, z);
+  const Eigen::SparseMatrix<double>& system = floor.matrix;
+  const Eigen::VectorXd& rhs = floor.rhs;
+  const std::vector<int>& index = floor.freeIndex;
   const int vertexCount = p.stencils.vertexCount();
-  std::vector<int> index(vertexCount, -1);
-  int freeCount = 0;
-  for (int v = 0; v < vertexCount; ++v)
-    if (!p.fixed[v]) index[v] = freeCount++;
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(freeCount);
-  for (int col = 0; col < bilaplacian.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(bilaplacian, col); it; ++it) {
-      const int row = index[it.row()];
-      if (row < 0) continue;
-      if (index[col] >= 0) {
-        entries.emplace_back(row, index[col], it.value());
-      } else {
-        rhs[row] -= it.value() * z[col];
-      }
-    }
-  }
-  Eigen::SparseMatrix<double> system(freeCount, freeCount);
-  system.setFromTriplets(entries.begin(), entries.end());
+  const int freeCount = static_cast<int>(rhs.size());
   const double assembly = secondsSince(start);
   start = Clock::now();
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky(system);

@@ -28,40 +28,47 @@ SparseMatrix cotanLaplacian(const modeling::Stencils& s, const modeling::RestSta
   return laplacian;
 }
 
-Eigen::VectorXd solveBiharmonic(const modeling::Stencils& s, const modeling::RestState& rest,
-                                const std::vector<bool>& fixedVertex,
-                                const Eigen::VectorXd& values) {
+BiharmonicSystem assembleBiharmonic(const modeling::Stencils& s, const modeling::RestState& rest,
+                                    const std::vector<bool>& fixedVertex,
+                                    const Eigen::VectorXd& values) {
   const SparseMatrix laplacian = cotanLaplacian(s, rest);
   const Eigen::VectorXd inverseArea = rest.vertexVoronoiAreas.cwiseInverse();
-  // Bi-Laplacian B = Lᵀ M⁻¹ L, split into free and fixed columns.
   const Eigen::SparseMatrix<double> bilaplacian =
       Eigen::SparseMatrix<double>(laplacian.transpose()) * inverseArea.asDiagonal() * laplacian;
-  std::vector<int> index(s.vertexCount(), -1);
+  BiharmonicSystem system;
+  system.freeIndex.assign(s.vertexCount(), -1);
   int freeCount = 0;
   for (int v = 0; v < s.vertexCount(); ++v)
-    if (!fixedVertex[v]) index[v] = freeCount++;
-  std::vector<Eigen::Triplet<double>> freeEntries;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(freeCount);
+    if (!fixedVertex[v]) system.freeIndex[v] = freeCount++;
+  std::vector<Eigen::Triplet<double>> entries;
+  system.rhs = Eigen::VectorXd::Zero(freeCount);
   for (int col = 0; col < bilaplacian.outerSize(); ++col) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(bilaplacian, col); it; ++it) {
-      const int row = index[it.row()];
+      const int row = system.freeIndex[it.row()];
       if (row < 0) continue;
-      if (index[col] >= 0) {
-        freeEntries.emplace_back(row, index[col], it.value());
+      if (system.freeIndex[col] >= 0) {
+        entries.emplace_back(row, system.freeIndex[col], it.value());
       } else {
-        rhs[row] -= it.value() * values[col];
+        system.rhs[row] -= it.value() * values[col];
       }
     }
   }
-  Eigen::SparseMatrix<double> system(freeCount, freeCount);
-  system.setFromTriplets(freeEntries.begin(), freeEntries.end());
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky(system);
-  const Eigen::VectorXd freeValues = cholesky.solve(rhs);
+  system.matrix.resize(freeCount, freeCount);
+  system.matrix.setFromTriplets(entries.begin(), entries.end());
+  return system;
+}
+
+Eigen::VectorXd solveBiharmonic(const modeling::Stencils& s, const modeling::RestState& rest,
+                                const std::vector<bool>& fixedVertex,
+                                const Eigen::VectorXd& values) {
+  const BiharmonicSystem system = assembleBiharmonic(s, rest, fixedVertex, values);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky(system.matrix);
+  const Eigen::VectorXd freeValues = cholesky.solve(system.rhs);
   if (cholesky.info() != Eigen::Success)
     throw NumericalError("the bi-Laplacian system is singular: fix more vertices");
   Eigen::VectorXd out = values;
   for (int v = 0; v < s.vertexCount(); ++v)
-    if (index[v] >= 0) out[v] = freeValues[index[v]];
+    if (system.freeIndex[v] >= 0) out[v] = freeValues[system.freeIndex[v]];
   return out;
 }
 

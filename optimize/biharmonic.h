@@ -17,6 +17,19 @@ namespace flexure::optimize {
 // semidefinite; boundary edges take their one cotangent).
 SparseMatrix cotanLaplacian(const modeling::Stencils& stencils, const modeling::RestState& rest);
 
+// The normal equations of the free vertices: matrix · z_free = rhs, with B = Lᵀ M⁻¹ L split into
+// free and fixed columns (the fixed values moved to the right-hand side).
+struct BiharmonicSystem {
+  Eigen::SparseMatrix<double> matrix;  // #free by #free, symmetric positive definite
+  Eigen::VectorXd rhs;                 // #free
+  std::vector<int> freeIndex;          // #V: the row of each free vertex, −1 for fixed ones
+};
+
+BiharmonicSystem assembleBiharmonic(const modeling::Stencils& stencils,
+                                    const modeling::RestState& rest,
+                                    const std::vector<bool>& fixedVertex,
+                                    const Eigen::VectorXd& values);
+
 // #V: the values z (one coordinate, e.g. heights) minimizing Σ_v (L z)_v² / Ā_v over the free
 // vertices, the fixed ones keeping their entries of `values`.
 Eigen::VectorXd solveBiharmonic(const modeling::Stencils& stencils, const modeling::RestState& rest,
