@@ -27,6 +27,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerConvergeCommand(app, global);
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
+  registerRenderCommand(app, global);
 
   std::vector<const char*> argv;
   for (const std::string& a : args) argv.push_back(a.c_str());

@@ -250,5 +250,28 @@ for f in summary.md results.json results.csv refinement_delaunay.png nonlinear_c
 done
 run 0 info demo/meshes/stripe-n16.obj --json; stdout_has '"valid": true'
 
+# --- render ------------------------------------------------------------------------------
+is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+run 0 mesh --family patch48 --n 8 --height quadratic:1,0,0.5 -o render-bowl.obj --quiet
+run 0 render render-bowl.obj -o bowl.png --width 160 --height 120 --elevation 60
+stderr_has "wrote bowl.png (160 x 120, reflection"
+is_png bowl.png || fail "render: bowl.png is not a PNG"
+for style in isophote highlight shaded; do
+  run 0 render render-bowl.obj -o "bowl-$style.png" --style "$style" --width 96 --height 96 --quiet
+  is_png "bowl-$style.png" || fail "render: bowl-$style.png is not a PNG"
+done
+run 0 render render-bowl.obj -o bowl-error.png --style error --surface quadratic:1,0,0 --quiet
+is_png bowl-error.png || fail "render: bowl-error.png is not a PNG"
+run 0 render render-bowl.obj -o bowl2.png --width 160 --height 120 --elevation 60 --quiet
+cmp -s bowl.png bowl2.png || fail "render: the same input gave different PNGs"
+run 2 render render-bowl.obj -o bad.png --style curvy; stderr_has "curvy"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --style error; stderr_has "--surface"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --background teal; stderr_has "teal"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --stripe-width 2; stderr_has "stripe width"; absent bad.png
+run 2 render render-bowl.obj -o bad.jpg; stderr_has "bad.jpg"; absent bad.jpg
+run 2 render missing.obj -o bad.png; stderr_has "missing.obj"; absent bad.png
+FLEXURE_OSMESA_LIBRARY=/nonexistent/libOSMesa.so run 2 render render-bowl.obj -o bad.png
+stderr_has "OSMesa: cannot load /nonexistent/libOSMesa.so"; absent bad.png
+
 echo "cli_end_to_end: $checks runs, $failures failures"
 [ "$failures" -eq 0 ]

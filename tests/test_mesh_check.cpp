@@ -90,7 +90,8 @@ TEST(MeshCheck, UnreferencedVertex) {
 }
 
 TEST(MeshCheck, DuplicateFaceInAnyRotationOrOrientation) {
-  for (const Eigen::RowVector3i& copy : {Eigen::RowVector3i(2, 0, 1), Eigen::RowVector3i(0, 2, 1)}) {
+  for (const Eigen::RowVector3i& copy :
+       {Eigen::RowVector3i(2, 0, 1), Eigen::RowVector3i(0, 2, 1)}) {
     Mesh m = twoTriangleSquare();
     m.triangles.conservativeResize(3, 3);
     m.triangles.row(2) = copy;

@@ -1,0 +1,120 @@
+// flexure render: an offscreen image of a mesh (reflection lines, isophotes, highlight lines,
+// shading, or the error against a polynomial surface), written as PNG.
+#include <cctype>
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "cli/commands.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_io.h"
+#include "render/mesh_renderer.h"
+#include "render/offscreen_context.h"
+
+namespace flexure::cli {
+namespace {
+
+struct RenderCommandOptions {
+  std::string input;
+  std::string output;
+  std::string style = "reflection";
+  std::string background = "#ffffff";
+  std::string surface;
+  std::vector<double> light;
+  bool perspective = false;
+  bool flat = false;
+  std::optional<double> errorMax;
+  render::RenderOptions render;
+};
+
+bool endsWithPng(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string extension = path.substr(path.size() - 4);
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".png";
+}
+
+void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
+  // Every option is checked before the mesh is read or OSMesa loaded.
+  if (!endsWithPng(o.output)) {
+    throw InputError("--output '" + o.output + "': flexure render writes PNG images (.png)");
+  }
+  render::RenderOptions& r = o.render;
+  r.style = render::parseRenderStyle(o.style);
+  try {
+    r.background = render::parseColour(o.background);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--background: ") + e.what());
+  }
+  r.projection = o.perspective ? render::Projection::Perspective : render::Projection::Orthographic;
+  r.smoothNormals = !o.flat;
+  if (!o.light.empty()) r.lightDirection = {o.light[0], o.light[1], o.light[2]};
+  if (r.style == render::RenderStyle::Error) {
+    if (o.surface.empty()) {
+      throw InputError("--style error needs --surface (e.g. --surface quadratic:1,0,1)");
+    }
+    r.surface = modeling::PolynomialSurface::parse(o.surface);
+    r.errorMax = o.errorMax;
+  } else if (!o.surface.empty() || o.errorMax) {
+    throw InputError("--surface and --error-max apply to --style error only");
+  }
+
+  std::vector<std::string> notices;
+  const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
+  if (!global.quiet)
+    for (const std::string& notice : notices) std::cerr << "flexure render: " << notice << '\n';
+  const auto start = std::chrono::steady_clock::now();
+  const render::Image image = render::renderMesh(mesh, r);
+  render::writePng(o.output, image);
+  if (!global.quiet) {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "flexure render: wrote " << o.output << " (" << image.width << " x "
+              << image.height << ", " << render::renderStyleName(r.style) << ", "
+              << mesh.faceCount() << " faces, " << seconds << " s)\n";
+  }
+}
+
+}  // namespace
+
+void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<RenderCommandOptions>();
+  RenderCommandOptions& o = *options;
+  CLI::App* sub = app.add_subcommand(
+      "render", "Render a mesh offscreen (OSMesa) to PNG: reflection lines, isophotes, ...");
+  sub->add_option("input", o.input, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  sub->add_option("-o,--output", o.output, "Output image (.png)")->required();
+  sub->add_option("--style", o.style,
+                  "reflection | isophote | highlight | shaded | error (default reflection)");
+  sub->add_option("--width", o.render.width, "Image width in pixels (default 1024)");
+  sub->add_option("--height", o.render.height, "Image height in pixels (default 1024)");
+  sub->add_option("--azimuth", o.render.azimuthDegrees,
+                  "Camera azimuth in degrees about +z; 0 = seen from the -y side (default 0)");
+  sub->add_option("--elevation", o.render.elevationDegrees,
+                  "Camera elevation in degrees above the xy plane; 90 = from above (default 90)");
+  sub->add_flag("--perspective", o.perspective, "Perspective projection (default orthographic)");
+  sub->add_option("--background", o.background, "Background colour #rrggbb (default #ffffff)");
+  sub->add_flag("--flat", o.flat, "Flat (face) normals instead of area-weighted vertex normals");
+  sub->add_flag("--edges", o.render.edges, "Draw the triangle edges");
+  sub->add_option("--stripes", o.render.stripeCount,
+                  "Number of stripes / bands / highlight lines (default 12)");
+  sub->add_option("--stripe-width", o.render.stripeWidth,
+                  "Dark fraction of each stripe period, in (0, 1) (default 0.5)");
+  sub->add_option("--stripe-direction", o.render.stripeDirectionDegrees,
+                  "Stripe angle in the image, degrees from the x axis (default 90: vertical)");
+  sub->add_option("--light", o.light, "Direction toward the light in camera coordinates X,Y,Z")
+      ->expected(3)
+      ->delimiter(',');
+  sub->add_option("--surface", o.surface,
+                  "Error style: the surface p, quadratic:a,b,c or polynomial:EXPR");
+  sub->add_option("--error-max", o.errorMax,
+                  "Error style: top of the colour map (default: the largest |z - p|)");
+  sub->footer(
+      "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
+      "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "
+      "by $FLEXURE_OSMESA_LIBRARY.");
+  sub->callback([options, &global] { runRenderCommand(*options, global); });
+}
+
+}  // namespace flexure::cli

@@ -1,0 +1,105 @@
+// Offscreen renders of a triangle mesh (OSMesa, GLSL 4.50): reflection lines, isophotes,
+// highlight lines, plain shading and per-vertex scalar fields with a colour map and legend (the
+// `error` style: |z − p(x, y)| against a polynomial surface). PNG out, written atomically.
+//
+// Camera. The mesh is centred on its bounding-box centre c and scaled by its bounding radius
+// R = max |x_v − c|. The camera looks at c from the direction
+//   e = (cos E sin A, −cos E cos A, sin E)   (A = azimuth, E = elevation, in degrees),
+// with image right = (cos A, sin A, 0) and image up = e × right: azimuth 0, elevation 90 (the
+// default) looks straight down −z with x to the right and y up; azimuth 0, elevation 0 looks
+// along +y from the −y side. Orthographic framing fits the projected extents of the mesh with a
+// 6 % margin; perspective (30° vertical field of view, the eye on the line through c along e)
+// puts the eye as close as it can with every vertex in view, with the same margin.
+//
+// Normals. Smooth: vertex normals are area-weighted, n_v ∝ Σ_f∋v (x_1 − x_0) × (x_2 − x_0) (the
+// unnormalized face normal is twice the face area times the unit normal), interpolated across
+// faces and renormalized per pixel. Flat: each face's unit normal. Faces are lit on both sides
+// (the normal is flipped on back faces), since the meshes are open surfaces.
+//
+// All environments (stripes, lights) are fixed to the camera, so a render depends only on the
+// mesh's shape relative to the view.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "modeling/mesh.h"
+#include "modeling/polynomial_surface.h"
+
+namespace flexure::render {
+
+class OffscreenContext;
+
+enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error };
+
+// "reflection" | "isophote" | "highlight" | "shaded" | "error"; InputError listing them otherwise.
+RenderStyle parseRenderStyle(std::string_view name);
+std::string_view renderStyleName(RenderStyle style);
+
+struct Rgb {
+  double r = 1.0, g = 1.0, b = 1.0;  // each in [0, 1]
+};
+
+// "#rrggbb" (or "rrggbb"); InputError quoting the text otherwise.
+Rgb parseColour(std::string_view text);
+
+enum class Projection { Orthographic, Perspective };
+
+struct RenderOptions {
+  RenderStyle style = RenderStyle::Reflection;
+  int width = 1024, height = 1024;  // pixels, each in [32, 8192]
+  double azimuthDegrees = 0.0, elevationDegrees = 90.0;
+  Projection projection = Projection::Orthographic;
+  Rgb background{1.0, 1.0, 1.0};
+  bool smoothNormals = true;  // false: flat (face) normals
+  bool edges = false;         // draw every triangle edge, one pixel wide
+  // Stripes (reflection, isophote, highlight): the count across the range of the stripe
+  // coordinate, the dark fraction of each period in (0, 1), and the angle of the stripes in the
+  // image, counter-clockwise from the image x axis (90 = vertical stripes).
+  int stripeCount = 12;
+  double stripeWidth = 0.5;
+  double stripeDirectionDegrees = 90.0;
+  // Towards the light, in camera coordinates (x right, y up, z toward the viewer); normalized.
+  std::array<double, 3> lightDirection{-0.35, 0.45, 1.0};
+  // The `error` style: the surface p and the colour-map range of |z − p(x, y)|; the range is
+  // [0, max over the vertices] when empty (a mesh exactly on p is all the colour of 0).
+  modeling::PolynomialSurface surface;
+  std::optional<double> errorMax;
+};
+
+// RGBA, 8 bits per channel, rows top to bottom: pixel (x, y) is rgba[4 * (y * width + x) + k].
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;
+
+  std::array<std::uint8_t, 4> pixel(int x, int y) const {
+    const std::size_t i = 4 * (static_cast<std::size_t>(y) * width + x);
+    return {rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
+  }
+};
+
+// Width in pixels of the legend strip on the right of `error` renders (the mesh is framed in the
+// remaining width).
+inline constexpr int kLegendWidth = 130;
+
+// Renders `mesh` (a valid mesh: see mesh.h) with an 8× multisampled framebuffer (fewer when the GL
+// allows fewer), resolved to one sample per pixel. Throws InputError for options out of range,
+// RenderError (offscreen_context.h) when OSMesa or GL fails.
+Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
+                 const RenderOptions& options);
+// The same with a context of its own on the default OSMesa library.
+Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options);
+
+// The per-vertex values the `error` style colours: |z_v − p(x_v, y_v)|, #V.
+std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
+                                        const modeling::PolynomialSurface& surface);
+
+// The image as PNG bytes (8-bit RGB, opaque; deterministic), and written to `path` atomically.
+std::string encodePng(const Image& image);
+void writePng(const std::string& path, const Image& image);
+
+}  // namespace flexure::render

@@ -1,0 +1,354 @@
+// The offscreen renderer (render/mesh_renderer.h), judged by its pixels: a plane seen head-on
+// reflects one colour; a cylinder's reflection lines are straight and a bowl's are not; a mirror-
+// symmetric mesh gives a mirror-symmetric image; a mesh on the surface has zero error; the PNG
+// reads back at the requested size; a missing or broken OSMesa is a clear error.
+#include <cairo.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "modeling/errors.h"
+#include "modeling/generators.h"
+#include "modeling/polynomial_surface.h"
+#include "render/mesh_renderer.h"
+#include "render/offscreen_context.h"
+
+namespace flexure {
+namespace {
+
+using render::Image;
+using render::RenderOptions;
+using render::RenderStyle;
+using testing::HasSubstr;
+
+// A background no style paints, so that coverage can be read off the pixels.
+constexpr render::Rgb kGreen{0.0, 1.0, 0.0};
+
+modeling::Mesh squareMesh(int n) {
+  modeling::GeneratorOptions generator;
+  generator.family = modeling::MeshFamily::Patch48;
+  generator.n = n;
+  return modeling::generateMesh(generator);
+}
+
+// Part of the unit cylinder z = √(1 − x²) over the square [−½, ½]²: the axis is the y axis.
+modeling::Mesh cylinderMesh(int n) {
+  modeling::Mesh mesh = squareMesh(n);
+  for (int v = 0; v < mesh.vertexCount(); ++v) {
+    const double x = mesh.positions(v, 0);
+    mesh.positions(v, 2) = std::sqrt(1.0 - x * x);
+  }
+  return mesh;
+}
+
+modeling::Mesh heightFieldMesh(int n, const std::string& spec) {
+  modeling::Mesh mesh = squareMesh(n);
+  modeling::applyHeightField(modeling::PolynomialSurface::parse(spec), mesh.positions);
+  return mesh;
+}
+
+RenderOptions headOn(RenderStyle style, int width = 256, int height = 256) {
+  RenderOptions options;
+  options.style = style;
+  options.width = width;
+  options.height = height;
+  options.background = kGreen;
+  return options;
+}
+
+bool isBackground(const Image& image, int x, int y) {
+  const auto p = image.pixel(x, y);
+  return p[0] == 0 && p[1] == 255 && p[2] == 0;
+}
+
+// Pixels inside the mesh's image, away from its anti-aliased silhouette: the pixel and every
+// pixel within `margin` of it (in x and y) are off the background.
+std::vector<std::vector<bool>> interiorMask(const Image& image, int margin = 2) {
+  std::vector<std::vector<bool>> mask(image.height, std::vector<bool>(image.width, false));
+  for (int y = margin; y < image.height - margin; ++y) {
+    for (int x = margin; x < image.width - margin; ++x) {
+      bool inside = true;
+      for (int dy = -margin; dy <= margin && inside; ++dy)
+        for (int dx = -margin; dx <= margin && inside; ++dx)
+          inside = !isBackground(image, x + dx, y + dy);
+      mask[y][x] = inside;
+    }
+  }
+  return mask;
+}
+
+int countInterior(const std::vector<std::vector<bool>>& mask) {
+  int count = 0;
+  for (const auto& row : mask) count += static_cast<int>(std::count(row.begin(), row.end(), true));
+  return count;
+}
+
+int channelDistance(const std::array<std::uint8_t, 4>& a, const std::array<std::uint8_t, 4>& b) {
+  int d = 0;
+  for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(a[k]) - int(b[k])));
+  return d;
+}
+
+// The largest colour spread (max − min of the grey value) along any image column over its
+// interior pixels, for columns with at least 20 of them.
+int largestColumnSpread(const Image& image) {
+  const auto mask = interiorMask(image);
+  int spread = 0;
+  for (int x = 0; x < image.width; ++x) {
+    int lo = 255, hi = 0, count = 0;
+    for (int y = 0; y < image.height; ++y) {
+      if (!mask[y][x]) continue;
+      const int grey = image.pixel(x, y)[0];
+      lo = std::min(lo, grey);
+      hi = std::max(hi, grey);
+      ++count;
+    }
+    if (count >= 20) spread = std::max(spread, hi - lo);
+  }
+  return spread;
+}
+
+TEST(Render, PlaneSeenHeadOnReflectsOneColour) {
+  for (bool smooth : {true, false}) {
+    RenderOptions options = headOn(RenderStyle::Reflection);
+    options.smoothNormals = smooth;
+    const Image image = render::renderMesh(squareMesh(8), options);
+    ASSERT_EQ(image.width, 256);
+    ASSERT_EQ(image.height, 256);
+    const auto mask = interiorMask(image);
+    ASSERT_GT(countInterior(mask), 256 * 256 / 2) << "the plane should fill most of the frame";
+    std::array<std::uint8_t, 4> first{};
+    bool seen = false;
+    int worst = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        if (!mask[y][x]) continue;
+        if (!seen) first = image.pixel(x, y), seen = true;
+        worst = std::max(worst, channelDistance(first, image.pixel(x, y)));
+      }
+    }
+    EXPECT_LE(worst, 1) << (smooth ? "smooth" : "flat") << " normals";
+  }
+}
+
+TEST(Render, CylinderReflectionLinesAreStraight) {
+  // Axis along y (image up), vertical stripes: the reflected direction depends on x alone, so
+  // every column is one colour and the stripes run straight along the axis.
+  RenderOptions options = headOn(RenderStyle::Reflection);
+  options.stripeDirectionDegrees = 90.0;
+  const Image image = render::renderMesh(cylinderMesh(32), options);
+  EXPECT_LE(largestColumnSpread(image), 6);
+  // ... while across the axis the stripes alternate between dark and light.
+  const auto mask = interiorMask(image);
+  int lo = 255, hi = 0, changes = 0, previous = -1;
+  const int y = image.height / 2;
+  for (int x = 0; x < image.width; ++x) {
+    if (!mask[y][x]) continue;
+    const int grey = image.pixel(x, y)[0];
+    lo = std::min(lo, grey);
+    hi = std::max(hi, grey);
+    const int level = grey > 128 ? 1 : 0;
+    if (previous >= 0 && level != previous) ++changes;
+    previous = level;
+  }
+  EXPECT_LT(lo, 40);
+  EXPECT_GT(hi, 215);
+  EXPECT_GE(changes, 4);
+
+  // The same check fails on a doubly curved bowl, whose reflection lines bend.
+  const Image bowl = render::renderMesh(heightFieldMesh(32, "quadratic:1,0,1"), options);
+  EXPECT_GT(largestColumnSpread(bowl), 150);
+}
+
+TEST(Render, HighlightLinesOnAPlaneAreStraightAndParallel) {
+  RenderOptions options = headOn(RenderStyle::Highlight);
+  options.stripeDirectionDegrees = 90.0;
+  const Image image = render::renderMesh(squareMesh(8), options);
+  EXPECT_LE(largestColumnSpread(image), 6);
+  const auto mask = interiorMask(image);
+  int lo = 255, hi = 0;
+  for (int x = 0; x < image.width; ++x) {
+    if (!mask[image.height / 2][x]) continue;
+    lo = std::min<int>(lo, image.pixel(x, image.height / 2)[0]);
+    hi = std::max<int>(hi, image.pixel(x, image.height / 2)[0]);
+  }
+  EXPECT_LT(lo, 40);
+  EXPECT_GT(hi, 215);
+}
+
+TEST(Render, MirrorSymmetricMeshGivesMirrorSymmetricImage) {
+  // patch48 with even n is symmetric under x ↦ −x, and so is the height field.
+  const modeling::Mesh mesh = heightFieldMesh(16, "polynomial:x^2+0.5*y^3+0.3*y-0.4*x^4");
+  for (RenderStyle style : {RenderStyle::Reflection, RenderStyle::Highlight}) {
+    RenderOptions options = headOn(style, 300, 240);
+    options.elevationDegrees = 55.0;  // tilted about the image x axis: still symmetric
+    const Image image = render::renderMesh(mesh, options);
+    const auto mask = interiorMask(image);
+    long total = 0;
+    int worstInside = 0, worstSilhouette = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const int mirror = image.width - 1 - x;
+        const int d = channelDistance(image.pixel(x, y), image.pixel(mirror, y));
+        total += d;
+        if (mask[y][x] && mask[y][mirror]) {
+          worstInside = std::max(worstInside, d);
+        } else {
+          worstSilhouette = std::max(worstSilhouette, d);
+        }
+      }
+    }
+    EXPECT_LT(total / (double(image.width) * image.height), 0.5) << renderStyleName(style);
+    EXPECT_LE(worstInside, 16) << renderStyleName(style);
+    // Inside, only the anti-aliased stripe edges may differ a little (fwidth comes from 2 × 2
+    // pixel quads, which mirroring regroups). The multisample pattern is not mirror-symmetric:
+    // silhouette pixels may differ by a quarter of the green-to-mesh contrast (≤ 64 levels).
+    EXPECT_LE(worstSilhouette, 70) << renderStyleName(style);
+  }
+  // An asymmetric mesh is told apart.
+  const Image skew = render::renderMesh(heightFieldMesh(16, "polynomial:x^2+0.4*x^3+0.3*y"),
+                                        headOn(RenderStyle::Reflection, 300, 240));
+  long total = 0;
+  for (int y = 0; y < skew.height; ++y)
+    for (int x = 0; x < skew.width; ++x)
+      total += channelDistance(skew.pixel(x, y), skew.pixel(skew.width - 1 - x, y));
+  EXPECT_GT(total / (double(skew.width) * skew.height), 5.0);
+}
+
+TEST(Render, MeshOnTheSurfaceHasOneErrorColour) {
+  const std::string spec = "quadratic:1,0.5,-1";
+  const modeling::Mesh mesh = heightFieldMesh(16, spec);
+  RenderOptions options = headOn(RenderStyle::Error, 400, 256);
+  options.surface = modeling::PolynomialSurface::parse(spec);
+  const Image image = render::renderMesh(mesh, options);
+  ASSERT_EQ(image.width, 400);
+  const auto mask = interiorMask(image);
+  const std::array<std::uint8_t, 4> zeroColour{68, 1, 84, 255};  // the colour map at 0
+  int worst = 0, covered = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width - render::kLegendWidth; ++x) {
+      if (!mask[y][x]) continue;
+      ++covered;
+      worst = std::max(worst, channelDistance(zeroColour, image.pixel(x, y)));
+    }
+  }
+  EXPECT_GT(covered, 10000);
+  EXPECT_LE(worst, 1);
+  EXPECT_EQ(render::vertexSurfaceErrors(mesh, options.surface),
+            std::vector<double>(mesh.vertexCount(), 0.0));
+
+  // Against another surface the colours spread over the map.
+  options.surface = modeling::PolynomialSurface::parse("quadratic:0,0,0");
+  const Image off = render::renderMesh(mesh, options);
+  const auto offMask = interiorMask(off);
+  int spread = 0;
+  for (int y = 0; y < off.height; ++y)
+    for (int x = 0; x < off.width - render::kLegendWidth; ++x)
+      if (offMask[y][x]) spread = std::max(spread, channelDistance(zeroColour, off.pixel(x, y)));
+  EXPECT_GT(spread, 150);
+}
+
+TEST(Render, EveryStyleRendersAndOptionsChangeThePicture) {
+  const modeling::Mesh mesh = heightFieldMesh(8, "quadratic:1,0,0.5");
+  RenderOptions options = headOn(RenderStyle::Shaded, 128, 96);
+  options.elevationDegrees = 50.0;
+  options.azimuthDegrees = 30.0;
+  const Image shaded = render::renderMesh(mesh, options);
+  EXPECT_GT(countInterior(interiorMask(shaded)), 1000);
+  options.smoothNormals = false;
+  EXPECT_NE(render::renderMesh(mesh, options).rgba, shaded.rgba) << "flat normals";
+  options.smoothNormals = true;
+  options.edges = true;
+  EXPECT_NE(render::renderMesh(mesh, options).rgba, shaded.rgba) << "edge overlay";
+  options.edges = false;
+  options.projection = render::Projection::Perspective;
+  EXPECT_NE(render::renderMesh(mesh, options).rgba, shaded.rgba) << "perspective";
+  options.projection = render::Projection::Orthographic;
+  options.style = RenderStyle::Isophote;
+  EXPECT_NE(render::renderMesh(mesh, options).rgba, shaded.rgba) << "isophote";
+  // The same input renders to the same pixels.
+  options.style = RenderStyle::Shaded;
+  EXPECT_EQ(render::renderMesh(mesh, options).rgba, shaded.rgba);
+}
+
+TEST(Render, PngReadsBackAtTheRequestedSize) {
+  const modeling::Mesh mesh = heightFieldMesh(8, "quadratic:1,0,1");
+  const Image image = render::renderMesh(mesh, headOn(RenderStyle::Reflection, 200, 120));
+  const std::string path = std::string(FLEXURE_TEST_TMP) + "/render_reflection.png";
+  std::filesystem::remove(path);
+  render::writePng(path, image);
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> png(
+      cairo_image_surface_create_from_png(path.c_str()), cairo_surface_destroy);
+  ASSERT_EQ(cairo_surface_status(png.get()), CAIRO_STATUS_SUCCESS);
+  EXPECT_EQ(cairo_image_surface_get_width(png.get()), 200);
+  EXPECT_EQ(cairo_image_surface_get_height(png.get()), 120);
+  // The centre pixel survives the round trip (RGB24 words are 0x00RRGGBB).
+  const auto* data = cairo_image_surface_get_data(png.get());
+  const int stride = cairo_image_surface_get_stride(png.get());
+  const auto word = *reinterpret_cast<const std::uint32_t*>(data + 60 * stride + 4 * 100);
+  const auto p = image.pixel(100, 60);
+  EXPECT_EQ((word >> 16) & 0xff, p[0]);
+  EXPECT_EQ((word >> 8) & 0xff, p[1]);
+  EXPECT_EQ(word & 0xff, p[2]);
+  EXPECT_EQ(render::encodePng(image), render::encodePng(image));
+  // A directory that does not exist: InputError naming it, nothing written.
+  EXPECT_THROW(render::writePng(std::string(FLEXURE_TEST_TMP) + "/no/such/dir/x.png", image),
+               InputError);
+}
+
+TEST(Render, MissingOrBrokenOSMesaIsAClearError) {
+  try {
+    render::OffscreenContext context("/nonexistent/libOSMesa.so.8");
+    FAIL() << "a missing library should throw";
+  } catch (const render::RenderError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("OSMesa"));
+    EXPECT_THAT(e.what(), HasSubstr("cannot load /nonexistent/libOSMesa.so.8"));
+    EXPECT_THAT(e.what(), HasSubstr("libosmesa6"));
+  }
+  // A real library that is not OSMesa.
+  try {
+    render::OffscreenContext context("libm.so.6");
+    FAIL() << "a library without OSMesa should throw";
+  } catch (const render::RenderError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("OSMesa"));
+    EXPECT_THAT(e.what(), HasSubstr("does not export OSMesaCreateContextAttribs"));
+  }
+  // RenderError is an InputError: the CLI exits 2 with the message.
+  static_assert(std::is_base_of_v<InputError, render::RenderError>);
+  // The working library gives a GL 4.5 core context.
+  render::OffscreenContext context;
+  EXPECT_THAT(context.description(), HasSubstr("4.5"));
+}
+
+TEST(Render, BadOptionsAreInputErrors) {
+  const modeling::Mesh mesh = squareMesh(4);
+  const auto rejects = [&](auto change) {
+    RenderOptions options = headOn(RenderStyle::Reflection, 64, 64);
+    change(options);
+    EXPECT_THROW(render::renderMesh(mesh, options), InputError);
+  };
+  rejects([](RenderOptions& o) { o.width = 8; });
+  rejects([](RenderOptions& o) { o.height = 100000; });
+  rejects([](RenderOptions& o) { o.stripeWidth = 1.5; });
+  rejects([](RenderOptions& o) { o.stripeCount = 0; });
+  rejects([](RenderOptions& o) { o.elevationDegrees = 120.0; });
+  rejects([](RenderOptions& o) { o.lightDirection = {0.0, 0.0, 0.0}; });
+  rejects([](RenderOptions& o) { o.style = RenderStyle::Error; });  // 64 px: no room for legend
+  EXPECT_THROW(render::parseRenderStyle("curvy"), InputError);
+  EXPECT_EQ(render::parseRenderStyle("isophote"), RenderStyle::Isophote);
+  EXPECT_THROW(render::parseColour("#12345"), InputError);
+  EXPECT_THROW(render::parseColour("#12345g"), InputError);
+  const render::Rgb c = render::parseColour("#ff8000");
+  EXPECT_DOUBLE_EQ(c.r, 1.0);
+  EXPECT_DOUBLE_EQ(c.g, 128.0 / 255.0);
+  EXPECT_DOUBLE_EQ(c.b, 0.0);
+}
+
+}  // namespace
+}  // namespace flexure
