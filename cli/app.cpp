@@ -28,6 +28,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
   registerRenderCommand(app, global);
+  registerCompareCommand(app, global);
 
   std::vector<const char*> argv;
   for (const std::string& a : args) argv.push_back(a.c_str());

@@ -21,6 +21,7 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global);
 void registerDemoCommand(CLI::App& app, const GlobalOptions& global);
 void registerRunCommand(CLI::App& app, const GlobalOptions& global);
 void registerRenderCommand(CLI::App& app, const GlobalOptions& global);
+void registerCompareCommand(CLI::App& app, const GlobalOptions& global);
 
 // Parses `args` (args[0] is the program name) and runs the chosen subcommand; returns the exit
 // code: 0 success, 2 bad input or usage, 3 numerical failure. `flexure run` re-enters here.
