@@ -1,5 +1,6 @@
 // flexure render: an offscreen image of a mesh (reflection lines, isophotes, highlight lines,
-// shading, or the error against a polynomial surface), written as PNG.
+// shading, the error against a polynomial surface, or a mean-curvature map), written as PNG. The
+// curvature map's values come from curvature/ here, so that render/ does not depend on it.
 #include <cctype>
 #include <chrono>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "curvature/mean_curvature_field.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
 #include "render/mesh_renderer.h"
@@ -25,6 +27,8 @@ struct RenderCommandOptions {
   bool perspective = false;
   bool flat = false;
   std::optional<double> errorMax;
+  std::string curvatureEnergy;
+  std::optional<double> curvatureMax;
   render::RenderOptions render;
 };
 
@@ -59,12 +63,24 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   } else if (!o.surface.empty() || o.errorMax) {
     throw InputError("--surface and --error-max apply to --style error only");
   }
+  const bool curvatureStyle = r.style == render::RenderStyle::Curvature;
+  if (curvatureStyle) {
+    // One discretization so far; the option names it so that others can join.
+    if (!o.curvatureEnergy.empty() && o.curvatureEnergy != "cotan") {
+      throw InputError("--curvature-energy " + o.curvatureEnergy + ": expected cotan");
+    }
+    r.curvatureMax = o.curvatureMax;
+    r.scalarLabel = "mean curvature H";
+  } else if (!o.curvatureEnergy.empty() || o.curvatureMax) {
+    throw InputError("--curvature-energy and --curvature-max apply to --style curvature only");
+  }
 
   std::vector<std::string> notices;
   const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure render: " << notice << '\n';
   const auto start = std::chrono::steady_clock::now();
+  if (curvatureStyle) r.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
   const render::Image image = render::renderMesh(mesh, r);
   render::writePng(o.output, image);
   if (!global.quiet) {
@@ -86,7 +102,8 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("input", o.input, "Mesh file (.obj, .off, .ply, .stl)")->required();
   sub->add_option("-o,--output", o.output, "Output image (.png)")->required();
   sub->add_option("--style", o.style,
-                  "reflection | isophote | highlight | shaded | error (default reflection)");
+                  "reflection | isophote | highlight | shaded | error | curvature (default "
+                  "reflection)");
   sub->add_option("--width", o.render.width, "Image width in pixels (default 1024)");
   sub->add_option("--height", o.render.height, "Image height in pixels (default 1024)");
   sub->add_option("--azimuth", o.render.azimuthDegrees,
@@ -110,6 +127,11 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
                   "Error style: the surface p, quadratic:a,b,c or polynomial:EXPR");
   sub->add_option("--error-max", o.errorMax,
                   "Error style: top of the colour map (default: the largest |z - p|)");
+  sub->add_option("--curvature-energy", o.curvatureEnergy,
+                  "Curvature style: the discretization of H (cotan: H = K.n / (2 A), the cotan "
+                  "energy's kernel; default cotan)");
+  sub->add_option("--curvature-max", o.curvatureMax,
+                  "Curvature style: the colour map spans [-M, M] (default: the largest |H|)");
   sub->footer(
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "

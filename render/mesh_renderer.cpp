@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -37,7 +38,7 @@ struct ColourMap {
 };
 
 // Sequential (magnitudes from 0): five samples of matplotlib's viridis, dark violet to yellow,
-// monotone in lightness. A diverging map for signed fields (curvature) slots in the same way.
+// monotone in lightness.
 const ColourMap& sequentialColourMap() {
   static const ColourMap map{{{0.267, 0.005, 0.329},
                               {0.229, 0.322, 0.546},
@@ -45,6 +46,24 @@ const ColourMap& sequentialColourMap() {
                               {0.369, 0.789, 0.383},
                               {0.993, 0.906, 0.144}}};
   return map;
+}
+
+// Diverging (signed values on a range symmetric about 0): ColorBrewer's 7-class RdBu reversed,
+// blue (negative) through near-white (0) to red (positive).
+const ColourMap& divergingColourMap() {
+  static const ColourMap map{{{0.129, 0.400, 0.675},
+                              {0.404, 0.663, 0.812},
+                              {0.820, 0.898, 0.941},
+                              {0.969, 0.969, 0.969},
+                              {0.992, 0.859, 0.780},
+                              {0.937, 0.541, 0.384},
+                              {0.698, 0.094, 0.169}}};
+  return map;
+}
+
+// The styles that colour a per-vertex scalar and draw a legend.
+bool hasLegend(RenderStyle style) {
+  return style == RenderStyle::Error || style == RenderStyle::Curvature;
 }
 
 // What the shaders see. The "frame" is the camera-aligned object frame: origin at the mesh's
@@ -218,7 +237,7 @@ void main() {
 //              n; s = N/2 · (q·d). Dark lines where the normal line passes a light (s near an
 //              integer); grey where n_z <= 0 (the normal line misses the plane).
 //  shaded      Lambert plus a Blinn-Phong highlight: c (0.15 + 0.85 max(n·L, 0)) + 0.25 (n·H)^40.
-//  scalar      (the error style) the interpolated vertex scalar through the colour map on
+//  scalar      (error, curvature) the interpolated vertex scalar through the colour map on
 //              [lo, hi], unlit so that the colour reads as a value.
 //
 // Stripes are dark where s is within w/2 of an integer (w = the dark fraction of a period); the
@@ -350,7 +369,7 @@ GLuint linkProgram(const GlFunctions& gl) {
 
 void checkOptions(const RenderOptions& o) {
   const auto fail = [](const std::string& what) { throw InputError("render: " + what); };
-  const int minWidth = o.style == RenderStyle::Error ? kLegendWidth + 64 : 32;
+  const int minWidth = hasLegend(o.style) ? kLegendWidth + 64 : 32;
   if (o.width < minWidth || o.width > 8192 || o.height < 32 || o.height > 8192) {
     fail("image size " + std::to_string(o.width) + " x " + std::to_string(o.height) +
          " is outside [" + std::to_string(minWidth) + ", 8192] x [32, 8192]");
@@ -372,6 +391,12 @@ void checkOptions(const RenderOptions& o) {
   if (o.errorMax && !(*o.errorMax > 0.0 && std::isfinite(*o.errorMax))) {
     fail("the error colour-map maximum must be positive");
   }
+  if (o.curvatureMax && !(*o.curvatureMax > 0.0 && std::isfinite(*o.curvatureMax))) {
+    fail("the curvature colour-map bound must be positive");
+  }
+  if (o.style == RenderStyle::Curvature && o.vertexScalars.empty()) {
+    fail("the curvature style needs a value per vertex (RenderOptions::vertexScalars)");
+  }
   for (const Rgb& c : {o.background}) {
     if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1)) {
       fail("the background colour components must lie in [0, 1]");
@@ -382,7 +407,13 @@ void checkOptions(const RenderOptions& o) {
 // Draws the mesh with GL into an image of `width` × `height` (the whole image, or the part left
 // of the legend).
 Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const RenderOptions& o,
-                int width, int height, const std::vector<double>& scalars, double scalarMax) {
+                int width, int height, const std::vector<double>& scalars, double scalarMin,
+                double scalarMax, const ColourMap& map, RenderTimings* timings = nullptr) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point from) {
+    return std::chrono::duration<double>(Clock::now() - from).count();
+  };
+  const Clock::time_point start = Clock::now();
   context.makeCurrent();
   const GlFunctions& gl = context.gl();
   gl.GetError();  // start clean
@@ -443,7 +474,7 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   const auto uniform = [&](const char* name) { return gl.GetUniformLocation(program, name); };
   Eigen::Matrix4f clip = camera.frameToClip.cast<float>();  // column-major, as GL expects
   gl.UniformMatrix4fv(uniform("frameToClip"), 1, GL_FALSE, clip.data());
-  const int styleCode[] = {0, 1, 2, 3, 4};
+  const int styleCode[] = {0, 1, 2, 3, 4, 4};
   gl.Uniform1i(uniform("style"), styleCode[static_cast<int>(o.style)]);
   gl.Uniform1i(uniform("perspective"), camera.perspective ? 1 : 0);
   gl.Uniform3f(uniform("eye"), static_cast<float>(camera.eye(0)), static_cast<float>(camera.eye(1)),
@@ -458,14 +489,14 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.Uniform1f(uniform("stripeCount"), static_cast<float>(o.stripeCount));
   gl.Uniform1f(uniform("stripeWidth"), static_cast<float>(o.stripeWidth));
   gl.Uniform1i(uniform("edges"), o.edges ? 1 : 0);
-  gl.Uniform2f(uniform("scalarRange"), 0.0f, static_cast<float>(scalarMax));
-  const ColourMap& map = sequentialColourMap();
+  gl.Uniform2f(uniform("scalarRange"), static_cast<float>(scalarMin),
+               static_cast<float>(scalarMax));
   std::vector<float> stops;
   for (const Rgb& c : map.stops) {
     stops.insert(stops.end(),
                  {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)});
   }
-  static_assert(kMaxColourStops >= 5);
+  static_assert(kMaxColourStops >= 7);
   gl.Uniform1i(uniform("stopCount"), static_cast<GLint>(map.stops.size()));
   gl.Uniform3fv(uniform("stops"), static_cast<GLsizei>(map.stops.size()), stops.data());
   throwOnGlError(gl, "setting the shader uniforms");
@@ -480,6 +511,12 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl.DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(3 * mesh.faceCount()));
   throwOnGlError(gl, "drawing the mesh");
+  Clock::time_point readStart = Clock::now();
+  if (timings) {
+    gl.Finish();  // llvmpipe draws lazily: without this the draw would be timed as the readback
+    readStart = Clock::now();
+    timings->uploadDraw = std::chrono::duration<double>(readStart - start).count();
+  }
 
   // Resolve the samples (their average per pixel) and read back, bottom row first in GL.
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, objects.framebuffers[0]);
@@ -492,6 +529,7 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottomUp.data());
   gl.Finish();
   throwOnGlError(gl, "reading the image back");
+  if (timings) timings->readback = seconds(readStart);
 
   Image image;
   image.width = width;
@@ -548,9 +586,10 @@ Image fromSurface(cairo_surface_t* surface) {
   return image;
 }
 
-// The mesh image on the left, and on the right a vertical colour bar from 0 (bottom) to `maximum`
-// (top) with five labelled ticks and the title "|z − p|".
-Image withLegend(const Image& meshImage, const RenderOptions& o, double maximum) {
+// The mesh image on the left, and on the right a vertical colour bar of `map` from `minimum`
+// (bottom) to `maximum` (top) with five labelled ticks and `title` above it.
+Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum, double maximum,
+                 const ColourMap& map, const std::string& title) {
   CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, o.width, o.height),
                        &cairo_surface_destroy);
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
@@ -565,7 +604,6 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double maximum)
   const double ink = luminance > 0.5 ? 0.0 : 1.0;
   const double barLeft = meshImage.width + 14.0, barWidth = 18.0;
   const double barTop = std::round(0.18 * o.height), barBottom = std::round(0.82 * o.height);
-  const ColourMap& map = sequentialColourMap();
   for (double y = barTop; y < barBottom; y += 1.0) {
     const Rgb c = map.at((barBottom - (y + 0.5)) / (barBottom - barTop));
     cairo_set_source_rgb(cr.get(), c.r, c.g, c.b);
@@ -585,12 +623,12 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double maximum)
     cairo_rel_line_to(cr.get(), 5.0, 0.0);
     cairo_stroke(cr.get());
     char label[32];
-    std::snprintf(label, sizeof label, "%.3g", k / 4.0 * maximum);
+    std::snprintf(label, sizeof label, "%.3g", minimum + k / 4.0 * (maximum - minimum));
     cairo_move_to(cr.get(), barLeft + barWidth + 8.0, y + 0.35 * textSize);
     cairo_show_text(cr.get(), label);
   }
   cairo_move_to(cr.get(), barLeft - 4.0, barTop - 0.9 * textSize);
-  cairo_show_text(cr.get(), "|z − p(x, y)|");
+  cairo_show_text(cr.get(), title.c_str());
   return fromSurface(surface.get());
 }
 
@@ -603,11 +641,11 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
 
 RenderStyle parseRenderStyle(std::string_view name) {
   for (RenderStyle style : {RenderStyle::Reflection, RenderStyle::Isophote, RenderStyle::Highlight,
-                            RenderStyle::Shaded, RenderStyle::Error}) {
+                            RenderStyle::Shaded, RenderStyle::Error, RenderStyle::Curvature}) {
     if (renderStyleName(style) == name) return style;
   }
   throw InputError("unknown render style '" + std::string(name) +
-                   "' (known: reflection, isophote, highlight, shaded, error)");
+                   "' (known: reflection, isophote, highlight, shaded, error, curvature)");
 }
 
 std::string_view renderStyleName(RenderStyle style) {
@@ -622,6 +660,8 @@ std::string_view renderStyleName(RenderStyle style) {
       return "shaded";
     case RenderStyle::Error:
       return "error";
+    case RenderStyle::Curvature:
+      return "curvature";
   }
   return "?";
 }
@@ -651,18 +691,42 @@ std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
 
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options) {
+  return renderMesh(context, mesh, options, nullptr);
+}
+
+Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
+                 const RenderOptions& options, RenderTimings* timings) {
   checkOptions(options);
   if (mesh.faceCount() == 0) throw InputError("render: the mesh has no faces");
-  if (options.style != RenderStyle::Error) {
-    return rasterize(context, mesh, options, options.width, options.height, {}, 1.0);
+  if (!hasLegend(options.style)) {
+    return rasterize(context, mesh, options, options.width, options.height, {}, 0.0, 1.0,
+                     sequentialColourMap(), timings);
+  }
+  const int meshWidth = options.width - kLegendWidth;
+  if (options.style == RenderStyle::Curvature) {
+    const std::vector<double>& values = options.vertexScalars;
+    if (static_cast<int>(values.size()) != mesh.vertexCount()) {
+      throw InputError("render: " + std::to_string(values.size()) + " curvature values for " +
+                       std::to_string(mesh.vertexCount()) + " vertices");
+    }
+    double largest = 0.0;
+    for (double value : values) {
+      if (!std::isfinite(value)) throw InputError("render: a curvature value is not finite");
+      largest = std::max(largest, std::abs(value));
+    }
+    // Symmetric about 0, so that white is 0; an all-zero field still needs a non-empty range.
+    const double bound = options.curvatureMax ? *options.curvatureMax : std::max(largest, 1e-12);
+    const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, values,
+                                      -bound, bound, divergingColourMap(), timings);
+    return withLegend(meshImage, options, -bound, bound, divergingColourMap(), options.scalarLabel);
   }
   const std::vector<double> errors = vertexSurfaceErrors(mesh, options.surface);
   const double largest = *std::max_element(errors.begin(), errors.end());
   // An all-zero field still needs a non-empty range: it then shows the colour of 0.
   const double maximum = options.errorMax ? *options.errorMax : std::max(largest, 1e-12);
-  const Image meshImage = rasterize(context, mesh, options, options.width - kLegendWidth,
-                                    options.height, errors, maximum);
-  return withLegend(meshImage, options, maximum);
+  const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, errors, 0.0,
+                                    maximum, sequentialColourMap(), timings);
+  return withLegend(meshImage, options, 0.0, maximum, sequentialColourMap(), "|z − p(x, y)|");
 }
 
 Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options) {

@@ -1,6 +1,7 @@
 // Offscreen renders of a triangle mesh (OSMesa, GLSL 4.50): reflection lines, isophotes,
 // highlight lines, plain shading and per-vertex scalar fields with a colour map and legend (the
-// `error` style: |z − p(x, y)| against a polynomial surface). PNG out, written atomically.
+// `error` style: |z − p(x, y)| against a polynomial surface; the `curvature` style: a signed
+// per-vertex field the caller computes, on a diverging map). PNG out, written atomically.
 //
 // Camera. The mesh is centred on its bounding-box centre c and scaled by its bounding radius
 // R = max |x_v − c|. The camera looks at c from the direction
@@ -34,9 +35,10 @@ namespace flexure::render {
 
 class OffscreenContext;
 
-enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error };
+enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error, Curvature };
 
-// "reflection" | "isophote" | "highlight" | "shaded" | "error"; InputError listing them otherwise.
+// "reflection" | "isophote" | "highlight" | "shaded" | "error" | "curvature"; InputError listing
+// them otherwise.
 RenderStyle parseRenderStyle(std::string_view name);
 std::string_view renderStyleName(RenderStyle style);
 
@@ -69,6 +71,13 @@ struct RenderOptions {
   // [0, max over the vertices] when empty (a mesh exactly on p is all the colour of 0).
   modeling::PolynomialSurface surface;
   std::optional<double> errorMax;
+  // The `curvature` style: a signed value per vertex (#V; the renderer does not compute it, so
+  // render/ stays independent of curvature/), interpolated across faces on a diverging colour map
+  // (blue negative, white 0, red positive) over [−m, m], m = max |value| or `curvatureMax`, with
+  // a legend titled `scalarLabel`.
+  std::vector<double> vertexScalars;
+  std::optional<double> curvatureMax;
+  std::string scalarLabel = "H";
 };
 
 // RGBA, 8 bits per channel, rows top to bottom: pixel (x, y) is rgba[4 * (y * width + x) + k].
@@ -82,8 +91,8 @@ struct Image {
   }
 };
 
-// Width in pixels of the legend strip on the right of `error` renders (the mesh is framed in the
-// remaining width).
+// Width in pixels of the legend strip on the right of `error` and `curvature` renders (the mesh is
+// framed in the remaining width).
 inline constexpr int kLegendWidth = 130;
 
 // Renders `mesh` (a valid mesh: see mesh.h) with an 8× multisampled framebuffer (fewer when the GL
@@ -91,6 +100,14 @@ inline constexpr int kLegendWidth = 130;
 // RenderError (offscreen_context.h) when OSMesa or GL fails.
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options);
+// Wall-clock seconds of one render's phases (bench/render_bench.cpp): framing, the vertex soup,
+// upload and draw (finished with glFinish: llvmpipe draws lazily), then the multisample resolve
+// and glReadPixels. A null `timings` skips the extra glFinish.
+struct RenderTimings {
+  double uploadDraw = 0.0, readback = 0.0;
+};
+Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
+                 const RenderOptions& options, RenderTimings* timings);
 // The same with a context of its own on the default OSMesa library.
 Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options);
 

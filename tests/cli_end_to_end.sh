@@ -264,6 +264,12 @@ run 0 render render-bowl.obj -o bowl-error.png --style error --surface quadratic
 is_png bowl-error.png || fail "render: bowl-error.png is not a PNG"
 run 0 render render-bowl.obj -o bowl2.png --width 160 --height 120 --elevation 60 --quiet
 cmp -s bowl.png bowl2.png || fail "render: the same input gave different PNGs"
+run 0 render render-bowl.obj -o bowl-curvature.png --style curvature --curvature-energy cotan --quiet
+is_png bowl-curvature.png || fail "render: bowl-curvature.png is not a PNG"
+run 2 render render-bowl.obj -o bad.png --style curvature --curvature-energy hinge
+stderr_has "--curvature-energy hinge"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --curvature-max 1; stderr_has "--style curvature"
+absent bad.png
 run 2 render render-bowl.obj -o bad.png --style curvy; stderr_has "curvy"; absent bad.png
 run 2 render render-bowl.obj -o bad.png --style error; stderr_has "--surface"; absent bad.png
 run 2 render render-bowl.obj -o bad.png --background teal; stderr_has "teal"; absent bad.png
@@ -272,6 +278,36 @@ run 2 render render-bowl.obj -o bad.jpg; stderr_has "bad.jpg"; absent bad.jpg
 run 2 render missing.obj -o bad.png; stderr_has "missing.obj"; absent bad.png
 FLEXURE_OSMESA_LIBRARY=/nonexistent/libOSMesa.so run 2 render render-bowl.obj -o bad.png
 stderr_has "OSMesa: cannot load /nonexistent/libOSMesa.so"; absent bad.png
+
+# --- compare -----------------------------------------------------------------------------
+run 0 compare -o cmp --families patch48,delaunay --energies hinge,midedge --n 8 --size 96
+stderr_has "wrote cmp/compare.png"
+is_png cmp/compare.png || fail "compare: compare.png is not a PNG"
+for f in patch48-hinge patch48-midedge delaunay-hinge delaunay-midedge; do
+  is_png "cmp/$f.png" || fail "compare: no panel $f.png"
+done
+python3 - <<'PY' || fail "compare: compare.json"
+import json
+d = json.load(open("cmp/compare.json"))
+assert d["boundary"] == "quadratic:0.3,-0.7,0.5" and d["n"] == 8, d
+p = d["panels"]
+assert [(x["family"], x["energy"]) for x in p] == [("patch48", "hinge"), ("patch48", "midedge(clamped)"), ("delaunay", "hinge"), ("delaunay", "midedge(clamped)")], p
+assert all(x["converged"] and x["iterations"] > 0 and 0 < x["c2_error"] < 1 and x["final_energy"] > 0 for x in p), p
+assert p[0]["image"] == "patch48-hinge.png", p
+PY
+# The figure: 110 + 2 (96 + 10) wide, 36 + 26 + 2 (22 + 96 + 10) high (render/figure_grid.h).
+[ "$(od -An -tu1 -j16 -N8 cmp/compare.png | tr -s ' ' | sed 's/^ //')" = "0 0 1 66 0 0 1 62" ] ||
+  fail "compare: compare.png is not 322 x 318"
+run 2 compare -o badcmp --families patch48,hexagonal --energies hinge; stderr_has "hexagonal"
+absent badcmp
+run 2 compare -o badcmp --energies hinge,frobenius; stderr_has "frobenius"; absent badcmp
+run 2 compare -o badcmp --boundary "quadratic:1,0"; stderr_has "quadratic:1,0"; absent badcmp
+run 2 compare -o badcmp --style curvy; stderr_has "curvy"; absent badcmp
+run 2 compare -o badcmp --families stripe --n 7; stderr_has "stripe"; absent badcmp
+# The demo run above wrote its small comparison.
+for f in compare.png compare.json patch48-midedge.png delaunay-quadfit.png; do
+  [ -s "demo/compare/$f" ] || fail "demo wrote no compare/$f"
+done
 
 echo "cli_end_to_end: $checks runs, $failures failures"
 [ "$failures" -eq 0 ]

@@ -1,0 +1,187 @@
+// flexure compare: the slides' experiment. Every energy's minimizer of the flat-plate test problem
+// (two fixed rings lifted onto a quadratic, nonlinear, height mode, midedge boundary normals
+// clamped) on every mesh family, rendered the same way and composed into one labelled grid.
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli/compare_command.h"
+#include "cli/mesh_json.h"
+#include "modeling/errors.h"
+#include "modeling/generators.h"
+#include "modeling/polynomial_surface.h"
+#include "optimize/convergence_study.h"
+#include "render/figure_grid.h"
+#include "render/mesh_renderer.h"
+#include "render/offscreen_context.h"
+
+namespace flexure::cli {
+namespace {
+
+std::string formatError(double error) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2e", error);
+  return text;
+}
+
+void createDirectory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw InputError(dir.string() + ": cannot create the output directory (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+void runCompare(const CompareOptions& o, const GlobalOptions& global,
+                const std::string& commandName) {
+  namespace fs = std::filesystem;
+  // Every option is checked, and every mesh generated, before anything is written.
+  if (o.families.empty()) throw InputError("--families: give at least one mesh family");
+  if (o.energies.empty()) throw InputError("--energies: give at least one energy");
+  if (o.size < 64 || o.size > 4096)
+    throw InputError("--size " + std::to_string(o.size) + ": expected 64 .. 4096 pixels");
+  if (o.n < 4) throw InputError("--n " + std::to_string(o.n) + ": expected at least 4");
+  std::vector<modeling::Mesh> meshes;
+  std::vector<std::string> familyNames;
+  for (const std::string& name : o.families) {
+    modeling::GeneratorOptions generator;
+    try {
+      generator.family = modeling::parseMeshFamily(name);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--families: ") + e.what());
+    }
+    generator.n = o.n;
+    meshes.push_back(modeling::generateMesh(generator));
+    familyNames.push_back(std::string(modeling::meshFamilyName(generator.family)));
+  }
+  std::vector<optimize::EnergyVariant> variants;
+  for (const std::string& spec : o.energies) {
+    try {
+      variants.push_back(optimize::parseEnergyVariant(spec));
+    } catch (const InputError& e) {
+      throw InputError(std::string("--energies: ") + e.what());
+    }
+  }
+  // Panels are named <family>-<energy spec>.png: a repeated row or column would overwrite one.
+  for (size_t i = 0; i < o.families.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (familyNames[i] == familyNames[j])
+        throw InputError("--families: " + familyNames[i] + " is given twice");
+  for (size_t i = 0; i < o.energies.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (o.energies[i] == o.energies[j])
+        throw InputError("--energies: " + o.energies[i] + " is given twice");
+  const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(o.boundary);
+  render::RenderOptions look;
+  look.style = render::parseRenderStyle(o.style);
+  look.width = look.height = o.size;
+  look.stripeCount = o.stripes;
+  if (look.style == render::RenderStyle::Error) {
+    look.surface = surface;
+    look.width += render::kLegendWidth;
+  }
+
+  optimize::MinimizeOptions solver;
+  solver.threads = o.threads;
+  render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
+  const fs::path dir(o.outputDir);
+  render::FigureGrid grid;
+  grid.title = "Minimizers with boundary " + o.boundary + " (n = " + std::to_string(o.n) + ", " +
+               std::string(render::renderStyleName(look.style)) + "); C2 = max |z - p| / max |p|";
+  grid.rowLabels = familyNames;
+  for (const auto& v : variants) grid.columnLabels.push_back(v.label);
+  nlohmann::json panels = nlohmann::json::array();
+  std::vector<std::pair<std::string, render::Image>> files;
+  for (size_t f = 0; f < meshes.size(); ++f) {
+    grid.panels.emplace_back();
+    grid.panelTitles.emplace_back();
+    for (size_t k = 0; k < variants.size(); ++k) {
+      const optimize::EnergyVariant& variant = variants[k];
+      const optimize::FlatPlateProblem problem(meshes[f], variant.bending);
+      const optimize::MinimizeResult result = optimize::solveWithSurfaceBoundary(
+          problem, surface, variant.normals, /*linearized=*/false, solver);
+      const double error = optimize::reproductionError(problem.rest.positions, result.positions,
+                                                       problem.fixedVertex, surface);
+      modeling::Mesh minimizer = meshes[f];
+      minimizer.positions = result.positions;
+      render::Image image = render::renderMesh(context, minimizer, look);
+      std::string name = familyNames[f] + "-" + o.energies[k];
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+      name += ".png";
+      panels.push_back({{"family", familyNames[f]},
+                        {"energy", variant.label},
+                        {"n", o.n},
+                        {"vertices", minimizer.vertexCount()},
+                        {"converged", result.report.converged},
+                        {"iterations", result.report.iterations},
+                        {"final_energy", result.report.finalEnergy},
+                        {"c2_error", error},
+                        {"image", name}});
+      grid.panelTitles.back().push_back(variant.label + "  C2 " + formatError(error) +
+                                        (result.report.converged ? "" : " (not converged)"));
+      grid.panels.back().push_back(image);
+      files.emplace_back(name, std::move(image));
+      if (!global.quiet) {
+        std::cerr << commandName << ": " << familyNames[f] << " " << variant.label << ": C2 "
+                  << formatError(error) << ", " << result.report.iterations << " iterations\n";
+      }
+    }
+  }
+  const render::Image figure = render::composeFigureGrid(grid);
+
+  createDirectory(dir);
+  for (const auto& [name, image] : files) render::writePng((dir / name).string(), image);
+  render::writePng((dir / "compare.png").string(), figure);
+  writeJsonFile((dir / "compare.json").string(),
+                {{"boundary", o.boundary},
+                 {"n", o.n},
+                 {"style", std::string(render::renderStyleName(look.style))},
+                 {"size", o.size},
+                 {"error", "c2: max over the free vertices of |z - p(x, y)| / max |p(x, y)|"},
+                 {"figure", "compare.png"},
+                 {"panels", panels}});
+  if (!global.quiet) {
+    std::cerr << commandName << ": wrote " << (dir / "compare.png").string() << " (" << figure.width
+              << " x " << figure.height << "), compare.json and " << files.size() << " panels\n";
+  }
+}
+
+void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<CompareOptions>();
+  CompareOptions& o = *options;
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "Minimize every energy on every mesh family and render the minimizers side by side");
+  sub->add_option("-o,--output", o.outputDir, "Output directory (created if missing)")
+      ->capture_default_str();
+  sub->add_option("--families", o.families,
+                  "Mesh families (rows): patch48, stripe, criss, delaunay")
+      ->delimiter(',')
+      ->capture_default_str();
+  sub->add_option("--energies", o.energies,
+                  "Energies (columns): hinge, triavg, cotan, midedge, quadfit, ...")
+      ->delimiter(',')
+      ->capture_default_str();
+  sub->add_option("--boundary", o.boundary,
+                  "Boundary data: rings 0 and 1 lifted onto z = p(x, y) (quadratic:a,b,c)")
+      ->capture_default_str();
+  sub->add_option("--n", o.n, "Cells per side of the meshes")->capture_default_str();
+  sub->add_option("--style", o.style, "Render style of every panel (see flexure render)")
+      ->capture_default_str();
+  sub->add_option("--size", o.size, "Panel size in pixels (square)")->capture_default_str();
+  sub->add_option("--stripes", o.stripes, "Stripes per panel")->capture_default_str();
+  sub->add_option("--threads", o.threads, "Solver threads")->capture_default_str();
+  sub->footer(
+      "Writes DIR/compare.png (rows = families, columns = energies, each panel titled with its "
+      "C2 error), DIR/<family>-<energy>.png and DIR/compare.json.\n"
+      "Example: flexure compare -o cmp --families patch48,delaunay --energies hinge,midedge");
+  sub->callback([options, &global] { runCompare(*options, global, "flexure compare"); });
+}
+
+}  // namespace flexure::cli

@@ -1,0 +1,30 @@
+// flexure compare, shared with flexure demo: every energy's minimizer of the flat-plate test
+// problem on every mesh family, rendered alike and composed into one labelled grid.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/commands.h"
+
+namespace flexure::cli {
+
+struct CompareOptions {
+  std::string outputDir = "compare";
+  std::vector<std::string> families = {"patch48", "stripe", "delaunay"};  // rows
+  std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
+  std::string boundary = "quadratic:0.3,-0.7,0.5";
+  int n = 16;
+  std::string style = "reflection";
+  int size = 400;  // panel width and height in pixels
+  int stripes = 12;
+  int threads = 2;
+};
+
+// Checks every option and generates the meshes (InputError, nothing written), solves and renders
+// every panel, then creates `outputDir` and writes compare.png, compare.json and the panels
+// (<family>-<energy>.png) atomically. Progress on stderr prefixed by `commandName` unless quiet.
+void runCompare(const CompareOptions& options, const GlobalOptions& global,
+                const std::string& commandName);
+
+}  // namespace flexure::cli
