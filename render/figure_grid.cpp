@@ -6,52 +6,13 @@
 #include <memory>
 
 #include "modeling/errors.h"
+#include "render/cairo_image.h"
 
 namespace flexure::render {
 namespace {
 
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kTitleSize = 17.0, kLabelSize = 15.0, kPanelTitleSize = 12.5;
-
-using CairoSurface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using CairoContext = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-// Cairo RGB24 pixels are native-endian 0x00RRGGBB words.
-void blit(const Image& panel, cairo_surface_t* surface, int left, int top) {
-  unsigned char* data = cairo_image_surface_get_data(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  for (int y = 0; y < panel.height; ++y) {
-    auto* row =
-        reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(top + y) * stride) +
-        left;
-    for (int x = 0; x < panel.width; ++x) {
-      const auto p = panel.pixel(x, y);
-      row[x] = (std::uint32_t{p[0]} << 16) | (std::uint32_t{p[1]} << 8) | std::uint32_t{p[2]};
-    }
-  }
-}
-
-Image toImage(cairo_surface_t* surface) {
-  cairo_surface_flush(surface);
-  Image image;
-  image.width = cairo_image_surface_get_width(surface);
-  image.height = cairo_image_surface_get_height(surface);
-  image.rgba.resize(static_cast<std::size_t>(4) * image.width * image.height);
-  const unsigned char* data = cairo_image_surface_get_data(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  for (int y = 0; y < image.height; ++y) {
-    const auto* row =
-        reinterpret_cast<const std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
-    for (int x = 0; x < image.width; ++x) {
-      std::uint8_t* out = &image.rgba[4 * (static_cast<std::size_t>(y) * image.width + x)];
-      out[0] = (row[x] >> 16) & 0xff;
-      out[1] = (row[x] >> 8) & 0xff;
-      out[2] = row[x] & 0xff;
-      out[3] = 255;
-    }
-  }
-  return image;
-}
 
 // `text` centred horizontally on `centreX`, baseline at `baseline`.
 void showCentred(cairo_t* cr, const std::string& text, double size, double centreX,
@@ -111,7 +72,7 @@ Image composeFigureGrid(const FigureGrid& grid) {
   };
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < columns; ++c)
-      blit(grid.panels[r][c], surface.get(), panelLeft(c), panelTop(r));
+      paintImage(grid.panels[r][c], surface.get(), panelLeft(c), panelTop(r));
   cairo_surface_mark_dirty(surface.get());
 
   cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
@@ -132,7 +93,7 @@ Image composeFigureGrid(const FigureGrid& grid) {
                   panelTop(static_cast<int>(r)) - 7.0);
     }
   }
-  return toImage(surface.get());
+  return imageFromSurface(surface.get());
 }
 
 }  // namespace flexure::render

@@ -12,6 +12,7 @@
 
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
+#include "render/cairo_image.h"
 #include "render/offscreen_context.h"
 
 namespace flexure::render {
@@ -543,49 +544,6 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   return image;
 }
 
-using CairoSurface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using CairoContext = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-// An opaque Cairo RGB24 surface holding `image` (pixels are native-endian 0x00RRGGBB words).
-CairoSurface toSurface(const Image& image) {
-  CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, image.width, image.height),
-                       &cairo_surface_destroy);
-  cairo_surface_flush(surface.get());
-  unsigned char* data = cairo_image_surface_get_data(surface.get());
-  const int stride = cairo_image_surface_get_stride(surface.get());
-  for (int y = 0; y < image.height; ++y) {
-    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
-    for (int x = 0; x < image.width; ++x) {
-      const auto p = image.pixel(x, y);
-      row[x] = (std::uint32_t{p[0]} << 16) | (std::uint32_t{p[1]} << 8) | std::uint32_t{p[2]};
-    }
-  }
-  cairo_surface_mark_dirty(surface.get());
-  return surface;
-}
-
-Image fromSurface(cairo_surface_t* surface) {
-  cairo_surface_flush(surface);
-  Image image;
-  image.width = cairo_image_surface_get_width(surface);
-  image.height = cairo_image_surface_get_height(surface);
-  image.rgba.resize(static_cast<std::size_t>(4) * image.width * image.height);
-  const unsigned char* data = cairo_image_surface_get_data(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  for (int y = 0; y < image.height; ++y) {
-    const auto* row =
-        reinterpret_cast<const std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
-    for (int x = 0; x < image.width; ++x) {
-      std::uint8_t* out = &image.rgba[4 * (static_cast<std::size_t>(y) * image.width + x)];
-      out[0] = (row[x] >> 16) & 0xff;
-      out[1] = (row[x] >> 8) & 0xff;
-      out[2] = row[x] & 0xff;
-      out[3] = 255;
-    }
-  }
-  return image;
-}
-
 // The mesh image on the left, and on the right a vertical colour bar of `map` from `minimum`
 // (bottom) to `maximum` (top) with five labelled ticks and `title` above it.
 Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum, double maximum,
@@ -595,7 +553,7 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
   cairo_set_source_rgb(cr.get(), o.background.r, o.background.g, o.background.b);
   cairo_paint(cr.get());
-  const CairoSurface meshSurface = toSurface(meshImage);
+  const CairoSurface meshSurface = surfaceFromImage(meshImage);
   cairo_set_source_surface(cr.get(), meshSurface.get(), 0.0, 0.0);
   cairo_paint(cr.get());
 
@@ -629,7 +587,7 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
   }
   cairo_move_to(cr.get(), barLeft - 4.0, barTop - 0.9 * textSize);
   cairo_show_text(cr.get(), title.c_str());
-  return fromSurface(surface.get());
+  return imageFromSurface(surface.get());
 }
 
 cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned int length) {
@@ -736,7 +694,7 @@ Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options) {
 }
 
 std::string encodePng(const Image& image) {
-  const CairoSurface surface = toSurface(image);
+  const CairoSurface surface = surfaceFromImage(image);
   std::string png;
   if (cairo_surface_write_to_png_stream(surface.get(), appendToString, &png) !=
       CAIRO_STATUS_SUCCESS) {

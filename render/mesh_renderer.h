@@ -30,6 +30,7 @@
 
 #include "modeling/mesh.h"
 #include "modeling/polynomial_surface.h"
+#include "render/image.h"
 
 namespace flexure::render {
 
@@ -78,17 +79,6 @@ struct RenderOptions {
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
   std::string scalarLabel = "H";
-};
-
-// RGBA, 8 bits per channel, rows top to bottom: pixel (x, y) is rgba[4 * (y * width + x) + k].
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba;
-
-  std::array<std::uint8_t, 4> pixel(int x, int y) const {
-    const std::size_t i = 4 * (static_cast<std::size_t>(y) * width + x);
-    return {rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
-  }
 };
 
 // Width in pixels of the legend strip on the right of `error` and `curvature` renders (the mesh is
