@@ -86,19 +86,10 @@ EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& s
   // E_lin(δ) = ½ |J u|² with J at rest and u = (δ, ξ − ξ̄).
   const optimize::SparseMatrix jacobian = optimize::residualJacobian(terms, rest.positions, restXi);
   const modeling::Positions delta = current - rest.positions;
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
-  u.head(delta.size()) = Eigen::Map<const Eigen::VectorXd>(delta.data(), delta.size());
-  if (term.usesEdgeUnknowns()) {
-    const int offset = static_cast<int>(delta.size());
-    if (surface) {
-      u.tail(stencils.edgeCount()) =
-          curvature::linearizedClampedBoundaryXi(stencils, rest.positions, delta, *surface);
-    }
-    std::vector<bool> free(u.size(), false);
-    for (int e = 0; e < stencils.edgeCount(); ++e) free[offset + e] = freeEdge[e];
-    u = optimize::minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free);
-  }
-  return {optimize::linearizedEnergy(jacobian, u), boundary};
+  Eigen::VectorXd deltaXi;
+  if (term.usesEdgeUnknowns() && surface)
+    deltaXi = curvature::linearizedClampedBoundaryXi(stencils, rest.positions, delta, *surface);
+  return {optimize::linearizedEnergyOfDisplacement(jacobian, delta, deltaXi, freeEdge), boundary};
 }
 
 void runEnergyCommand(const EnergyCommandOptions& o) {

@@ -16,6 +16,7 @@ RestState precomputeRestState(const Stencils& s, const Positions& rest) {
   r.faceNormals.resize(nf, 3);
   r.faceEdgeLengths.resize(nf, 3);
   r.faceEdgeNormals.resize(nf, 9);
+  r.faceCotangents.resize(nf, 3);
   r.vertexVoronoiAreas.setZero(s.vertexCount());
   r.vertexBarycentricAreas.setZero(s.vertexCount());
 
@@ -44,6 +45,7 @@ RestState precomputeRestState(const Stencils& s, const Positions& rest) {
       r.faceEdgeLengths(f, i) = std::sqrt(lengthSquared[i]);
       r.faceEdgeNormals.block<1, 3>(f, 3 * i) = edge.cross(normal) / r.faceEdgeLengths(f, i);
       cot[i] = (x[(i + 1) % 3] - x[i]).dot(x[(i + 2) % 3] - x[i]) / twiceArea;
+      r.faceCotangents(f, i) = cot[i];
     }
     for (int i = 0; i < 3; ++i) {
       const int v = s.faces(f, i);

@@ -21,6 +21,8 @@ struct RestState {
   // #F by 9: n̂_i for i = 0, 1, 2 (columns 3i..3i+2): the unit normal of edge i in the rest face's
   // plane, pointing out of T: n̂_i = (x̄_{i+2} − x̄_{i+1}) × n̄_T / ℓ̄_i.
   FaceEdgeNormals faceEdgeNormals;
+  // #F by 3: cot of the rest angle at vertex i, (x̄_{i+1} − x̄_i)·(x̄_{i+2} − x̄_i) / (2 Ā_T).
+  FaceVectors faceCotangents;
   Eigen::VectorXd edgeLengths;  // #E: ℓ̄_e
   // #V: mixed Voronoi areas (Meyer, Desbrun, Schröder, Barr 2003): in a non-obtuse triangle each
   // vertex takes its Voronoi region (1/8)(|x̄_v − x̄_a|² cot ∠b + |x̄_v − x̄_b|² cot ∠a); in an

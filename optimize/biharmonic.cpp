@@ -10,13 +10,10 @@ SparseMatrix cotanLaplacian(const modeling::Stencils& s, const modeling::RestSta
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(12 * s.faceCount());
   for (int f = 0; f < s.faceCount(); ++f) {
-    const double twiceArea = 2.0 * rest.faceAreas[f];
     for (int i = 0; i < 3; ++i) {
       // The angle at vertex i is opposite edge i = (v_{i+1}, v_{i+2}): it weights that edge.
-      const int a = s.faces(f, (i + 1) % 3), b = s.faces(f, (i + 2) % 3), c = s.faces(f, i);
-      const Eigen::Vector3d u = rest.positions.row(a) - rest.positions.row(c);
-      const Eigen::Vector3d w = rest.positions.row(b) - rest.positions.row(c);
-      const double halfCot = 0.5 * u.dot(w) / twiceArea;
+      const int a = s.faces(f, (i + 1) % 3), b = s.faces(f, (i + 2) % 3);
+      const double halfCot = 0.5 * rest.faceCotangents(f, i);
       entries.emplace_back(a, b, halfCot);
       entries.emplace_back(b, a, halfCot);
       entries.emplace_back(a, a, -halfCot);

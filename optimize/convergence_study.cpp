@@ -280,19 +280,16 @@ double linearizedEnergyPerArea(const FlatPlateProblem& problem, const Polynomial
   const modeling::Positions& rest = problem.rest.positions;
   modeling::Positions delta = modeling::Positions::Zero(rest.rows(), 3);
   for (int v = 0; v < delta.rows(); ++v) delta(v, 2) = p.height(rest(v, 0), rest(v, 1));
-  // u = (δ, δξ): the displacement, then (midedge) the boundary ξ clamped to p, interior ξ free.
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(problem.restJacobian.cols());
-  u.head(delta.size()) = Eigen::Map<const Eigen::VectorXd>(delta.data(), delta.size());
+  // Midedge: the boundary ξ clamped to p (linearized), the interior ξ free.
+  Eigen::VectorXd deltaXi;
+  std::vector<bool> freeEdge;
   if (problem.term->usesEdgeUnknowns()) {
-    const int edges = problem.stencils.edgeCount();
-    u.tail(edges) = curvature::linearizedClampedBoundaryXi(problem.stencils, rest, delta, p);
-    const std::vector<bool> boundary = curvature::boundaryEdges(problem.stencils);
-    std::vector<bool> free(u.size(), false);
-    const int offset = static_cast<int>(u.size()) - edges;
-    for (int e = 0; e < edges; ++e) free[offset + e] = !boundary[e];
-    u = minimizeLeastSquares(problem.restJacobian, Eigen::VectorXd(), u, free);
+    deltaXi = curvature::linearizedClampedBoundaryXi(problem.stencils, rest, delta, p);
+    freeEdge = curvature::boundaryEdges(problem.stencils);
+    freeEdge.flip();
   }
-  return linearizedEnergy(problem.restJacobian, u) / problem.term->coveredArea();
+  return linearizedEnergyOfDisplacement(problem.restJacobian, delta, deltaXi, freeEdge) /
+         problem.term->coveredArea();
 }
 
 double plateDensity(const PolynomialSurface& p, double poisson, double x, double y) {

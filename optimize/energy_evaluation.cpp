@@ -111,6 +111,22 @@ double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u) 
   return 0.5 * (jacobian * u).squaredNorm();
 }
 
+double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positions& delta,
+                                      const Eigen::VectorXd& deltaXi,
+                                      const std::vector<bool>& freeEdge) {
+  const int positionCount = static_cast<int>(delta.size());
+  const int edgeCount = static_cast<int>(jacobian.cols()) - positionCount;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
+  u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(delta.data(), positionCount);
+  if (edgeCount > 0) {
+    if (deltaXi.size() > 0) u.tail(edgeCount) = deltaXi;
+    std::vector<bool> free(u.size(), false);
+    for (int e = 0; e < edgeCount; ++e) free[positionCount + e] = freeEdge[e];
+    u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free);
+  }
+  return linearizedEnergy(jacobian, u);
+}
+
 Eigen::VectorXd minimizeEdgeUnknowns(const std::vector<const EnergyTerm*>& terms,
                                      const Positions& x, const Eigen::VectorXd& xi,
                                      const std::vector<bool>& freeEdge) {

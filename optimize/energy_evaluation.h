@@ -43,6 +43,13 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
 // ½ |J u|².
 double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u);
 
+// E_lin of a displacement: ½ |J u|² with J the residual Jacobian at rest and u = (δ, δξ). δ is
+// #V by 3; when J has edge-unknown columns, the edges with freeEdge[e] = false take deltaXi[e]
+// (e.g. a linearized clamp; zero when deltaXi is empty) and the others are minimized over.
+double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positions& delta,
+                                      const Eigen::VectorXd& deltaXi,
+                                      const std::vector<bool>& freeEdge);
+
 // The midedge unknowns minimizing E at fixed positions x: E is quadratic in ξ (S_T is affine in
 // ξ, Ψ_ν quadratic in S_T), so one Gauss–Newton step from any ξ is exact. Edges with
 // freeEdge[e] = false keep xi[e].

@@ -40,6 +40,9 @@ TEST(RestState, RightTriangleByHand) {
   EXPECT_TRUE((r.faceEdgeNormals.block<1, 3>(0, 0)).isApprox(Eigen::RowVector3d(h, h, 0)));
   EXPECT_TRUE((r.faceEdgeNormals.block<1, 3>(0, 3)).isApprox(Eigen::RowVector3d(-1, 0, 0)));
   EXPECT_TRUE((r.faceEdgeNormals.block<1, 3>(0, 6)).isApprox(Eigen::RowVector3d(0, -1, 0)));
+  // cot 90° = 0 at the right angle, cot 45° = 1 at the others.
+  EXPECT_TRUE(r.faceCotangents.row(0).isApprox(Eigen::RowVector3d(0, 1, 1)) ||
+              (r.faceCotangents.row(0) - Eigen::RowVector3d(0, 1, 1)).norm() < 1e-15);
   // Voronoi regions: the right-angle corner takes 1/4, the others 1/8 each.
   EXPECT_DOUBLE_EQ(r.vertexVoronoiAreas[0], 0.25);
   EXPECT_DOUBLE_EQ(r.vertexVoronoiAreas[1], 0.125);
