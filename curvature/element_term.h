@@ -17,6 +17,7 @@
 #include "curvature/membrane.h"
 #include "curvature/midedge_normals.h"
 #include "curvature/quadratic_fit.h"
+#include "curvature/shared_block_cost.h"
 #include "curvature/triangle_averaged.h"
 #include "modeling/errors.h"
 
@@ -52,6 +53,9 @@ inline ceres::CostFunction* costFunction(const QuadraticFitResidual& r) {
 }
 inline ceres::CostFunction* costFunction(const StvkMembraneResidual& r) {
   return fixedArityCost<StvkMembraneResidual, 3, 3, 3>(r);
+}
+inline ceres::CostFunction* costFunction(const ConformalMembraneResidual& r) {
+  return fixedArityCost<ConformalMembraneResidual, 3, 3, 3>(r);
 }
 inline ceres::CostFunction* costFunction(const EdgeSpringResidual& r) {
   return fixedArityCost<EdgeSpringResidual, 3, 3>(r);
@@ -156,7 +160,8 @@ class ElementTerm : public EnergyTerm {
     std::vector<double*> blocks;
     for (const Residual& element : elements_) {
       parameterBlocks(element, positions, xi, blocks);
-      problem.AddResidualBlock(costFunction(element), nullptr, blocks);
+      ceres::CostFunction* cost = shareRepeatedBlocks(costFunction(element), blocks);
+      problem.AddResidualBlock(cost, nullptr, blocks);
     }
   }
 
