@@ -29,6 +29,7 @@ int runFlexure(const std::vector<std::string>& args) {
   registerRunCommand(app, global);
   registerRenderCommand(app, global);
   registerCompareCommand(app, global);
+  registerFairCommand(app, global);
 
   std::vector<const char*> argv;
   for (const std::string& a : args) argv.push_back(a.c_str());

@@ -4,16 +4,26 @@
 
 namespace flexure::cli {
 
-void addBendingArguments(CLI::App& sub, BendingArguments& a) {
-  sub.add_option("--energy", a.energy, "hinge | triavg | cotan | midedge | quadfit")->required();
+void addBendingArguments(CLI::App& sub, BendingArguments& a,
+                         const BendingArgumentChoices& choices) {
+  CLI::Option* energy =
+      sub.add_option("--energy", a.energy, "hinge | triavg | cotan | midedge | quadfit");
+  if (choices.defaultEnergy.empty()) {
+    energy->required();
+  } else {
+    a.energy = choices.defaultEnergy;
+    energy->capture_default_str();
+  }
   sub.add_option(
       "--poisson", a.poisson,
       "Poisson's ratio nu of the Koiter density (triavg, midedge, quadfit; default 0.3)");
   sub.add_option("--stiffness", a.stiffness, "Bending stiffness k_B")->capture_default_str();
   sub.add_option("--vertex-area", a.vertexArea, "cotan: voronoi (default) | barycentric");
   sub.add_option("--hinge-angle", a.hingeAngle, "hinge: theta (default) | tan");
-  sub.add_flag("--flat-rest", a.flatRest,
-               "Take only the metric from the rest mesh; its rest curvature is zero (fairing)");
+  if (choices.restCurvature) {
+    sub.add_flag("--flat-rest", a.flatRest,
+                 "Take only the metric from the rest mesh; its rest curvature is zero (fairing)");
+  }
 }
 
 curvature::BendingOptions bendingOptions(const BendingArguments& a) {

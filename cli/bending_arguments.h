@@ -1,5 +1,5 @@
 // The command-line options that choose a bending energy, shared by the commands that use one
-// (energy, minimize).
+// (energy, minimize, fair).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -18,8 +18,14 @@ struct BendingArguments {
   bool flatRest = false;
 };
 
-// --energy (required), --poisson, --stiffness, --vertex-area, --hinge-angle, --flat-rest.
-void addBendingArguments(CLI::App& sub, BendingArguments& arguments);
+// --energy, --poisson, --stiffness, --vertex-area, --hinge-angle, and --flat-rest when the
+// command has a rest curvature to choose. --energy is required unless `defaultEnergy` is given.
+struct BendingArgumentChoices {
+  std::string defaultEnergy;  // empty: --energy is required
+  bool restCurvature = true;  // offer --flat-rest
+};
+void addBendingArguments(CLI::App& sub, BendingArguments& arguments,
+                         const BendingArgumentChoices& choices = {});
 
 // Checked options: an option that does not apply to the chosen energy is an InputError.
 curvature::BendingOptions bendingOptions(const BendingArguments& arguments);

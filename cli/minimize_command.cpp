@@ -24,7 +24,8 @@ struct MinimizeCommandOptions {
   std::string restFile, output, reportFile;
   std::string dof = "height";
   std::string membrane;
-  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3;
+  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3,
+         shapeStiffness = 1e3;
   std::string fix = "rings:2";
   std::string initFile, boundary, boundaryNormals;
   std::string start;  // linearized | given; empty: linearized with --boundary, given with --init
@@ -143,6 +144,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
     m.poisson = o.membranePoisson;
     m.lengthStiffness = o.lengthStiffness;
     m.areaStiffness = o.areaStiffness;
+    m.shapeStiffness = o.shapeStiffness;
     membrane = curvature::makeMembraneEnergy(stencils, rest, m);
   }
   std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
@@ -203,7 +205,7 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   addBendingArguments(*sub, options->bending);
   sub->add_option("--dof", options->dof, "height (z only; x, y at rest) | xyz (needs --membrane)")
       ->capture_default_str();
-  sub->add_option("--membrane", options->membrane, "xyz mode: stvk | springs");
+  sub->add_option("--membrane", options->membrane, "xyz mode: stvk | springs | conformal");
   sub->add_option("--young", options->young, "stvk: Young's modulus x thickness")
       ->capture_default_str();
   sub->add_option("--membrane-poisson", options->membranePoisson, "stvk: Poisson's ratio")
@@ -211,6 +213,9 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--length-stiffness", options->lengthStiffness, "springs: k_L")
       ->capture_default_str();
   sub->add_option("--area-stiffness", options->areaStiffness, "springs: k_A")
+      ->capture_default_str();
+  sub->add_option("--shape-stiffness", options->shapeStiffness,
+                  "conformal: k_S (triangle shape, not size)")
       ->capture_default_str();
   sub->add_option("--fix", options->fix,
                   "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "

@@ -3,6 +3,7 @@
 // (Poisson's ratio ν, stiffness k_B) × rest curvature (the rest mesh's, or flat for fairing).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -15,6 +16,10 @@
 namespace flexure::curvature {
 
 enum class Discretization { Hinge, TriangleAveraged, Cotan, Midedge, QuadraticFit };
+// All five, in docs/energies.md's order.
+inline constexpr std::array<Discretization, 5> kDiscretizations = {
+    Discretization::Hinge, Discretization::TriangleAveraged, Discretization::Cotan,
+    Discretization::Midedge, Discretization::QuadraticFit};
 enum class VertexArea { Voronoi, Barycentric };
 // FromRest: a shell, whose rest angles, shape operators and ξ̄ come from the rest mesh.
 // Flat: the rest mesh gives only the metric (areas, lengths); rest curvature is zero (fairing).

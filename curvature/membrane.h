@@ -1,5 +1,5 @@
 // Membrane energies, for solves that move x and y (bending alone has no stiffness against
-// in-plane sliding). Both vanish, with their gradients, at rest.
+// in-plane sliding). All vanish, with their gradients, at rest.
 //
 // stvk — plane-stress St. Venant–Kirchhoff: with F the 3×2 deformation gradient of the affine map
 // from the rest triangle (in its 2D frame) to the current one and ε = ½(FᵀF − I) the Green strain,
@@ -13,6 +13,15 @@
 //   E = k_L Σ_e (ℓ_e − ℓ̄_e)² / ℓ̄_e + k_A Σ_T (A_T − Ā_T)² / Ā_T
 //
 // (the seed's ½ dropped, as for every energy in docs/energies.md).
+//
+// conformal — each triangle's change of shape, not of size: with C = FᵀF (F as for stvk),
+//
+//   q_T = ((C₁₁ − C₂₂)² + 4 C₁₂²) / (C₁₁ + C₂₂)² = 1 − 4 det C / (tr C)²  ∈ [0, 1),
+//   E = k_S Σ_T q_T,
+//
+// q_T = 0 exactly when the triangle is similar to its rest shape (F a rotation times a scale) and
+// → 1 as it collapses. Dimensionless and unchanged by scaling the mesh: a surface may shrink or
+// grow under it, as fairing needs, while its triangles keep their angles.
 #pragma once
 
 #include <array>
@@ -20,6 +29,17 @@
 #include "curvature/koiter_density.h"
 
 namespace flexure::curvature {
+
+// C = FᵀF, as (C₁₁, C₁₂, C₂₂), of the affine map from the rest triangle (rest edge matrix D̄ = [ū1 −
+// ū0, ū2 − ū0] in its 2D frame, `restEdgeInverse` = D̄⁻¹ row-major) to the current one x[0..2]: the
+// columns of F = [x1 − x0, x2 − x0] D̄⁻¹.
+template <class T>
+Sym2<T> rightCauchyGreen(T const* const* x, const std::array<double, 4>& m) {
+  const Vec3<T> x0 = load(x[0]), e1 = load(x[1]) - x0, e2 = load(x[2]) - x0;
+  const Vec3<T> fu = m[0] * e1 + m[2] * e2;
+  const Vec3<T> fv = m[1] * e1 + m[3] * e2;
+  return {dot(fu, fu), dot(fu, fv), dot(fv, fv)};
+}
 
 struct StvkMembraneResidual {
   static constexpr int kResiduals = 3;
@@ -29,15 +49,26 @@ struct StvkMembraneResidual {
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    const Vec3<T> x0 = load(x[0]), e1 = load(x[1]) - x0, e2 = load(x[2]) - x0;
-    const std::array<double, 4>& m = restEdgeInverse;
-    // Columns of F = [e1 e2] D̄⁻¹.
-    const Vec3<T> fu = m[0] * e1 + m[2] * e2;
-    const Vec3<T> fv = m[1] * e1 + m[3] * e2;
-    const Sym2<T> strain{T(0.5) * (dot(fu, fu) - T(1.0)), T(0.5) * dot(fu, fv),
-                         T(0.5) * (dot(fv, fv) - T(1.0))};
+    const Sym2<T> g = rightCauchyGreen(x, restEdgeInverse);  // (C₁₁, C₁₂, C₂₂)
+    const Sym2<T> strain{T(0.5) * (g.a - T(1.0)), T(0.5) * g.b, T(0.5) * (g.c - T(1.0))};
     koiterResiduals(strain, Sym2<double>{0.0, 0.0, 0.0}, weights, r);
     return true;
+  }
+};
+
+struct ConformalMembraneResidual {
+  static constexpr int kResiduals = 2;
+  std::array<int, 3> vertices;
+  std::array<double, 4> restEdgeInverse;  // D̄⁻¹ row-major, as for stvk
+  double sqrtWeight;                      // √(2 k_S): ½ |r|² = k_S q_T
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    const Sym2<T> g = rightCauchyGreen(x, restEdgeInverse);  // (C₁₁, C₁₂, C₂₂)
+    const T trace = g.a + g.c;
+    r[0] = sqrtWeight * (g.a - g.c) / trace;
+    r[1] = sqrtWeight * T(2.0) * g.b / trace;
+    return isFiniteScalar(r[0]) && isFiniteScalar(r[1]);
   }
 };
 

@@ -1,5 +1,6 @@
 #include "curvature/membrane_energy.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -18,6 +19,22 @@ void requirePositive(double value, const char* what) {
     throw InputError(std::string(what) + " must be positive (got " + std::to_string(value) + ")");
 }
 
+// D̄⁻¹ (row-major) of face f: its rest edges x̄1 − x̄0, x̄2 − x̄0 in the face's 2D frame.
+std::array<double, 4> restEdgeInverse(const Stencils& s, const RestState& rest, int f) {
+  Eigen::Vector3d x[3];
+  for (int i = 0; i < 3; ++i) x[i] = rest.positions.row(s.faces(f, i)).transpose();
+  const FaceFrame frame = FaceFrame::of(x[0], x[1], x[2]);
+  Eigen::Matrix2d edges;
+  edges.col(0) = frame.components(x[1] - x[0]);
+  edges.col(1) = frame.components(x[2] - x[0]);
+  const Eigen::Matrix2d inverse = edges.inverse();
+  return {inverse(0, 0), inverse(0, 1), inverse(1, 0), inverse(1, 1)};
+}
+
+std::array<int, 3> faceVertices(const Stencils& s, int f) {
+  return {s.faces(f, 0), s.faces(f, 1), s.faces(f, 2)};
+}
+
 std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
                                      const MembraneOptions& o) {
   requirePositive(o.young, "--young (Young's modulus × thickness)");
@@ -30,23 +47,28 @@ std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
   std::vector<int> ids;
   for (int f = 0; f < s.faceCount(); ++f) {
     StvkMembraneResidual r;
-    Eigen::Vector3d x[3];
-    for (int i = 0; i < 3; ++i) {
-      r.vertices[i] = s.faces(f, i);
-      x[i] = rest.positions.row(r.vertices[i]).transpose();
-    }
-    const FaceFrame frame = FaceFrame::of(x[0], x[1], x[2]);
-    Eigen::Matrix2d edges;
-    edges.col(0) = frame.components(x[1] - x[0]);
-    edges.col(1) = frame.components(x[2] - x[0]);
-    const Eigen::Matrix2d inverse = edges.inverse();
-    r.restEdgeInverse = {inverse(0, 0), inverse(0, 1), inverse(1, 0), inverse(1, 1)};
+    r.vertices = faceVertices(s, f);
+    r.restEdgeInverse = restEdgeInverse(s, rest, f);
     r.weights = KoiterWeights::make(o.poisson, 2.0 * modulus * rest.faceAreas[f]);
     elements.push_back(r);
     ids.push_back(f);
   }
   return std::make_unique<ElementTerm<StvkMembraneResidual>>(
       "stvk", "face", std::move(elements), std::move(ids), rest.faceAreas.sum(), false);
+}
+
+std::unique_ptr<EnergyTerm> makeConformal(const Stencils& s, const RestState& rest,
+                                          const MembraneOptions& o) {
+  requirePositive(o.shapeStiffness, "conformal membrane stiffness k_S");
+  std::vector<ConformalMembraneResidual> elements;
+  std::vector<int> ids;
+  for (int f = 0; f < s.faceCount(); ++f) {
+    elements.push_back(
+        {faceVertices(s, f), restEdgeInverse(s, rest, f), std::sqrt(2.0 * o.shapeStiffness)});
+    ids.push_back(f);
+  }
+  return std::make_unique<ElementTerm<ConformalMembraneResidual>>(
+      "conformal", "face", std::move(elements), std::move(ids), rest.faceAreas.sum(), false);
 }
 
 std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const RestState& rest,
@@ -65,9 +87,7 @@ std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const Re
   std::vector<int> faceIds;
   for (int f = 0; f < s.faceCount(); ++f) {
     const double area = rest.faceAreas[f];
-    faces.push_back({{s.faces(f, 0), s.faces(f, 1), s.faces(f, 2)},
-                     std::sqrt(2.0 * o.areaStiffness / area),
-                     area});
+    faces.push_back({faceVertices(s, f), std::sqrt(2.0 * o.areaStiffness / area), area});
     faceIds.push_back(f);
   }
   std::vector<std::unique_ptr<EnergyTerm>> terms;
@@ -84,7 +104,9 @@ std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const Re
 MembraneModel parseMembraneModel(std::string_view name) {
   if (name == "stvk") return MembraneModel::Stvk;
   if (name == "springs") return MembraneModel::Springs;
-  throw InputError("unknown membrane '" + std::string(name) + "' (expected stvk or springs)");
+  if (name == "conformal") return MembraneModel::Conformal;
+  throw InputError("unknown membrane '" + std::string(name) +
+                   "' (expected stvk, springs or conformal)");
 }
 
 std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const Stencils& s,
@@ -92,7 +114,8 @@ std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const Stencils& s,
                                                             const MembraneOptions& o) {
   if (o.model == MembraneModel::Springs) return makeSprings(s, rest, o);
   std::vector<std::unique_ptr<EnergyTerm>> terms;
-  terms.push_back(makeStvk(s, rest, o));
+  terms.push_back(o.model == MembraneModel::Stvk ? makeStvk(s, rest, o)
+                                                 : makeConformal(s, rest, o));
   return terms;
 }
 

@@ -4,16 +4,16 @@
 
 namespace flexure::modeling {
 
-Eigen::VectorXi vertexRings(const Stencils& s) {
+Eigen::VectorXi ringDistances(const Stencils& s, const std::vector<bool>& seeds, int maxRing) {
   Eigen::VectorXi ring = Eigen::VectorXi::Constant(s.vertexCount(), -1);
   std::vector<int> current, next;
   for (int v = 0; v < s.vertexCount(); ++v) {
-    if (s.vertexOnBoundary[v]) {
+    if (seeds[v]) {
       ring[v] = 0;
       current.push_back(v);
     }
   }
-  for (int k = 1; !current.empty(); ++k) {
+  for (int k = 1; k <= maxRing && !current.empty(); ++k) {
     next.clear();
     for (int v : current) {
       for (int r = s.oneRingOffsets[v]; r < s.oneRingOffsets[v + 1]; ++r) {
@@ -27,6 +27,11 @@ Eigen::VectorXi vertexRings(const Stencils& s) {
     std::swap(current, next);
   }
   return ring;
+}
+
+Eigen::VectorXi vertexRings(const Stencils& s) {
+  const std::vector<bool> boundary(s.vertexOnBoundary.begin(), s.vertexOnBoundary.end());
+  return ringDistances(s, boundary);
 }
 
 std::vector<int> verticesInRings(const Eigen::VectorXi& rings, int ringCount) {

@@ -5,13 +5,20 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "modeling/stencils.h"
 
 namespace flexure::modeling {
 
-// #V: the ring of every vertex; −1 for a vertex no boundary reaches (a closed component).
+// #V: the ring of every vertex around the `seeds` (ring 0; ring k = the neighbours of ring k − 1
+// not in an earlier ring), up to ring maxRing; −1 beyond it or where no seed reaches.
+Eigen::VectorXi ringDistances(const Stencils& stencils, const std::vector<bool>& seeds,
+                              int maxRing = std::numeric_limits<int>::max());
+
+// #V: the ring of every vertex around the boundary; −1 for a vertex no boundary reaches (a closed
+// component).
 Eigen::VectorXi vertexRings(const Stencils& stencils);
 
 // The vertices with 0 ≤ ring < ringCount, in increasing index order.

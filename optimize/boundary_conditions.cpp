@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "curvature/midedge_boundary.h"
 #include "modeling/boundary_rings.h"
 #include "modeling/errors.h"
+#include "modeling/vertex_sets.h"
 
 namespace flexure::optimize {
 
@@ -16,34 +15,6 @@ std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount) 
   const Eigen::VectorXi rings = modeling::vertexRings(stencils);
   std::vector<bool> fixed(stencils.vertexCount(), false);
   for (int v = 0; v < stencils.vertexCount(); ++v) fixed[v] = rings[v] >= 0 && rings[v] < ringCount;
-  return fixed;
-}
-
-std::vector<bool> readFixedVertices(const std::string& path, int vertexCount) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the fixed-vertex list");
-  std::vector<bool> fixed(vertexCount, false);
-  std::string line;
-  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
-    line = line.substr(0, line.find('#'));
-    for (char& c : line)
-      if (c == ',') c = ' ';
-    std::istringstream words(line);
-    std::string word;
-    while (words >> word) {
-      int v = -1;
-      const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), v);
-      if (error != std::errc() || end != word.data() + word.size()) {
-        throw InputError(path + ": line " + std::to_string(lineNumber) + ": '" + word +
-                         "' is not a vertex index");
-      }
-      if (v < 0 || v >= vertexCount) {
-        throw InputError(path + ": line " + std::to_string(lineNumber) + ": vertex " + word +
-                         " is out of range (the mesh has " + std::to_string(vertexCount) + ")");
-      }
-      fixed[v] = true;
-    }
-  }
   return fixed;
 }
 
@@ -59,7 +30,8 @@ std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencil
     }
     return fixedRings(stencils, rings);
   }
-  if (kind == "vertices" && !value.empty()) return readFixedVertices(value, stencils.vertexCount());
+  if (kind == "vertices" && !value.empty())
+    return modeling::readVertexSet(value, stencils.vertexCount(), "fixed-vertex list");
   throw InputError("--fix " + spec + ": expected rings:K or vertices:FILE");
 }
 

@@ -25,11 +25,7 @@ struct BoundaryConditions {
 // normals: "clamped").
 std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount);
 
-// Vertex indices from a text file: integers separated by white space or commas, '#' comments.
-// Throws InputError naming the file and line for a malformed entry or an index out of range.
-std::vector<bool> readFixedVertices(const std::string& path, int vertexCount);
-
-// `--fix rings:K` or `--fix vertices:FILE`.
+// `--fix rings:K` or `--fix vertices:FILE` (a list as modeling::readVertexSet reads it).
 std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencils& stencils);
 
 // Positions that hold x̄, ȳ of `rest` and lift the fixed vertices onto z = p(x̄, ȳ); the free

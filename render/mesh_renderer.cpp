@@ -92,12 +92,12 @@ Eigen::Matrix3d viewRotation(double azimuthDegrees, double elevationDegrees) {
 }
 
 Camera frameCamera(const modeling::Mesh& mesh, const RenderOptions& o, int width, int height) {
-  const Eigen::Vector3d lo = mesh.positions.colwise().minCoeff().transpose();
-  const Eigen::Vector3d hi = mesh.positions.colwise().maxCoeff().transpose();
+  const modeling::Positions& points = o.framingPoints.rows() > 0 ? o.framingPoints : mesh.positions;
+  const Eigen::Vector3d lo = points.colwise().minCoeff().transpose();
+  const Eigen::Vector3d hi = points.colwise().maxCoeff().transpose();
   Camera camera;
   camera.centre = 0.5 * (lo + hi);
-  const double radius =
-      (mesh.positions.rowwise() - camera.centre.transpose()).rowwise().norm().maxCoeff();
+  const double radius = (points.rowwise() - camera.centre.transpose()).rowwise().norm().maxCoeff();
   if (!(radius > 0.0) || !std::isfinite(radius)) {
     throw InputError("render: the mesh has no extent (all vertices coincide) or is not finite");
   }
@@ -106,7 +106,7 @@ Camera frameCamera(const modeling::Mesh& mesh, const RenderOptions& o, int width
   const double aspect = static_cast<double>(width) / height;
   Eigen::Matrix4d clip = Eigen::Matrix4d::Zero();
   const Eigen::MatrixXd frame =
-      (mesh.positions.rowwise() - camera.centre.transpose()) * camera.worldToFrame.transpose();
+      (points.rowwise() - camera.centre.transpose()) * camera.worldToFrame.transpose();
   if (o.projection == Projection::Orthographic) {
     // Fit the projected extents: x ↦ (x − cx) / halfWidth, y ↦ (y − cy) / halfHeight; depth
     // z ∈ [−1.5, 1.5] (the frame's unit ball with room) ↦ −z / 1.5, nearer = smaller.

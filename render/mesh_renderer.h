@@ -72,6 +72,9 @@ struct RenderOptions {
   // [0, max over the vertices] when empty (a mesh exactly on p is all the colour of 0).
   modeling::PolynomialSurface surface;
   std::optional<double> errorMax;
+  // Points the camera frames in place of the mesh's vertices (#P by 3; empty: the mesh's), so
+  // that renders of a mesh before and after a change share one framing.
+  modeling::Positions framingPoints;
   // The `curvature` style: a signed value per vertex (#V; the renderer does not compute it, so
   // render/ stays independent of curvature/), interpolated across faces on a diverging colour map
   // (blue negative, white 0, red positive) over [−m, m], m = max |value| or `curvatureMax`, with

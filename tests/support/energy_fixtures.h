@@ -21,9 +21,7 @@ using curvature::Discretization;
 using curvature::RestCurvature;
 using modeling::Positions;
 
-inline const std::vector<Discretization> kAllDiscretizations = {
-    Discretization::Hinge, Discretization::TriangleAveraged, Discretization::Cotan,
-    Discretization::Midedge, Discretization::QuadraticFit};
+inline constexpr const auto& kAllDiscretizations = curvature::kDiscretizations;
 
 inline BendingOptions bendingOptions(Discretization d,
                                      RestCurvature restCurvature = RestCurvature::FromRest) {

@@ -1,0 +1,354 @@
+// flexure fair: fairing a region of a real mesh — flexure's nonlinear bending-energy fairing, or
+// CGAL's linear fair on the same region — with a report of what changed and a before/after
+// reflection-line render.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "cli/bending_arguments.h"
+#include "cli/commands.h"
+#include "cli/mesh_json.h"
+#include "modeling/boundary_rings.h"
+#include "modeling/errors.h"
+#include "modeling/fairing_region.h"
+#include "modeling/hole_filling.h"
+#include "modeling/mesh_io.h"
+#include "modeling/stencils.h"
+#include "modeling/vertex_sets.h"
+#include "optimize/fairing.h"
+#include "render/figure_grid.h"
+#include "render/mesh_renderer.h"
+#include "render/offscreen_context.h"
+
+namespace flexure::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kContextRings = 8;  // rings of unchanged mesh around the patch in the render
+
+struct FairCommandOptions {
+  std::string input, region, output, reportFile, renderFile;
+  std::string method = "flexure";
+  BendingArguments bending;
+  std::string membrane = "conformal";
+  double membraneWeight = 1.0;
+  std::string start = "best";
+  int renderSize = 700;
+  optimize::MinimizeOptions solver;
+};
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The mesh to fair and its region: the input and its --region, or for "holes[:N]" the input with
+// its holes (loops of at most N edges) filled and the patches' new vertices as the region.
+struct RegionChoice {
+  modeling::Mesh mesh;
+  std::vector<bool> region;
+  std::optional<modeling::FilledMesh> filled;  // holes only (its mesh moved into `mesh`)
+};
+
+RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
+                          const modeling::Stencils& stencils) {
+  RegionChoice choice;
+  if (o.region == "holes" || o.region.rfind("holes:", 0) == 0) {
+    int maxEdges = 0;
+    if (o.region != "holes") {
+      const std::string n = o.region.substr(6);
+      std::size_t used = 0;
+      try {
+        maxEdges = std::stoi(n, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != n.size() || maxEdges < 3)
+        throw InputError("--region " + o.region + ": expected holes:N with N >= 3 boundary edges");
+    }
+    if (!stencils.vertexOnBoundary.any())
+      throw InputError(o.input + ": the mesh is closed: it has no hole to fill");
+    modeling::FilledMesh filled = modeling::fillHoles(input, maxEdges);
+    if (filled.holes.empty()) {
+      throw InputError("--region " + o.region + ": no boundary loop of " + o.input +
+                       " has at most " + std::to_string(maxEdges) + " edges");
+    }
+    if (modeling::countVertices(filled.newVertex) == 0) {
+      throw InputError("--region " + o.region + ": the " + std::to_string(filled.holes.size()) +
+                       " filled holes gained no interior vertex (each was closed by triangles "
+                       "alone): there is nothing to fair");
+    }
+    choice.mesh = std::move(filled.mesh);
+    choice.region = filled.newVertex;
+    choice.filled = std::move(filled);
+    return choice;
+  }
+  choice.region = modeling::parseRegion(o.region, input, stencils);
+  choice.mesh = std::move(input);
+  return choice;
+}
+
+nlohmann::json measuresJson(const optimize::FairingMeasures& m) {
+  nlohmann::json energies = nlohmann::json::object();
+  for (const optimize::EnergyMeasure& e : m.bending) {
+    energies[e.energy] = e.error.empty() ? nlohmann::json(e.value) : nlohmann::json(nullptr);
+  }
+  return {{"bending_energy", energies},
+          {"triangle_quality",
+           {{"min_angle_degrees", m.quality.minAngleDegrees},
+            {"mean_shape", m.quality.meanShape},
+            {"min_shape", m.quality.minShape}}}};
+}
+
+double measuredEnergy(const optimize::FairingMeasures& m, const std::string& energy) {
+  for (const optimize::EnergyMeasure& e : m.bending)
+    if (e.energy == energy) return e.value;
+  return std::nan("");
+}
+
+// Area-weighted mean unit normal of the faces touching a moving vertex (the render looks along
+// it); +z when they cancel.
+Eigen::Vector3d regionNormal(const modeling::FairingPatch& patch) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const modeling::Mesh& m = patch.mesh;
+  for (int f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.triangles.row(f);
+    if (!(patch.moves[t(0)] || patch.moves[t(1)] || patch.moves[t(2)])) continue;
+    const Eigen::Vector3d x0 = m.positions.row(t(0)), x1 = m.positions.row(t(1)),
+                          x2 = m.positions.row(t(2));
+    sum += (x1 - x0).cross(x2 - x0);
+  }
+  return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
+// The before/after figure: the patch and kContextRings more rings of the mesh, seen along the
+// region's mean normal, both framed alike.
+render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mesh& before,
+                                const modeling::Positions& after,
+                                const modeling::Stencils& stencils, const std::vector<bool>& region,
+                                const modeling::FairingPatch& patch, const std::string& afterLabel,
+                                const std::string& beforeTitle, const std::string& afterTitle) {
+  const Eigen::VectorXi rings =
+      modeling::ringDistances(stencils, region, modeling::kHeldRings + kContextRings);
+  std::vector<bool> keep(before.vertexCount());
+  for (int v = 0; v < before.vertexCount(); ++v) keep[v] = rings[v] >= 0;
+  modeling::Submesh shown = modeling::extractSubmesh(before, keep);
+  modeling::Mesh shownAfter = shown.mesh;
+  for (std::size_t p = 0; p < shown.inputVertex.size(); ++p)
+    shownAfter.positions.row(static_cast<Eigen::Index>(p)) = after.row(shown.inputVertex[p]);
+
+  const Eigen::Vector3d n = regionNormal(patch);
+  render::RenderOptions look;
+  look.style = render::RenderStyle::Reflection;
+  look.width = look.height = o.renderSize;
+  // The camera direction e = (cos E sin A, −cos E cos A, sin E) of mesh_renderer.h set to n.
+  look.elevationDegrees = std::asin(std::clamp(n.z(), -1.0, 1.0)) * 180.0 / kPi;
+  look.azimuthDegrees = std::atan2(n.x(), -n.y()) * 180.0 / kPi;
+  look.framingPoints.resize(2 * shown.mesh.vertexCount(), 3);
+  look.framingPoints << shown.mesh.positions, shownAfter.positions;
+
+  render::OffscreenContext context;
+  render::FigureGrid grid;
+  grid.title = o.input + "  --region " + o.region + "  (reflection lines)";
+  grid.rowLabels = {""};
+  grid.columnLabels = {"input", afterLabel};
+  grid.panels = {{render::renderMesh(context, shown.mesh, look),
+                  render::renderMesh(context, shownAfter, look)}};
+  grid.panelTitles = {{beforeTitle, afterTitle}};
+  return render::composeFigureGrid(grid);
+}
+
+void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
+  const auto start = Clock::now();
+  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  if (o.method != "flexure" && o.method != "cgal")
+    throw InputError("--method " + o.method + ": expected flexure or cgal");
+  if (o.renderSize < 64 || o.renderSize > 4096)
+    throw InputError("--render-size must be in [64, 4096] (got " + std::to_string(o.renderSize) +
+                     ")");
+  const bool cgal = o.method == "cgal";
+  if (o.start != "best" && o.start != "biharmonic" && o.start != "input")
+    throw InputError("--start " + o.start + ": expected best, biharmonic or input");
+  BendingArguments bendingArguments = o.bending;
+  bendingArguments.flatRest = true;
+  const curvature::BendingOptions bending = bendingOptions(bendingArguments);
+  const std::string energyName(curvature::discretizationName(bending.discretization));
+  const curvature::MembraneModel membrane = curvature::parseMembraneModel(o.membrane);
+  if (!cgal) optimize::fairingMembrane(membrane, o.membraneWeight, 1.0, 1.0);  // checks w
+  if (!o.renderFile.empty()) render::OffscreenContext();  // a missing OSMesa fails before any solve
+
+  std::vector<std::string> notices;
+  modeling::Mesh input = modeling::readMesh(o.input, &notices);
+  if (!global.quiet)
+    for (const std::string& notice : notices) std::cerr << "flexure fair: " << notice << '\n';
+  const modeling::Stencils inputStencils = modeling::compileStencils(input);
+  const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils);
+  const modeling::Mesh& mesh = choice.mesh;
+  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  modeling::requireFairableRegion(stencils, choice.region, o.region);
+  const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, choice.region);
+  const int regionVertices = modeling::countVertices(choice.region);
+  if (!global.quiet) {
+    std::cerr << "flexure fair: region " << regionVertices << " vertices, patch "
+              << patch.mesh.vertexCount() << " vertices and " << patch.mesh.faceCount()
+              << " faces (" << modeling::kHeldRings << " held rings)\n";
+  }
+
+  const optimize::FairingMeasures before =
+      optimize::measureFairing(patch, patch.mesh.positions, bending);
+  const auto solveStart = Clock::now();
+  modeling::Positions patchAfter;
+  std::optional<optimize::MinimizeReport> solve;
+  std::string startUsed;
+  if (cgal) {
+    patchAfter = optimize::fairCgal(patch);
+  } else {
+    optimize::FairingOptions options;
+    options.bending = bending;
+    options.membrane = membrane;
+    options.membraneWeight = o.membraneWeight;
+    options.start = o.start == "input"        ? optimize::FairingStart::Input
+                    : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
+                                              : optimize::FairingStart::Best;
+    options.solver = o.solver;
+    options.solver.progress = !global.quiet;
+    optimize::FairingResult result = optimize::fairNonlinear(patch, options);
+    patchAfter = std::move(result.positions);
+    solve = result.report;
+    startUsed = result.start == optimize::FairingStart::Input ? "input" : "biharmonic";
+  }
+  const double solveSeconds = secondsSince(solveStart);
+  const optimize::FairingMeasures after = optimize::measureFairing(patch, patchAfter, bending);
+  const bool converged = !solve || solve->converged;
+  const modeling::Positions faired =
+      modeling::scatterPatchPositions(mesh.positions, patch, patchAfter);
+
+  nlohmann::json report = {
+      {"input", o.input},
+      {"output", converged ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
+      {"method", o.method},
+      {"region",
+       {{"spec", o.region},
+        {"vertices", regionVertices},
+        {"held_rings", modeling::kHeldRings},
+        {"patch_vertices", patch.mesh.vertexCount()},
+        {"patch_faces", patch.mesh.faceCount()}}},
+      {"before", measuresJson(before)},
+      {"after", measuresJson(after)},
+      {"max_displacement", after.maxDisplacement},
+      {"converged", converged},
+  };
+  if (!cgal) {
+    report["energy_name"] = energyName;
+    report["poisson"] = curvature::effectivePoisson(bending);
+    report["stiffness"] = bending.stiffness;
+    report["membrane"] = {{"model", o.membrane}, {"weight", o.membraneWeight}};
+    report["start"] = startUsed;
+    report["solver"] = {
+        {"termination", solve->termination},          {"iterations", solve->iterations},
+        {"initial_energy", solve->initialEnergy},     {"final_energy", solve->finalEnergy},
+        {"final_gradient_norm", solve->gradientNorm}, {"unknowns", solve->unknowns}};
+  }
+  if (choice.filled) {
+    nlohmann::json holes = nlohmann::json::array();
+    for (const modeling::FilledHole& h : choice.filled->holes) {
+      holes.push_back({{"boundary_edges", h.boundaryEdges},
+                       {"new_faces", h.newFaces},
+                       {"new_vertices", h.newVertices}});
+    }
+    report["holes"] = {{"filled", holes}, {"loops_left", choice.filled->loopsLeft}};
+  }
+  nlohmann::json errors = nlohmann::json::object();
+  for (const optimize::EnergyMeasure& e : before.bending)
+    if (!e.error.empty()) errors[e.energy] = e.error;
+  if (!errors.empty()) report["energy_errors"] = errors;
+
+  if (!converged) {
+    report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
+    if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+    throw NumericalError("the fairing solve did not converge (" + solve->termination + "); " +
+                         o.output + " not written" +
+                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
+                         "; raise --max-iterations or lower --membrane-weight");
+  }
+  std::optional<render::Image> figure;
+  if (!o.renderFile.empty()) {
+    const std::string label = cgal ? "CGAL fair" : "flexure " + energyName;
+    const auto title = [&](const optimize::FairingMeasures& m) {
+      char text[96];
+      std::snprintf(text, sizeof text, "E_%s = %.4g", energyName.c_str(),
+                    measuredEnergy(m, energyName));
+      return std::string(text);
+    };
+    figure = beforeAfterFigure(o, mesh, faired, stencils, choice.region, patch, label,
+                               title(before), title(after));
+  }
+  modeling::Mesh out = mesh;
+  out.positions = faired;
+  modeling::writeMesh(o.output, out);
+  if (figure) render::writePng(o.renderFile, *figure);
+  report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
+  if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+  if (!global.quiet) {
+    std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
+              << measuredEnergy(before, energyName) << " -> " << measuredEnergy(after, energyName)
+              << ", max displacement " << after.maxDisplacement << ", " << solveSeconds << " s)\n";
+  }
+}
+
+}  // namespace
+
+void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<FairCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "fair",
+      "Fair a region of a mesh: its vertices minimize a bending energy (flat rest) + membrane");
+  sub->add_option("mesh", options->input, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  sub->add_option("--region", options->region,
+                  "What moves: vertices:FILE (indices) | sphere:x,y,z,r | all-interior (all but "
+                  "the two boundary rings) | holes[:N] (fill every hole, or those of at most N "
+                  "edges, with CGAL and fair the new patches)")
+      ->required();
+  sub->add_option(
+         "--method", options->method,
+         "flexure (nonlinear bending + membrane) | cgal (CGAL's linear fair, continuity 1)")
+      ->capture_default_str();
+  addBendingArguments(*sub, options->bending, {"midedge", /*restCurvature=*/false});
+  sub->add_option("--membrane", options->membrane,
+                  "conformal (triangle shapes kept, sizes free) | stvk | springs (lengths kept "
+                  "too), on the input's metric")
+      ->capture_default_str();
+  sub->add_option("--membrane-weight", options->membraneWeight,
+                  "w: how firmly the triangles keep their shapes against bending (conformal "
+                  "k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
+      ->capture_default_str();
+  sub->add_option("--start", options->start,
+                  "Start of the nonlinear solve: best (whichever of the other two has the lower "
+                  "bending energy) | biharmonic (the linear fair) | input")
+      ->capture_default_str();
+  sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
+  sub->add_option("--threads", options->solver.threads)->capture_default_str();
+  sub->add_option("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
+  sub->add_option("--report", options->reportFile,
+                  "JSON report: region, energies of all five before/after, triangle quality, "
+                  "displacement, time (written even when the solve fails)");
+  sub->add_option("--render", options->renderFile,
+                  "Before/after reflection-line figure (PNG) of the region and its surroundings");
+  sub->add_option("--render-size", options->renderSize, "Render panel size in pixels")
+      ->capture_default_str();
+  sub->footer(
+      "The two vertex rings around the region stay fixed (positions and normals).\n"
+      "Exit 2 for bad input (empty region, region at the boundary, ...), 3 when the solve does "
+      "not converge (the report says why; no mesh is written).\n"
+      "Example: flexure fair elephant-with-holes.off --region holes -o filled.off --report "
+      "filled.json --render filled.png");
+  sub->callback([options, &global] { runFairCommand(*options, global); });
+}
+
+}  // namespace flexure::cli
