@@ -66,6 +66,13 @@ MembraneOptions springs(double lengthStiffness, double areaStiffness) {
   return o;
 }
 
+MembraneOptions conformal(double shapeStiffness) {
+  MembraneOptions o;
+  o.model = MembraneModel::Conformal;
+  o.shapeStiffness = shapeStiffness;
+  return o;
+}
+
 // Ψ_ν(M) = (1 − ν) tr(M²) + ν (tr M)² for M = [[a, b], [b, c]].
 double psi(double a, double b, double c, double nu) {
   return (1.0 - nu) * (a * a + 2.0 * b * b + c * c) + nu * (a + c) * (a + c);
@@ -89,7 +96,7 @@ Mesh curvedRest() {
 }
 
 TEST(MembraneEnergies, ZeroAtRest) {
-  for (const MembraneOptions& o : {stvk(2.0, 0.3), springs(1.5, 0.7)}) {
+  for (const MembraneOptions& o : {stvk(2.0, 0.3), springs(1.5, 0.7), conformal(0.8)}) {
     for (const Mesh& rest : {flatSquare(), curvedRest()}) {
       const MembraneSetup setup(rest, o);
       EXPECT_LE(setup.energy(rest.positions), 1e-28);
@@ -105,7 +112,7 @@ TEST(MembraneEnergies, ZeroAtRest) {
 TEST(MembraneEnergies, ZeroUnderRigidMotions) {
   std::mt19937 rng(32);
   const Mesh rest = curvedRest();
-  for (const MembraneOptions& o : {stvk(2.0, 0.3), springs(1.5, 0.7)}) {
+  for (const MembraneOptions& o : {stvk(2.0, 0.3), springs(1.5, 0.7), conformal(0.8)}) {
     const MembraneSetup setup(rest, o);
     for (int trial = 0; trial < 3; ++trial) {
       const Positions moved =
@@ -225,9 +232,41 @@ TEST(MembraneEnergies, BadSpringStiffnessRejected) {
   }
 }
 
+// Conformal: a similarity (rotation times any scale) of a curved rest state costs nothing; a
+// shear F = [[1, γ], [0, 1]] of the flat square gives C = [[1, γ], [γ, 1 + γ²]] on every face, so
+// q = (γ⁴ + 4γ²) / (2 + γ²)² per face and E = k_S · #F · q.
+TEST(MembraneEnergies, ConformalKeepsShapesNotSizes) {
+  std::mt19937 rng(33);
+  const Mesh rest = curvedRest();
+  const MembraneSetup curved(rest, conformal(0.8));
+  for (double scale : {0.25, 1.0, 3.0}) {
+    Positions moved =
+        testing::transformed(rest.positions, testing::randomRotation(rng), {0.5, 2.0, -1.0});
+    moved *= scale;
+    EXPECT_LE(curved.energy(moved), 1e-26) << "scale " << scale;
+  }
+  const Mesh flat = flatSquare();
+  const double k = 0.8;
+  const MembraneSetup setup(flat, conformal(k));
+  for (double gamma : {0.1, 0.5, 2.0}) {
+    Eigen::Matrix2d shear;
+    shear << 1.0, gamma, 0.0, 1.0;
+    const double g2 = gamma * gamma;
+    const double q = (g2 * g2 + 4.0 * g2) / ((2.0 + g2) * (2.0 + g2));
+    EXPECT_NEAR(setup.energy(mapped(flat.positions, shear)), k * flat.faceCount() * q,
+                1e-12 * flat.faceCount())
+        << "shear " << gamma;
+  }
+  // An anisotropic stretch diag(s, 1): q = ((s² − 1) / (s² + 1))².
+  const double s = 1.7, q = std::pow((s * s - 1.0) / (s * s + 1.0), 2);
+  EXPECT_NEAR(setup.energy(mapped(flat.positions, Eigen::DiagonalMatrix<double, 2>(s, 1.0))),
+              k * flat.faceCount() * q, 1e-12 * flat.faceCount());
+}
+
 TEST(MembraneEnergies, ParseModel) {
   EXPECT_EQ(curvature::parseMembraneModel("stvk"), MembraneModel::Stvk);
   EXPECT_EQ(curvature::parseMembraneModel("springs"), MembraneModel::Springs);
+  EXPECT_EQ(curvature::parseMembraneModel("conformal"), MembraneModel::Conformal);
   try {
     curvature::parseMembraneModel("rubber");
     ADD_FAILURE() << "an unknown membrane was accepted";

@@ -136,17 +136,22 @@ Blocks configurationFor(const curvature::CotanMeanCurvatureResidual& r, Sampler&
   }
   return b;
 }
-Blocks configurationFor(const curvature::StvkMembraneResidual&, Sampler& s, int) {
+Blocks triangleBlocks(Sampler& s) {
   const Triangle t = s.triangle();
   return {block(t[0]), block(t[1]), block(t[2])};
+}
+Blocks configurationFor(const curvature::StvkMembraneResidual&, Sampler& s, int) {
+  return triangleBlocks(s);
+}
+Blocks configurationFor(const curvature::ConformalMembraneResidual&, Sampler& s, int) {
+  return triangleBlocks(s);
 }
 Blocks configurationFor(const curvature::EdgeSpringResidual&, Sampler& s, int) {
   const Triangle t = s.triangle();
   return {block(t[0]), block(t[1])};
 }
 Blocks configurationFor(const curvature::AreaSpringResidual&, Sampler& s, int) {
-  const Triangle t = s.triangle();
-  return {block(t[0]), block(t[1]), block(t[2])};
+  return triangleBlocks(s);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -310,6 +315,18 @@ TEST(ResidualGradients, StvkMembrane) {
   const auto terms = curvature::makeMembraneEnergy(s, r, o);
   ASSERT_EQ(terms.size(), 1u);
   checkTerm<curvature::StvkMembraneResidual>(*terms[0], 6);
+}
+
+TEST(ResidualGradients, ConformalMembrane) {
+  const Mesh rest = curvedRestMesh();
+  const modeling::Stencils s = modeling::compileStencils(rest);
+  const modeling::RestState r = modeling::precomputeRestState(s, rest.positions);
+  curvature::MembraneOptions o;
+  o.model = curvature::MembraneModel::Conformal;
+  o.shapeStiffness = 2.0;
+  const auto terms = curvature::makeMembraneEnergy(s, r, o);
+  ASSERT_EQ(terms.size(), 1u);
+  checkTerm<curvature::ConformalMembraneResidual>(*terms[0], 9);
 }
 
 TEST(ResidualGradients, EdgeAndAreaSprings) {
