@@ -309,5 +309,77 @@ for f in compare.png compare.json patch48-midedge.png delaunay-quadfit.png; do
   [ -s "demo/compare/$f" ] || fail "demo wrote no compare/$f"
 done
 
+# --- fair (real meshes: CGAL's demo data, unpacked by the cgal_demo_meshes test) -------------
+: "${CGAL_MESHES:?set CGAL_MESHES to the unpacked CGAL demo meshes}"
+lion="$CGAL_MESHES/lion-head.off" shark="$CGAL_MESHES/mech-holes-shark.off"
+elephant="$CGAL_MESHES/elephant.off"
+run 0 fair "$shark" --region holes -o shark.off --report shark.json --render shark.png \
+  --render-size 160 --quiet
+is_png shark.png || fail "fair: shark.png is not a PNG"
+run 0 info shark.off --json; stdout_has '"boundary_loops": []'; stdout_has '"valid": true'
+run 0 fair "$shark" --region holes --method cgal -o shark-cgal.off --report shark-cgal.json --quiet
+python3 - "$shark" <<'PY' || fail "fair: shark reports or held vertices"
+import json, sys
+def off(path):
+    words = [w for line in open(path) for w in line.split("#")[0].split()]
+    n = int(words[1])
+    return [tuple(float(w) for w in words[4 + 3 * i:7 + 3 * i]) for i in range(n)]
+r, c = json.load(open("shark.json")), json.load(open("shark-cgal.json"))
+assert r["converged"] and r["method"] == "flexure" and r["energy_name"] == "midedge", r
+assert [h["boundary_edges"] for h in r["holes"]["filled"]] and r["holes"]["loops_left"] == 0, r
+assert sorted(r["after"]["bending_energy"]) == ["cotan", "hinge", "midedge", "quadfit", "triavg"]
+mid = lambda rep, when: rep[when]["bending_energy"]["midedge"]
+assert mid(r, "after") < mid(c, "after") < mid(r, "before"), (mid(r, "after"), mid(c, "after"))
+assert r["region"]["vertices"] == sum(h["new_vertices"] for h in r["holes"]["filled"]) > 0
+# Hole filling moves only the new vertices: every input vertex is held, bit for bit.
+original, faired = off(sys.argv[1]), off("shark.off")
+assert faired[:len(original)] == original, "an input vertex moved"
+assert len(faired) == len(original) + r["region"]["vertices"]
+PY
+# A region given by indices: vertex 1000 of the lion and its ring; the rest is held bit for bit.
+printf '# region\n1000\n' >region.txt
+run 0 fair "$lion" --region vertices:region.txt --energy hinge -o lion-one.obj --quiet
+python3 - "$lion" <<'PY' || fail "fair: a one-vertex region moved another vertex"
+import sys
+def positions(path):
+    rows = [l.split() for l in open(path)]
+    if rows[0] == ["OFF"]:
+        rows = [r for r in rows[1:] if r]
+        return [tuple(map(float, r)) for r in rows[1:1 + int(rows[0][0])]]
+    return [tuple(map(float, r[1:])) for r in rows if r and r[0] == "v"]
+a, b = positions(sys.argv[1]), positions("lion-one.obj")
+moved = [i for i in range(len(a)) if a[i] != b[i]]
+assert moved == [1000], moved[:5]
+PY
+# Refusals: nothing written.
+run 2 fair "$lion" --region sphere:9,9,9,0.1 -o e.off; stderr_has "selects no vertex"; absent e.off
+run 2 fair "$lion" --region vertices:/no/such/file -o e.off; stderr_has "/no/such/file"
+run 2 fair "$lion" --region cube:1 -o e.off; stderr_has "expected vertices:FILE"
+python3 - "$lion" >edge.txt <<'PY'
+import sys
+words = open(sys.argv[1]).read().split()
+n, f = int(words[1]), int(words[2])
+faces = [list(map(int, words[4 + 3 * n + 4 * i + 1:4 + 3 * n + 4 * i + 4])) for i in range(f)]
+count = {}
+for t in faces:
+    for i in range(3):
+        e = tuple(sorted((t[i], t[(i + 1) % 3])))
+        count[e] = count.get(e, 0) + 1
+print(min(e[0] for e, k in count.items() if k == 1))
+PY
+run 2 fair "$lion" --region vertices:edge.txt -o e.off; stderr_has "on the mesh boundary"; absent e.off
+run 2 fair "$elephant" --region all-interior -o e.off; stderr_has "closed"; absent e.off
+run 2 fair "$elephant" --region sphere:0,0,0,100 -o e.off; stderr_has "whole connected component"
+run 2 fair "$elephant" --region holes -o e.off; stderr_has "no hole"; absent e.off
+run 2 fair "$CGAL_MESHES/polygon_mesh.off" --region all-interior -o e.off; stderr_has "polygon_mesh.off"
+run 2 fair "$lion" --region all-interior --membrane-weight -1 -o e.off; stderr_has "membrane-weight"
+run 2 fair "$lion" --region all-interior --energy cotan --poisson 0.3 -o e.off; stderr_has "poisson"
+absent e.off
+# A solve stopped early: exit 3, the report says why, no mesh.
+run 3 fair "$lion" --region vertices:region.txt --max-iterations 1 --start input -o e.off \
+  --report stopped.json --quiet
+stderr_has "did not converge"; absent e.off
+grep -q '"converged": false' stopped.json || fail "fair: stopped.json does not say converged false"
+
 echo "cli_end_to_end: $checks runs, $failures failures"
 [ "$failures" -eq 0 ]
