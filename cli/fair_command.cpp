@@ -127,21 +127,29 @@ Eigen::Vector3d regionNormal(const modeling::FairingPatch& patch) {
   return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
 }
 
+// One panel of the before/after figure: the mesh's positions (all vertices), a column label and
+// a title.
+struct FigurePanel {
+  std::string label, title;
+  modeling::Positions positions;
+};
+
 // The before/after figure: the patch and kContextRings more rings of the mesh, seen along the
-// region's mean normal, both framed alike.
-render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mesh& before,
-                                const modeling::Positions& after,
+// region's mean normal, every panel framed alike.
+render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mesh& mesh,
                                 const modeling::Stencils& stencils, const std::vector<bool>& region,
-                                const modeling::FairingPatch& patch, const std::string& afterLabel,
-                                const std::string& beforeTitle, const std::string& afterTitle) {
+                                const modeling::FairingPatch& patch,
+                                const std::vector<FigurePanel>& panels) {
   const Eigen::VectorXi rings =
       modeling::ringDistances(stencils, region, modeling::kHeldRings + kContextRings);
-  std::vector<bool> keep(before.vertexCount());
-  for (int v = 0; v < before.vertexCount(); ++v) keep[v] = rings[v] >= 0;
-  modeling::Submesh shown = modeling::extractSubmesh(before, keep);
-  modeling::Mesh shownAfter = shown.mesh;
-  for (std::size_t p = 0; p < shown.inputVertex.size(); ++p)
-    shownAfter.positions.row(static_cast<Eigen::Index>(p)) = after.row(shown.inputVertex[p]);
+  std::vector<bool> keep(mesh.vertexCount());
+  for (int v = 0; v < mesh.vertexCount(); ++v) keep[v] = rings[v] >= 0;
+  const modeling::Submesh shown = modeling::extractSubmesh(mesh, keep);
+  std::vector<modeling::Mesh> meshes(panels.size(), shown.mesh);
+  for (std::size_t i = 0; i < panels.size(); ++i)
+    for (std::size_t p = 0; p < shown.inputVertex.size(); ++p)
+      meshes[i].positions.row(static_cast<Eigen::Index>(p)) =
+          panels[i].positions.row(shown.inputVertex[p]);
 
   const Eigen::Vector3d n = regionNormal(patch);
   render::RenderOptions look;
@@ -150,17 +158,22 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
   // The camera direction e = (cos E sin A, −cos E cos A, sin E) of mesh_renderer.h set to n.
   look.elevationDegrees = std::asin(std::clamp(n.z(), -1.0, 1.0)) * 180.0 / kPi;
   look.azimuthDegrees = std::atan2(n.x(), -n.y()) * 180.0 / kPi;
-  look.framingPoints.resize(2 * shown.mesh.vertexCount(), 3);
-  look.framingPoints << shown.mesh.positions, shownAfter.positions;
+  const Eigen::Index rows = shown.mesh.vertexCount();
+  look.framingPoints.resize(rows * static_cast<Eigen::Index>(panels.size()), 3);
+  for (std::size_t i = 0; i < panels.size(); ++i)
+    look.framingPoints.middleRows(rows * static_cast<Eigen::Index>(i), rows) = meshes[i].positions;
 
   render::OffscreenContext context;
   render::FigureGrid grid;
   grid.title = o.input + "  --region " + o.region + "  (reflection lines)";
   grid.rowLabels = {""};
-  grid.columnLabels = {"input", afterLabel};
-  grid.panels = {{render::renderMesh(context, shown.mesh, look),
-                  render::renderMesh(context, shownAfter, look)}};
-  grid.panelTitles = {{beforeTitle, afterTitle}};
+  grid.panels.emplace_back();
+  grid.panelTitles.emplace_back();
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    grid.columnLabels.push_back(panels[i].label);
+    grid.panelTitles.back().push_back(panels[i].title);
+    grid.panels.back().push_back(render::renderMesh(context, meshes[i], look));
+  }
   return render::composeFigureGrid(grid);
 }
 
@@ -279,15 +292,21 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   }
   std::optional<render::Image> figure;
   if (!o.renderFile.empty()) {
-    const std::string label = cgal ? "CGAL fair" : "flexure " + energyName;
     const auto title = [&](const optimize::FairingMeasures& m) {
       char text[96];
       std::snprintf(text, sizeof text, "E_%s = %.4g", energyName.c_str(),
                     measuredEnergy(m, energyName));
       return std::string(text);
     };
-    figure = beforeAfterFigure(o, mesh, faired, stencils, choice.region, patch, label,
-                               title(before), title(after));
+    std::vector<FigurePanel> panels = {
+        {choice.filled ? "holes filled (CGAL)" : "input", title(before), mesh.positions}};
+    if (!cgal) {  // the baseline beside flexure's result
+      const modeling::Positions linear = optimize::fairCgal(patch);
+      panels.push_back({"CGAL fair", title(optimize::measureFairing(patch, linear, bending)),
+                        modeling::scatterPatchPositions(mesh.positions, patch, linear)});
+    }
+    panels.push_back({cgal ? "CGAL fair" : "flexure " + energyName, title(after), faired});
+    figure = beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
   }
   modeling::Mesh out = mesh;
   out.positions = faired;
@@ -339,7 +358,8 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
                   "JSON report: region, energies of all five before/after, triangle quality, "
                   "displacement, time (written even when the solve fails)");
   sub->add_option("--render", options->renderFile,
-                  "Before/after reflection-line figure (PNG) of the region and its surroundings");
+                  "Before/after reflection-line figure (PNG) of the region and its surroundings: "
+                  "the input, CGAL's fair (with --method flexure) and the result");
   sub->add_option("--render-size", options->renderSize, "Render panel size in pixels")
       ->capture_default_str();
   sub->footer(

@@ -147,7 +147,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   if (bending->usesEdgeUnknowns()) {
     restXi = Eigen::VectorXd::Zero(c.stencils.edgeCount());
     bc.fixedEdge.assign(c.stencils.edgeCount(), false);
-    bc.xi = minimizeEdgeUnknowns(terms, bc.start, restXi, bc.fixedEdge);
+    bc.xi = minimizeEdgeUnknowns(terms, bc.start, restXi,
+                                 std::vector<bool>(c.stencils.edgeCount(), true));
   }
   MinimizeOptions solver = options.solver;
   solver.dof = DofMode::Xyz;

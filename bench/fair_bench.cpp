@@ -1,0 +1,193 @@
+// Fairing speed on a real mesh: flexure's nonlinear fairing against CGAL's linear fair (and
+// flexure's own linear fair, its default start) on one large region.
+//
+// The input: a mesh (default: CGAL's bunny00, 37 706 vertices, extracted by scripts/bench fair),
+// refined `--refine` times by midpoint subdivision (each triangle into four coplanar ones: a
+// faceted surface with 4× the vertices, the kind of mesh fairing smooths), and the region: the
+// `--region-vertices` vertices nearest (in space) to vertex `--seed-vertex`. Each case runs in
+// turn in this process on the same FairingPatch; peak memory is the process's resident high-water
+// mark over the case (reset before it through /proc/self/clear_refs). Wall-clock seconds:
+//   cgal_fair     optimize::fairCgal (CGAL's PMP::fair, continuity 1, on the patch; includes
+//                 building CGAL's Surface_mesh);
+//   linear_fair   optimize::fairBiharmonic (the same system with CHOLMOD, x, y, z);
+//   <energy>      optimize::fairNonlinear with the default options (conformal membrane w = 1,
+//                 start = the better of input and linear fair), 2 threads.
+// ratio_to_cgal_fair = seconds / cgal_fair seconds. The bending energy of the default energy
+// (midedge) and the smallest angle after each case are reported too.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "curvature/bending_energy.h"
+#include "modeling/fairing_region.h"
+#include "modeling/mesh_io.h"
+#include "modeling/stencils.h"
+#include "optimize/fairing.h"
+
+namespace {
+
+namespace modeling = flexure::modeling;
+namespace optimize = flexure::optimize;
+namespace curvature = flexure::curvature;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+// Each triangle into four: the edge midpoints become vertices (shared between the two faces of an
+// edge), positions unchanged.
+modeling::Mesh midpointSubdivision(const modeling::Mesh& mesh) {
+  std::map<std::pair<int, int>, int> midpoint;
+  std::vector<Eigen::RowVector3d> added;
+  const auto middle = [&](int a, int b) {
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    const auto [it, inserted] =
+        midpoint.emplace(key, mesh.vertexCount() + static_cast<int>(added.size()));
+    if (inserted) added.push_back(0.5 * (mesh.positions.row(a) + mesh.positions.row(b)));
+    return it->second;
+  };
+  modeling::Mesh out;
+  out.triangles.resize(4 * mesh.faceCount(), 3);
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    const int a = mesh.triangles(f, 0), b = mesh.triangles(f, 1), c = mesh.triangles(f, 2);
+    const int ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+    out.triangles.row(4 * f) << a, ab, ca;
+    out.triangles.row(4 * f + 1) << ab, b, bc;
+    out.triangles.row(4 * f + 2) << ca, bc, c;
+    out.triangles.row(4 * f + 3) << ab, bc, ca;
+  }
+  out.positions.resize(mesh.vertexCount() + static_cast<Eigen::Index>(added.size()), 3);
+  out.positions.topRows(mesh.vertexCount()) = mesh.positions;
+  for (std::size_t i = 0; i < added.size(); ++i)
+    out.positions.row(mesh.vertexCount() + static_cast<Eigen::Index>(i)) = added[i];
+  return out;
+}
+
+// The `count` vertices nearest to vertex `seed`.
+std::vector<bool> nearestVertices(const modeling::Mesh& mesh, int seed, int count) {
+  std::vector<double> distance(mesh.vertexCount());
+  for (int v = 0; v < mesh.vertexCount(); ++v)
+    distance[v] = (mesh.positions.row(v) - mesh.positions.row(seed)).norm();
+  std::vector<int> order(mesh.vertexCount());
+  std::iota(order.begin(), order.end(), 0);
+  std::nth_element(order.begin(), order.begin() + count, order.end(),
+                   [&](int a, int b) { return distance[a] < distance[b]; });
+  std::vector<bool> region(mesh.vertexCount(), false);
+  for (int i = 0; i < count; ++i) region[order[i]] = true;
+  return region;
+}
+
+void resetPeakMemory() {
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+double peakMemoryMb() {  // VmHWM of /proc/self/status, in MB
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kb = 0.0;
+      status >> kb;
+      return kb / 1024.0;
+    }
+    status.ignore(1 << 12, '\n');
+  }
+  return 0.0;
+}
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("flexure fairing benchmark: nonlinear fairing vs CGAL's fair on a large region");
+  std::string meshPath;
+  int refine = 1, regionVertices = 50000, seedVertex = 0;
+  std::vector<std::string> energies = {"midedge"};
+  app.add_option("--mesh", meshPath, "Input mesh")->required();
+  app.add_option("--refine", refine, "Midpoint subdivisions")->capture_default_str();
+  app.add_option("--region-vertices", regionVertices, "Region size")->capture_default_str();
+  app.add_option("--seed-vertex", seedVertex, "The region is nearest this vertex")
+      ->capture_default_str();
+  app.add_option("--energies", energies, "flexure energies to run")->delimiter(',');
+  CLI11_PARSE(app, argc, argv);
+
+  modeling::Mesh mesh = modeling::readMesh(meshPath);
+  for (int k = 0; k < refine; ++k) mesh = midpointSubdivision(mesh);
+  if (regionVertices >= mesh.vertexCount()) {
+    std::cerr << "fair_bench: --region-vertices must be below the mesh's " << mesh.vertexCount()
+              << " vertices\n";
+    return 2;
+  }
+  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  const std::vector<bool> region = nearestVertices(mesh, seedVertex, regionVertices);
+  modeling::requireFairableRegion(stencils, region, "nearest vertices");
+  const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, region);
+  std::cerr << "fair_bench: " << mesh.vertexCount() << " vertices, region " << regionVertices
+            << ", patch " << patch.mesh.vertexCount() << " vertices / " << patch.mesh.faceCount()
+            << " faces\n";
+
+  curvature::BendingOptions material;
+  material.discretization = curvature::Discretization::Midedge;
+  json cases = json::array();
+  double cgalSeconds = 0.0;
+  const auto record = [&](const std::string& name, double seconds,
+                          const modeling::Positions& result, json extra) {
+    const double memory = peakMemoryMb();
+    const optimize::FairingMeasures m = optimize::measureFairing(patch, result, material);
+    double midedge = 0.0;
+    for (const auto& e : m.bending)
+      if (e.energy == "midedge") midedge = e.value;
+    json c = {{"case", name},
+              {"seconds", seconds},
+              {"peak_memory_mb", memory},
+              {"midedge_energy_after", midedge},
+              {"min_angle_degrees", m.quality.minAngleDegrees}};
+    c.update(extra);
+    if (cgalSeconds > 0.0) c["ratio_to_cgal_fair"] = seconds / cgalSeconds;
+    std::cerr << "  " << name << ": " << seconds << " s, " << memory << " MB, E_midedge " << midedge
+              << "\n";
+    cases.push_back(c);
+  };
+
+  resetPeakMemory();
+  auto start = Clock::now();
+  const modeling::Positions cgal = optimize::fairCgal(patch);
+  cgalSeconds = secondsSince(start);
+  record("cgal_fair", cgalSeconds, cgal, json::object());
+
+  resetPeakMemory();
+  start = Clock::now();
+  const modeling::Positions linear = optimize::fairBiharmonic(patch);
+  record("linear_fair", secondsSince(start), linear, json::object());
+
+  for (const std::string& energy : energies) {
+    optimize::FairingOptions options;
+    options.bending.discretization = curvature::parseDiscretization(energy);
+    resetPeakMemory();
+    start = Clock::now();
+    const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
+    record(energy, secondsSince(start), r.positions,
+           {{"iterations", r.report.iterations},
+            {"converged", r.report.converged},
+            {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
+            {"linear_solver_seconds", r.report.linearSolverSeconds},
+            {"evaluation_seconds", r.report.evaluationSeconds}});
+  }
+  const json out = {{"mesh", meshPath},
+                    {"refine", refine},
+                    {"vertices", mesh.vertexCount()},
+                    {"region_vertices", regionVertices},
+                    {"patch_vertices", patch.mesh.vertexCount()},
+                    {"patch_faces", patch.mesh.faceCount()},
+                    {"cases", cases}};
+  std::cout << out.dump(2) << '\n';
+  return 0;
+}
