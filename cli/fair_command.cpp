@@ -204,7 +204,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils);
   const modeling::Mesh& mesh = choice.mesh;
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  modeling::requireFairableRegion(stencils, choice.region, o.region);
+  modeling::requireFairableRegion(stencils, choice.region, o.input + ": --region " + o.region);
   const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, choice.region);
   const int regionVertices = modeling::countVertices(choice.region);
   if (!global.quiet) {

@@ -83,7 +83,7 @@ std::vector<bool> interiorRegion(const Stencils& stencils, int heldRings) {
 
 void requireFairableRegion(const Stencils& stencils, const std::vector<bool>& region,
                            std::string_view regionName, int heldRings) {
-  const std::string name = "--region " + std::string(regionName);
+  const std::string name(regionName);
   if (countVertices(region) == 0) throw InputError(name + ": the region selects no vertex");
   const Eigen::VectorXi fromBoundary = vertexRings(stencils);
   for (int v = 0; v < stencils.vertexCount(); ++v) {

@@ -30,7 +30,8 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
 // boundary (its "interior" would be everything).
 std::vector<bool> interiorRegion(const Stencils& stencils, int heldRings = kHeldRings);
 
-// Throws InputError, naming `regionName` and a vertex, for a region that cannot be faired: it is
+// Throws InputError, starting with `regionName` (e.g. "lion.off: --region sphere:0,0,0,1") and
+// naming a vertex, for a region that cannot be faired: it is
 // empty; it comes closer than `heldRings` rings to the mesh boundary (no room for the held
 // rings); or it covers a whole connected component (nothing holds it in place).
 void requireFairableRegion(const Stencils& stencils, const std::vector<bool>& region,

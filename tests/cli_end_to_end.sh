@@ -368,6 +368,7 @@ for t in faces:
 print(min(e[0] for e, k in count.items() if k == 1))
 PY
 run 2 fair "$lion" --region vertices:edge.txt -o e.off; stderr_has "on the mesh boundary"; absent e.off
+stderr_has "lion-head.off: --region vertices:edge.txt: region vertex"
 run 2 fair "$elephant" --region all-interior -o e.off; stderr_has "closed"; absent e.off
 run 2 fair "$elephant" --region sphere:0,0,0,100 -o e.off; stderr_has "whole connected component"
 run 2 fair "$elephant" --region holes -o e.off; stderr_has "no hole"; absent e.off
