@@ -18,7 +18,8 @@
 //              seconds.setup = makeBendingEnergy (+ midedgeRestXi) + surfaceBoundary;
 //              seconds.minimize = optimize::minimize (default MinimizeOptions, 2 threads, no
 //              progress) with its report's split: evaluation (residuals + Jacobians; linearized:
-//              the rest Jacobian), linear_solver, and other (= minimize − both: problem assembly,
+//              the rest Jacobian), linear_solver, ordering (the METIS order handed to Ceres), and
+//              other (= minimize − those: problem assembly,
 //              Ceres' preprocessing, step bookkeeping); seconds.total = setup + minimize. A
 //              nonlinear minimize (default Start::Linearized) includes the linearized predictor
 //              solve, so it makes iterations + 1 sparse factorizations (iterations: Ceres' own).
@@ -197,7 +198,9 @@ json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, con
             {"minimize", minimizeSeconds},
             {"evaluation", r.evaluationSeconds},
             {"linear_solver", r.linearSolverSeconds},
-            {"other", minimizeSeconds - r.evaluationSeconds - r.linearSolverSeconds}}},
+            {"ordering", r.orderingSeconds},
+            {"other",
+             minimizeSeconds - r.evaluationSeconds - r.linearSolverSeconds - r.orderingSeconds}}},
           {"iterations", r.iterations},
           {"converged", r.converged},
           {"termination", r.termination},

@@ -2,8 +2,8 @@
 
 #include <ceres/crs_matrix.h>
 #include <ceres/problem.h>
+#include <cholmod.h>
 
-#include <Eigen/CholmodSupport>
 #include <algorithm>
 
 #include "modeling/errors.h"
@@ -79,31 +79,76 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
   for (int c = 0; c < static_cast<int>(free.size()); ++c)
     if (free[c]) freeColumns.push_back(c);
   if (freeColumns.empty()) return u;
+  const int freeCount = static_cast<int>(freeColumns.size());
   Eigen::VectorXd fixedPart = u;
   for (int c : freeColumns) fixedPart[c] = 0.0;
   Eigen::VectorXd rhs = jacobian * fixedPart;
   if (r0.size() > 0) rhs += r0;
 
-  // J_free: the free columns, renumbered.
+  // J_freeᵀ in compressed columns, the free unknowns renumbered: J is stored by rows, and its
+  // rows are the columns of Jᵀ. CHOLMOD factors A Aᵀ + β I from A = J_freeᵀ itself, without
+  // forming the normal matrix; β is a tiny ridge, 1e-13 of the normal matrix's mean diagonal.
   std::vector<int> newIndex(free.size(), -1);
-  for (size_t k = 0; k < freeColumns.size(); ++k) newIndex[freeColumns[k]] = static_cast<int>(k);
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int row = 0; row < jacobian.outerSize(); ++row)
-    for (SparseMatrix::InnerIterator it(jacobian, row); it; ++it)
-      if (newIndex[it.col()] >= 0) entries.emplace_back(row, newIndex[it.col()], it.value());
-  Eigen::SparseMatrix<double> jf(jacobian.rows(), static_cast<Eigen::Index>(freeColumns.size()));
-  jf.setFromTriplets(entries.begin(), entries.end());
+  for (int k = 0; k < freeCount; ++k) newIndex[freeColumns[k]] = k;
+  std::vector<int> columnStart(jacobian.rows() + 1, 0), rowIndex;
+  std::vector<double> values;
+  rowIndex.reserve(jacobian.nonZeros());
+  values.reserve(jacobian.nonZeros());
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(freeCount);  // J_freeᵀ rhs
+  double squaredSum = 0.0;
+  for (int row = 0; row < jacobian.outerSize(); ++row) {
+    for (SparseMatrix::InnerIterator it(jacobian, row); it; ++it) {
+      const int k = newIndex[it.col()];
+      if (k < 0) continue;
+      rowIndex.push_back(k);
+      values.push_back(it.value());
+      gradient[k] += it.value() * rhs[row];
+      squaredSum += it.value() * it.value();
+    }
+    columnStart[row + 1] = static_cast<int>(rowIndex.size());
+  }
+  cholmod_sparse transposed{};
+  transposed.nrow = static_cast<size_t>(freeCount);
+  transposed.ncol = static_cast<size_t>(jacobian.rows());
+  transposed.nzmax = values.size();
+  transposed.p = columnStart.data();
+  transposed.i = rowIndex.data();
+  transposed.x = values.data();
+  transposed.stype = 0;  // unsymmetric: CHOLMOD factors A Aᵀ
+  transposed.itype = CHOLMOD_INT;
+  transposed.xtype = CHOLMOD_REAL;
+  transposed.dtype = CHOLMOD_DOUBLE;
+  transposed.sorted = 0;
+  transposed.packed = 1;
 
-  Eigen::SparseMatrix<double> normal = jf.transpose() * jf;
-  const double ridge = 1e-13 * normal.diagonal().mean();
-  for (int k = 0; k < normal.cols(); ++k) normal.coeffRef(k, k) += ridge;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(normal);
-  const Eigen::VectorXd step = solver.solve(-(jf.transpose() * rhs));
-  if (solver.info() != Eigen::Success || !step.allFinite()) {
+  cholmod_common common;
+  cholmod_start(&common);
+  cholmod_factor* factor = cholmod_analyze(&transposed, &common);
+  const double ridge[2] = {1e-13 * squaredSum / freeCount, 0.0};
+  bool solved =
+      factor != nullptr &&
+      cholmod_factorize_p(&transposed, const_cast<double*>(ridge), nullptr, 0, factor, &common) &&
+      common.status == CHOLMOD_OK;
+  Eigen::VectorXd step;
+  if (solved) {
+    gradient = -gradient;
+    cholmod_dense b{};
+    b.nrow = b.d = b.nzmax = static_cast<size_t>(freeCount);
+    b.ncol = 1;
+    b.x = gradient.data();
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* x = cholmod_solve(CHOLMOD_A, factor, &b, &common);
+    if (x != nullptr)
+      step = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), freeCount);
+    cholmod_free_dense(&x, &common);
+  }
+  cholmod_free_factor(&factor, &common);
+  cholmod_finish(&common);
+  if (step.size() != freeCount || !step.allFinite()) {
     throw NumericalError("the least-squares solve for the free unknowns failed (singular system)");
   }
-  for (size_t k = 0; k < freeColumns.size(); ++k)
-    u[freeColumns[k]] = step[static_cast<Eigen::Index>(k)];
+  for (int k = 0; k < freeCount; ++k) u[freeColumns[k]] = step[k];
   return u;
 }
 

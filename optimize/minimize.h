@@ -44,6 +44,7 @@ struct MinimizeReport {
   double initialEnergy = 0.0, finalEnergy = 0.0;
   double gradientNorm = 0.0;  // final |∇E| over the free unknowns (2-norm)
   double totalSeconds = 0.0, evaluationSeconds = 0.0, linearSolverSeconds = 0.0;
+  double orderingSeconds = 0.0;  // the fill-reducing order of the Ceres solve (elimination_order.h)
   int vertices = 0, fixedVertices = 0, freeEdgeUnknowns = 0, unknowns = 0, residuals = 0;
 };
 

@@ -373,6 +373,7 @@ run 2 fair "$elephant" --region all-interior -o e.off; stderr_has "closed"; abse
 run 2 fair "$elephant" --region sphere:0,0,0,100 -o e.off; stderr_has "whole connected component"
 run 2 fair "$elephant" --region holes -o e.off; stderr_has "no hole"; absent e.off
 run 2 fair "$CGAL_MESHES/polygon_mesh.off" --region all-interior -o e.off; stderr_has "polygon_mesh.off"
+run 2 fair fin.off --region all-interior -o e.off; stderr_has "fin.off: edge (1, 2)"; absent e.off
 run 2 fair "$lion" --region all-interior --membrane-weight -1 -o e.off; stderr_has "membrane-weight"
 run 2 fair "$lion" --region all-interior --energy cotan --poisson 0.3 -o e.off; stderr_has "poisson"
 absent e.off

@@ -1,0 +1,35 @@
+// A fill-reducing order for the sparse Cholesky factorizations of flexure's nonlinear solves.
+//
+// Ceres 2.1 orders SPARSE_NORMAL_CHOLESKY by AMD on the parameter-block graph. The normal
+// matrices of the vertex-only energies are graph-Laplacian-like (a vertex couples to its one or
+// two rings), where nested dissection (METIS) leaves less fill. Ceres takes no METIS order, but it
+// takes a partition of the parameter blocks into ordered groups and then runs constrained AMD
+// (CAMD) within them: a nested-dissection order cut into a few hundred consecutive groups hands
+// Ceres the separators' order while CAMD orders each group's interior. Measured on the 4-8 patch
+// at n = 256 (bench/solve_bench), linear-solver seconds of a nonlinear solve: cotan 6.2 → 4.9,
+// hinge 3.3 → 2.9. With the midedge ξ in the graph it was slower than AMD (n = 512: 98–124 s
+// total vs 120 s), so problems with scalar blocks keep Ceres' AMD. The one-shot linearized solves
+// keep CHOLMOD's own choice: METIS there cost more analysis than it saved (n = 512, linear-solver
+// seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge 30.4 vs 24.2, cotan 6.3
+// vs 6.8).
+#pragma once
+
+#include <ceres/ordered_groups.h>
+#include <ceres/problem.h>
+
+#include <memory>
+
+namespace flexure::optimize {
+
+// Smaller problems keep AMD: ordering them is cheap either way.
+inline constexpr int kNestedDissectionMinBlocks = 20000;
+
+// Ceres' elimination groups for `problem`: its non-constant parameter blocks in METIS nested-
+// dissection order of their coupling graph (two blocks are adjacent when a residual block reads
+// both), cut into `groupCount` consecutive groups; constant blocks join the first group (Ceres
+// removes them before ordering). nullptr (leave Ceres' AMD) below kNestedDissectionMinBlocks
+// free blocks or when a free block is not a vertex (size 3), e.g. a midedge ξ.
+std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const ceres::Problem& problem,
+                                                                      int groupCount = 256);
+
+}  // namespace flexure::optimize
