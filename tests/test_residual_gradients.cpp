@@ -269,6 +269,22 @@ TEST(ResidualGradients, CotanMeanCurvature) {
   checkTerm<curvature::CotanMeanCurvatureResidual>(*setup.term, 4, 6);
 }
 
+// Cotan residuals of valence 3 to 8 take fixed-size autodiff, one arity each, and others the
+// dynamic one (curvature/element_term.h): every arity from valence 3 to 11, on random one-rings.
+TEST(ResidualGradients, CotanEveryValence) {
+  int probes = 0;
+  for (int valence = 3; valence <= 11; ++valence) {
+    SCOPED_TRACE("valence " + std::to_string(valence));
+    curvature::CotanMeanCurvatureResidual r;
+    for (int k = 0; k <= valence; ++k) r.vertices.push_back(k);
+    r.sqrtWeight = 0.7;
+    r.restValue = 0.3;
+    Sampler sampler(40 + static_cast<unsigned>(valence));
+    checkResidual(r, sampler, 3, probes);
+  }
+  EXPECT_EQ(probes, 9 * 3);
+}
+
 TEST(ResidualGradients, QuadraticFit) {
   const BendingSetup setup(curvedRestMesh(), bendingOptions(Discretization::QuadraticFit));
   checkTerm<curvature::QuadraticFitResidual>(*setup.term, 5);
