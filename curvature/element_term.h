@@ -7,6 +7,8 @@
 #include <ceres/dynamic_autodiff_cost_function.h>
 #include <ceres/problem.h>
 
+#include <algorithm>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -167,16 +169,57 @@ class ElementTerm : public EnergyTerm {
     double r[Residual::kResiduals];
     for (size_t e = 0; e < elements_.size(); ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
-      if (!elements_[e](blocks.data(), r)) {
-        throw NumericalError(name_ + ": " + elementKind_ + " " + std::to_string(elementIds_[e]) +
-                             " is degenerate in the current configuration (a collapsed edge or "
-                             "face): its energy is undefined");
-      }
+      if (!elements_[e](blocks.data(), r)) throw degenerate(e);
       double sum = 0.0;
       for (double value : r) sum += value * value;
       energies[static_cast<Eigen::Index>(e)] = 0.5 * sum;
     }
     return energies;
+  }
+
+  void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi,
+                          JacobianRows& out) const override {
+    const long xiColumn = 3 * static_cast<long>(x.rows());
+    std::vector<const double*> blocks;
+    std::vector<long> firstColumn;  // the same slots as column offsets
+    std::vector<double> storage;
+    std::vector<double*> jacobians;
+    std::vector<std::pair<long, double>> row;
+    double r[Residual::kResiduals];
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
+      parameterBlocks(elements_[e], 0L, xiColumn, firstColumn);
+      const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e]));
+      const std::vector<int32_t>& sizes = cost->parameter_block_sizes();
+      size_t total = 0;
+      for (int32_t size : sizes) total += static_cast<size_t>(size) * Residual::kResiduals;
+      storage.resize(total);
+      jacobians.clear();
+      for (size_t b = 0, offset = 0; b < sizes.size();
+           offset += sizes[b] * Residual::kResiduals, ++b)
+        jacobians.push_back(storage.data() + offset);
+      if (!cost->Evaluate(blocks.data(), r, jacobians.data())) throw degenerate(e);
+      for (int i = 0; i < Residual::kResiduals; ++i) {
+        // A block read through two slots (shared_block_cost.h) appears twice: sum its columns.
+        row.clear();
+        for (size_t b = 0; b < sizes.size(); ++b)
+          for (int c = 0; c < sizes[b]; ++c)
+            row.emplace_back(firstColumn[b] + c, jacobians[b][i * sizes[b] + c]);
+        std::sort(row.begin(), row.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (size_t k = 0; k < row.size(); ++k) {
+          if (k > 0 && row[k].first == row[k - 1].first) {
+            out.values.back() += row[k].second;
+            continue;
+          }
+          out.columns.push_back(static_cast<int>(row[k].first));
+          out.values.push_back(row[k].second);
+        }
+        out.rowStart.push_back(static_cast<int>(out.columns.size()));
+        out.residuals.push_back(r[i]);
+      }
+      if (e == 0) reserveLike(out, elements_.size(), total);
+    }
   }
 
   void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const override {
@@ -189,6 +232,20 @@ class ElementTerm : public EnergyTerm {
   }
 
  private:
+  // Room for `elements` more elements of `entries` Jacobian entries each (the first one's count).
+  static void reserveLike(JacobianRows& out, size_t elements, size_t entries) {
+    out.columns.reserve(out.columns.size() + elements * entries);
+    out.values.reserve(out.values.size() + elements * entries);
+    out.rowStart.reserve(out.rowStart.size() + elements * Residual::kResiduals);
+    out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
+  }
+
+  NumericalError degenerate(size_t e) const {
+    return NumericalError(name_ + ": " + elementKind_ + " " + std::to_string(elementIds_[e]) +
+                          " is degenerate in the current configuration (a collapsed edge or "
+                          "face): its energy is undefined");
+  }
+
   std::string name_, elementKind_;
   std::vector<Residual> elements_;
   std::vector<int> elementIds_;

@@ -17,6 +17,15 @@ namespace flexure::curvature {
 
 using modeling::Positions;
 
+// Residuals and their Jacobian in compressed-row form, built by appending element rows. Columns:
+// 3v + c for coordinate c of vertex v, then 3 #V + e for the midedge unknown ξ_e.
+struct JacobianRows {
+  std::vector<int> rowStart{0};  // row k's entries are [rowStart[k], rowStart[k + 1])
+  std::vector<int> columns;      // ascending within a row
+  std::vector<double> values;
+  std::vector<double> residuals;
+};
+
 class EnergyTerm {
  public:
   virtual ~EnergyTerm() = default;
@@ -44,6 +53,12 @@ class EnergyTerm {
   // the vertex parameter blocks; `xi` the #E edge unknowns (one block each; midedge only). Every
   // block the term reads must already be in `problem`.
   virtual void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const = 0;
+
+  // Appends each element's residuals and their Jacobian rows at (x, ξ), in element order (the
+  // order of the residual blocks above); the same autodiff cost functions, evaluated directly.
+  // Throws NumericalError naming a degenerate element.
+  virtual void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi,
+                                  JacobianRows& out) const = 0;
 };
 
 }  // namespace flexure::curvature

@@ -2,7 +2,6 @@
 
 #include <cholmod.h>
 
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <unordered_map>
 #include <vector>
@@ -10,52 +9,30 @@
 #include "modeling/errors.h"
 
 namespace flexure::optimize {
+namespace {
 
-std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const ceres::Problem& problem,
-                                                                      int groupCount) {
-  std::vector<double*> blocks;
-  problem.GetParameterBlocks(&blocks);
-  std::unordered_map<const double*, int> freeIndex;
-  std::vector<double*> freeBlocks;
-  for (double* block : blocks) {
-    if (problem.IsParameterBlockConstant(block)) continue;
-    if (problem.ParameterBlockSize(block) != 3) return nullptr;
-    freeIndex.emplace(block, static_cast<int>(freeBlocks.size()));
-    freeBlocks.push_back(block);
+// A pattern in compressed columns, built column by column.
+struct Incidence {
+  std::vector<int> columnStart{0}, rows;
+
+  // Sorts `column`, drops repeats, and appends it.
+  void append(std::vector<int>& column) {
+    std::sort(column.begin(), column.end());
+    column.erase(std::unique(column.begin(), column.end()), column.end());
+    rows.insert(rows.end(), column.begin(), column.end());
+    columnStart.push_back(static_cast<int>(rows.size()));
   }
-  const int n = static_cast<int>(freeBlocks.size());
-  if (n < kNestedDissectionMinBlocks) return nullptr;
+};
 
-  // The coupling graph as the upper triangle of a symmetric pattern (CHOLMOD stype = 1).
-  std::vector<ceres::ResidualBlockId> residualBlocks;
-  problem.GetResidualBlocks(&residualBlocks);
-  std::vector<Eigen::Triplet<double, int>> couplings;
-  std::vector<double*> read;
-  std::vector<int> readFree;
-  for (ceres::ResidualBlockId id : residualBlocks) {
-    problem.GetParameterBlocksForResidualBlock(id, &read);
-    readFree.clear();
-    for (double* block : read) {
-      const auto found = freeIndex.find(block);
-      if (found != freeIndex.end()) readFree.push_back(found->second);
-    }
-    for (size_t a = 0; a < readFree.size(); ++a)
-      for (size_t b = a; b < readFree.size(); ++b)
-        couplings.emplace_back(std::min(readFree[a], readFree[b]),
-                               std::max(readFree[a], readFree[b]), 1.0);
-  }
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> graph(n, n);
-  graph.setFromTriplets(couplings.begin(), couplings.end());
-  couplings = {};
-  graph.makeCompressed();
-
+// METIS nested dissection of A Aᵀ, A the n-row incidence pattern: Perm[k] = the k-th row.
+std::vector<int> nestedDissection(Incidence& a, int n) {
   cholmod_sparse view{};
-  view.nrow = view.ncol = static_cast<size_t>(n);
-  view.nzmax = static_cast<size_t>(graph.nonZeros());
-  view.p = graph.outerIndexPtr();
-  view.i = graph.innerIndexPtr();
-  view.x = graph.valuePtr();
-  view.stype = 1;
+  view.nrow = static_cast<size_t>(n);
+  view.ncol = a.columnStart.size() - 1;
+  view.nzmax = a.rows.size();
+  view.p = a.columnStart.data();
+  view.i = a.rows.data();
+  view.stype = 0;  // unsymmetric: CHOLMOD orders A Aᵀ
   view.itype = CHOLMOD_INT;
   view.xtype = CHOLMOD_PATTERN;
   view.dtype = CHOLMOD_DOUBLE;
@@ -65,18 +42,56 @@ std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const cere
   cholmod_start(&common);
   std::vector<int> order(n);
   const int ok = cholmod_metis(&view, nullptr, 0, /*postorder=*/1, order.data(), &common);
+  const int status = common.status;
   cholmod_finish(&common);
   if (!ok) {
     throw NumericalError("METIS could not order the " + std::to_string(n) +
-                         " unknown blocks of the solve (CHOLMOD status " +
-                         std::to_string(common.status) + ")");
+                         " vertex blocks of the solve (CHOLMOD status " + std::to_string(status) +
+                         ")");
   }
+  return order;
+}
 
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+}  // namespace
+
+std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const ceres::Problem& problem,
+                                                                      int groupCount) {
+  std::vector<double*> blocks;
+  problem.GetParameterBlocks(&blocks);
+  std::unordered_map<const double*, int> vertexIndex;
+  std::vector<double*> vertices;
+  for (double* block : blocks) {
+    if (problem.IsParameterBlockConstant(block)) continue;
+    if (problem.ParameterBlockSize(block) != 3) return nullptr;
+    vertexIndex.emplace(block, static_cast<int>(vertices.size()));
+    vertices.push_back(block);
+  }
+  const int n = static_cast<int>(vertices.size());
+  if (n < kNestedDissectionMinBlocks) return nullptr;
+
+  // A: a column per residual block, the free vertices it reads.
+  std::vector<ceres::ResidualBlockId> residualBlocks;
+  problem.GetResidualBlocks(&residualBlocks);
+  Incidence a;
+  a.rows.reserve(residualBlocks.size() * 6);
+  std::vector<double*> read;
+  std::vector<int> column;
+  for (ceres::ResidualBlockId id : residualBlocks) {
+    problem.GetParameterBlocksForResidualBlock(id, &read);
+    for (double* block : read)
+      if (const auto v = vertexIndex.find(block); v != vertexIndex.end())
+        column.push_back(v->second);
+    a.append(column);
+    column.clear();
+  }
+  const std::vector<int> order = nestedDissection(a, n);
+
+  // Vertex k of the order goes to group ⌊k G / n⌋.
   const int groups = std::min(groupCount, n);
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (int position = 0; position < n; ++position) {
-    const int group = static_cast<int>(static_cast<long>(position) * groups / n);
-    ordering->AddElementToGroup(freeBlocks[order[position]], group);
+    ordering->AddElementToGroup(vertices[order[position]],
+                                static_cast<int>(static_cast<long>(position) * groups / n));
   }
   for (double* block : blocks)
     if (problem.IsParameterBlockConstant(block)) ordering->AddElementToGroup(block, 0);

@@ -7,11 +7,12 @@
 // (CAMD) within them: a nested-dissection order cut into a few hundred consecutive groups hands
 // Ceres the separators' order while CAMD orders each group's interior. Measured on the 4-8 patch
 // at n = 256 (bench/solve_bench), linear-solver seconds of a nonlinear solve: cotan 6.2 → 4.9,
-// hinge 3.3 → 2.9. With the midedge ξ in the graph it was slower than AMD (n = 512: 98–124 s
-// total vs 120 s), so problems with scalar blocks keep Ceres' AMD. The one-shot linearized solves
-// keep CHOLMOD's own choice: METIS there cost more analysis than it saved (n = 512, linear-solver
-// seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge 30.4 vs 24.2, cotan 6.3
-// vs 6.8).
+// hinge 3.3 → 2.9. Problems with midedge ξ keep Ceres' AMD: with the ξ as graph nodes the solve
+// at n = 512 took 124–143 s against 120 s (METIS on 10⁶ nodes alone took 18 s), and with each ξ
+// placed in the group of its latest vertex the factorizations took 697 s. The one-shot
+// linearized solves keep CHOLMOD's own choice: METIS there cost more analysis than it saved
+// (n = 512, linear-solver seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge
+// 30.4 vs 24.2, cotan 6.3 vs 6.8).
 #pragma once
 
 #include <ceres/ordered_groups.h>
@@ -24,11 +25,11 @@ namespace flexure::optimize {
 // Smaller problems keep AMD: ordering them is cheap either way.
 inline constexpr int kNestedDissectionMinBlocks = 20000;
 
-// Ceres' elimination groups for `problem`: its non-constant parameter blocks in METIS nested-
-// dissection order of their coupling graph (two blocks are adjacent when a residual block reads
-// both), cut into `groupCount` consecutive groups; constant blocks join the first group (Ceres
-// removes them before ordering). nullptr (leave Ceres' AMD) below kNestedDissectionMinBlocks
-// free blocks or when a free block is not a vertex (size 3), e.g. a midedge ξ.
+// Ceres' elimination groups for `problem`: its free vertex blocks in METIS nested-dissection
+// order of their coupling graph (two vertices are adjacent when a residual block reads both),
+// cut into `groupCount` consecutive groups; constant blocks join the first group (Ceres removes
+// them before ordering). nullptr (leave Ceres' AMD) below kNestedDissectionMinBlocks free blocks
+// or when a free block is not a vertex (size 3), e.g. a midedge ξ.
 std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const ceres::Problem& problem,
                                                                       int groupCount = 256);
 

@@ -155,7 +155,7 @@ TEST(NonlinearMinimize, ConvergesForEveryEnergyWithSmallGradient) {
 }
 
 // From kNestedDissectionMinBlocks free vertex blocks on, Ceres solves on a nested-dissection
-// order (optimize/elimination_order.h): every block in one of 256 groups, the free ones spread
+// order (optimize/elimination_order.h): every block in one of 256 groups, the free vertices spread
 // evenly in METIS order. A free scalar block (a midedge ξ) or a small problem keeps Ceres' AMD.
 TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
   const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Patch48, 150, 1, {}});
@@ -181,9 +181,12 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
     EXPECT_GE(ordering->GroupSize(g), freeCount / 256);
     EXPECT_LE(ordering->GroupSize(g), freeCount / 256 + 1);
   }
+
   double xi = 0.0;
   ceresProblem.AddParameterBlock(&xi, 1);
   EXPECT_EQ(optimize::nestedDissectionGroups(ceresProblem), nullptr);
+  ceresProblem.SetParameterBlockConstant(&xi);
+  EXPECT_NE(optimize::nestedDissectionGroups(ceresProblem), nullptr);
 
   const testing::TestProblem small(modeling::generateMesh({MeshFamily::Patch48, 64, 1, {}}),
                                    energy(Discretization::Hinge));

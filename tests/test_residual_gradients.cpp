@@ -7,7 +7,9 @@
 //    differences of EnergyTerm::energy: the error of (E(u + h e_k) − E(u − h e_k)) / 2h is
 //    h²/6 · ∂³E + O(ε E / h), so it must shrink about 100-fold from h = 1e-4 to h = 1e-5 and stay
 //    near roundoff at 1e-6.
+#include <ceres/crs_matrix.h>
 #include <ceres/gradient_checker.h>
+#include <ceres/problem.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -482,6 +484,54 @@ TEST(ResidualGradients, RepeatedFlapVertexGradient) {
     EXPECT_LT(e[0], 1e-5);
     EXPECT_GT(e[0] / e[1], 50.0);
     EXPECT_LT(e[1], 1e-7);
+  }
+}
+
+// optimize::residualJacobian assembles J element by element (EnergyTerm::appendJacobianRows); it
+// must be the Jacobian Ceres evaluates from the residual blocks, row for row, also where a
+// valence-3 vertex makes one block two slots of an element, and with membrane terms after the
+// bending one.
+TEST(ResidualJacobian, DirectAssemblyIsCeresJacobian) {
+  std::mt19937 rng(7);
+  const Mesh flat =
+      withValenceThreeVertex(modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 3, {}}));
+  const Mesh restMesh = testing::lifted(flat, testing::randomCubic(rng, 1.0));
+  const Positions x =
+      testing::jittered(testing::lifted(flat, testing::randomCubic(rng, 1.0)).positions, rng, 0.02);
+  for (Discretization d : {Discretization::Hinge, Discretization::TriangleAveraged,
+                           Discretization::Cotan, Discretization::Midedge}) {
+    SCOPED_TRACE(std::string(curvature::discretizationName(d)));
+    const BendingSetup setup(restMesh, bendingOptions(d, RestCurvature::FromRest));
+    curvature::MembraneOptions springs;
+    springs.model = curvature::MembraneModel::Springs;
+    const auto membrane = curvature::makeMembraneEnergy(setup.stencils, setup.rest, springs);
+    std::vector<const curvature::EnergyTerm*> terms = {setup.term.get()};
+    for (const auto& term : membrane) terms.push_back(term.get());
+    Eigen::VectorXd xi = setup.restXi;
+    for (Eigen::Index e = 0; e < xi.size(); ++e) xi[e] += 0.01 * static_cast<double>(e % 7);
+
+    Positions ceresX = x;
+    Eigen::VectorXd ceresXi = xi;
+    ceres::Problem problem;
+    for (int v = 0; v < ceresX.rows(); ++v) problem.AddParameterBlock(ceresX.data() + 3 * v, 3);
+    const bool withXi = setup.term->usesEdgeUnknowns();
+    if (withXi)
+      for (Eigen::Index e = 0; e < ceresXi.size(); ++e)
+        problem.AddParameterBlock(ceresXi.data() + e, 1);
+    for (const auto* term : terms) term->addResidualBlocks(problem, ceresX.data(), ceresXi.data());
+    ceres::CRSMatrix crs;
+    ceres::Problem::EvaluateOptions options;
+    ASSERT_TRUE(problem.Evaluate(options, nullptr, nullptr, nullptr, &crs));
+    const Eigen::MatrixXd expected =
+        Eigen::Map<const optimize::SparseMatrix>(
+            crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()),
+            crs.rows.data(), crs.cols.data(), crs.values.data())
+            .toDense();
+    const Eigen::MatrixXd direct = optimize::residualJacobian(terms, x, xi).toDense();
+    ASSERT_EQ(direct.rows(), expected.rows());
+    ASSERT_EQ(direct.cols(), expected.cols());
+    EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_LE((direct - expected).cwiseAbs().maxCoeff(), 1e-14 * expected.cwiseAbs().maxCoeff());
   }
 }
 
