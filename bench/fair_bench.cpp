@@ -30,6 +30,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
 #include "optimize/fairing.h"
+#include "optimize/heap_reuse.h"
 
 namespace {
 
@@ -107,6 +108,7 @@ double secondsSince(Clock::time_point start) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
   CLI::App app("flexure fairing benchmark: nonlinear fairing vs CGAL's fair on a large region");
   std::string meshPath;
   int refine = 1, regionVertices = 50000, seedVertex = 0;

@@ -57,6 +57,7 @@
 #include "modeling/stencils.h"
 #include "optimize/biharmonic.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/heap_reuse.h"
 #include "optimize/minimize.h"
 
 namespace {
@@ -444,6 +445,7 @@ void printTable(const json& records) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
   Settings s;
   std::string sizes = "64,128,256,512", energies = "hinge,triavg,cotan,midedge,quadfit", output;
   bool quick = false;

@@ -5,6 +5,8 @@
 
 #include <ceres/problem.h>
 
+#include <malloc.h>
+
 #include <array>
 #include <cmath>
 
@@ -12,6 +14,7 @@
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "optimize/elimination_order.h"
+#include "optimize/heap_reuse.h"
 #include "support/test_problem.h"
 
 namespace flexure {
@@ -294,6 +297,21 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("free vertex 0 is touched by no element"));
   }
+}
+
+// Before reuseFreedMemory a 64 MB buffer is a fresh mapping of its own (glibc's mmap threshold);
+// after it, such a buffer comes from the heap (optimize/heap_reuse.h).
+TEST(HeapReuse, LargeBuffersComeFromTheHeap) {
+  constexpr size_t kDoubles = size_t{8} << 20;  // 64 MB
+  const size_t mappedAtStart = mallinfo2().hblkhd;
+  {
+    std::vector<double> buffer(kDoubles, 1.0);
+    EXPECT_GE(mallinfo2().hblkhd, mappedAtStart + kDoubles * sizeof(double));
+  }
+  optimize::reuseFreedMemory();
+  const size_t mapped = mallinfo2().hblkhd;
+  std::vector<double> buffer(kDoubles, 1.0);
+  EXPECT_EQ(mallinfo2().hblkhd, mapped);
 }
 
 }  // namespace
