@@ -19,11 +19,14 @@
 //              seconds.minimize = optimize::minimize (default MinimizeOptions, 2 threads, no
 //              progress) with its report's split: evaluation (residuals + Jacobians; linearized:
 //              the rest Jacobian), linear_solver, ordering (the METIS order handed to Ceres), and
-//              other (= minimize − those: problem assembly,
-//              Ceres' preprocessing, step bookkeeping); seconds.total = setup + minimize. A
-//              nonlinear minimize (default Start::Linearized) includes the linearized predictor
-//              solve, so it makes iterations + 1 sparse factorizations (iterations: Ceres' own).
+//              other (= minimize − those: problem assembly, Ceres' preprocessing, step
+//              bookkeeping); seconds.total = setup + minimize. A nonlinear minimize (default
+//              Start::Linearized) includes the linearized predictor solve, so it makes
+//              iterations + 1 sparse factorizations (iterations: Ceres' own).
 //              ratio_to_floor = total / floor factor+solve; ratio_to_cgal_fair = total / cgal_fair.
+//              With --baselines, mode nonlinear_amd measures the nested-dissection order in the
+//              same run: the nonlinear solve on Ceres' AMD order, with ratio_to_nonlinear = its
+//              total / the default nonlinear total.
 // `--repeat R` runs every case R times (each in a fresh child) and keeps the fastest record (by
 // the time its ratios use), with peak_memory_mb the largest over the repeats.
 // The summary checks the targets at the largest n run, met or not.
@@ -81,9 +84,11 @@ struct Settings {
   std::string boundary = "quadratic:0.3,-0.7,0.5";
   int repeat = 1;
   int timeout = 3600;  // seconds per case (child); 0: none
+  bool baselines = false;
 };
 
-// One case: "floor", "cgal_fair", or an energy with mode "nonlinear" | "linearized".
+// One case: "floor", "cgal_fair", or an energy with mode "nonlinear" | "linearized" |
+// "nonlinear_amd".
 struct Case {
   std::string kind;
   std::string energy, mode;
@@ -176,6 +181,7 @@ json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, con
   bending.discretization = curvature::parseDiscretization(c.energy);
   optimize::MinimizeOptions options;
   options.linearized = c.mode == "linearized";
+  options.nestedDissection = c.mode != "nonlinear_amd";
   options.threads = kThreads;
   options.progress = false;
 
@@ -417,9 +423,9 @@ std::vector<std::string> parseEnergies(const std::string& text) {
 // A table on stderr for people: the primary time (floor: factor + solve), the report's split,
 // ratios and peak memory; "-" where a column does not apply.
 void printTable(const json& records) {
-  std::fprintf(stderr, "\n%5s %8s %-10s %-10s %9s %9s %9s %5s %5s %8s %8s %8s\n", "n", "free",
+  std::fprintf(stderr, "\n%5s %8s %-10s %-20s %9s %9s %9s %5s %5s %8s %8s %8s %8s\n", "n", "free",
                "case", "mode", "seconds", "eval_s", "linsol_s", "iter", "conv", "x_floor", "x_fair",
-               "peak_MB");
+               "x_nonlin", "peak_MB");
   const auto cell = [](const json& j, const char* key, const char* format) {
     if (!j.contains(key) || !j[key].is_number()) return std::string("-");
     char text[32];
@@ -431,13 +437,14 @@ void printTable(const json& records) {
     const std::string name = r[r["case"] == "energy" ? "energy" : "case"].get<std::string>();
     const std::string mode = r.value("mode", r["case"] == "floor" ? "f+s" : "-");
     const std::string converged = !r.contains("converged") ? "-" : r["converged"] ? "yes" : "NO";
-    std::fprintf(stderr, "%5d %8d %-10s %-10s %9.3f %9s %9s %5s %5s %8s %8s %8.0f%s\n",
+    std::fprintf(stderr, "%5d %8d %-10s %-20s %9.3f %9s %9s %5s %5s %8s %8s %8s %8.0f%s\n",
                  r["n"].get<int>(), r.value("free_vertices", 0), name.c_str(), mode.c_str(),
                  primarySeconds(r), cell(seconds, "evaluation", "%.3f").c_str(),
                  cell(seconds, "linear_solver", "%.3f").c_str(),
                  cell(r, "iterations", "%.0f").c_str(), converged.c_str(),
                  cell(r, "ratio_to_floor", "%.2f").c_str(),
-                 cell(r, "ratio_to_cgal_fair", "%.3f").c_str(), r["peak_memory_mb"].get<double>(),
+                 cell(r, "ratio_to_cgal_fair", "%.3f").c_str(),
+                 cell(r, "ratio_to_nonlinear", "%.3f").c_str(), r["peak_memory_mb"].get<double>(),
                  r.contains("error") ? ("  ERROR: " + r["error"].get<std::string>()).c_str() : "");
   }
 }
@@ -463,6 +470,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-o,--output", output, "Also write the JSON here");
   app.add_flag("--quick", quick, "Smoke run: sizes 32,64");
+  app.add_flag("--baselines", s.baselines,
+               "Also each energy's nonlinear solve on Ceres' AMD order (mode nonlinear_amd)");
   CLI11_PARSE(app, argc, argv);
   try {
     s.sizes = quick ? std::vector<int>{32, 64} : parseSizes(sizes);
@@ -479,6 +488,9 @@ int main(int argc, char** argv) {
     for (const std::string& e : s.energies) {
       cases.push_back({"energy", e, "nonlinear"});
       cases.push_back({"energy", e, "linearized"});
+      if (s.baselines) {
+        cases.push_back({"energy", e, "nonlinear_amd"});
+      }
     }
     const size_t first = records.size();
     for (const Case& c : cases) {
@@ -503,6 +515,13 @@ int main(int argc, char** argv) {
           r.contains("error") ? std::numeric_limits<double>::infinity() : primarySeconds(r);
       r["ratio_to_floor"] = ratio(seconds, floorSeconds);
       r["ratio_to_cgal_fair"] = ratio(seconds, fairSeconds);
+      if (r.value("mode", "") != "nonlinear_amd") continue;
+      for (size_t j = first; j < records.size(); ++j) {
+        const json& nonlinear = records[j];
+        if (nonlinear["case"] == "energy" && nonlinear["energy"] == r["energy"] &&
+            nonlinear["mode"] == "nonlinear" && !nonlinear.contains("error"))
+          r["ratio_to_nonlinear"] = ratio(seconds, primarySeconds(nonlinear));
+      }
     }
   }
 

@@ -1,12 +1,11 @@
 #include "optimize/elimination_order.h"
 
-#include <cholmod.h>
-
 #include <algorithm>
 #include <unordered_map>
 #include <vector>
 
 #include "modeling/errors.h"
+#include "optimize/cholmod_view.h"
 
 namespace flexure::optimize {
 namespace {
@@ -26,18 +25,7 @@ struct Incidence {
 
 // METIS nested dissection of A Aᵀ, A the n-row incidence pattern: Perm[k] = the k-th row.
 std::vector<int> nestedDissection(Incidence& a, int n) {
-  cholmod_sparse view{};
-  view.nrow = static_cast<size_t>(n);
-  view.ncol = a.columnStart.size() - 1;
-  view.nzmax = a.rows.size();
-  view.p = a.columnStart.data();
-  view.i = a.rows.data();
-  view.stype = 0;  // unsymmetric: CHOLMOD orders A Aᵀ
-  view.itype = CHOLMOD_INT;
-  view.xtype = CHOLMOD_PATTERN;
-  view.dtype = CHOLMOD_DOUBLE;
-  view.sorted = 1;
-  view.packed = 1;
+  cholmod_sparse view = cholmodView(static_cast<size_t>(n), a.columnStart, a.rows, nullptr, true);
   cholmod_common common;
   cholmod_start(&common);
   std::vector<int> order(n);

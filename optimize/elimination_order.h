@@ -5,14 +5,17 @@
 // two rings), where nested dissection (METIS) leaves less fill. Ceres takes no METIS order, but it
 // takes a partition of the parameter blocks into ordered groups and then runs constrained AMD
 // (CAMD) within them: a nested-dissection order cut into a few hundred consecutive groups hands
-// Ceres the separators' order while CAMD orders each group's interior. Measured on the 4-8 patch
-// at n = 256 (bench/solve_bench), linear-solver seconds of a nonlinear solve: cotan 6.2 → 4.9,
-// hinge 3.3 → 2.9. Problems with midedge ξ keep Ceres' AMD: with the ξ as graph nodes the solve
-// at n = 512 took 124–143 s against 120 s (METIS on 10⁶ nodes alone took 18 s), and with each ξ
-// placed in the group of its latest vertex the factorizations took 697 s. The one-shot
-// linearized solves keep CHOLMOD's own choice: METIS there cost more analysis than it saved
-// (n = 512, linear-solver seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge
-// 30.4 vs 24.2, cotan 6.3 vs 6.8).
+// Ceres the separators' order while CAMD orders each group's interior. Measured in one run of
+// `solve_bench --sizes 256,512 --energies hinge,cotan,quadfit --baselines` (mode nonlinear_amd =
+// Ceres' AMD), nonlinear solve at n = 512, AMD total / nested-dissection total: cotan 1.34
+// (57.6 vs 43.0 s; 1.22 at n = 256), hinge 0.99 and quadfit 1.00 — their linear solver gains
+// (19.6 → 17.1 s, 33.5 → 29.0 s) go to computing the order (2–3 s). Problems with midedge ξ keep
+// Ceres' AMD: with the ξ as graph nodes the solve at n = 512 took 124–143 s against 120 s (METIS
+// on 10⁶ nodes alone took 18 s), and with each ξ placed in the group of its latest vertex the
+// factorizations took 697 s (separate runs). The one-shot linearized solves keep CHOLMOD's own
+// choice: METIS there cost more analysis than it saved (n = 512, separate runs, linear-solver
+// seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge 30.4 vs 24.2, cotan 6.3 vs
+// 6.8).
 #pragma once
 
 #include <ceres/ordered_groups.h>

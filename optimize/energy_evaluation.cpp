@@ -1,11 +1,11 @@
 #include "optimize/energy_evaluation.h"
 
 #include <ceres/problem.h>
-#include <cholmod.h>
 
 #include <algorithm>
 
 #include "modeling/errors.h"
+#include "optimize/cholmod_view.h"
 
 namespace flexure::optimize {
 namespace {
@@ -61,8 +61,9 @@ EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const
 namespace {
 
 // The stacked residuals r and their Jacobian J at (x, ξ), element by element without a Ceres
-// problem: assembling one and having Ceres convert its block Jacobian to CRS cost 3–8 s for the
-// ~10⁶ elements of an n = 512 patch, several times the evaluation itself.
+// problem. Assembling one and having Ceres write its Jacobian as CRS took, for the rest Jacobian
+// of the n = 512 patch in bench/solve_bench (linearized "evaluation"), hinge 3.5 s, cotan 2.7,
+// quadfit 7.7, midedge 10; this takes 1.3, 1.7, 4.4 and 5.6 s (separate runs of the benchmark).
 struct Linearization {
   Eigen::VectorXd residuals;
   SparseMatrix jacobian;
@@ -123,28 +124,15 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
     }
     columnStart[row + 1] = static_cast<int>(rowIndex.size());
   }
-  cholmod_sparse transposed{};
-  transposed.nrow = static_cast<size_t>(freeCount);
-  transposed.ncol = static_cast<size_t>(jacobian.rows());
-  transposed.nzmax = values.size();
-  transposed.p = columnStart.data();
-  transposed.i = rowIndex.data();
-  transposed.x = values.data();
-  transposed.stype = 0;  // unsymmetric: CHOLMOD factors A Aᵀ
-  transposed.itype = CHOLMOD_INT;
-  transposed.xtype = CHOLMOD_REAL;
-  transposed.dtype = CHOLMOD_DOUBLE;
-  transposed.sorted = 0;
-  transposed.packed = 1;
-
+  cholmod_sparse transposed =
+      cholmodView(static_cast<size_t>(freeCount), columnStart, rowIndex, values.data(), false);
   cholmod_common common;
   cholmod_start(&common);
   cholmod_factor* factor = cholmod_analyze(&transposed, &common);
-  const double ridge[2] = {1e-13 * squaredSum / freeCount, 0.0};
-  bool solved =
-      factor != nullptr &&
-      cholmod_factorize_p(&transposed, const_cast<double*>(ridge), nullptr, 0, factor, &common) &&
-      common.status == CHOLMOD_OK;
+  double ridge[2] = {1e-13 * squaredSum / freeCount, 0.0};  // β (real, imaginary)
+  const bool solved = factor != nullptr &&
+                      cholmod_factorize_p(&transposed, ridge, nullptr, 0, factor, &common) &&
+                      common.status == CHOLMOD_OK;
   Eigen::VectorXd step;
   if (solved) {
     gradient = -gradient;

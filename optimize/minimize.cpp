@@ -55,37 +55,6 @@ class ProgressPrinter : public ceres::IterationCallback {
   }
 };
 
-// Ceres stops when a step lowers the cost by less than function_tolerance · cost, so it pays one
-// last factorization only to see the converged cost barely move. Near a minimizer Gauss–Newton
-// converges linearly (quadratically at zero residual): successive decreases Δ_k shrink by ratios
-// ρ_k = Δ_k / Δ_{k−1} that do not grow. Once ρ_k ≤ ½ and the predicted next decrease ρ_k Δ_k is
-// already below the tolerance, that step is Ceres' confirming step, and all later decreases sum
-// to at most 2 ρ_k Δ_k: stop here. Only successful steps count; a rejected one starts over.
-class PredictedConvergence : public ceres::IterationCallback {
- public:
-  explicit PredictedConvergence(double functionTolerance) : tolerance_(functionTolerance) {}
-
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
-    if (!s.step_is_successful || s.cost_change <= 0.0) {
-      lastDecrease_ = 0.0;
-      return ceres::SOLVER_CONTINUE;
-    }
-    const double decrease = s.cost_change, previous = lastDecrease_;
-    lastDecrease_ = decrease;
-    if (previous <= 0.0) return ceres::SOLVER_CONTINUE;
-    const double ratio = decrease / previous;
-    if (ratio <= 0.5 && ratio * decrease < tolerance_ * s.cost) {
-      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-    }
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  double tolerance_;
-  double lastDecrease_ = 0.0;
-};
-
 MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
                                   const BoundaryConditions& bc, const Positions& rest,
                                   const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
@@ -188,24 +157,18 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   solver.minimizer_progress_to_stdout = false;
   solver.logging_type = ceres::SILENT;
   const auto orderingStart = Clock::now();
-  solver.linear_solver_ordering = nestedDissectionGroups(problem);
+  if (options.nestedDissection) solver.linear_solver_ordering = nestedDissectionGroups(problem);
   const double orderingSeconds = secondsSince(orderingStart);
   ProgressPrinter printer;
   if (options.progress) solver.callbacks.push_back(&printer);
-  PredictedConvergence prediction(options.functionTolerance);
-  solver.callbacks.push_back(&prediction);
 
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
 
   MinimizeReport& r = result.report;
-  const bool predicted = summary.termination_type == ceres::USER_SUCCESS;
-  r.converged = summary.termination_type == ceres::CONVERGENCE || predicted;
-  r.termination = predicted
-                      ? "CONVERGENCE: the next decrease, predicted from the last two, is "
-                        "below the function tolerance"
-                      : std::string(ceres::TerminationTypeToString(summary.termination_type)) +
-                            ": " + summary.message;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+                  summary.message;
   r.iterations = summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
   r.initialEnergy = summary.initial_cost;
   r.finalEnergy = summary.final_cost;

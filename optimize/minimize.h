@@ -35,6 +35,9 @@ struct MinimizeOptions {
   double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
   int threads = 2;
   bool progress = false;  // one line per iteration on stderr
+  // Hand Ceres a METIS nested-dissection order of the vertices (elimination_order.h). false:
+  // Ceres' AMD, the benchmark's baseline.
+  bool nestedDissection = true;
 };
 
 struct MinimizeReport {

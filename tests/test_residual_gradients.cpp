@@ -10,6 +10,7 @@
 #include <ceres/crs_matrix.h>
 #include <ceres/gradient_checker.h>
 #include <ceres/problem.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -532,6 +533,20 @@ TEST(ResidualJacobian, DirectAssemblyIsCeresJacobian) {
     ASSERT_EQ(direct.cols(), expected.cols());
     EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
     EXPECT_LE((direct - expected).cwiseAbs().maxCoeff(), 1e-14 * expected.cwiseAbs().maxCoeff());
+  }
+}
+
+// A configuration where an element is undefined (here every vertex at one point: faces of zero
+// area) is a NumericalError that names the term and the element, not NaN entries in J.
+TEST(ResidualJacobian, DegenerateElementIsNamed) {
+  const BendingSetup setup(curvedRestMesh(), bendingOptions(Discretization::TriangleAveraged));
+  const Positions collapsed = Positions::Zero(setup.rest.positions.rows(), 3);
+  try {
+    optimize::residualJacobian(setup.terms(), collapsed, setup.restXi);
+    FAIL() << "no error for a collapsed mesh";
+  } catch (const NumericalError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("face"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("degenerate"));
   }
 }
 
