@@ -63,6 +63,19 @@ optimize::BoundaryNormals boundaryNormals(const MinimizeCommandOptions& o, bool 
   return haveSurface ? optimize::BoundaryNormals::Clamped : optimize::BoundaryNormals::Free;
 }
 
+// --start, its default filled in: linearized with --boundary, given with --init.
+std::string startName(const MinimizeCommandOptions& o) {
+  if (!o.start.empty()) return o.start;
+  return o.initFile.empty() ? "linearized" : "given";
+}
+
+optimize::Start parseStart(const MinimizeCommandOptions& o) {
+  const std::string name = startName(o);
+  if (name == "linearized") return optimize::Start::Linearized;
+  if (name == "given") return optimize::Start::AsGiven;
+  throw InputError("--start " + name + ": expected linearized or given");
+}
+
 nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::BendingOptions& b,
                           const optimize::MinimizeResult& result, bool meshWritten) {
   const optimize::MinimizeReport& r = result.report;
@@ -75,10 +88,7 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
       {"membrane", o.membrane.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.membrane)},
       {"fix", o.fix},
       {"linearized", o.linearized},
-      {"start", o.linearized         ? ""
-                : !o.start.empty()   ? o.start
-                : o.initFile.empty() ? "linearized"
-                                     : "given"},
+      {"start", o.linearized ? "" : startName(o)},
       {"converged", r.converged},
       {"termination", r.termination},
       {"iterations", r.iterations},
@@ -111,6 +121,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   const bool midedge = b.discretization == curvature::Discretization::Midedge;
   optimize::MinimizeOptions solver = o.solver;
   solver.linearized = o.linearized;
+  solver.start = parseStart(o);
   solver.progress = !global.quiet && !o.linearized;
   if (o.dof == "height") {
     solver.dof = optimize::DofMode::Height;

@@ -169,7 +169,7 @@ class ElementTerm : public EnergyTerm {
     double r[Residual::kResiduals];
     for (size_t e = 0; e < elements_.size(); ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
-      if (!elements_[e](blocks.data(), r)) throw degenerate(e);
+      if (!elements_[e](blocks.data(), r)) throw degenerate(static_cast<size_t>(e));
       double sum = 0.0;
       for (double value : r) sum += value * value;
       energies[static_cast<Eigen::Index>(e)] = 0.5 * sum;
@@ -177,7 +177,7 @@ class ElementTerm : public EnergyTerm {
     return energies;
   }
 
-  void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi,
+  void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
                           JacobianRows& out) const override {
     const long xiColumn = 3 * static_cast<long>(x.rows());
     std::vector<const double*> blocks;
@@ -186,7 +186,7 @@ class ElementTerm : public EnergyTerm {
     std::vector<double*> jacobians;
     std::vector<std::pair<long, double>> row;
     double r[Residual::kResiduals];
-    for (size_t e = 0; e < elements_.size(); ++e) {
+    for (int e = begin; e < end; ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
       parameterBlocks(elements_[e], 0L, xiColumn, firstColumn);
       const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e]));
@@ -198,7 +198,8 @@ class ElementTerm : public EnergyTerm {
       for (size_t b = 0, offset = 0; b < sizes.size();
            offset += sizes[b] * Residual::kResiduals, ++b)
         jacobians.push_back(storage.data() + offset);
-      if (!cost->Evaluate(blocks.data(), r, jacobians.data())) throw degenerate(e);
+      if (!cost->Evaluate(blocks.data(), r, jacobians.data()))
+        throw degenerate(static_cast<size_t>(e));
       for (int i = 0; i < Residual::kResiduals; ++i) {
         // A block read through two slots (shared_block_cost.h) appears twice: sum its columns.
         row.clear();
@@ -218,7 +219,7 @@ class ElementTerm : public EnergyTerm {
         out.rowStart.push_back(static_cast<int>(out.columns.size()));
         out.residuals.push_back(r[i]);
       }
-      if (e == 0) reserveLike(out, elements_.size(), total);
+      if (e == begin) reserveLike(out, static_cast<size_t>(end - begin), total);
     }
   }
 

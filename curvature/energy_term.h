@@ -54,10 +54,11 @@ class EnergyTerm {
   // block the term reads must already be in `problem`.
   virtual void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const = 0;
 
-  // Appends each element's residuals and their Jacobian rows at (x, ξ), in element order (the
-  // order of the residual blocks above); the same autodiff cost functions, evaluated directly.
+  // Appends the residuals and Jacobian rows at (x, ξ) of elements [begin, end), in element order
+  // (the order of the residual blocks above); the same autodiff cost functions, evaluated
+  // directly. Reads only `this` and the arguments, so disjoint ranges may run concurrently.
   // Throws NumericalError naming a degenerate element.
-  virtual void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi,
+  virtual void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
                                   JacobianRows& out) const = 0;
 };
 

@@ -158,8 +158,24 @@ run 0 minimize --rest flat8.obj --energy midedge --boundary quadratic:1,0,1 -o b
 python3 -c "import json; d=json.load(open('bowl.json')); assert d['converged'] and d['final_energy'] < d['initial_energy'] and len(d['xi']) == 208, d" \
   || fail "bowl.json: $(cat bowl.json)"
 [ ! -s err.txt ] || fail "--quiet minimize printed: $(cat err.txt)"
-run 0 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o hinge-bowl.obj
+run 0 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o hinge-bowl.obj --report hinge-bowl.json
 stderr_has "iteration"; stderr_has "wrote hinge-bowl.obj"
+# --start: given starts Ceres at the interior at rest (or --init's shape), linearized at the
+# linearized minimizer; both reach the same minimizer.
+run 0 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --start given -o hinge-given.obj --report hinge-given.json --quiet
+run 0 minimize --rest flat8.obj --energy hinge --init hinge-bowl.obj -o hinge-again.obj --report hinge-again.json --quiet
+python3 - <<'PY' || fail "--start is not what the solve started from"
+import json
+linearized, given, again = (json.load(open(f)) for f in ("hinge-bowl.json", "hinge-given.json", "hinge-again.json"))
+assert (linearized["start"], given["start"], again["start"]) == ("linearized", "given", "given")
+# The interior at rest under a lifted boundary is far from the minimizer; the predictor is close.
+assert given["initial_energy"] > 3 * linearized["initial_energy"], (given, linearized)
+assert abs(given["final_energy"] - linearized["final_energy"]) < 1e-9 * linearized["final_energy"]
+# --init with a minimizer: the solve starts there, at its energy.
+assert abs(again["initial_energy"] - linearized["final_energy"]) < 1e-12 * linearized["final_energy"], again
+PY
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --start rest -o x.obj
+stderr_has "--start rest: expected linearized or given"; absent x.obj
 run 0 minimize --rest flat8.obj --energy quadfit --init bowl.obj -o again.obj --quiet
 printf '0 1 2\n# the rest of the boundary\n3, 4, 5\n' > fixed.txt
 run 0 minimize --rest flat8.obj --energy triavg --fix vertices:fixed.txt --boundary quadratic:1,0,0 --dof xyz --membrane stvk -o xyz.obj --quiet --max-iterations 500
