@@ -85,6 +85,7 @@ struct Settings {
   int repeat = 1;
   int timeout = 3600;  // seconds per case (child); 0: none
   bool baselines = false;
+  bool nonlinear = true, linearized = true;  // --modes
 };
 
 // One case: "floor", "cgal_fair", or an energy with mode "nonlinear" | "linearized" |
@@ -396,11 +397,17 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
           {"targets", targets}};
 }
 
-std::vector<int> parseSizes(const std::string& text) {
-  std::vector<int> sizes;
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
   std::stringstream stream(text);
   std::string item;
-  while (std::getline(stream, item, ',')) {
+  while (std::getline(stream, item, ',')) items.push_back(item);
+  return items;
+}
+
+std::vector<int> parseSizes(const std::string& text) {
+  std::vector<int> sizes;
+  for (const std::string& item : splitList(text)) {
     std::size_t used = 0;
     const int n = std::stoi(item, &used);
     if (used != item.size() || n < 4) throw CLI::ValidationError("--sizes", "bad size " + item);
@@ -411,9 +418,7 @@ std::vector<int> parseSizes(const std::string& text) {
 
 std::vector<std::string> parseEnergies(const std::string& text) {
   std::vector<std::string> energies;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
+  for (const std::string& item : splitList(text)) {
     curvature::parseDiscretization(item);  // throws InputError listing the names
     energies.push_back(item);
   }
@@ -470,12 +475,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-o,--output", output, "Also write the JSON here");
   app.add_flag("--quick", quick, "Smoke run: sizes 32,64");
+  std::string modes = "nonlinear,linearized";
+  app.add_option("--modes", modes, "Which solves of each energy: nonlinear, linearized or both")
+      ->capture_default_str();
   app.add_flag("--baselines", s.baselines,
                "Also each energy's nonlinear solve on Ceres' AMD order (mode nonlinear_amd)");
   CLI11_PARSE(app, argc, argv);
   try {
     s.sizes = quick ? std::vector<int>{32, 64} : parseSizes(sizes);
     s.energies = parseEnergies(energies);
+    s.nonlinear = s.linearized = false;
+    for (const std::string& mode : splitList(modes)) {
+      if (mode == "nonlinear") {
+        s.nonlinear = true;
+      } else if (mode == "linearized") {
+        s.linearized = true;
+      } else {
+        throw std::runtime_error("--modes " + modes + ": expected nonlinear and/or linearized");
+      }
+    }
     modeling::PolynomialSurface::parse(s.boundary);  // fail before any case runs
   } catch (const std::exception& e) {
     std::cerr << "solve_bench: " << e.what() << "\n";
@@ -486,9 +504,9 @@ int main(int argc, char** argv) {
   for (int n : s.sizes) {
     std::vector<Case> cases = {{"floor", "", ""}, {"cgal_fair", "", ""}};
     for (const std::string& e : s.energies) {
-      cases.push_back({"energy", e, "nonlinear"});
-      cases.push_back({"energy", e, "linearized"});
-      if (s.baselines) {
+      if (s.nonlinear) cases.push_back({"energy", e, "nonlinear"});
+      if (s.linearized) cases.push_back({"energy", e, "linearized"});
+      if (s.nonlinear && s.baselines) {
         cases.push_back({"energy", e, "nonlinear_amd"});
       }
     }

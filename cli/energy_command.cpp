@@ -89,7 +89,9 @@ EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& s
   Eigen::VectorXd deltaXi;
   if (term.usesEdgeUnknowns() && surface)
     deltaXi = curvature::linearizedClampedBoundaryXi(stencils, rest.positions, delta, *surface);
-  return {optimize::linearizedEnergyOfDisplacement(jacobian, delta, deltaXi, freeEdge), boundary};
+  return {
+      optimize::linearizedEnergyOfDisplacement(jacobian, rest.positions, delta, deltaXi, freeEdge),
+      boundary};
 }
 
 void runEnergyCommand(const EnergyCommandOptions& o) {

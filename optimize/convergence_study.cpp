@@ -288,7 +288,7 @@ double linearizedEnergyPerArea(const FlatPlateProblem& problem, const Polynomial
     freeEdge = curvature::boundaryEdges(problem.stencils);
     freeEdge.flip();
   }
-  return linearizedEnergyOfDisplacement(problem.restJacobian, delta, deltaXi, freeEdge) /
+  return linearizedEnergyOfDisplacement(problem.restJacobian, rest, delta, deltaXi, freeEdge) /
          problem.term->coveredArea();
 }
 

@@ -10,22 +10,9 @@
 namespace flexure::optimize {
 namespace {
 
-// A pattern in compressed columns, built column by column.
-struct Incidence {
-  std::vector<int> columnStart{0}, rows;
-
-  // Sorts `column`, drops repeats, and appends it.
-  void append(std::vector<int>& column) {
-    std::sort(column.begin(), column.end());
-    column.erase(std::unique(column.begin(), column.end()), column.end());
-    rows.insert(rows.end(), column.begin(), column.end());
-    columnStart.push_back(static_cast<int>(rows.size()));
-  }
-};
-
 // METIS nested dissection of A Aᵀ, A the n-row incidence pattern: Perm[k] = the k-th row.
 std::vector<int> nestedDissection(Incidence& a, int n) {
-  cholmod_sparse view = cholmodView(static_cast<size_t>(n), a.columnStart, a.rows, nullptr, true);
+  cholmod_sparse view = cholmodView(static_cast<size_t>(n), a.start, a.nodes, nullptr, true);
   cholmod_common common;
   cholmod_start(&common);
   std::vector<int> order(n);
@@ -40,7 +27,94 @@ std::vector<int> nestedDissection(Incidence& a, int n) {
   return order;
 }
 
+// The recursion of geometricNestedDissection over nodes[begin, end).
+class Dissection {
+ public:
+  Dissection(const std::vector<Eigen::Vector3d>& points, const Incidence& residuals, int leafSize)
+      : points_(points), residuals_(residuals), leafSize_(std::max(leafSize, 1)) {
+    // The transpose of `residuals`: the residuals reading each node.
+    const int n = static_cast<int>(points.size());
+    readBy_.assign(n + 1, 0);
+    for (int node : residuals.nodes) ++readBy_[node + 1];
+    for (int v = 0; v < n; ++v) readBy_[v + 1] += readBy_[v];
+    readers_.resize(residuals.nodes.size());
+    std::vector<int> fill(readBy_.begin(), readBy_.end() - 1);
+    const int residualCount = static_cast<int>(residuals.start.size()) - 1;
+    for (int r = 0; r < residualCount; ++r)
+      for (int k = residuals.start[r]; k < residuals.start[r + 1]; ++k)
+        readers_[fill[residuals.nodes[k]]++] = r;
+    work_.resize(n);
+    for (int v = 0; v < n; ++v) work_[v] = v;
+    side_.assign(n, 0);
+    order_.reserve(n);
+  }
+
+  std::vector<int> run() {
+    dissect(0, static_cast<int>(work_.size()));
+    return std::move(order_);
+  }
+
+ private:
+  void dissect(int begin, int end) {
+    if (end - begin <= leafSize_) {
+      order_.insert(order_.end(), work_.begin() + begin, work_.begin() + end);
+      return;
+    }
+    Eigen::Vector3d low = points_[work_[begin]], high = low;
+    for (int k = begin; k < end; ++k) {
+      low = low.cwiseMin(points_[work_[k]]);
+      high = high.cwiseMax(points_[work_[k]]);
+    }
+    int axis = 0;
+    (high - low).maxCoeff(&axis);
+    const int middle = begin + (end - begin) / 2;
+    std::nth_element(work_.begin() + begin, work_.begin() + middle, work_.begin() + end,
+                     [&](int a, int b) { return points_[a][axis] < points_[b][axis]; });
+    // Stamps name this call's halves, so older marks need no clearing.
+    const int lower = ++stamp_, upper = ++stamp_;
+    for (int k = begin; k < middle; ++k) side_[work_[k]] = lower;
+    for (int k = middle; k < end; ++k) side_[work_[k]] = upper;
+    // Lower nodes coupled to an upper node move to the end of the lower half: the separator.
+    const auto coupledToUpper = [&](int node) {
+      for (int k = readBy_[node]; k < readBy_[node + 1]; ++k) {
+        const int r = readers_[k];
+        for (int j = residuals_.start[r]; j < residuals_.start[r + 1]; ++j)
+          if (side_[residuals_.nodes[j]] == upper) return true;
+      }
+      return false;
+    };
+    const int separator =
+        static_cast<int>(std::stable_partition(work_.begin() + begin, work_.begin() + middle,
+                                               [&](int node) { return !coupledToUpper(node); }) -
+                         work_.begin());
+    dissect(begin, separator);
+    dissect(middle, end);
+    order_.insert(order_.end(), work_.begin() + separator, work_.begin() + middle);
+  }
+
+  const std::vector<Eigen::Vector3d>& points_;
+  const Incidence& residuals_;
+  const int leafSize_;
+  std::vector<int> readBy_, readers_;  // node v is read by residuals readers_[readBy_[v] ..)
+  std::vector<int> work_;              // the nodes, each call's range regrouped in place
+  std::vector<int> side_;              // the stamp of the half a node was last put in
+  int stamp_ = 0;
+  std::vector<int> order_;
+};
+
 }  // namespace
+
+void Incidence::append(std::vector<int>& read) {
+  std::sort(read.begin(), read.end());
+  read.erase(std::unique(read.begin(), read.end()), read.end());
+  nodes.insert(nodes.end(), read.begin(), read.end());
+  start.push_back(static_cast<int>(nodes.size()));
+}
+
+std::vector<int> geometricNestedDissection(const std::vector<Eigen::Vector3d>& points,
+                                           const Incidence& residuals, int leafSize) {
+  return Dissection(points, residuals, leafSize).run();
+}
 
 std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const ceres::Problem& problem,
                                                                       int groupCount) {
@@ -61,7 +135,7 @@ std::shared_ptr<ceres::ParameterBlockOrdering> nestedDissectionGroups(const cere
   std::vector<ceres::ResidualBlockId> residualBlocks;
   problem.GetResidualBlocks(&residualBlocks);
   Incidence a;
-  a.rows.reserve(residualBlocks.size() * 6);
+  a.nodes.reserve(residualBlocks.size() * 6);
   std::vector<double*> read;
   std::vector<int> column;
   for (ceres::ResidualBlockId id : residualBlocks) {

@@ -1,29 +1,58 @@
-// A fill-reducing order for the sparse Cholesky factorizations of flexure's nonlinear solves.
+// Fill-reducing orders for flexure's sparse Cholesky factorizations.
 //
-// Ceres 2.1 orders SPARSE_NORMAL_CHOLESKY by AMD on the parameter-block graph. The normal
-// matrices of the vertex-only energies are graph-Laplacian-like (a vertex couples to its one or
-// two rings), where nested dissection (METIS) leaves less fill. Ceres takes no METIS order, but it
-// takes a partition of the parameter blocks into ordered groups and then runs constrained AMD
-// (CAMD) within them: a nested-dissection order cut into a few hundred consecutive groups hands
-// Ceres the separators' order while CAMD orders each group's interior. Measured in one run of
-// `solve_bench --sizes 256,512 --energies hinge,cotan,quadfit --baselines` (mode nonlinear_amd =
-// Ceres' AMD), nonlinear solve at n = 512, AMD total / nested-dissection total: cotan 1.34
-// (57.6 vs 43.0 s; 1.22 at n = 256), hinge 0.99 and quadfit 1.00 — their linear solver gains
-// (19.6 → 17.1 s, 33.5 → 29.0 s) go to computing the order (2–3 s). Problems with midedge ξ keep
-// Ceres' AMD: with the ξ as graph nodes the solve at n = 512 took 124–143 s against 120 s (METIS
-// on 10⁶ nodes alone took 18 s), and with each ξ placed in the group of its latest vertex the
-// factorizations took 697 s (separate runs). The one-shot linearized solves keep CHOLMOD's own
-// choice: METIS there cost more analysis than it saved (n = 512, separate runs, linear-solver
-// seconds METIS vs AMD: hinge 4.3 vs 3.9, triavg 8.8 vs 7.4, midedge 30.4 vs 24.2, cotan 6.3 vs
-// 6.8).
+// Nonlinear solves (Ceres): Ceres 2.1 orders SPARSE_NORMAL_CHOLESKY by AMD on the
+// parameter-block graph. The normal matrices of the vertex-only energies are graph-Laplacian-like
+// (a vertex couples to its one or two rings), where nested dissection (METIS) leaves less fill.
+// Ceres takes no METIS order, but it takes a partition of the parameter blocks into ordered groups
+// and then runs constrained AMD (CAMD) within them: a nested-dissection order cut into a few
+// hundred consecutive groups hands Ceres the separators' order while CAMD orders each group's
+// interior. Measured in one run of `solve_bench --sizes 256,512 --energies hinge,cotan,quadfit
+// --baselines` (mode nonlinear_amd = Ceres' AMD), nonlinear solve at n = 512, AMD total /
+// nested-dissection total: cotan 1.34 (57.6 vs 43.0 s; 1.22 at n = 256), hinge 0.99 and quadfit
+// 1.00 — their linear solver gains (19.6 → 17.1 s, 33.5 → 29.0 s) go to computing the order
+// (2–3 s). The geometric nested dissection below, as Ceres' groups, took 0.6 s instead of METIS'
+// 2.4–3.1 s but the factorizations took longer (n = 512, separate runs normalized by each run's
+// floor: cotan 5.18 vs 5.24 floors, hinge 3.17 vs 3.08), so Ceres keeps METIS. Problems with
+// midedge ξ keep Ceres' AMD: with the ξ as graph nodes the solve at n = 512 took 124–143 s
+// against 120 s (METIS on 10⁶ nodes alone took 18 s), and with each ξ placed in the group of its
+// latest vertex the factorizations took 697 s (separate runs).
+//
+// Linearized solves (CHOLMOD, energy_evaluation.h): CHOLMOD by default tries AMD and then METIS
+// on A Aᵀ; at n = 512 its analysis took 2.9 s of cotan's 7.6 s solve (METIS chosen) and 16 s of
+// midedge's 34.6. Vertex-only problems now take the geometric nested dissection (the solve's
+// linear part 8.4 → 5.5 s for cotan, same machine state not guaranteed: separate runs), and
+// problems with free ξ CHOLMOD's AMD alone (analysis 4.1 s, factorization 24 s vs METIS' 18.5 s:
+// 28 s in all against 34.6).
 #pragma once
 
 #include <ceres/ordered_groups.h>
 #include <ceres/problem.h>
 
+#include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 namespace flexure::optimize {
+
+// Which nodes (blocks of unknowns: a vertex, a midedge ξ) each residual reads, compressed:
+// residual k reads nodes[start[k] .. start[k + 1]).
+struct Incidence {
+  std::vector<int> start{0}, nodes;
+
+  // Appends a residual reading `read` (sorted and deduplicated in place).
+  void append(std::vector<int>& read);
+};
+
+// A fill-reducing elimination order for the normal matrix AᵀA of a least-squares problem whose
+// residuals read the nodes as `residuals` says (two nodes couple when a residual reads both),
+// by geometric nested dissection (George 1973; Gilbert, Miller & Teng 1998) of the nodes placed
+// at `points`: cut the nodes at the median of their longest bounding-box axis; the nodes of the
+// lower half coupled to the upper half form the separator; order both halves the same way
+// recursively, then the separator. Below `leafSize` nodes, the given order. On a surface mesh a
+// plane meets the surface in a curve, so separators have O(√n) nodes, as METIS finds, at a small
+// fraction of METIS' time. Returns order[k] = the node eliminated k-th.
+std::vector<int> geometricNestedDissection(const std::vector<Eigen::Vector3d>& points,
+                                           const Incidence& residuals, int leafSize = 8);
 
 // Smaller problems keep AMD: ordering them is cheap either way.
 inline constexpr int kNestedDissectionMinBlocks = 20000;

@@ -34,21 +34,24 @@ SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const
                               const Eigen::VectorXd& xi);
 
 // min over the unknowns marked free of ½ |J u + r0|², starting from the given u (the fixed
-// entries keep their values): returns the minimizing u. A quadratic in the free unknowns, so one
-// sparse Cholesky solve with CHOLMOD, which factors J_freeᵀ J_free + β I from J_freeᵀ without
-// forming the normal matrix (the ridge β, 1e-13 of its mean diagonal, keeps it defined where Ψ_ν
-// ignores some ξ, e.g. ν = 1). `r0` may be empty (zero).
+// entries keep their values): returns the minimizing u. J is the residual Jacobian at positions
+// `at` (#V by 3). A quadratic in the free unknowns, so one sparse Cholesky solve with CHOLMOD,
+// which factors J_freeᵀ J_free + β I from J_freeᵀ without forming the normal matrix (the ridge
+// β, 1e-13 of its mean diagonal, keeps it defined where Ψ_ν ignores some ξ, e.g. ν = 1), in the
+// geometric nested-dissection order of the unknowns (elimination_order.h). `r0` may be empty
+// (zero).
 Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::VectorXd& r0,
-                                     Eigen::VectorXd u, const std::vector<bool>& free);
+                                     Eigen::VectorXd u, const std::vector<bool>& free,
+                                     const Positions& at);
 
 // ½ |J u|².
 double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u);
 
-// E_lin of a displacement: ½ |J u|² with J the residual Jacobian at rest and u = (δ, δξ). δ is
+// E_lin of a displacement: ½ |J u|² with J the residual Jacobian at `rest` and u = (δ, δξ). δ is
 // #V by 3; when J has edge-unknown columns, the edges with freeEdge[e] = false take deltaXi[e]
 // (e.g. a linearized clamp; zero when deltaXi is empty) and the others are minimized over.
-double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positions& delta,
-                                      const Eigen::VectorXd& deltaXi,
+double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positions& rest,
+                                      const Positions& delta, const Eigen::VectorXd& deltaXi,
                                       const std::vector<bool>& freeEdge);
 
 // The midedge unknowns minimizing E at fixed positions x: E is quadratic in ξ (S_T is affine in

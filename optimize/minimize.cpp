@@ -80,7 +80,7 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
   }
   result.report.initialEnergy = linearizedEnergy(jacobian, u);
   const auto solveStart = Clock::now();
-  u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free);
+  u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free, rest);
   result.report.linearSolverSeconds = secondsSince(solveStart);
   result.report.finalEnergy = linearizedEnergy(jacobian, u);
 
