@@ -135,7 +135,8 @@ void assemble(Evaluation& e) {
       e.problem.AddParameterBlock(blocks.back(), 1);
     }
   }
-  e.term->addResidualBlocks(e.problem, e.x.data(), e.xi.data());
+  e.term->addResidualBlocks(e.problem, e.x.data(), e.xi.data(),
+                            flexure::curvature::Derivatives::All);
   e.options.apply_loss_function = false;
   e.options.num_threads = kEvaluationThreads;
 }

@@ -15,6 +15,7 @@
 
 #include "curvature/cotan_mean_curvature.h"
 #include "curvature/energy_term.h"
+#include "curvature/height_only_cost.h"
 #include "curvature/hinge_bending.h"
 #include "curvature/membrane.h"
 #include "curvature/midedge_normals.h"
@@ -110,6 +111,65 @@ inline ceres::CostFunction* costFunction(const CotanMeanCurvatureResidual& r) {
   }
 }
 
+// Height-mode cost functions (height_only_cost.h), one derivative per block; nullptr where the
+// full cost serves: membranes (only in xyz mode) and cotan rings of valence above 8.
+template <class Residual, int kBlocks>
+ceres::CostFunction* heightOnlyCost(const Residual& r, int xiBlocks = 0) {
+  std::vector<int32_t> sizes(kBlocks, 3);
+  std::fill(sizes.begin(), sizes.begin() + xiBlocks, 1);
+  return new HeightOnlyCost<Residual, kBlocks>(r, sizes);
+}
+inline ceres::CostFunction* heightOnlyCost(const HingeBendingResidual& r) {
+  return heightOnlyCost<HingeBendingResidual, 4>(r);
+}
+inline ceres::CostFunction* heightOnlyCost(const TriangleAveragedResidual& r) {
+  return heightOnlyCost<TriangleAveragedResidual, 6>(r);
+}
+inline ceres::CostFunction* heightOnlyCost(const QuadraticFitResidual& r) {
+  return heightOnlyCost<QuadraticFitResidual, 6>(r);
+}
+inline ceres::CostFunction* heightOnlyCost(const MidedgeResidual& r) {
+  switch (r.flapCount) {
+    case 0:
+      return heightOnlyCost<MidedgeResidual, 6>(r, 3);
+    case 1:
+      return heightOnlyCost<MidedgeResidual, 7>(r, 3);
+    case 2:
+      return heightOnlyCost<MidedgeResidual, 8>(r, 3);
+    default:
+      return heightOnlyCost<MidedgeResidual, 9>(r, 3);
+  }
+}
+inline ceres::CostFunction* heightOnlyCost(const CotanMeanCurvatureResidual& r) {
+  switch (r.vertices.size()) {
+    case 4:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 4>(r);
+    case 5:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 5>(r);
+    case 6:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 6>(r);
+    case 7:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 7>(r);
+    case 8:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 8>(r);
+    case 9:
+      return heightOnlyCost<CotanMeanCurvatureResidual, 9>(r);
+    default:
+      return nullptr;
+  }
+}
+template <class Membrane>
+ceres::CostFunction* heightOnlyCost(const Membrane&) {
+  return nullptr;
+}
+
+template <class Residual>
+ceres::CostFunction* costFunction(const Residual& r, Derivatives derivatives) {
+  ceres::CostFunction* height =
+      derivatives == Derivatives::HeightOnly ? heightOnlyCost(r) : nullptr;
+  return height != nullptr ? height : costFunction(r);
+}
+
 template <class Residual, class Pointer>
 void parameterBlocks(const Residual& r, Pointer positions, Pointer, std::vector<Pointer>& out) {
   out.clear();
@@ -178,7 +238,7 @@ class ElementTerm : public EnergyTerm {
   }
 
   void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
-                          JacobianRows& out) const override {
+                          Derivatives derivatives, JacobianRows& out) const override {
     const long xiColumn = 3 * static_cast<long>(x.rows());
     std::vector<const double*> blocks;
     std::vector<long> firstColumn;  // the same slots as column offsets
@@ -189,7 +249,7 @@ class ElementTerm : public EnergyTerm {
     for (int e = begin; e < end; ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
       parameterBlocks(elements_[e], 0L, xiColumn, firstColumn);
-      const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e]));
+      const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e], derivatives));
       const std::vector<int32_t>& sizes = cost->parameter_block_sizes();
       size_t total = 0;
       for (int32_t size : sizes) total += static_cast<size_t>(size) * Residual::kResiduals;
@@ -204,7 +264,7 @@ class ElementTerm : public EnergyTerm {
         // A block read through two slots (shared_block_cost.h) appears twice: sum its columns.
         row.clear();
         for (size_t b = 0; b < sizes.size(); ++b)
-          for (int c = 0; c < sizes[b]; ++c)
+          for (int c = skipped(derivatives, sizes[b]); c < sizes[b]; ++c)
             row.emplace_back(firstColumn[b] + c, jacobians[b][i * sizes[b] + c]);
         std::sort(row.begin(), row.end(),
                   [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -223,11 +283,12 @@ class ElementTerm : public EnergyTerm {
     }
   }
 
-  void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const override {
+  void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi,
+                         Derivatives derivatives) const override {
     std::vector<double*> blocks;
     for (const Residual& element : elements_) {
       parameterBlocks(element, positions, xi, blocks);
-      ceres::CostFunction* cost = shareRepeatedBlocks(costFunction(element), blocks);
+      ceres::CostFunction* cost = shareRepeatedBlocks(costFunction(element, derivatives), blocks);
       problem.AddResidualBlock(cost, nullptr, blocks);
     }
   }
@@ -239,6 +300,11 @@ class ElementTerm : public EnergyTerm {
     out.values.reserve(out.values.size() + elements * entries);
     out.rowStart.reserve(out.rowStart.size() + elements * Residual::kResiduals);
     out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
+  }
+
+  // The leading columns of a block not in the Jacobian rows: a vertex's x and y in height mode.
+  static int skipped(Derivatives derivatives, int blockSize) {
+    return derivatives == Derivatives::HeightOnly ? blockSize - 1 : 0;
   }
 
   NumericalError degenerate(size_t e) const {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "curvature/height_only_cost.h"
 #include "modeling/mesh.h"
 
 namespace ceres {
@@ -49,17 +50,20 @@ class EnergyTerm {
   // Per element: its energy ½ |r_e|², in element order.
   virtual Eigen::VectorXd elementEnergies(const Positions& x, const Eigen::VectorXd& xi) const = 0;
 
-  // Adds one residual block per element. `positions` is a row-major #V × 3 array whose rows are
-  // the vertex parameter blocks; `xi` the #E edge unknowns (one block each; midedge only). Every
-  // block the term reads must already be in `problem`.
-  virtual void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi) const = 0;
+  // Adds one residual block per element; with Derivatives::HeightOnly (height mode, x and y
+  // held by the problem) their Jacobians hold only ∂/∂z and ∂/∂ξ (height_only_cost.h). `positions`
+  // is a row-major #V × 3 array whose rows are the vertex parameter blocks; `xi` the #E edge
+  // unknowns (one block each; midedge only). Every block the term reads must already be in
+  // `problem`.
+  virtual void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi,
+                                 Derivatives derivatives) const = 0;
 
   // Appends the residuals and Jacobian rows at (x, ξ) of elements [begin, end), in element order
   // (the order of the residual blocks above); the same autodiff cost functions, evaluated
-  // directly. Reads only `this` and the arguments, so disjoint ranges may run concurrently.
-  // Throws NumericalError naming a degenerate element.
+  // directly. HeightOnly: only the z and ξ columns. Reads only `this` and the arguments, so
+  // disjoint ranges may run concurrently. Throws NumericalError naming a degenerate element.
   virtual void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
-                                  JacobianRows& out) const = 0;
+                                  Derivatives derivatives, JacobianRows& out) const = 0;
 };
 
 }  // namespace flexure::curvature

@@ -32,7 +32,8 @@ struct AssembledProblem {
     if (usesEdgeUnknowns(terms)) {
       for (int e = 0; e < xi.size(); ++e) problem.AddParameterBlock(xi.data() + e, 1);
     }
-    for (const EnergyTerm* term : terms) term->addResidualBlocks(problem, x.data(), xi.data());
+    for (const EnergyTerm* term : terms)
+      term->addResidualBlocks(problem, x.data(), xi.data(), curvature::Derivatives::All);
   }
 
   // No explicit parameter_blocks: Ceres then orders the unknowns as the blocks were added, which
@@ -81,7 +82,7 @@ struct Linearization {
 };
 
 Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                        const Eigen::VectorXd& xi) {
+                        const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
   struct Range {
     const EnergyTerm* term;
     int begin, end;
@@ -104,7 +105,7 @@ Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Posit
     for (size_t k = next++; k < ranges.size(); k = next++) {
       Range& range = ranges[k];
       try {
-        range.term->appendJacobianRows(x, xi, range.begin, range.end, range.rows);
+        range.term->appendJacobianRows(x, xi, range.begin, range.end, derivatives, range.rows);
       } catch (...) {
         range.error = std::current_exception();
       }
@@ -147,8 +148,8 @@ Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Posit
 }  // namespace
 
 SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                              const Eigen::VectorXd& xi) {
-  return linearize(terms, x, xi).jacobian;
+                              const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
+  return linearize(terms, x, xi, derivatives).jacobian;
 }
 
 namespace {
@@ -290,7 +291,8 @@ Eigen::VectorXd minimizeEdgeUnknowns(const std::vector<const EnergyTerm*>& terms
                                      const std::vector<bool>& freeEdge) {
   // Residuals are affine in ξ: r(ξ) = r(ξ0) + J_ξ (ξ − ξ0). Solve for the free part of ξ in the
   // unknown vector (positions fixed).
-  const Linearization at = linearize(terms, x, xi);
+  // Positions fixed: only the ξ columns matter, which the height-mode Jacobian holds.
+  const Linearization at = linearize(terms, x, xi, curvature::Derivatives::HeightOnly);
   const int positionCount = static_cast<int>(3 * x.rows());
   Eigen::VectorXd u = Eigen::VectorXd::Zero(at.jacobian.cols());
   std::vector<bool> free(at.jacobian.cols(), false);

@@ -30,8 +30,10 @@ EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const
 // The Jacobian J of the stacked residuals r at (x, ξ): E = ½ |r|², so at rest (r = 0) the
 // second-order expansion of E is E_lin(δ) = ½ |J δ|² (= |J' δ|² for the unscaled residuals r/√2
 // of docs/energies.md). Columns follow the unknown order above.
+// With Derivatives::HeightOnly only the z and ξ columns are filled (height_only_cost.h).
 SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                              const Eigen::VectorXd& xi);
+                              const Eigen::VectorXd& xi,
+                              curvature::Derivatives derivatives = curvature::Derivatives::All);
 
 // min over the unknowns marked free of ½ |J u + r0|², starting from the given u (the fixed
 // entries keep their values): returns the minimizing u. J is the residual Jacobian at positions

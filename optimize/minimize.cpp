@@ -61,13 +61,18 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
   const auto start = Clock::now();
   MinimizeResult result;
   const bool withXi = usesEdgeUnknowns(terms);
-  const SparseMatrix jacobian = residualJacobian(terms, rest, restXi);
+  // u = (X − X̄, ξ − ξ̄): the fixed entries from the boundary conditions, the free ones solved.
+  // In height mode with x, y at rest J's x and y columns meet only zeros: leave them out.
+  const Positions displacement = bc.start - rest;
+  const bool heightOnly =
+      options.dof == DofMode::Height && displacement.leftCols(2).cwiseAbs().maxCoeff() == 0.0;
+  const SparseMatrix jacobian = residualJacobian(
+      terms, rest, restXi,
+      heightOnly ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All);
   result.report.evaluationSeconds = secondsSince(start);
 
-  // u = (X − X̄, ξ − ξ̄): the fixed entries from the boundary conditions, the free ones solved.
   const int positionCount = static_cast<int>(rest.size());
   Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
-  const Positions displacement = bc.start - rest;
   u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(displacement.data(), positionCount);
   std::vector<bool> free(jacobian.cols(), false);
   for (int v = 0; v < rest.rows(); ++v) {
@@ -137,8 +142,13 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
       }
     }
   }
+  // Height mode: x and y are held by the manifold, so the residual blocks compute only ∂/∂z, ∂/∂ξ.
+  const curvature::Derivatives derivatives = options.dof == DofMode::Height
+                                                 ? curvature::Derivatives::HeightOnly
+                                                 : curvature::Derivatives::All;
   for (const EnergyTerm* term : terms)
-    term->addResidualBlocks(problem, result.positions.data(), withXi ? result.xi.data() : nullptr);
+    term->addResidualBlocks(problem, result.positions.data(), withXi ? result.xi.data() : nullptr,
+                            derivatives);
 
   ceres::Solver::Options solver;
   solver.minimizer_type = ceres::TRUST_REGION;

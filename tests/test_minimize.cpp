@@ -177,7 +177,7 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
       ++freeCount;
     }
   }
-  problem.term->addResidualBlocks(ceresProblem, x.data(), nullptr);
+  problem.term->addResidualBlocks(ceresProblem, x.data(), nullptr, curvature::Derivatives::All);
   ASSERT_GE(freeCount, optimize::kNestedDissectionMinBlocks);
   const auto ordering = optimize::nestedDissectionGroups(ceresProblem);
   ASSERT_NE(ordering, nullptr);
@@ -198,7 +198,7 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
                                    energy(Discretization::Hinge));
   modeling::Positions y = small.rest.positions;
   ceres::Problem smallProblem;
-  small.term->addResidualBlocks(smallProblem, y.data(), nullptr);
+  small.term->addResidualBlocks(smallProblem, y.data(), nullptr, curvature::Derivatives::All);
   EXPECT_EQ(optimize::nestedDissectionGroups(smallProblem), nullptr);
 
   // Same minimizer on either order; only the order's time is reported apart.

@@ -511,28 +511,46 @@ TEST(ResidualJacobian, DirectAssemblyIsCeresJacobian) {
     Eigen::VectorXd xi = setup.restXi;
     for (Eigen::Index e = 0; e < xi.size(); ++e) xi[e] += 0.01 * static_cast<double>(e % 7);
 
-    Positions ceresX = x;
-    Eigen::VectorXd ceresXi = xi;
-    ceres::Problem problem;
-    for (int v = 0; v < ceresX.rows(); ++v) problem.AddParameterBlock(ceresX.data() + 3 * v, 3);
-    const bool withXi = setup.term->usesEdgeUnknowns();
-    if (withXi)
-      for (Eigen::Index e = 0; e < ceresXi.size(); ++e)
-        problem.AddParameterBlock(ceresXi.data() + e, 1);
-    for (const auto* term : terms) term->addResidualBlocks(problem, ceresX.data(), ceresXi.data());
-    ceres::CRSMatrix crs;
-    ceres::Problem::EvaluateOptions options;
-    ASSERT_TRUE(problem.Evaluate(options, nullptr, nullptr, nullptr, &crs));
-    const Eigen::MatrixXd expected =
-        Eigen::Map<const optimize::SparseMatrix>(
-            crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()),
-            crs.rows.data(), crs.cols.data(), crs.values.data())
-            .toDense();
+    const auto ceresJacobian = [&](curvature::Derivatives derivatives) {
+      Positions ceresX = x;
+      Eigen::VectorXd ceresXi = xi;
+      ceres::Problem problem;
+      for (int v = 0; v < ceresX.rows(); ++v) problem.AddParameterBlock(ceresX.data() + 3 * v, 3);
+      if (setup.term->usesEdgeUnknowns())
+        for (Eigen::Index e = 0; e < ceresXi.size(); ++e)
+          problem.AddParameterBlock(ceresXi.data() + e, 1);
+      for (const auto* term : terms)
+        term->addResidualBlocks(problem, ceresX.data(), ceresXi.data(), derivatives);
+      ceres::CRSMatrix crs;
+      EXPECT_TRUE(
+          problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs));
+      return Eigen::Map<const optimize::SparseMatrix>(
+                 crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()),
+                 crs.rows.data(), crs.cols.data(), crs.values.data())
+          .toDense();
+    };
+    const Eigen::MatrixXd expected = ceresJacobian(curvature::Derivatives::All);
     const Eigen::MatrixXd direct = optimize::residualJacobian(terms, x, xi).toDense();
     ASSERT_EQ(direct.rows(), expected.rows());
     ASSERT_EQ(direct.cols(), expected.cols());
-    EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
-    EXPECT_LE((direct - expected).cwiseAbs().maxCoeff(), 1e-14 * expected.cwiseAbs().maxCoeff());
+    const double scale = expected.cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 0.0);
+    EXPECT_LE((direct - expected).cwiseAbs().maxCoeff(), 1e-14 * scale);
+
+    // Height mode: the z and ξ columns of the same Jacobian, x and y columns zero (bending terms;
+    // the membranes, only used in xyz mode, keep full derivatives that the direct rows drop).
+    Eigen::MatrixXd heightColumns = expected;
+    for (int v = 0; v < x.rows(); ++v) heightColumns.middleCols(3 * v, 2).setZero();
+    const Eigen::MatrixXd height =
+        optimize::residualJacobian(terms, x, xi, curvature::Derivatives::HeightOnly).toDense();
+    EXPECT_LE((height - heightColumns).cwiseAbs().maxCoeff(), 1e-14 * scale);
+    Eigen::MatrixXd ceresHeight = ceresJacobian(curvature::Derivatives::HeightOnly);
+    const Eigen::Index bendingRows = optimize::residualJacobian({setup.term.get()}, x, xi).rows();
+    for (int v = 0; v < x.rows(); ++v) {
+      EXPECT_EQ(ceresHeight.block(0, 3 * v, bendingRows, 2).cwiseAbs().maxCoeff(), 0.0);
+      ceresHeight.middleCols(3 * v, 2).setZero();
+    }
+    EXPECT_LE((ceresHeight - heightColumns).cwiseAbs().maxCoeff(), 1e-14 * scale);
   }
 }
 
