@@ -494,6 +494,8 @@ int main(int argc, char** argv) {
         throw std::runtime_error("--modes " + modes + ": expected nonlinear and/or linearized");
       }
     }
+    if (!s.nonlinear && !s.linearized)
+      throw std::runtime_error("--modes is empty: expected nonlinear and/or linearized");
     modeling::PolynomialSurface::parse(s.boundary);  // fail before any case runs
   } catch (const std::exception& e) {
     std::cerr << "solve_bench: " << e.what() << "\n";

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -66,49 +67,69 @@ inline ceres::CostFunction* costFunction(const EdgeSpringResidual& r) {
 inline ceres::CostFunction* costFunction(const AreaSpringResidual& r) {
   return fixedArityCost<AreaSpringResidual, 3, 3, 3>(r);
 }
-inline ceres::CostFunction* costFunction(const MidedgeResidual& r) {
+// A midedge face reads its three ξ, its three vertices and 0 to 3 flap vertices (boundary faces
+// lack some): `make(std::integral_constant<int, flaps>())`.
+template <class Make>
+ceres::CostFunction* withMidedgeFlaps(const MidedgeResidual& r, Make make) {
   switch (r.flapCount) {
     case 0:
-      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3>(r);
+      return make(std::integral_constant<int, 0>());
     case 1:
-      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3>(r);
+      return make(std::integral_constant<int, 1>());
     case 2:
-      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3, 3>(r);
+      return make(std::integral_constant<int, 2>());
     default:
-      return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, 3, 3, 3>(r);
+      return make(std::integral_constant<int, 3>());
   }
+}
+template <size_t... Flap>
+ceres::CostFunction* midedgeFixedCost(const MidedgeResidual& r, std::index_sequence<Flap...>) {
+  return fixedArityCost<MidedgeResidual, 1, 1, 1, 3, 3, 3, (static_cast<int>(Flap) * 0 + 3)...>(r);
+}
+inline ceres::CostFunction* costFunction(const MidedgeResidual& r) {
+  return withMidedgeFlaps(r, [&](auto flaps) {
+    return midedgeFixedCost(r, std::make_index_sequence<decltype(flaps)::value>());
+  });
 }
 // Cotan residuals read a vertex and its ring, so their arity is the valence + 1. Valences 3 to 8
 // (all of a 4-8 patch's, nearly all of a real mesh's) take fixed-size autodiff, one instantiation
 // per arity; rarer ones Ceres' dynamic autodiff (27 derivatives per pass, strided), which took
-// 1.5× as long per evaluation at valence 6.
+// 1.5× as long per evaluation at valence 6. `make(std::integral_constant<int, arity>())` for an
+// arity of 4 to 9, else nullptr.
+template <class Make>
+ceres::CostFunction* withCotanArity(const CotanMeanCurvatureResidual& r, Make make) {
+  switch (r.vertices.size()) {
+    case 4:
+      return make(std::integral_constant<int, 4>());
+    case 5:
+      return make(std::integral_constant<int, 5>());
+    case 6:
+      return make(std::integral_constant<int, 6>());
+    case 7:
+      return make(std::integral_constant<int, 7>());
+    case 8:
+      return make(std::integral_constant<int, 8>());
+    case 9:
+      return make(std::integral_constant<int, 9>());
+    default:
+      return nullptr;
+  }
+}
 template <size_t... Slot>
 ceres::CostFunction* cotanFixedCost(const CotanMeanCurvatureResidual& r,
                                     std::index_sequence<Slot...>) {
   return fixedArityCost<CotanMeanCurvatureResidual, (static_cast<int>(Slot) * 0 + 3)...>(r);
 }
 inline ceres::CostFunction* costFunction(const CotanMeanCurvatureResidual& r) {
-  switch (r.vertices.size()) {
-    case 4:
-      return cotanFixedCost(r, std::make_index_sequence<4>());
-    case 5:
-      return cotanFixedCost(r, std::make_index_sequence<5>());
-    case 6:
-      return cotanFixedCost(r, std::make_index_sequence<6>());
-    case 7:
-      return cotanFixedCost(r, std::make_index_sequence<7>());
-    case 8:
-      return cotanFixedCost(r, std::make_index_sequence<8>());
-    case 9:
-      return cotanFixedCost(r, std::make_index_sequence<9>());
-    default: {
-      auto* cost = new ceres::DynamicAutoDiffCostFunction<CotanMeanCurvatureResidual, 27>(
-          new CotanMeanCurvatureResidual(r));
-      for (size_t k = 0; k < r.vertices.size(); ++k) cost->AddParameterBlock(3);
-      cost->SetNumResiduals(1);
-      return cost;
-    }
-  }
+  if (ceres::CostFunction* fixed = withCotanArity(r, [&](auto arity) {
+        return cotanFixedCost(r, std::make_index_sequence<decltype(arity)::value>());
+      }))
+    return fixed;
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<CotanMeanCurvatureResidual, 27>(
+      new CotanMeanCurvatureResidual(r));
+  for (size_t k = 0; k < r.vertices.size(); ++k) cost->AddParameterBlock(3);
+  cost->SetNumResiduals(1);
+  return cost;
 }
 
 // Height-mode cost functions (height_only_cost.h), one derivative per block; nullptr where the
@@ -129,34 +150,14 @@ inline ceres::CostFunction* heightOnlyCost(const QuadraticFitResidual& r) {
   return heightOnlyCost<QuadraticFitResidual, 6>(r);
 }
 inline ceres::CostFunction* heightOnlyCost(const MidedgeResidual& r) {
-  switch (r.flapCount) {
-    case 0:
-      return heightOnlyCost<MidedgeResidual, 6>(r, 3);
-    case 1:
-      return heightOnlyCost<MidedgeResidual, 7>(r, 3);
-    case 2:
-      return heightOnlyCost<MidedgeResidual, 8>(r, 3);
-    default:
-      return heightOnlyCost<MidedgeResidual, 9>(r, 3);
-  }
+  return withMidedgeFlaps(r, [&](auto flaps) {
+    return heightOnlyCost<MidedgeResidual, 6 + decltype(flaps)::value>(r, 3);
+  });
 }
 inline ceres::CostFunction* heightOnlyCost(const CotanMeanCurvatureResidual& r) {
-  switch (r.vertices.size()) {
-    case 4:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 4>(r);
-    case 5:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 5>(r);
-    case 6:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 6>(r);
-    case 7:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 7>(r);
-    case 8:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 8>(r);
-    case 9:
-      return heightOnlyCost<CotanMeanCurvatureResidual, 9>(r);
-    default:
-      return nullptr;
-  }
+  return withCotanArity(r, [&](auto arity) {
+    return heightOnlyCost<CotanMeanCurvatureResidual, decltype(arity)::value>(r);
+  });
 }
 template <class Membrane>
 ceres::CostFunction* heightOnlyCost(const Membrane&) {

@@ -3,7 +3,9 @@
 // parameter block (a vertex block's z, or a ξ) instead of one per coordinate: a third of the
 // derivative arithmetic of the full Jacobian for vertex-only elements. The x and y columns of a
 // vertex block's Jacobian are written as zero; in a Ceres problem the SubsetManifold that holds
-// x and y drops them.
+// x and y drops them. Evaluation seconds in bench/solve_bench at n = 512, before → after
+// (separate runs): nonlinear cotan 7.0 → 3.0, triavg 9.0 → 4.8–6.4, midedge 10.9 → 4.9,
+// quadfit 6.0 → 3.1–3.6; linearized triavg 3.4 → 1.3, quadfit 2.7 → 1.0.
 #pragma once
 
 #include <ceres/cost_function.h>

@@ -73,9 +73,10 @@ namespace {
 // The stacked residuals r and their Jacobian J at (x, ξ), element by element without a Ceres
 // problem. Assembling one and having Ceres write its Jacobian as CRS took, for the rest Jacobian
 // of the n = 512 patch in bench/solve_bench (linearized "evaluation"), hinge 3.5 s, cotan 2.7,
-// quadfit 7.7, midedge 10; this takes 1.3, 1.7, 4.4 and 5.6 s on one thread (separate runs of
-// the benchmark). Each term's elements are split into one contiguous range per thread; the
-// ranges' rows are concatenated in element order, so J does not depend on the thread count.
+// quadfit 7.7, midedge 10; this took 1.3, 1.7, 4.4 and 5.6 s on one thread, and takes 0.5, 0.4,
+// 1.0 and 1.4 s on two threads with height-mode derivatives (separate runs of the benchmark).
+// Each term's elements are split into one contiguous range per thread; the ranges' rows are
+// concatenated in element order, so J does not depend on the thread count.
 struct Linearization {
   Eigen::VectorXd residuals;
   SparseMatrix jacobian;
@@ -158,8 +159,9 @@ namespace {
 // dissection of the vertices (a vertex's free coordinates together, at its position `at`);
 // order[k] = the renumbered free unknown eliminated k-th. Empty when a midedge ξ is free: there
 // CHOLMOD's AMD leaves less fill — the one-sided geometric separators hold every node of a band
-// as wide as the midedge stencil, 4× the nodes per length of a vertex energy's (n = 128: factor
-// nonzeros 1.1e7 geometric vs 4.6e6 AMD; cotan 1.65e6 vs 1.9e6).
+// as wide as the midedge stencil, 4× the nodes per length of a vertex energy's (n = 128, with ξ
+// placed around their edges, measured before the cut kept ties on one side: factor nonzeros
+// 1.1e7 geometric vs 4.6e6 AMD, where cotan's were 1.65e6 vs 1.9e6).
 std::vector<int> eliminationOrder(const SparseMatrix& jacobian, const std::vector<int>& freeColumns,
                                   const std::vector<int>& newIndex, const Positions& at) {
   const int positionCount = static_cast<int>(at.size());

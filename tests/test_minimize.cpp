@@ -216,11 +216,10 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
   EXPECT_LT((r.positions - onAmd.positions).cwiseAbs().maxCoeff(), 1e-8);
 }
 
-// Nonzeros of the Cholesky factor of the grid Laplacian-like matrix AᵀA (A: `residuals`) when
-// eliminated in `order` (order[k] = the node eliminated k-th).
-long factorNonzeros(const optimize::Incidence& residuals, int n, const std::vector<int>& order) {
-  std::vector<int> position(n);
-  for (int k = 0; k < n; ++k) position[order[k]] = k;
+// A positive definite matrix with the pattern of AᵀA (A: `residuals`; −1 where two nodes share a
+// residual, 8 on the diagonal, + 1e-3 I), node v in row and column position[v].
+Eigen::SparseMatrix<double> normalMatrix(const optimize::Incidence& residuals, int n,
+                                         const std::vector<int>& position) {
   std::vector<Eigen::Triplet<double>> entries;
   for (size_t r = 0; r + 1 < residuals.start.size(); ++r)
     for (int i = residuals.start[r]; i < residuals.start[r + 1]; ++i)
@@ -229,9 +228,16 @@ long factorNonzeros(const optimize::Incidence& residuals, int n, const std::vect
                              i == j ? 8.0 : -1.0);
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(entries.begin(), entries.end());
-  normal += 1e-3 * Eigen::SparseMatrix<double>(Eigen::VectorXd::Ones(n).asDiagonal());
+  return normal + 1e-3 * Eigen::SparseMatrix<double>(Eigen::VectorXd::Ones(n).asDiagonal());
+}
+
+// Nonzeros of that matrix's Cholesky factor when the nodes are eliminated in `order`
+// (order[k] = the node eliminated k-th).
+long factorNonzeros(const optimize::Incidence& residuals, int n, const std::vector<int>& order) {
+  std::vector<int> position(n);
+  for (int k = 0; k < n; ++k) position[order[k]] = k;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
-      factor(normal);
+      factor(normalMatrix(residuals, n, position));
   EXPECT_EQ(factor.info(), Eigen::Success);
   return factor.matrixL().nestedExpression().nonZeros();
 }
@@ -260,13 +266,7 @@ TEST(EliminationOrder, GeometricNestedDissectionOfAGridBeatsBandAndMinimumDegree
   ASSERT_EQ(sorted, identity);  // a permutation
 
   // Minimum degree (Eigen's AMD) as the reference a fill-reducing order must meet.
-  std::vector<Eigen::Triplet<double>> pattern;
-  for (size_t r = 0; r + 1 < residuals.start.size(); ++r)
-    for (int i = residuals.start[r]; i < residuals.start[r + 1]; ++i)
-      for (int j = residuals.start[r]; j < residuals.start[r + 1]; ++j)
-        pattern.emplace_back(residuals.nodes[i], residuals.nodes[j], 1.0);
-  Eigen::SparseMatrix<double> normal(n, n);
-  normal.setFromTriplets(pattern.begin(), pattern.end());
+  const Eigen::SparseMatrix<double> normal = normalMatrix(residuals, n, identity);
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
   Eigen::AMDOrdering<int>()(normal.selfadjointView<Eigen::Lower>(), amd);
   // Eigen's ordering gives P⁻¹: entry k is the node placed k-th, i.e. an order as above.
