@@ -284,6 +284,37 @@ class ElementTerm : public EnergyTerm {
     }
   }
 
+  void elementUnknowns(int e, Derivatives derivatives, int vertexCount,
+                       std::vector<long>& out) const override {
+    std::vector<long> firstColumn;
+    std::vector<int> sizes;
+    blockLayout(elements_[e], vertexCount, firstColumn, sizes);
+    curvature::elementUnknowns(sizes, firstColumn, derivatives, out);
+  }
+
+  void elementHessians(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
+                       Derivatives derivatives, ElementHessianSink& sink) const override {
+    std::vector<const double*> blocks;
+    std::vector<long> firstColumn;
+    std::vector<int> sizes;
+    ElementHessian hessian;
+    for (int e = begin; e < end; ++e) {
+      parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
+      blockLayout(elements_[e], static_cast<int>(x.rows()), firstColumn, sizes);
+      if (!elementHessian(elements_[e], blocks, sizes, firstColumn, derivatives, hessian)) {
+        if (hessian.unknowns.size() > static_cast<size_t>(kMaxHessianUnknowns)) {
+          throw InputError(name_ + ": " + elementKind_ + " " + std::to_string(elementIds_[e]) +
+                           " has " + std::to_string(hessian.unknowns.size()) +
+                           " unknowns, more than the exact Hessian supports (" +
+                           std::to_string(kMaxHessianUnknowns) +
+                           ": a vertex of valence 16 or more in --dof xyz); use --solver ceres");
+        }
+        throw degenerate(static_cast<size_t>(e));
+      }
+      sink.add(hessian);
+    }
+  }
+
   void addResidualBlocks(ceres::Problem& problem, double* positions, double* xi,
                          Derivatives derivatives) const override {
     std::vector<double*> blocks;
@@ -301,6 +332,16 @@ class ElementTerm : public EnergyTerm {
     out.values.reserve(out.values.size() + elements * entries);
     out.rowStart.reserve(out.rowStart.size() + elements * Residual::kResiduals);
     out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
+  }
+
+  // The first global unknown of each block the element reads, and the block's size (a vertex 3,
+  // a ξ 1).
+  static void blockLayout(const Residual& element, int vertexCount, std::vector<long>& firstColumn,
+                          std::vector<int>& sizes) {
+    const long xiColumn = 3 * static_cast<long>(vertexCount);
+    parameterBlocks(element, 0L, xiColumn, firstColumn);
+    sizes.clear();
+    for (long column : firstColumn) sizes.push_back(column >= xiColumn ? 1 : 3);
   }
 
   // The leading columns of a block not in the Jacobian rows: a vertex's x and y in height mode.

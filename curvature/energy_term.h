@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "curvature/element_hessian.h"
 #include "curvature/height_only_cost.h"
 #include "modeling/mesh.h"
 
@@ -64,6 +65,16 @@ class EnergyTerm {
   // disjoint ranges may run concurrently. Throws NumericalError naming a degenerate element.
   virtual void appendJacobianRows(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
                                   Derivatives derivatives, JacobianRows& out) const = 0;
+
+  // Element e's unknowns (element_hessian.h), in the order its Hessian uses.
+  virtual void elementUnknowns(int e, Derivatives derivatives, int vertexCount,
+                               std::vector<long>& out) const = 0;
+  // Hands `sink` the energy, gradient and exact Hessian (element_hessian.h) at (x, ξ) of each
+  // element in [begin, end), in order. Reads only `this` and the arguments, so disjoint ranges
+  // may run concurrently. Throws NumericalError naming a degenerate element, InputError naming an
+  // element with more than kMaxHessianUnknowns unknowns.
+  virtual void elementHessians(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
+                               Derivatives derivatives, ElementHessianSink& sink) const = 0;
 };
 
 }  // namespace flexure::curvature

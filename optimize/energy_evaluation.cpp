@@ -148,6 +148,13 @@ Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Posit
 
 }  // namespace
 
+EnergyGradient energyGradientFromJacobian(const std::vector<const EnergyTerm*>& terms,
+                                          const Positions& x, const Eigen::VectorXd& xi,
+                                          curvature::Derivatives derivatives) {
+  const Linearization at = linearize(terms, x, xi, derivatives);
+  return {0.5 * at.residuals.squaredNorm(), at.jacobian.transpose() * at.residuals};
+}
+
 SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                               const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
   return linearize(terms, x, xi, derivatives).jacobian;

@@ -27,6 +27,12 @@ bool usesEdgeUnknowns(const std::vector<const EnergyTerm*>& terms);
 EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                               const Eigen::VectorXd& xi);
 
+// E and ∇E = Jᵀr at (x, ξ) from the residual Jacobian assembled element by element on the
+// machine's cores (no Ceres problem); with Derivatives::HeightOnly the x and y entries are zero.
+EnergyGradient energyGradientFromJacobian(const std::vector<const EnergyTerm*>& terms,
+                                          const Positions& x, const Eigen::VectorXd& xi,
+                                          curvature::Derivatives derivatives);
+
 // The Jacobian J of the stacked residuals r at (x, ξ): E = ½ |r|², so at rest (r = 0) the
 // second-order expansion of E is E_lin(δ) = ½ |J δ|² (= |J' δ|² for the unscaled residuals r/√2
 // of docs/energies.md). Columns follow the unknown order above.

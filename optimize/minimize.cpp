@@ -8,6 +8,7 @@
 #include "modeling/errors.h"
 #include "optimize/elimination_order.h"
 #include "optimize/energy_evaluation.h"
+#include "optimize/newton_solver.h"
 
 namespace flexure::optimize {
 namespace {
@@ -97,8 +98,10 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
   result.positions = rest + Eigen::Map<const Positions>(u.data(), rest.rows(), 3);
   if (withXi) result.xi = restXi + u.tail(restXi.size());
   result.report.converged = true;
+  result.report.solver = "linearized";
   result.report.termination = "linearized: one sparse solve";
   result.report.iterations = 1;
+  result.report.factorizations = 1;
   result.report.residuals = static_cast<int>(jacobian.rows());
   int unknowns = 0;
   for (bool f : free) unknowns += f;
@@ -177,6 +180,8 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
 
   MinimizeReport& r = result.report;
   r.converged = summary.termination_type == ceres::CONVERGENCE;
+  r.solver = "ceres";
+  r.factorizations = summary.num_linear_solves;
   r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
                   summary.message;
   r.iterations = summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
@@ -202,6 +207,8 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
   MinimizeResult result;
   if (options.linearized) {
     result = minimizeLinearized(terms, conditions, rest, restXi, options);
+  } else if (options.solver == Solver::Newton) {
+    result = minimizeNewton(terms, conditions, rest, restXi, options);
   } else if (options.start == Start::Linearized) {
     const MinimizeResult predictor = minimizeLinearized(terms, conditions, rest, restXi, options);
     BoundaryConditions warm = conditions;
@@ -213,6 +220,7 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
     r.evaluationSeconds += predictor.report.evaluationSeconds;
     r.linearSolverSeconds += predictor.report.linearSolverSeconds;
     r.orderingSeconds += predictor.report.orderingSeconds;
+    r.factorizations += predictor.report.factorizations;
   } else {
     result = minimizeNonlinear(terms, conditions, options);
   }

@@ -25,13 +25,26 @@ enum class DofMode { Height, Xyz };
 // small correction; AsGiven: at the boundary conditions' `start` (the rest state, or --init).
 enum class Start { Linearized, AsGiven };
 
+// The nonlinear solver: flexure's Newton method on the exact Hessian (newton_solver.h), or
+// Ceres' Levenberg–Marquardt on the Gauss–Newton matrix JᵀJ, the reference.
+enum class Solver { Newton, Ceres };
+
+// Which Hessian Newton factors: the exact one, projected element by element to positive
+// semidefinite only in an iteration where the exact one is not positive definite (Auto), or
+// projected in every iteration (Projected; slower near the minimizer, where the exact Hessian
+// gives quadratic convergence).
+enum class HessianMode { Auto, Projected };
+
 struct MinimizeOptions {
+  Solver solver = Solver::Newton;
+  HessianMode hessian = HessianMode::Auto;
   DofMode dof = DofMode::Height;
   bool linearized = false;
   Start start = Start::Linearized;
   int maxIterations = 200;
-  double functionTolerance = 1e-12;   // Ceres: |Δcost| / cost
-  double gradientTolerance = 1e-10;   // Ceres: max-norm of the projected gradient
+  // Ceres: |Δcost| / cost. Newton: the predicted decrease ½ gᵀH⁻¹g of a full step / E.
+  double functionTolerance = 1e-12;
+  double gradientTolerance = 1e-10;   // max-norm of the gradient over the free unknowns
   double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
   int threads = 2;
   bool progress = false;  // one line per iteration on stderr
@@ -42,8 +55,10 @@ struct MinimizeOptions {
 
 struct MinimizeReport {
   bool converged = false;
-  std::string termination;  // Ceres' termination type and message, or "linear solve"
+  std::string solver;       // "newton", "ceres" or "linearized"
+  std::string termination;  // why the solver stopped
   int iterations = 0;
+  int factorizations = 0;  // numerical sparse Cholesky factorizations, the predictor's included
   double initialEnergy = 0.0, finalEnergy = 0.0;
   double gradientNorm = 0.0;  // final |∇E| over the free unknowns (2-norm)
   double totalSeconds = 0.0, evaluationSeconds = 0.0, linearSolverSeconds = 0.0;

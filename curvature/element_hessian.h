@@ -1,0 +1,149 @@
+// Exact second derivatives of one element's energy E_e = ½ |r_e|², from the same templated
+// residual functor that gives its values and Jacobian, evaluated with SecondOrderJet scalars:
+//
+//   ∇E_e = Σ_i r_i ∇r_i,   ∇²E_e = Σ_i (∇r_i ∇r_iᵀ + r_i ∇²r_i),
+//
+// over the element's unknowns: a vertex's x, y, z (Derivatives::All) or its z alone (HeightOnly,
+// x and y held), and a midedge ξ, in the order the element reads its blocks. At rest (r = 0) the
+// Hessian is the Gauss–Newton matrix JᵀJ exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <type_traits>
+#include <vector>
+
+#include "curvature/cotan_mean_curvature.h"
+#include "curvature/height_only_cost.h"
+#include "curvature/hinge_bending.h"
+#include "curvature/membrane.h"
+#include "curvature/midedge_normals.h"
+#include "curvature/quadratic_fit.h"
+#include "curvature/second_order_jet.h"
+#include "curvature/triangle_averaged.h"
+
+namespace flexure::curvature {
+
+// One element's energy, gradient and Hessian; unknowns[k] is the global unknown of local slot k
+// (3v + c for coordinate c of vertex v, 3 #V + e for ξ_e). A vertex read through two slots
+// (shared_block_cost.h) has two local slots with the same global unknown: a sum over slots
+// assembles it correctly.
+struct ElementHessian {
+  std::vector<long> unknowns;  // n
+  double energy = 0.0;
+  Eigen::VectorXd gradient;  // n
+  Eigen::MatrixXd hessian;   // n by n, symmetric
+};
+
+// Receives the elements' Hessians one at a time.
+class ElementHessianSink {
+ public:
+  virtual ~ElementHessianSink() = default;
+  virtual void add(const ElementHessian& element) = 0;
+};
+
+// The most unknowns an element of each type has (Derivatives::All); cotan rings have as many as
+// their valence allows: 3 (k + 1) for valence k.
+template <class Residual>
+constexpr int kMaxElementUnknowns = 48;
+template <>
+constexpr int kMaxElementUnknowns<HingeBendingResidual> = 12;
+template <>
+constexpr int kMaxElementUnknowns<TriangleAveragedResidual> = 18;
+template <>
+constexpr int kMaxElementUnknowns<QuadraticFitResidual> = 18;
+template <>
+constexpr int kMaxElementUnknowns<MidedgeResidual> = 21;
+template <>
+constexpr int kMaxElementUnknowns<StvkMembraneResidual> = 9;
+template <>
+constexpr int kMaxElementUnknowns<ConformalMembraneResidual> = 9;
+template <>
+constexpr int kMaxElementUnknowns<AreaSpringResidual> = 9;
+template <>
+constexpr int kMaxElementUnknowns<EdgeSpringResidual> = 6;
+// Larger than any element's: a cotan vertex of valence 16 or more in xyz mode.
+inline constexpr int kMaxHessianUnknowns = 48;
+
+// Calls f(std::integral_constant<int, N>()) with the smallest jet size N ≥ count among a few
+// sizes (each one instantiation of the kernels), up to the one that holds `Limit`. Unused slots
+// of a jet stay zero. Returns false when count exceeds every size.
+template <int Limit, class F>
+bool withJetSize(int count, F&& f) {
+  if (count <= 4) return f(std::integral_constant<int, 4>());
+  if constexpr (Limit > 4)
+    if (count <= 6) return f(std::integral_constant<int, 6>());
+  if constexpr (Limit > 6)
+    if (count <= 9) return f(std::integral_constant<int, 9>());
+  if constexpr (Limit > 9)
+    if (count <= 12) return f(std::integral_constant<int, 12>());
+  if constexpr (Limit > 12)
+    if (count <= 18) return f(std::integral_constant<int, 18>());
+  if constexpr (Limit > 18)
+    if (count <= 21) return f(std::integral_constant<int, 21>());
+  if constexpr (Limit > 21)
+    if (count <= 27) return f(std::integral_constant<int, 27>());
+  if constexpr (Limit > 27)
+    if (count <= 36) return f(std::integral_constant<int, 36>());
+  if constexpr (Limit > 36)
+    if (count <= 48) return f(std::integral_constant<int, 48>());
+  return false;
+}
+
+// Whether coordinate c of a block of `size` values is an unknown: all of them, or in height mode
+// a vertex's z and a ξ (the last value of a block).
+inline bool isElementUnknown(Derivatives derivatives, int c, int size) {
+  return derivatives == Derivatives::All || c == size - 1;
+}
+
+// The global unknowns of an element reading blocks of `sizes` whose first unknowns are
+// `firstUnknown`, in slot order.
+inline void elementUnknowns(const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                            Derivatives derivatives, std::vector<long>& out) {
+  out.clear();
+  for (size_t b = 0; b < sizes.size(); ++b)
+    for (int c = 0; c < sizes[b]; ++c)
+      if (isElementUnknown(derivatives, c, sizes[b])) out.push_back(firstUnknown[b] + c);
+}
+
+// Fills `out` for the element `residual` reading `blocks` (block b holds sizes[b] values, and its
+// first global unknown is firstUnknown[b]). Returns false where the element is degenerate (a
+// residual is not finite) or has more unknowns than kMaxHessianUnknowns (out.unknowns then holds
+// them all, so the caller can tell the two apart).
+template <class Residual>
+bool elementHessian(const Residual& residual, const std::vector<const double*>& blocks,
+                    const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                    Derivatives derivatives, ElementHessian& out) {
+  elementUnknowns(sizes, firstUnknown, derivatives, out.unknowns);
+  const int count = static_cast<int>(out.unknowns.size());
+  return withJetSize<kMaxElementUnknowns<Residual>>(count, [&](auto size) {
+    constexpr int N = decltype(size)::value;
+    using Jet = SecondOrderJet<N>;
+    std::vector<std::array<Jet, 3>> values(blocks.size());
+    std::vector<const Jet*> pointers(blocks.size());
+    int slot = 0;
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      for (int c = 0; c < sizes[b]; ++c)
+        values[b][c] = isElementUnknown(derivatives, c, sizes[b])
+                           ? Jet::variable(blocks[b][c], slot++)
+                           : Jet(blocks[b][c]);
+      pointers[b] = values[b].data();
+    }
+    std::array<Jet, Residual::kResiduals> r;
+    if (!residual(pointers.data(), r.data())) return false;
+    Eigen::Matrix<double, N, 1> gradient = Eigen::Matrix<double, N, 1>::Zero();
+    Eigen::Matrix<double, N, N> hessian = Eigen::Matrix<double, N, N>::Zero();
+    out.energy = 0.0;
+    for (const Jet& ri : r) {
+      out.energy += 0.5 * ri.a * ri.a;
+      gradient += ri.a * ri.v;
+      hessian.noalias() += ri.v * ri.v.transpose();
+      hessian += ri.a * ri.h;
+    }
+    out.gradient = gradient.head(count);
+    out.hessian = hessian.topLeftCorner(count, count);
+    return out.gradient.allFinite() && out.hessian.allFinite();
+  });
+}
+
+}  // namespace flexure::curvature

@@ -1,0 +1,296 @@
+#include "optimize/hessian_assembly.h"
+
+#include <cholmod.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+
+#include "modeling/errors.h"
+
+namespace flexure::optimize {
+namespace {
+
+// Threads for assembling: the machine's cores (flexure's targets have 2).
+int assemblyThreads() {
+  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 16);
+}
+
+// The nearest positive semidefinite matrix to a symmetric `h` in the Frobenius norm: V max(Λ, 0) Vᵀ.
+Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
+  if (eigen.eigenvalues().minCoeff() >= 0.0) return h;
+  const Eigen::VectorXd clamped = eigen.eigenvalues().cwiseMax(0.0);
+  return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+// One thread's share of an evaluation: element contributions summed into its own arrays.
+class Accumulator : public curvature::ElementHessianSink {
+ public:
+  Accumulator(const std::vector<int>& newIndex, const std::vector<int>& columnStart,
+              const std::vector<int>& rowIndex, HessianProjection projection,
+              const Eigen::VectorXd* fixedMove)
+      : newIndex_(newIndex),
+        columnStart_(columnStart),
+        rowIndex_(rowIndex),
+        projection_(projection),
+        fixedMove_(fixedMove) {
+    const int n = static_cast<int>(columnStart.size()) - 1;
+    out.gradient = Eigen::VectorXd::Zero(n);
+    out.values.assign(rowIndex.size(), 0.0);
+    if (fixedMove != nullptr) out.fixedCoupling = Eigen::VectorXd::Zero(n);
+  }
+
+  void add(const curvature::ElementHessian& element) override {
+    out.energy += element.energy;
+    const Eigen::MatrixXd& h = projection_ == HessianProjection::PositiveSemidefinite
+                                   ? (projected_ = projectedToPositiveSemidefinite(element.hessian))
+                                   : element.hessian;
+    const int count = static_cast<int>(element.unknowns.size());
+    for (int i = 0; i < count; ++i) {
+      const int p = newIndex_[element.unknowns[i]];
+      if (p < 0) continue;
+      out.gradient[p] += element.gradient[i];
+      for (int j = 0; j < count; ++j) {
+        const int q = newIndex_[element.unknowns[j]];
+        if (q < 0) {
+          if (fixedMove_ != nullptr) out.fixedCoupling[p] += h(i, j) * (*fixedMove_)[element.unknowns[j]];
+        } else if (p <= q) {
+          // Two slots of one unknown (p = q from i ≠ j) both land here, as the chain rule sums.
+          const auto begin = rowIndex_.begin() + columnStart_[q];
+          const auto end = rowIndex_.begin() + columnStart_[q + 1];
+          out.values[std::lower_bound(begin, end, p) - rowIndex_.begin()] += h(i, j);
+        }
+      }
+    }
+  }
+
+  HessianEvaluation out;
+
+ private:
+  const std::vector<int>& newIndex_;
+  const std::vector<int>& columnStart_;
+  const std::vector<int>& rowIndex_;
+  HessianProjection projection_;
+  const Eigen::VectorXd* fixedMove_;
+  Eigen::MatrixXd projected_;
+};
+
+}  // namespace
+
+HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
+                                 const std::vector<bool>& free, int vertexCount,
+                                 curvature::Derivatives derivatives)
+    : terms_(std::move(terms)),
+      derivatives_(derivatives),
+      vertexCount_(vertexCount),
+      newIndex_(free.size(), -1) {
+  for (int u = 0; u < static_cast<int>(free.size()); ++u) {
+    if (!free[u]) continue;
+    newIndex_[u] = static_cast<int>(freeUnknowns_.size());
+    freeUnknowns_.push_back(u);
+  }
+  std::vector<int> freeVertexNode(vertexCount, -1);
+  for (int u : freeUnknowns_)
+    if (u < 3 * vertexCount && freeVertexNode[u / 3] < 0) freeVertexNode[u / 3] = 0;
+  for (int v = 0, node = 0; v < vertexCount; ++v)
+    if (freeVertexNode[v] == 0) freeVertexNode[v] = node++;
+
+  // The pattern: every pair of free unknowns some element reads, upper triangle. Two passes over
+  // the elements (count per column, then fill), then each column sorted and deduplicated.
+  const int n = size();
+  std::vector<long> unknowns;
+  std::vector<int> local, count(n + 1, 0), vertices;
+  const auto forEachElement = [&](auto visit) {
+    for (const EnergyTerm* term : terms_) {
+      for (int e = 0; e < term->elementCount(); ++e) {
+        term->elementUnknowns(e, derivatives_, vertexCount_, unknowns);
+        local.clear();
+        for (long u : unknowns)
+          if (newIndex_[u] >= 0) local.push_back(newIndex_[u]);
+        visit(unknowns, local);
+      }
+    }
+  };
+  forEachElement([&](const std::vector<long>& all, const std::vector<int>& freeLocal) {
+    for (int q : freeLocal)
+      for (int p : freeLocal) count[q + 1] += p <= q;
+    vertices.clear();
+    for (long u : all)
+      if (u < 3L * vertexCount_ && newIndex_[u] >= 0) vertices.push_back(freeVertexNode[u / 3]);
+    freeVertices_.append(vertices);
+  });
+  for (int q = 0; q < n; ++q) count[q + 1] += count[q];
+  std::vector<int> rows(count[n]);
+  std::vector<int> fill(count.begin(), count.end() - 1);
+  forEachElement([&](const std::vector<long>&, const std::vector<int>& freeLocal) {
+    for (int q : freeLocal)
+      for (int p : freeLocal)
+        if (p <= q) rows[fill[q]++] = p;
+  });
+  columnStart_.assign(n + 1, 0);
+  rowIndex_.reserve(rows.size() / 4);
+  for (int q = 0; q < n; ++q) {
+    const auto begin = rows.begin() + count[q], end = rows.begin() + count[q + 1];
+    std::sort(begin, end);
+    rowIndex_.insert(rowIndex_.end(), begin, std::unique(begin, end));
+    columnStart_[q + 1] = static_cast<int>(rowIndex_.size());
+  }
+}
+
+HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::VectorXd& xi,
+                                            HessianProjection projection,
+                                            const Eigen::VectorXd* fixedMove) const {
+  struct Range {
+    const EnergyTerm* term;
+    int begin, end;
+  };
+  const int threads = assemblyThreads();
+  std::vector<Range> ranges;
+  for (const EnergyTerm* term : terms_) {
+    const long count = term->elementCount();
+    // A few ranges per thread, so that a thread that finishes early takes another.
+    const int parts = 4 * threads;
+    for (int t = 0; t < parts; ++t)
+      ranges.push_back({term, static_cast<int>(count * t / parts),
+                        static_cast<int>(count * (t + 1) / parts)});
+  }
+  std::vector<Accumulator> accumulators;
+  for (int t = 0; t < threads; ++t)
+    accumulators.emplace_back(newIndex_, columnStart_, rowIndex_, projection, fixedMove);
+  std::vector<std::exception_ptr> errors(ranges.size());
+  std::atomic<size_t> next{0};
+  const auto work = [&](int thread) {
+    for (size_t k = next++; k < ranges.size(); k = next++) {
+      try {
+        ranges[k].term->elementHessians(x, xi, ranges[k].begin, ranges[k].end, derivatives_,
+                                        accumulators[thread]);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+  work(0);
+  for (std::thread& helper : helpers) helper.join();
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);  // the first failing range in element order
+
+  // Summed in thread order, so the result does not depend on which thread took which range
+  // beyond the order of floating-point additions within each thread's share.
+  HessianEvaluation total = std::move(accumulators[0].out);
+  for (int t = 1; t < threads; ++t) {
+    const HessianEvaluation& part = accumulators[t].out;
+    total.energy += part.energy;
+    total.gradient += part.gradient;
+    for (size_t k = 0; k < total.values.size(); ++k) total.values[k] += part.values[k];
+    if (fixedMove != nullptr) total.fixedCoupling += part.fixedCoupling;
+  }
+  return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct HessianFactorization::Cholmod {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  std::vector<int> columnStart, rowIndex;  // copies CHOLMOD may view as non-const
+};
+
+namespace {
+
+cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>& rowIndex,
+                                 double* values) {
+  cholmod_sparse view{};
+  view.nrow = view.ncol = columnStart.size() - 1;
+  view.nzmax = rowIndex.size();
+  view.p = columnStart.data();
+  view.i = rowIndex.data();
+  view.x = values;
+  view.stype = 1;  // symmetric, upper triangle stored
+  view.itype = CHOLMOD_INT;
+  view.xtype = values != nullptr ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = 1;
+  return view;
+}
+
+}  // namespace
+
+HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
+                                           const std::vector<int>& order)
+    : cholmod_(std::make_unique<Cholmod>()), assembly_(assembly) {
+  Cholmod& c = *cholmod_;
+  c.columnStart = assembly.columnStart();
+  c.rowIndex = assembly.rowIndex();
+  cholmod_start(&c.common);
+  c.common.supernodal = CHOLMOD_SUPERNODAL;
+  c.common.nmethods = 1;
+  c.common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
+  c.common.quick_return_if_not_posdef = 1;
+  cholmod_sparse pattern = upperTriangleView(c.columnStart, c.rowIndex, nullptr);
+  std::vector<int> given = order;
+  c.factor = cholmod_analyze_p(&pattern, given.empty() ? nullptr : given.data(), nullptr, 0,
+                               &c.common);
+  if (c.factor == nullptr)
+    throw NumericalError("the sparse Cholesky analysis of the Hessian failed (out of memory?)");
+}
+
+HessianFactorization::~HessianFactorization() {
+  cholmod_free_factor(&cholmod_->factor, &cholmod_->common);
+  cholmod_finish(&cholmod_->common);
+}
+
+bool HessianFactorization::factor(const std::vector<double>& values, double shift) {
+  Cholmod& c = *cholmod_;
+  cholmod_sparse matrix =
+      upperTriangleView(c.columnStart, c.rowIndex, const_cast<double*>(values.data()));
+  double beta[2] = {shift, 0.0};
+  const int ok = cholmod_factorize_p(&matrix, beta, nullptr, 0, c.factor, &c.common);
+  return ok && c.common.status == CHOLMOD_OK && c.factor->minor == c.factor->n;
+}
+
+Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
+  Cholmod& c = *cholmod_;
+  Eigen::VectorXd rhs = b;
+  cholmod_dense view{};
+  view.nrow = view.d = view.nzmax = static_cast<size_t>(rhs.size());
+  view.ncol = 1;
+  view.x = rhs.data();
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* x = cholmod_solve(CHOLMOD_A, c.factor, &view, &c.common);
+  if (x == nullptr) throw NumericalError("the sparse Cholesky solve failed (out of memory?)");
+  Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), rhs.size());
+  cholmod_free_dense(&x, &c.common);
+  return out;
+}
+
+double HessianFactorization::factorNonzeros() const {
+  return cholmod_->common.lnz;
+}
+
+std::vector<int> hessianOrder(const HessianAssembly& assembly, const Positions& at) {
+  const std::vector<int>& unknowns = assembly.freeUnknowns();
+  if (unknowns.empty() || unknowns.back() >= 3 * at.rows()) return {};
+  // Nodes: the free vertices in index order, as the assembly numbered them.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> firstUnknown;
+  for (int k = 0; k < static_cast<int>(unknowns.size()); ++k) {
+    if (k > 0 && unknowns[k] / 3 == unknowns[k - 1] / 3) continue;
+    points.emplace_back(at.row(unknowns[k] / 3).transpose());
+    firstUnknown.push_back(k);
+  }
+  firstUnknown.push_back(static_cast<int>(unknowns.size()));
+  std::vector<int> order;
+  order.reserve(unknowns.size());
+  for (int node : geometricNestedDissection(points, assembly.freeVertexIncidence()))
+    for (int k = firstUnknown[node]; k < firstUnknown[node + 1]; ++k) order.push_back(k);
+  return order;
+}
+
+}  // namespace flexure::optimize

@@ -1,0 +1,303 @@
+#include "optimize/newton_solver.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "modeling/errors.h"
+#include "optimize/energy_evaluation.h"
+#include "optimize/hessian_assembly.h"
+
+namespace flexure::optimize {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The configuration (x, ξ) as one vector of all unknowns, and back.
+Eigen::VectorXd unknownVector(const Positions& x, const Eigen::VectorXd& xi, bool withXi) {
+  const Eigen::Index positions = x.size();
+  Eigen::VectorXd u(positions + (withXi ? xi.size() : 0));
+  u.head(positions) = Eigen::Map<const Eigen::VectorXd>(x.data(), positions);
+  if (withXi) u.tail(xi.size()) = xi;
+  return u;
+}
+
+class NewtonSolver {
+ public:
+  NewtonSolver(const std::vector<const EnergyTerm*>& terms, const BoundaryConditions& bc,
+               const Positions& rest, const Eigen::VectorXd& restXi,
+               const MinimizeOptions& options)
+      : terms_(terms),
+        bc_(bc),
+        rest_(rest),
+        restXi_(restXi),
+        options_(options),
+        withXi_(usesEdgeUnknowns(terms)),
+        derivatives_(options.dof == DofMode::Height ? curvature::Derivatives::HeightOnly
+                                                     : curvature::Derivatives::All),
+        free_(freeUnknowns()),
+        assembly_(terms, free_, static_cast<int>(rest.rows()), derivatives_),
+        factorization_(assembly_, hessianOrder(assembly_, rest)),
+        projection_(options.hessian == HessianMode::Projected
+                        ? HessianProjection::PositiveSemidefinite
+                        : HessianProjection::Exact) {}
+
+  MinimizeResult run(Clock::time_point start) {
+    report_.orderingSeconds = secondsSince(start);  // the pattern, the order and the analysis
+    MinimizeResult result;
+    result.positions = bc_.start;
+    if (withXi_) result.xi = bc_.xi;
+    if (options_.start == Start::Linearized) {
+      if (!predict(result)) return finish(std::move(result), start);
+    }
+    iterate(result);
+    return finish(std::move(result), start);
+  }
+
+ private:
+  std::vector<bool> freeUnknowns() const {
+    const int vertexCount = static_cast<int>(rest_.rows());
+    std::vector<bool> free(3 * vertexCount + (withXi_ ? restXi_.size() : 0), false);
+    for (int v = 0; v < vertexCount; ++v) {
+      if (bc_.fixedVertex[v]) continue;
+      for (int c = options_.dof == DofMode::Height ? 2 : 0; c < 3; ++c) free[3 * v + c] = true;
+    }
+    if (withXi_)
+      for (int e = 0; e < restXi_.size(); ++e) free[3 * vertexCount + e] = !bc_.fixedEdge[e];
+    return free;
+  }
+
+  HessianEvaluation evaluate(const Positions& x, const Eigen::VectorXd& xi,
+                             HessianProjection projection, const Eigen::VectorXd* fixedMove) {
+    const auto t = Clock::now();
+    HessianEvaluation e = assembly_.evaluate(x, xi, projection, fixedMove);
+    report_.evaluationSeconds += secondsSince(t);
+    return e;
+  }
+
+  // Factors H at (x, ξ), falling back to projected element Hessians and then to H + μI where H
+  // is not positive definite (see newton_solver.h). `h` is replaced by what was factored.
+  bool factor(HessianEvaluation& h, const Positions& x, const Eigen::VectorXd& xi,
+              const Eigen::VectorXd* fixedMove) {
+    const auto t = Clock::now();
+    ++report_.factorizations;
+    bool ok = factorization_.factor(h.values);
+    if (!ok && projection_ == HessianProjection::Exact) {
+      report_.linearSolverSeconds += secondsSince(t);
+      h = evaluate(x, xi, HessianProjection::PositiveSemidefinite, fixedMove);
+      ++projectedIterations_;
+      ++report_.factorizations;
+      ok = factorization_.factor(h.values);
+    }
+    double largestDiagonal = 0.0;
+    for (int q = 0; q < assembly_.size(); ++q)
+      largestDiagonal = std::max(largestDiagonal, h.values[assembly_.columnStart()[q + 1] - 1]);
+    for (double shift = 1e-10 * largestDiagonal; !ok && shift <= largestDiagonal; shift *= 100.0) {
+      ++report_.factorizations;
+      ++shiftedFactorizations_;
+      ok = factorization_.factor(h.values, shift);
+    }
+    report_.linearSolverSeconds += secondsSince(t);
+    return ok;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) {
+    const auto t = Clock::now();
+    Eigen::VectorXd x = factorization_.solve(b);
+    report_.linearSolverSeconds += secondsSince(t);
+    return x;
+  }
+
+  // (x, ξ) + α δ, δ over the free unknowns.
+  void step(const MinimizeResult& from, const Eigen::VectorXd& delta, double alpha,
+            MinimizeResult& to) const {
+    to.positions = from.positions;
+    to.xi = from.xi;
+    const std::vector<int>& unknowns = assembly_.freeUnknowns();
+    const long positions = from.positions.size();
+    for (size_t k = 0; k < unknowns.size(); ++k) {
+      const long u = unknowns[k];
+      if (u < positions)
+        to.positions.data()[u] += alpha * delta[static_cast<Eigen::Index>(k)];
+      else
+        to.xi[u - positions] += alpha * delta[static_cast<Eigen::Index>(k)];
+    }
+  }
+
+  // E, or +∞ where an element is degenerate.
+  double energy(const MinimizeResult& at) const {
+    double sum = 0.0;
+    try {
+      for (const EnergyTerm* term : terms_) sum += term->energy(at.positions, at.xi);
+    } catch (const NumericalError&) {
+      return std::numeric_limits<double>::infinity();
+    }
+    return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
+  }
+
+  // The Newton step from the rest state with the fixed unknowns moved to their values; false
+  // (the report says why) when it fails.
+  bool predict(MinimizeResult& result) {
+    const Positions move = bc_.start - rest_;
+    if (options_.dof == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
+      // x, y moved in height mode: the z-only Hessian has no coupling to them. Start from the
+      // linearized minimizer with all derivatives (one least-squares solve) instead.
+      MinimizeOptions linear = options_;
+      linear.linearized = true;
+      const MinimizeResult predictor = minimize(terms_, bc_, rest_, restXi_, linear);
+      result.positions = predictor.positions;
+      if (withXi_) result.xi = predictor.xi;
+      report_.factorizations += 1;
+      report_.evaluationSeconds += predictor.report.evaluationSeconds;
+      report_.linearSolverSeconds += predictor.report.linearSolverSeconds;
+      return true;
+    }
+    const Eigen::VectorXd fixedMove =
+        unknownVector(move, withXi_ ? Eigen::VectorXd(bc_.xi - restXi_) : Eigen::VectorXd(),
+                      withXi_);
+    const Eigen::VectorXd restXi = withXi_ ? restXi_ : Eigen::VectorXd();
+    HessianEvaluation h = evaluate(rest_, restXi, projection_, &fixedMove);
+    if (!factor(h, rest_, restXi, &fixedMove)) {
+      report_.termination = "the Hessian at rest could not be factored";
+      return false;
+    }
+    const Eigen::VectorXd delta = solve(-(h.gradient + h.fixedCoupling));
+    if (!delta.allFinite()) {
+      report_.termination = "the linearized predictor is not finite";
+      return false;
+    }
+    MinimizeResult atRest;
+    atRest.positions = bc_.start;  // the fixed unknowns at their values, the free ones at rest
+    if (withXi_) atRest.xi = bc_.xi;
+    const std::vector<int>& unknowns = assembly_.freeUnknowns();
+    const long positions = rest_.size();
+    for (int u : unknowns) {
+      if (u < positions)
+        atRest.positions.data()[u] = rest_.data()[u];
+      else
+        atRest.xi[u - positions] = restXi_[u - positions];
+    }
+    step(atRest, delta, 1.0, result);
+    return true;
+  }
+
+  void iterate(MinimizeResult& x) {
+    MinimizeResult trial;
+    bool first = true;
+    for (int iteration = 0;; ++iteration) {
+      HessianEvaluation h = evaluate(x.positions, x.xi, projection_, nullptr);
+      if (first) report_.initialEnergy = h.energy;
+      first = false;
+      report_.finalEnergy = h.energy;
+      gradient_ = h.gradient;
+      const double gradientMax = h.gradient.size() > 0 ? h.gradient.cwiseAbs().maxCoeff() : 0.0;
+      if (gradientMax <= options_.gradientTolerance) {
+        converge("gradient max-norm " + number(gradientMax) + " <= " +
+                 number(options_.gradientTolerance));
+        return;
+      }
+      if (iteration == options_.maxIterations) {
+        report_.termination = "no convergence in " + std::to_string(iteration) + " iterations";
+        return;
+      }
+      if (!factor(h, x.positions, x.xi, nullptr)) {
+        report_.termination = "the Hessian could not be made positive definite";
+        return;
+      }
+      const Eigen::VectorXd delta = solve(-h.gradient);
+      const double decrement = -h.gradient.dot(delta);  // λ², > 0 for a positive definite H
+      if (!std::isfinite(decrement) || decrement <= 0.0) {
+        report_.termination = "the Newton step is not a descent direction";
+        return;
+      }
+      double alpha = 1.0, trialEnergy = 0.0;
+      for (;; alpha *= 0.5) {
+        step(x, delta, alpha, trial);
+        trialEnergy = energy(trial);
+        // Armijo, with room for the roundoff of E itself when the decrease is at that level.
+        if (trialEnergy <= h.energy - 1e-4 * alpha * decrement + 1e-14 * std::abs(h.energy)) break;
+        if (alpha < 1e-12) {
+          report_.termination = "the line search found no decrease of the energy";
+          return;
+        }
+      }
+      std::swap(x, trial);
+      ++report_.iterations;
+      if (options_.progress) {
+        std::fprintf(stderr, "  iteration %3d  energy %.10e  |gradient|max %.3e  decrement %.3e  step %.3g\n",
+                     report_.iterations, trialEnergy, gradientMax, decrement, alpha);
+      }
+      if (alpha == 1.0 && 0.5 * decrement <= options_.functionTolerance * std::abs(h.energy)) {
+        const auto t = Clock::now();
+        const EnergyGradient g =
+            energyGradientFromJacobian(terms_, x.positions, x.xi, derivatives_);
+        report_.evaluationSeconds += secondsSince(t);
+        report_.finalEnergy = g.energy;
+        gradient_.resize(assembly_.size());
+        for (int k = 0; k < assembly_.size(); ++k) gradient_[k] = g.gradient[assembly_.freeUnknowns()[k]];
+        converge("predicted decrease " + number(0.5 * decrement) + " <= " +
+                 number(options_.functionTolerance) + " E");
+        return;
+      }
+    }
+  }
+
+  void converge(const std::string& why) {
+    report_.converged = true;
+    report_.termination = "CONVERGENCE: " + why;
+  }
+
+  static std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+  }
+
+  MinimizeResult finish(MinimizeResult result, Clock::time_point start) {
+    report_.solver = "newton";
+    if (!report_.converged && report_.termination.rfind("NO_CONVERGENCE", 0) != 0)
+      report_.termination = "NO_CONVERGENCE: " + report_.termination;
+    if (projectedIterations_ > 0 || shiftedFactorizations_ > 0) {
+      report_.termination += " (" + std::to_string(projectedIterations_) +
+                             " projected Hessians, " + std::to_string(shiftedFactorizations_) +
+                             " shifted factorizations)";
+    }
+    report_.gradientNorm = gradient_.size() > 0 ? gradient_.norm() : 0.0;
+    report_.unknowns = assembly_.size();
+    report_.totalSeconds = secondsSince(start);
+    result.report = report_;
+    return result;
+  }
+
+  const std::vector<const EnergyTerm*>& terms_;
+  const BoundaryConditions& bc_;
+  const Positions& rest_;
+  const Eigen::VectorXd& restXi_;
+  const MinimizeOptions& options_;
+  const bool withXi_;
+  const curvature::Derivatives derivatives_;
+  const std::vector<bool> free_;
+  HessianAssembly assembly_;
+  HessianFactorization factorization_;
+  const HessianProjection projection_;
+  MinimizeReport report_;
+  Eigen::VectorXd gradient_;
+  int projectedIterations_ = 0, shiftedFactorizations_ = 0;
+};
+
+}  // namespace
+
+MinimizeResult minimizeNewton(const std::vector<const EnergyTerm*>& terms,
+                              const BoundaryConditions& conditions, const Positions& rest,
+                              const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
+  const auto start = Clock::now();
+  NewtonSolver solver(terms, conditions, rest, restXi, options);
+  return solver.run(start);
+}
+
+}  // namespace flexure::optimize
