@@ -13,12 +13,18 @@
 namespace flexure::optimize {
 namespace {
 
-// Threads for assembling: the machine's cores (flexure's targets have 2).
+// The elements of each term are split into this many contiguous parts, each summed into its own
+// arrays, and the parts added in order: the result is the same bits on any machine and thread
+// count. Two, the cores of flexure's target machines; each part costs a copy of the matrix's
+// entries.
+constexpr int kAssemblyParts = 2;
+
 int assemblyThreads() {
-  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 16);
+  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, kAssemblyParts);
 }
 
-// The nearest positive semidefinite matrix to a symmetric `h` in the Frobenius norm: V max(Λ, 0) Vᵀ.
+// The nearest positive semidefinite matrix to a symmetric `h` in the Frobenius norm: V max(Λ, 0)
+// Vᵀ.
 Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
   if (eigen.eigenvalues().minCoeff() >= 0.0) return h;
@@ -56,7 +62,8 @@ class Accumulator : public curvature::ElementHessianSink {
       for (int j = 0; j < count; ++j) {
         const int q = newIndex_[element.unknowns[j]];
         if (q < 0) {
-          if (fixedMove_ != nullptr) out.fixedCoupling[p] += h(i, j) * (*fixedMove_)[element.unknowns[j]];
+          if (fixedMove_ != nullptr)
+            out.fixedCoupling[p] += h(i, j) * (*fixedMove_)[element.unknowns[j]];
         } else if (p <= q) {
           // Two slots of one unknown (p = q from i ≠ j) both land here, as the chain rule sums.
           const auto begin = rowIndex_.begin() + columnStart_[q];
@@ -143,46 +150,35 @@ HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
 HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::VectorXd& xi,
                                             HessianProjection projection,
                                             const Eigen::VectorXd* fixedMove) const {
-  struct Range {
-    const EnergyTerm* term;
-    int begin, end;
-  };
-  const int threads = assemblyThreads();
-  std::vector<Range> ranges;
-  for (const EnergyTerm* term : terms_) {
-    const long count = term->elementCount();
-    // A few ranges per thread, so that a thread that finishes early takes another.
-    const int parts = 4 * threads;
-    for (int t = 0; t < parts; ++t)
-      ranges.push_back({term, static_cast<int>(count * t / parts),
-                        static_cast<int>(count * (t + 1) / parts)});
-  }
   std::vector<Accumulator> accumulators;
-  for (int t = 0; t < threads; ++t)
+  accumulators.reserve(kAssemblyParts);
+  for (int part = 0; part < kAssemblyParts; ++part)
     accumulators.emplace_back(newIndex_, columnStart_, rowIndex_, projection, fixedMove);
-  std::vector<std::exception_ptr> errors(ranges.size());
-  std::atomic<size_t> next{0};
-  const auto work = [&](int thread) {
-    for (size_t k = next++; k < ranges.size(); k = next++) {
+  std::vector<std::exception_ptr> errors(kAssemblyParts);
+  std::atomic<int> next{0};
+  const auto work = [&] {
+    for (int part = next++; part < kAssemblyParts; part = next++) {
       try {
-        ranges[k].term->elementHessians(x, xi, ranges[k].begin, ranges[k].end, derivatives_,
-                                        accumulators[thread]);
+        for (const EnergyTerm* term : terms_) {
+          const long count = term->elementCount();
+          term->elementHessians(x, xi, static_cast<int>(count * part / kAssemblyParts),
+                                static_cast<int>(count * (part + 1) / kAssemblyParts), derivatives_,
+                                accumulators[part]);
+        }
       } catch (...) {
-        errors[k] = std::current_exception();
+        errors[part] = std::current_exception();
       }
     }
   };
   std::vector<std::thread> helpers;
-  for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
-  work(0);
+  for (int t = 1; t < assemblyThreads(); ++t) helpers.emplace_back(work);
+  work();
   for (std::thread& helper : helpers) helper.join();
   for (const std::exception_ptr& error : errors)
-    if (error) std::rethrow_exception(error);  // the first failing range in element order
+    if (error) std::rethrow_exception(error);  // the first failing part in element order
 
-  // Summed in thread order, so the result does not depend on which thread took which range
-  // beyond the order of floating-point additions within each thread's share.
   HessianEvaluation total = std::move(accumulators[0].out);
-  for (int t = 1; t < threads; ++t) {
+  for (int t = 1; t < kAssemblyParts; ++t) {
     const HessianEvaluation& part = accumulators[t].out;
     total.energy += part.energy;
     total.gradient += part.gradient;
@@ -232,10 +228,11 @@ HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
   c.common.nmethods = 1;
   c.common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
   c.common.quick_return_if_not_posdef = 1;
+  c.common.print = 0;  // a matrix that is not positive definite is an answer here, not a warning
   cholmod_sparse pattern = upperTriangleView(c.columnStart, c.rowIndex, nullptr);
   std::vector<int> given = order;
-  c.factor = cholmod_analyze_p(&pattern, given.empty() ? nullptr : given.data(), nullptr, 0,
-                               &c.common);
+  c.factor =
+      cholmod_analyze_p(&pattern, given.empty() ? nullptr : given.data(), nullptr, 0, &c.common);
   if (c.factor == nullptr)
     throw NumericalError("the sparse Cholesky analysis of the Hessian failed (out of memory?)");
 }

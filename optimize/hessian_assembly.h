@@ -25,8 +25,8 @@ using modeling::Positions;
 enum class HessianProjection { Exact, PositiveSemidefinite };
 
 struct HessianEvaluation {
-  double energy = 0.0;       // E at the point
-  Eigen::VectorXd gradient;  // n: ∂E over the free unknowns
+  double energy = 0.0;         // E at the point
+  Eigen::VectorXd gradient;    // n: ∂E over the free unknowns
   std::vector<double> values;  // the upper triangle's entries, in the pattern's order
   // n: Σ_j H_ij d_j over the fixed unknowns j, for a move d of the fixed unknowns (the
   // linearized predictor's right-hand side); empty unless a move was given.

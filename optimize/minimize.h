@@ -29,15 +29,15 @@ enum class Start { Linearized, AsGiven };
 // Ceres' Levenberg–Marquardt on the Gauss–Newton matrix JᵀJ, the reference.
 enum class Solver { Newton, Ceres };
 
-// Which Hessian Newton factors: the exact one, projected element by element to positive
-// semidefinite only in an iteration where the exact one is not positive definite (Auto), or
-// projected in every iteration (Projected; slower near the minimizer, where the exact Hessian
-// gives quadratic convergence).
-enum class HessianMode { Auto, Projected };
+// Which Hessian Newton factors: the exact one, shifted by μI in an iteration where it is not
+// positive definite (Exact), or the sum of the element Hessians projected to positive
+// semidefinite in every iteration (Projected; measured slower: the projection drops the
+// curvature a step needs, and near the minimizer the convergence is no longer quadratic).
+enum class HessianMode { Exact, Projected };
 
 struct MinimizeOptions {
   Solver solver = Solver::Newton;
-  HessianMode hessian = HessianMode::Auto;
+  HessianMode hessian = HessianMode::Exact;
   DofMode dof = DofMode::Height;
   bool linearized = false;
   Start start = Start::Linearized;

@@ -3,11 +3,12 @@
 // Each iteration assembles E, ∇E and ∇²E over the free unknowns (hessian_assembly.h), factors
 // ∇²E with CHOLMOD (supernodal; the symbolic analysis is done once for the problem and reused),
 // and steps along δ = −(∇²E)⁻¹ ∇E with a backtracking line search on the true energy (Armijo:
-// E(x + αδ) ≤ E(x) + 10⁻⁴ α ∇Eᵀδ, α halved). Where the exact Hessian is not positive definite
-// (away from a minimizer) the element Hessians are projected to positive semidefinite and, if
-// that is still singular, μI is added (μ growing 100-fold from 10⁻¹⁰ of the largest diagonal
-// entry) — so every step is a descent direction. Near the minimizer the exact Hessian is positive
-// definite and the convergence quadratic.
+// E(x + αδ) ≤ E(x) + 10⁻⁴ α ∇Eᵀδ, α halved). Where the Hessian is not positive definite (away
+// from a minimizer, e.g. a compressed membrane about to buckle) μI is added, the smallest μ of a
+// 10-fold sequence that makes it so — every step is a descent direction. Near a strict minimizer
+// the exact Hessian is positive definite and the convergence quadratic. HessianMode::Projected
+// factors the sum of the element Hessians projected to positive semidefinite instead, in every
+// iteration.
 //
 // Start::Linearized: the first step is the Newton step from the rest state with the fixed
 // unknowns moved to their values — at a stress-free rest (every residual zero) the Hessian is

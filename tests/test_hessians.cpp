@@ -65,7 +65,8 @@ Mesh fanMesh(int k) {
     faces.emplace_back(r1, o1, o2);
   }
   m.triangles.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (size_t f = 0; f < faces.size(); ++f) m.triangles.row(static_cast<Eigen::Index>(f)) = faces[f];
+  for (size_t f = 0; f < faces.size(); ++f)
+    m.triangles.row(static_cast<Eigen::Index>(f)) = faces[f];
   return m;
 }
 
@@ -123,7 +124,8 @@ std::vector<Energy> allEnergies() {
   bending("hinge tan", Discretization::Hinge,
           [](BendingOptions& o) { o.hingeAngle = curvature::HingeAngle::Tan; });
   bending("triavg", Discretization::TriangleAveraged, same);
-  bending("triavg nu=0", Discretization::TriangleAveraged, [](BendingOptions& o) { o.poisson = 0.0; });
+  bending("triavg nu=0", Discretization::TriangleAveraged,
+          [](BendingOptions& o) { o.poisson = 0.0; });
   bending("cotan voronoi", Discretization::Cotan, same);
   bending("cotan barycentric", Discretization::Cotan,
           [](BendingOptions& o) { o.vertexArea = curvature::VertexArea::Barycentric; });
