@@ -468,8 +468,7 @@ void printTable(const json& records) {
                  primarySeconds(r), cell(seconds, "evaluation", "%.3f").c_str(),
                  cell(seconds, "linear_solver", "%.3f").c_str(),
                  cell(r, "iterations", "%.0f").c_str(), cell(r, "factorizations", "%.0f").c_str(),
-                 converged.c_str(),
-                 cell(r, "ratio_to_floor", "%.2f").c_str(),
+                 converged.c_str(), cell(r, "ratio_to_floor", "%.2f").c_str(),
                  cell(r, "ratio_to_cgal_fair", "%.3f").c_str(),
                  cell(r, "ratio_to_ceres", "%.3f").c_str(), r["peak_memory_mb"].get<double>(),
                  r.contains("error") ? ("  ERROR: " + r["error"].get<std::string>()).c_str() : "");

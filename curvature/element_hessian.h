@@ -35,6 +35,11 @@ struct ElementHessian {
   Eigen::MatrixXd hessian;   // n by n, symmetric
 };
 
+// Which second derivatives: the exact ∇²E_e, or the Gauss–Newton part J_eᵀJ_e alone (first
+// derivatives only, by Ceres' autodiff: much cheaper), which equals ∇²E_e where r_e = 0, e.g. at
+// a stress-free rest state.
+enum class SecondDerivatives { Exact, GaussNewton };
+
 // Receives the elements' Hessians one at a time.
 class ElementHessianSink {
  public:
@@ -138,8 +143,10 @@ bool elementHessian(const Residual& residual, const std::vector<const double*>& 
       out.energy += 0.5 * ri.a * ri.a;
       gradient += ri.a * ri.v;
       hessian.noalias() += ri.v * ri.v.transpose();
-      hessian += ri.a * ri.h;
+      for (int i = 0; i < count; ++i)
+        for (int j = i; j < count; ++j) hessian(i, j) += ri.a * ri.hessian(i, j);
     }
+    hessian.template triangularView<Eigen::StrictlyLower>() = hessian.transpose();
     out.gradient = gradient.head(count);
     out.hessian = hessian.topLeftCorner(count, count);
     return out.gradient.allFinite() && out.hessian.allFinite();

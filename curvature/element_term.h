@@ -293,7 +293,8 @@ class ElementTerm : public EnergyTerm {
   }
 
   void elementHessians(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
-                       Derivatives derivatives, ElementHessianSink& sink) const override {
+                       Derivatives derivatives, SecondDerivatives kind,
+                       ElementHessianSink& sink) const override {
     std::vector<const double*> blocks;
     std::vector<long> firstColumn;
     std::vector<int> sizes;
@@ -301,6 +302,11 @@ class ElementTerm : public EnergyTerm {
     for (int e = begin; e < end; ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
       blockLayout(elements_[e], static_cast<int>(x.rows()), firstColumn, sizes);
+      if (kind == SecondDerivatives::GaussNewton) {
+        gaussNewtonHessian(e, blocks, sizes, firstColumn, derivatives, hessian);
+        sink.add(hessian);
+        continue;
+      }
       if (!elementHessian(elements_[e], blocks, sizes, firstColumn, derivatives, hessian)) {
         if (hessian.unknowns.size() > static_cast<size_t>(kMaxHessianUnknowns)) {
           throw InputError(name_ + ": " + elementKind_ + " " + std::to_string(elementIds_[e]) +
@@ -332,6 +338,35 @@ class ElementTerm : public EnergyTerm {
     out.values.reserve(out.values.size() + elements * entries);
     out.rowStart.reserve(out.rowStart.size() + elements * Residual::kResiduals);
     out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
+  }
+
+  // J_eᵀJ_e, J_eᵀr_e and ½|r_e|² of element e from its Ceres cost function (first derivatives),
+  // over the unknowns of elementUnknowns (a slot's columns; in height mode its last one).
+  void gaussNewtonHessian(int e, const std::vector<const double*>& blocks,
+                          const std::vector<int>& sizes, const std::vector<long>& firstColumn,
+                          Derivatives derivatives, ElementHessian& out) const {
+    curvature::elementUnknowns(sizes, firstColumn, derivatives, out.unknowns);
+    const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e], derivatives));
+    const int count = static_cast<int>(out.unknowns.size());
+    std::vector<double> storage;
+    std::vector<double*> jacobians;
+    for (int size : sizes) storage.resize(storage.size() + size * Residual::kResiduals);
+    for (size_t b = 0, offset = 0; b < sizes.size(); offset += sizes[b] * Residual::kResiduals, ++b)
+      jacobians.push_back(storage.data() + offset);
+    Eigen::Matrix<double, Residual::kResiduals, 1> r;
+    if (!cost->Evaluate(blocks.data(), r.data(), jacobians.data()))
+      throw degenerate(static_cast<size_t>(e));
+    Eigen::MatrixXd j(Residual::kResiduals, count);
+    for (size_t b = 0, slot = 0; b < sizes.size(); ++b)
+      for (int c = 0; c < sizes[b]; ++c)
+        if (isElementUnknown(derivatives, c, sizes[b])) {
+          for (int i = 0; i < Residual::kResiduals; ++i)
+            j(i, static_cast<Eigen::Index>(slot)) = jacobians[b][i * sizes[b] + c];
+          ++slot;
+        }
+    out.energy = 0.5 * r.squaredNorm();
+    out.gradient = j.transpose() * r;
+    out.hessian = j.transpose() * j;
   }
 
   // The first global unknown of each block the element reads, and the block's size (a vertex 3,

@@ -69,12 +69,14 @@ class EnergyTerm {
   // Element e's unknowns (element_hessian.h), in the order its Hessian uses.
   virtual void elementUnknowns(int e, Derivatives derivatives, int vertexCount,
                                std::vector<long>& out) const = 0;
-  // Hands `sink` the energy, gradient and exact Hessian (element_hessian.h) at (x, ξ) of each
-  // element in [begin, end), in order. Reads only `this` and the arguments, so disjoint ranges
-  // may run concurrently. Throws NumericalError naming a degenerate element, InputError naming an
-  // element with more than kMaxHessianUnknowns unknowns.
+  // Hands `sink` the energy, gradient and Hessian (element_hessian.h: exact, or its Gauss–Newton
+  // part) at (x, ξ) of each element in [begin, end), in order. Reads only `this` and the
+  // arguments, so disjoint ranges may run concurrently. Throws NumericalError naming a
+  // degenerate element, InputError naming an element with more than kMaxHessianUnknowns
+  // unknowns (exact only).
   virtual void elementHessians(const Positions& x, const Eigen::VectorXd& xi, int begin, int end,
-                               Derivatives derivatives, ElementHessianSink& sink) const = 0;
+                               Derivatives derivatives, SecondDerivatives kind,
+                               ElementHessianSink& sink) const = 0;
 };
 
 }  // namespace flexure::curvature

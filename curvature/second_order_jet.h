@@ -10,22 +10,29 @@
 // provides. (A nested ceres::Jet<Jet<double, N>, N> would do the same, but Ceres 2.1's Jet has no
 // implicit construction from a double, which the kernels' T(0.0) and double × T need.)
 //
-// The Hessian is stored whole (N × N); every update keeps it symmetric.
+// The Hessian is symmetric, so only its upper triangle is stored and computed (packed).
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace flexure::curvature {
 
 template <int N>
 struct SecondOrderJet {
   using Gradient = Eigen::Matrix<double, N, 1>;
-  using Hessian = Eigen::Matrix<double, N, N>;
+  // The Hessian's upper triangle, row by row: entry (i, j ≥ i) at i N − i (i − 1)/2 + j − i.
+  static constexpr int kPacked = N * (N + 1) / 2;
+  using PackedHessian = std::array<double, kPacked>;
 
   double a = 0.0;  // the value; named as ceres::Jet's, so scalarPart() reads both
   Gradient v = Gradient::Zero();
-  Hessian h = Hessian::Zero();
+  PackedHessian h{};
+  // A constant (the kernels' T(0.5), rest data): its derivatives are zero, and an operation with
+  // it is done as one with a double.
+  bool constant = true;
 
   SecondOrderJet() = default;
   explicit SecondOrderJet(double value) : a(value) {}
@@ -33,7 +40,14 @@ struct SecondOrderJet {
   static SecondOrderJet variable(double value, int k) {
     SecondOrderJet x(value);
     x.v[k] = 1.0;
+    x.constant = false;
     return x;
+  }
+
+  // ∂²f/∂x_i∂x_j.
+  double hessian(int i, int j) const {
+    if (i > j) std::swap(i, j);
+    return h[i * N - i * (i - 1) / 2 + j - i];
   }
 
   SecondOrderJet& operator+=(const SecondOrderJet& g) { return *this = *this + g; }
@@ -41,37 +55,37 @@ struct SecondOrderJet {
   SecondOrderJet& operator*=(const SecondOrderJet& g) { return *this = *this * g; }
   SecondOrderJet& operator/=(const SecondOrderJet& g) { return *this = *this / g; }
 
-  friend SecondOrderJet operator-(const SecondOrderJet& f) {
-    SecondOrderJet r;
-    r.a = -f.a;
-    r.v = -f.v;
-    r.h = -f.h;
-    return r;
-  }
+  friend SecondOrderJet operator-(const SecondOrderJet& f) { return scaled(f, -1.0); }
   friend SecondOrderJet operator+(const SecondOrderJet& f, const SecondOrderJet& g) {
+    if (g.constant) return shifted(f, g.a);
+    if (f.constant) return shifted(g, f.a);
     SecondOrderJet r;
+    r.constant = false;
     r.a = f.a + g.a;
     r.v = f.v + g.v;
-    r.h = f.h + g.h;
+    for (int k = 0; k < kPacked; ++k) r.h[k] = f.h[k] + g.h[k];
     return r;
   }
   friend SecondOrderJet operator-(const SecondOrderJet& f, const SecondOrderJet& g) {
-    SecondOrderJet r;
-    r.a = f.a - g.a;
-    r.v = f.v - g.v;
-    r.h = f.h - g.h;
-    return r;
+    return f + scaled(g, -1.0);
   }
+  // ∇²(fg) = f ∇²g + g ∇²f + ∇f ∇gᵀ + ∇g ∇fᵀ.
   friend SecondOrderJet operator*(const SecondOrderJet& f, const SecondOrderJet& g) {
+    if (g.constant) return scaled(f, g.a);
+    if (f.constant) return scaled(g, f.a);
     SecondOrderJet r;
+    r.constant = false;
     r.a = f.a * g.a;
     r.v = f.a * g.v + g.a * f.v;
-    r.h = f.a * g.h + g.a * f.h;
-    r.h.noalias() += f.v * g.v.transpose();
-    r.h.noalias() += g.v * f.v.transpose();
+    for (int i = 0, k = 0; i < N; ++i) {
+      const double fi = f.v[i], gi = g.v[i];
+      for (int j = i; j < N; ++j, ++k)
+        r.h[k] = f.a * g.h[k] + g.a * f.h[k] + fi * g.v[j] + gi * f.v[j];
+    }
     return r;
   }
   friend SecondOrderJet operator/(const SecondOrderJet& f, const SecondOrderJet& g) {
+    if (g.constant) return scaled(f, 1.0 / g.a);
     return f * reciprocal(g);
   }
 
@@ -90,10 +104,14 @@ struct SecondOrderJet {
   // g(f) for a unary g with g(f.a) = value, g′(f.a) = first, g″(f.a) = second.
   friend SecondOrderJet chain(const SecondOrderJet& f, double value, double first, double second) {
     SecondOrderJet r;
+    r.constant = f.constant;
     r.a = value;
+    if (f.constant) return r;
     r.v = first * f.v;
-    r.h = first * f.h;
-    r.h.noalias() += second * (f.v * f.v.transpose());
+    for (int i = 0, k = 0; i < N; ++i) {
+      const double fi = second * f.v[i];
+      for (int j = i; j < N; ++j, ++k) r.h[k] = first * f.h[k] + fi * f.v[j];
+    }
     return r;
   }
   // 1/f: g′ = −1/f², g″ = 2/f³.
@@ -118,13 +136,17 @@ struct SecondOrderJet {
     const double dy = x.a / rho, dx = -y.a / rho;
     const double dyy = -2.0 * x.a * y.a / rho2, dxx = -dyy, dxy = (y.a * y.a - x.a * x.a) / rho2;
     SecondOrderJet r;
+    r.constant = x.constant && y.constant;
     r.a = std::atan2(y.a, x.a);
+    if (r.constant) return r;
     r.v = dy * y.v + dx * x.v;
-    r.h = dy * y.h + dx * x.h;
-    r.h.noalias() += dyy * (y.v * y.v.transpose());
-    r.h.noalias() += dxx * (x.v * x.v.transpose());
-    r.h.noalias() += dxy * (x.v * y.v.transpose());
-    r.h.noalias() += dxy * (y.v * x.v.transpose());
+    for (int i = 0, k = 0; i < N; ++i) {
+      const double yi = y.v[i], xi = x.v[i];
+      for (int j = i; j < N; ++j, ++k) {
+        r.h[k] = dy * y.h[k] + dx * x.h[k] + dyy * yi * y.v[j] + dxx * xi * x.v[j] +
+                 dxy * (xi * y.v[j] + yi * x.v[j]);
+      }
+    }
     return r;
   }
 
@@ -135,8 +157,9 @@ struct SecondOrderJet {
   }
   static SecondOrderJet scaled(SecondOrderJet f, double s) {
     f.a *= s;
+    if (f.constant) return f;
     f.v *= s;
-    f.h *= s;
+    for (double& entry : f.h) entry *= s;
     return f;
   }
 };

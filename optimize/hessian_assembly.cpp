@@ -149,7 +149,8 @@ HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
 
 HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::VectorXd& xi,
                                             HessianProjection projection,
-                                            const Eigen::VectorXd* fixedMove) const {
+                                            const Eigen::VectorXd* fixedMove,
+                                            curvature::SecondDerivatives kind) const {
   std::vector<Accumulator> accumulators;
   accumulators.reserve(kAssemblyParts);
   for (int part = 0; part < kAssemblyParts; ++part)
@@ -163,7 +164,7 @@ HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::Vec
           const long count = term->elementCount();
           term->elementHessians(x, xi, static_cast<int>(count * part / kAssemblyParts),
                                 static_cast<int>(count * (part + 1) / kAssemblyParts), derivatives_,
-                                accumulators[part]);
+                                kind, accumulators[part]);
         }
       } catch (...) {
         errors[part] = std::current_exception();

@@ -47,9 +47,11 @@ class HessianAssembly {
 
   // E, ∇E and ∇²E at (x, ξ), on the machine's cores. `fixedMove` (all unknowns; read at the fixed
   // ones) fills fixedCoupling. Throws NumericalError naming a degenerate element.
-  HessianEvaluation evaluate(const Positions& x, const Eigen::VectorXd& xi,
-                             HessianProjection projection,
-                             const Eigen::VectorXd* fixedMove = nullptr) const;
+  // GaussNewton: JᵀJ in place of ∇²E (curvature/element_hessian.h).
+  HessianEvaluation evaluate(
+      const Positions& x, const Eigen::VectorXd& xi, HessianProjection projection,
+      const Eigen::VectorXd* fixedMove = nullptr,
+      curvature::SecondDerivatives kind = curvature::SecondDerivatives::Exact) const;
 
   // Which free vertices each element reads (nodes = vertex indices), for elimination orders.
   const Incidence& freeVertexIncidence() const { return freeVertices_; }

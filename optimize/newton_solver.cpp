@@ -71,10 +71,12 @@ class NewtonSolver {
     return free;
   }
 
-  HessianEvaluation evaluate(const Positions& x, const Eigen::VectorXd& xi,
-                             HessianProjection projection, const Eigen::VectorXd* fixedMove) {
+  HessianEvaluation evaluate(
+      const Positions& x, const Eigen::VectorXd& xi, HessianProjection projection,
+      const Eigen::VectorXd* fixedMove,
+      curvature::SecondDerivatives kind = curvature::SecondDerivatives::Exact) {
     const auto t = Clock::now();
-    HessianEvaluation e = assembly_.evaluate(x, xi, projection, fixedMove);
+    HessianEvaluation e = assembly_.evaluate(x, xi, projection, fixedMove, kind);
     report_.evaluationSeconds += secondsSince(t);
     return e;
   }
@@ -143,8 +145,10 @@ class NewtonSolver {
     return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
   }
 
-  // The Newton step from the rest state with the fixed unknowns moved to their values; false
-  // (the report says why) when it fails.
+  // The Gauss–Newton step from the rest state with the fixed unknowns moved to their values:
+  // JᵀJ from first derivatives, which at a stress-free rest (r = 0) is the exact Hessian, so
+  // that the step is the Newton step and the linearized minimizer. Its factor serves the first
+  // chord steps. false (the report says why) when it fails.
   bool predict(MinimizeResult& result) {
     const Positions move = bc_.start - rest_;
     if (options_.dof == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
@@ -163,7 +167,8 @@ class NewtonSolver {
     const Eigen::VectorXd fixedMove = unknownVector(
         move, withXi_ ? Eigen::VectorXd(bc_.xi - restXi_) : Eigen::VectorXd(), withXi_);
     const Eigen::VectorXd restXi = withXi_ ? restXi_ : Eigen::VectorXd();
-    HessianEvaluation h = evaluate(rest_, restXi, projection_, &fixedMove);
+    HessianEvaluation h =
+        evaluate(rest_, restXi, projection_, &fixedMove, curvature::SecondDerivatives::GaussNewton);
     if (!factor(h)) {
       report_.termination = "the Hessian at rest could not be factored";
       return false;
@@ -185,19 +190,42 @@ class NewtonSolver {
         atRest.xi[u - positions] = restXi_[u - positions];
     }
     step(atRest, delta, 1.0, result);
+    haveFactor_ = true;
     return true;
   }
 
+  // E and ∇E over the free unknowns at x, from first derivatives only (no Hessian).
+  HessianEvaluation gradientAt(const MinimizeResult& x) {
+    const auto t = Clock::now();
+    const EnergyGradient g = energyGradientFromJacobian(terms_, x.positions, x.xi, derivatives_);
+    report_.evaluationSeconds += secondsSince(t);
+    HessianEvaluation out;
+    out.energy = g.energy;
+    out.gradient.resize(assembly_.size());
+    for (int k = 0; k < assembly_.size(); ++k)
+      out.gradient[k] = g.gradient[assembly_.freeUnknowns()[k]];
+    return out;
+  }
+
+  // Each iteration evaluates E and ∇E (first derivatives) and, while a factor is at hand, the
+  // step δ = −F⁻¹∇E with it. The iteration has converged when the decrease ½ ∇Eᵀ F⁻¹ ∇E it
+  // predicts is below functionTolerance · E — no new factorization is made to confirm. Otherwise
+  // δ is taken as a chord step if the predicted decrease shrank at least kChordContraction-fold
+  // since the last step (the factor still describes E well: modified Newton converges linearly
+  // with that rate), else the exact Hessian at x is assembled and factored: a Newton step.
   void iterate(MinimizeResult& x) {
     MinimizeResult trial;
-    bool first = true;
+    double previousDecrement = std::numeric_limits<double>::infinity();
     for (int iteration = 0;; ++iteration) {
-      HessianEvaluation h = evaluate(x.positions, x.xi, projection_, nullptr);
-      if (first) report_.initialEnergy = h.energy;
-      first = false;
-      report_.finalEnergy = h.energy;
-      gradient_ = h.gradient;
-      const double gradientMax = h.gradient.size() > 0 ? h.gradient.cwiseAbs().maxCoeff() : 0.0;
+      HessianEvaluation at = gradientAt(x);
+      if (iteration == 0) report_.initialEnergy = at.energy;
+      report_.finalEnergy = at.energy;
+      gradient_ = at.gradient;
+      const double gradientMax = at.gradient.size() > 0 ? at.gradient.cwiseAbs().maxCoeff() : 0.0;
+      if (!std::isfinite(at.energy) || !at.gradient.allFinite()) {
+        report_.termination = "the energy or its gradient is not finite";
+        return;
+      }
       if (gradientMax <= options_.gradientTolerance) {
         converge("gradient max-norm " + number(gradientMax) +
                  " <= " + number(options_.gradientTolerance));
@@ -207,49 +235,85 @@ class NewtonSolver {
         report_.termination = "no convergence in " + std::to_string(iteration) + " iterations";
         return;
       }
-      if (!factor(h)) {
-        report_.termination = "the Hessian could not be made positive definite";
-        return;
+      Eigen::VectorXd delta;
+      double decrement = 0.0;
+      bool chord = false;
+      if (haveFactor_) {
+        delta = solve(-at.gradient);
+        decrement = -at.gradient.dot(delta);
+        if (decrement > 0.0 &&
+            0.5 * decrement <= options_.functionTolerance * std::abs(at.energy)) {
+          finalStep(x, at, delta, "predicted decrease " + number(0.5 * decrement));
+          return;
+        }
+        chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
       }
-      const Eigen::VectorXd delta = solve(-h.gradient);
-      const double decrement = -h.gradient.dot(delta);  // λ², > 0 for a positive definite H
-      if (!std::isfinite(decrement) || decrement <= 0.0) {
-        report_.termination = "the Newton step is not a descent direction";
-        return;
+      if (!chord) {
+        HessianEvaluation h = evaluate(x.positions, x.xi, projection_, nullptr);
+        if (!factor(h)) {
+          report_.termination = "the Hessian could not be made positive definite";
+          return;
+        }
+        haveFactor_ = true;
+        delta = solve(-h.gradient);
+        decrement = -h.gradient.dot(delta);  // λ², > 0 for a positive definite H
+        if (!std::isfinite(decrement) || decrement <= 0.0) {
+          report_.termination = "the Newton step is not a descent direction";
+          return;
+        }
+        if (0.5 * decrement <= options_.functionTolerance * std::abs(at.energy)) {
+          finalStep(x, at, delta, "Newton decrement " + number(0.5 * decrement));
+          return;
+        }
       }
       double alpha = 1.0, trialEnergy = 0.0;
+      bool decreased = true;
       for (;; alpha *= 0.5) {
         step(x, delta, alpha, trial);
         trialEnergy = energy(trial);
         // Armijo, with room for the roundoff of E itself when the decrease is at that level.
-        if (trialEnergy <= h.energy - 1e-4 * alpha * decrement + 1e-14 * std::abs(h.energy)) break;
-        if (alpha < 1e-12) {
-          report_.termination = "the line search found no decrease of the energy";
-          return;
+        if (trialEnergy <= at.energy - 1e-4 * alpha * decrement + 1e-14 * std::abs(at.energy))
+          break;
+        if (alpha < (chord ? 0.1 : 1e-12)) {
+          decreased = false;
+          break;
         }
       }
-      std::swap(x, trial);
-      ++report_.iterations;
-      if (options_.progress) {
-        std::fprintf(
-            stderr,
-            "  iteration %3d  energy %.10e  |gradient|max %.3e  decrement %.3e  step %.3g\n",
-            report_.iterations, trialEnergy, gradientMax, decrement, alpha);
-      }
-      if (alpha == 1.0 && 0.5 * decrement <= options_.functionTolerance * std::abs(h.energy)) {
-        const auto t = Clock::now();
-        const EnergyGradient g =
-            energyGradientFromJacobian(terms_, x.positions, x.xi, derivatives_);
-        report_.evaluationSeconds += secondsSince(t);
-        report_.finalEnergy = g.energy;
-        gradient_.resize(assembly_.size());
-        for (int k = 0; k < assembly_.size(); ++k)
-          gradient_[k] = g.gradient[assembly_.freeUnknowns()[k]];
-        converge("predicted decrease " + number(0.5 * decrement) +
-                 " <= " + number(options_.functionTolerance) + " E");
+      if (!decreased && !chord) {
+        report_.termination = "the line search found no decrease of the energy";
         return;
       }
+      // A chord step that needed damping, or failed, asks for a new factor next time.
+      previousDecrement = chord && alpha < 1.0 ? 0.0 : decrement;
+      if (!decreased) continue;
+      std::swap(x, trial);
+      ++report_.iterations;
+      ++(chord ? chordSteps_ : newtonSteps_);
+      if (options_.progress) {
+        std::fprintf(stderr,
+                     "  iteration %3d  %-6s energy %.10e  |gradient|max %.3e  decrement %.3e  "
+                     "step %.3g\n",
+                     report_.iterations, chord ? "chord" : "newton", trialEnergy, gradientMax,
+                     decrement, alpha);
+      }
     }
+  }
+
+  // Converged at x, whose predicted decrease is below the tolerance: the step δ already solved
+  // for is taken too where it does not raise E beyond roundoff (it costs no factorization and
+  // brings x closer by the step's contraction), and ∇E is evaluated for the report.
+  void finalStep(MinimizeResult& x, const HessianEvaluation& at, const Eigen::VectorXd& delta,
+                 const std::string& why) {
+    MinimizeResult trial;
+    step(x, delta, 1.0, trial);
+    if (energy(trial) <= at.energy + 1e-14 * std::abs(at.energy)) {
+      std::swap(x, trial);
+      const HessianEvaluation end = gradientAt(x);
+      report_.finalEnergy = end.energy;
+      gradient_ = end.gradient;
+    }
+    converge(why + " <= " + number(options_.functionTolerance) +
+             " E = " + number(options_.functionTolerance * std::abs(at.energy)));
   }
 
   void converge(const std::string& why) {
@@ -267,6 +331,8 @@ class NewtonSolver {
     report_.solver = "newton";
     if (!report_.converged && report_.termination.rfind("NO_CONVERGENCE", 0) != 0)
       report_.termination = "NO_CONVERGENCE: " + report_.termination;
+    report_.termination += " after " + std::to_string(newtonSteps_) + " Newton and " +
+                           std::to_string(chordSteps_) + " chord steps";
     if (shiftedIterations_ > 0) {
       report_.termination += " (" + std::to_string(shiftedIterations_) +
                              " iterations with an indefinite Hessian, shifted by mu I)";
@@ -291,6 +357,11 @@ class NewtonSolver {
   const HessianProjection projection_;
   MinimizeReport report_;
   Eigen::VectorXd gradient_;
+  // A chord step is taken while the predicted decrease shrinks at least this much per step
+  // (the error about √ of it).
+  static constexpr double kChordContraction = 0.1;
+  bool haveFactor_ = false;  // a factor from an earlier point (the predictor's or a Newton step's)
+  int newtonSteps_ = 0, chordSteps_ = 0;
   int shiftedIterations_ = 0, shiftedFactorizations_ = 0;
   double lastShift_ = 0.0;
 };

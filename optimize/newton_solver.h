@@ -1,23 +1,23 @@
-// Newton's method on the exact Hessian for the static minimizers of minimize.h.
+// Newton's method on the exact Hessian for the static minimizers of minimize.h, reusing each
+// sparse factorization for as long as it pays.
 //
-// Each iteration assembles E, ∇E and ∇²E over the free unknowns (hessian_assembly.h), factors
-// ∇²E with CHOLMOD (supernodal; the symbolic analysis is done once for the problem and reused),
-// and steps along δ = −(∇²E)⁻¹ ∇E with a backtracking line search on the true energy (Armijo:
-// E(x + αδ) ≤ E(x) + 10⁻⁴ α ∇Eᵀδ, α halved). Where the Hessian is not positive definite (away
-// from a minimizer, e.g. a compressed membrane about to buckle) μI is added, the smallest μ of a
-// 10-fold sequence that makes it so — every step is a descent direction. Near a strict minimizer
-// the exact Hessian is positive definite and the convergence quadratic. HessianMode::Projected
-// factors the sum of the element Hessians projected to positive semidefinite instead, in every
-// iteration.
+// Every iteration evaluates E and ∇E over the free unknowns (first derivatives) and, with the
+// last factor F, the step δ = −F⁻¹∇E and its predicted decrease ½ λ² = −½ ∇Eᵀδ. Converged when
+// that is at most functionTolerance · E, or when ‖∇E‖∞ ≤ gradientTolerance: no factorization is
+// made only to confirm. Otherwise δ is taken as a chord step (modified Newton) while λ² shrinks
+// at least 10-fold per step; when it does not, the exact Hessian at the iterate is assembled
+// (hessian_assembly.h) and factored with CHOLMOD (supernodal; the symbolic analysis is done
+// once per problem and reused) for a Newton step, converging quadratically near the minimizer.
+// Steps are searched on the true energy (Armijo: E(x + αδ) ≤ E(x) + 10⁻⁴ α ∇Eᵀδ, α halved).
+// Where the Hessian is not positive definite (away from a minimizer, e.g. a compressed membrane
+// about to buckle) μI is added, the smallest μ of a 10-fold sequence that makes it so: every
+// step is a descent direction. HessianMode::Projected factors the sum of the element Hessians
+// projected to positive semidefinite instead.
 //
-// Start::Linearized: the first step is the Newton step from the rest state with the fixed
-// unknowns moved to their values — at a stress-free rest (every residual zero) the Hessian is
-// JᵀJ and this step is the linearized minimizer; its factorization shares the analysis.
-//
-// Stops, converged, when the gradient's max-norm is at most gradientTolerance, or when a full
-// step (α = 1) was predicted to lower E by at most functionTolerance · E (½ λ², λ² = −∇Eᵀδ the
-// Newton decrement): the gradient is then evaluated once more (first derivatives only) and
-// reported. No factorization is made only to confirm convergence.
+// Start::Linearized: the first step is the Gauss–Newton step from the rest state with the fixed
+// unknowns moved to their values — at a stress-free rest (every residual zero) JᵀJ is the exact
+// Hessian and this is the Newton step and the linearized minimizer; its factor is the first one
+// the chord steps use.
 #pragma once
 
 #include <vector>

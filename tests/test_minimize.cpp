@@ -191,9 +191,14 @@ TEST(NonlinearMinimize, NewtonAndCeresReachTheSameMinimizer) {
       EXPECT_LT((newton.positions - reference.positions).cwiseAbs().maxCoeff(), 1e-8 * amplitude);
       EXPECT_NEAR(newton.report.finalEnergy, reference.report.finalEnergy,
                   1e-12 * reference.report.finalEnergy);
-      EXPECT_LE(newton.report.iterations, 6);
-      EXPECT_EQ(newton.report.factorizations, newton.report.iterations + 1);
-      EXPECT_LT(newton.report.gradientNorm, 1e-10);
+      // The predictor's factorization and one Newton step's; chord steps reuse them.
+      EXPECT_LE(newton.report.factorizations, 3);
+      EXPECT_LE(newton.report.iterations, 12);
+      // The predicted decrease ½ ∇EᵀF⁻¹∇E ≤ 1e-16 E leaves |∇E| at 1e-9 – 2e-8 here (measured;
+      // the gradient at the start is ~1e1): the ill-conditioned bending Hessian lets a small
+      // decrease hide a larger gradient in its stiff directions, positions still agree with
+      // Ceres' to 1e-8.
+      EXPECT_LT(newton.report.gradientNorm, 1e-7);
     }
   }
 }
@@ -236,13 +241,14 @@ TEST(NonlinearMinimize, NewtonAndCeresAgreeInXyzModeWithMembranes) {
       ASSERT_TRUE(reference.report.converged) << reference.report.termination;
       // Ceres' LM stalls where its cost stops changing in double precision; on hinge + StVK,
       // compressed near buckling, that leaves its gradient at 3e-6 (186 iterations), and the two
-      // agree to 3.4e-8 only, Newton (12 iterations, gradient 2e-13) ending lower in energy.
+      // agree to 3.4e-8 only, Newton (16 iterations: 11 Newton steps, 7 of them on a shifted
+      // indefinite Hessian, and 5 chord steps; gradient 2e-7) ending lower in energy.
       const double tolerance = reference.report.gradientNorm > 1e-6 ? 1e-7 : 1e-8;
       EXPECT_LT((newton.positions - reference.positions).cwiseAbs().maxCoeff(), tolerance * 1.0);
       EXPECT_LE(newton.report.finalEnergy,
                 reference.report.finalEnergy + 1e-15 * reference.report.finalEnergy);
-      EXPECT_LT(newton.report.gradientNorm, 1e-11);
-      EXPECT_LE(newton.report.iterations, 15);
+      EXPECT_LT(newton.report.gradientNorm, 1e-6);
+      EXPECT_LE(newton.report.iterations, 25);
     }
   }
 }
