@@ -88,6 +88,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
 
   optimize::MinimizeOptions solver;
   solver.threads = o.threads;
+  applySolverArguments(o.solver, solver);
   render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
   const fs::path dir(o.outputDir);
   render::FigureGrid grid;
@@ -119,6 +120,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
                         {"n", o.n},
                         {"vertices", minimizer.vertexCount()},
                         {"converged", result.report.converged},
+                        {"solver", result.report.solver},
                         {"iterations", result.report.iterations},
                         {"final_energy", result.report.finalEnergy},
                         {"c2_error", error},
@@ -177,6 +179,7 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--size", o.size, "Panel size in pixels (square)")->capture_default_str();
   sub->add_option("--stripes", o.stripes, "Stripes per panel")->capture_default_str();
   sub->add_option("--threads", o.threads, "Solver threads")->capture_default_str();
+  addSolverArguments(*sub, o.solver);
   sub->footer(
       "Writes DIR/compare.png (rows = families, columns = energies, each panel titled with its "
       "C2 error), DIR/<family>-<energy>.png and DIR/compare.json.\n"

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/solver_arguments.h"
 
 namespace flexure::cli {
 
@@ -19,6 +20,7 @@ struct CompareOptions {
   int size = 400;  // panel width and height in pixels
   int stripes = 12;
   int threads = 2;
+  SolverArguments solver;
 };
 
 // Checks every option and generates the meshes (InputError, nothing written), solves and renders

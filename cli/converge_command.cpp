@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/solver_arguments.h"
 #include "cli/study_outputs.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
@@ -22,6 +23,7 @@ struct ConvergeCommandOptions {
   std::string quadratics, solution = optimize::kDefaultSolution;
   std::optional<double> poisson;
   std::string outputDir;
+  SolverArguments solver;
 };
 
 // "a,b,c;a,b,c;…" → quadratics. Throws InputError quoting the entry.
@@ -85,6 +87,10 @@ optimize::StudyOptions studyOptions(const ConvergeCommandOptions& o, bool famili
   study.amplitudes = o.amplitudes;
   study.solution = o.solution == "none" ? "" : o.solution;
   study.threads = o.threads;
+  optimize::MinimizeOptions solver;
+  applySolverArguments(o.solver, solver);
+  study.solver = solver.solver;
+  study.hessian = solver.hessian;
   return study;
 }
 
@@ -140,6 +146,7 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                   "cotan are nu = 1 models)");
   sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
       ->capture_default_str();
+  addSolverArguments(*sub, options->solver);
   sub->add_option("-o,--output", options->outputDir, "Output directory (created if missing)")
       ->required();
   sub->footer(

@@ -13,6 +13,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
+#include "cli/solver_arguments.h"
 #include "modeling/boundary_rings.h"
 #include "modeling/errors.h"
 #include "modeling/fairing_region.h"
@@ -42,6 +43,7 @@ struct FairCommandOptions {
   std::string start = "best";
   int renderSize = 700;
   optimize::MinimizeOptions solver;
+  SolverArguments solverArguments;
 };
 
 double secondsSince(Clock::time_point start) {
@@ -186,6 +188,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     throw InputError("--render-size must be in [64, 4096] (got " + std::to_string(o.renderSize) +
                      ")");
   const bool cgal = o.method == "cgal";
+  optimize::MinimizeOptions solver = o.solver;
+  applySolverArguments(o.solverArguments, solver);
   if (o.start != "best" && o.start != "biharmonic" && o.start != "input")
     throw InputError("--start " + o.start + ": expected best, biharmonic or input");
   BendingArguments bendingArguments = o.bending;
@@ -229,7 +233,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     options.start = o.start == "input"        ? optimize::FairingStart::Input
                     : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                               : optimize::FairingStart::Best;
-    options.solver = o.solver;
+    options.solver = solver;
     options.solver.progress = !global.quiet;
     optimize::FairingResult result = optimize::fairNonlinear(patch, options);
     patchAfter = std::move(result.positions);
@@ -263,10 +267,14 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["stiffness"] = bending.stiffness;
     report["membrane"] = {{"model", o.membrane}, {"weight", o.membraneWeight}};
     report["start"] = startUsed;
-    report["solver"] = {
-        {"termination", solve->termination},          {"iterations", solve->iterations},
-        {"initial_energy", solve->initialEnergy},     {"final_energy", solve->finalEnergy},
-        {"final_gradient_norm", solve->gradientNorm}, {"unknowns", solve->unknowns}};
+    report["solver"] = {{"name", solve->solver},
+                        {"factorizations", solve->factorizations},
+                        {"termination", solve->termination},
+                        {"iterations", solve->iterations},
+                        {"initial_energy", solve->initialEnergy},
+                        {"final_energy", solve->finalEnergy},
+                        {"final_gradient_norm", solve->gradientNorm},
+                        {"unknowns", solve->unknowns}};
   }
   if (choice.filled) {
     nlohmann::json holes = nlohmann::json::array();
@@ -351,6 +359,7 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "
                   "bending energy) | biharmonic (the linear fair) | input")
       ->capture_default_str();
+  addSolverArguments(*sub, options->solverArguments);
   sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
   sub->add_option("--threads", options->solver.threads)->capture_default_str();
   sub->add_option("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();

@@ -8,6 +8,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
+#include "cli/solver_arguments.h"
 #include "curvature/membrane_energy.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
@@ -31,6 +32,7 @@ struct MinimizeCommandOptions {
   std::string start;  // linearized | given; empty: linearized with --boundary, given with --init
   bool linearized = false;
   optimize::MinimizeOptions solver;
+  SolverArguments solverArguments;
 };
 
 void requireSameConnectivity(const std::string& file, const modeling::Mesh& mesh,
@@ -90,8 +92,10 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
       {"linearized", o.linearized},
       {"start", o.linearized ? "" : startName(o)},
       {"converged", r.converged},
+      {"solver", r.solver},
       {"termination", r.termination},
       {"iterations", r.iterations},
+      {"factorizations", r.factorizations},
       {"initial_energy", r.initialEnergy},
       {"final_energy", r.finalEnergy},
       {"final_gradient_norm", r.gradientNorm},
@@ -120,6 +124,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   const curvature::BendingOptions b = bendingOptions(o.bending);
   const bool midedge = b.discretization == curvature::Discretization::Midedge;
   optimize::MinimizeOptions solver = o.solver;
+  applySolverArguments(o.solverArguments, solver);
   solver.linearized = o.linearized;
   solver.start = parseStart(o);
   solver.progress = !global.quiet && !o.linearized;
@@ -201,7 +206,8 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   if (!global.quiet) {
     std::cerr << "flexure minimize: wrote " << o.output << " (energy "
               << result.report.initialEnergy << " -> " << result.report.finalEnergy << ", "
-              << result.report.iterations << " iterations, " << result.report.totalSeconds
+              << result.report.solver << ", " << result.report.iterations << " iterations, "
+              << result.report.factorizations << " factorizations, " << result.report.totalSeconds
               << " s)\n";
   }
 }
@@ -247,8 +253,10 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
                   "--boundary) | free");
   sub->add_flag("--linearized", options->linearized,
                 "Minimize the linearized energy E_lin exactly (one sparse solve)");
+  addSolverArguments(*sub, options->solverArguments);
   sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
-  sub->add_option("--function-tolerance", options->solver.functionTolerance, "|dE| / E")
+  sub->add_option("--function-tolerance", options->solver.functionTolerance,
+                  "ceres: |dE| / E; newton: the predicted decrease of a step / E")
       ->capture_default_str();
   sub->add_option("--gradient-tolerance", options->solver.gradientTolerance)->capture_default_str();
   sub->add_option("--parameter-tolerance", options->solver.parameterTolerance)

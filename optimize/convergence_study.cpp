@@ -150,6 +150,8 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
       problem.term->usesEdgeUnknowns() && variant.normals == BoundaryNormals::Free;
   MinimizeOptions solver;
   solver.threads = 1;  // cases run in parallel; one thread each keeps every sum in one order
+  solver.solver = options.solver;
+  solver.hessian = options.hessian;
 
   StudyRecord base;
   base.energy = energyIndex;

@@ -180,6 +180,8 @@ struct StudyOptions {
   int amplitudes = 4;  // nonlinear C2 at ε = 2⁻¹ … 2⁻ᴷ on the coarsest level; 0: none
   std::string solution = kDefaultSolution;  // refinement data; empty: no refinement
   int threads = 2;                          // independent cases run on this many threads
+  Solver solver = Solver::Newton;           // the nonlinear C2 solves
+  HessianMode hessian = HessianMode::Exact;
 };
 
 // Throws InputError naming the option for an unusable study: no energies, no meshes, n < 4,

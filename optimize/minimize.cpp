@@ -200,6 +200,10 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
 
 }  // namespace
 
+const char* solverName(Solver solver) {
+  return solver == Solver::Newton ? "newton" : "ceres";
+}
+
 MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
                         const BoundaryConditions& conditions, const Positions& rest,
                         const Eigen::VectorXd& restXi, const MinimizeOptions& options) {

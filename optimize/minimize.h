@@ -28,6 +28,7 @@ enum class Start { Linearized, AsGiven };
 // The nonlinear solver: flexure's Newton method on the exact Hessian (newton_solver.h), or
 // Ceres' Levenberg–Marquardt on the Gauss–Newton matrix JᵀJ, the reference.
 enum class Solver { Newton, Ceres };
+const char* solverName(Solver solver);  // "newton" | "ceres"
 
 // Which Hessian Newton factors: the exact one, shifted by μI in an iteration where it is not
 // positive definite (Exact), or the sum of the element Hessians projected to positive

@@ -191,6 +191,31 @@ run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix 
 stderr_has "badfixed.txt: line 1: vertex 999 is out of range"; absent x.obj
 run 2 minimize --rest flat8.obj --energy midedge --init bowl.obj --boundary-normals clamped -o x.obj; stderr_has "needs a boundary surface"
 run 2 minimize --rest flat8.obj --energy hinge --init flat6.obj -o x.obj; stderr_has "does not share the connectivity"
+# The two nonlinear solvers: Newton (the default) and Ceres' LM, solved tightly, reach the same
+# minimizer; the report names the solver and counts the factorizations.
+run 0 minimize --rest flat8.obj --energy triavg --boundary quadratic:1,-0.5,0.8 -o tn.obj \
+  --report tn.json --quiet --function-tolerance 1e-16
+run 0 minimize --rest flat8.obj --energy triavg --boundary quadratic:1,-0.5,0.8 -o tc.obj \
+  --report tc.json --quiet --solver ceres --function-tolerance 1e-16 --gradient-tolerance 1e-13 \
+  --parameter-tolerance 1e-16
+python3 - <<'PY' || fail "minimize: newton and ceres differ"
+import json
+def obj(path):
+    return [[float(w) for w in line.split()[1:4]] for line in open(path) if line.startswith("v ")]
+n, c = json.load(open("tn.json")), json.load(open("tc.json"))
+assert n["converged"] and n["solver"] == "newton" and 1 <= n["factorizations"] <= 3, n
+assert c["converged"] and c["solver"] == "ceres" and c["factorizations"] > 0, c
+worst = max(abs(a - b) for u, v in zip(obj("tn.obj"), obj("tc.obj")) for a, b in zip(u, v))
+assert worst < 1e-8, worst
+PY
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --solver lm -o x.obj
+stderr_has "--solver lm"; stderr_has "newton or ceres"; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --solver ceres \
+  --hessian projected -o x.obj; stderr_has "--hessian"; absent x.obj
+run 0 minimize --rest flat8.obj --energy cotan --boundary quadratic:1,0,1 --hessian projected \
+  -o projected.obj --report projected.json --quiet
+python3 -c "import json; d=json.load(open('projected.json')); assert d['converged'] and d['solver'] == 'newton', d" \
+  || fail "minimize --hessian projected"
 
 # --- run specs ---------------------------------------------------------------------------
 cat > study.json <<'JSON'
@@ -334,6 +359,7 @@ run 0 fair "$shark" --region holes -o shark.off --report shark.json --render sha
 is_png shark.png || fail "fair: shark.png is not a PNG"
 run 0 info shark.off --json; stdout_has '"boundary_loops": []'; stdout_has '"valid": true'
 run 0 fair "$shark" --region holes --method cgal -o shark-cgal.off --report shark-cgal.json --quiet
+run 0 fair "$shark" --region holes --solver ceres -o shark-ceres.off --report shark-ceres.json --quiet
 python3 - "$shark" <<'PY' || fail "fair: shark reports or held vertices"
 import json, sys
 def off(path):
@@ -342,10 +368,15 @@ def off(path):
     return [tuple(float(w) for w in words[4 + 3 * i:7 + 3 * i]) for i in range(n)]
 r, c = json.load(open("shark.json")), json.load(open("shark-cgal.json"))
 assert r["converged"] and r["method"] == "flexure" and r["energy_name"] == "midedge", r
+assert r["solver"]["name"] == "newton" and r["solver"]["factorizations"] >= 1, r["solver"]
 assert [h["boundary_edges"] for h in r["holes"]["filled"]] and r["holes"]["loops_left"] == 0, r
 assert sorted(r["after"]["bending_energy"]) == ["cotan", "hinge", "midedge", "quadfit", "triavg"]
 mid = lambda rep, when: rep[when]["bending_energy"]["midedge"]
 assert mid(r, "after") < mid(c, "after") < mid(r, "before"), (mid(r, "after"), mid(c, "after"))
+# Ceres' LM reaches the same faired surface (solved to its default tolerances).
+e = json.load(open("shark-ceres.json"))
+assert e["solver"]["name"] == "ceres" and e["converged"], e["solver"]
+assert abs(mid(e, "after") - mid(r, "after")) <= 1e-6 * mid(r, "after"), (mid(e, "after"), mid(r, "after"))
 assert r["region"]["vertices"] == sum(h["new_vertices"] for h in r["holes"]["filled"]) > 0
 # Hole filling moves only the new vertices: every input vertex is held, bit for bit.
 original, faired = off(sys.argv[1]), off("shark.off")

@@ -1,0 +1,24 @@
+// The command-line options that choose the nonlinear solver, shared by every command that runs a
+// nonlinear solve (minimize, fair, compare, converge).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "optimize/minimize.h"
+
+namespace flexure::cli {
+
+struct SolverArguments {
+  std::string solver = "newton";
+  std::string hessian = "exact";
+};
+
+// --solver newton|ceres, --hessian exact|projected.
+void addSolverArguments(CLI::App& sub, SolverArguments& arguments);
+
+// Sets options.solver and options.hessian; an unknown name, or --hessian with --solver ceres
+// (which factors JᵀJ, no Hessian), is an InputError naming the option and the choices.
+void applySolverArguments(const SolverArguments& arguments, optimize::MinimizeOptions& options);
+
+}  // namespace flexure::cli
