@@ -10,8 +10,11 @@
 //   cgal_fair     optimize::fairCgal (CGAL's PMP::fair, continuity 1, on the patch; includes
 //                 building CGAL's Surface_mesh);
 //   linear_fair   optimize::fairBiharmonic (the same system with CHOLMOD, x, y, z);
-//   <energy>      optimize::fairNonlinear with the default options (conformal membrane w = 1,
-//                 start = the better of input and linear fair), 2 threads.
+//   <energy>/<solver>  optimize::fairNonlinear with the default options (conformal membrane
+//                 w = 1, start = the better of input and linear fair), 2 threads, on each solver
+//                 of --solvers (newton: flexure's Newton, the default; ceres: Ceres' LM), with
+//                 its iterations and factorizations. bending_energy_after: all five energies of
+//                 the result (flat rest, the input's metric), so solvers compare in each.
 // ratio_to_cgal_fair = seconds / cgal_fair seconds. The bending energy of the default energy
 // (midedge) and the smallest angle after each case are reported too.
 #include <CLI/CLI.hpp>
@@ -112,13 +115,14 @@ int main(int argc, char** argv) {
   CLI::App app("flexure fairing benchmark: nonlinear fairing vs CGAL's fair on a large region");
   std::string meshPath;
   int refine = 1, regionVertices = 50000, seedVertex = 0;
-  std::vector<std::string> energies = {"midedge"};
+  std::vector<std::string> energies = {"midedge"}, solvers = {"newton", "ceres"};
   app.add_option("--mesh", meshPath, "Input mesh")->required();
   app.add_option("--refine", refine, "Midpoint subdivisions")->capture_default_str();
   app.add_option("--region-vertices", regionVertices, "Region size")->capture_default_str();
   app.add_option("--seed-vertex", seedVertex, "The region is nearest this vertex")
       ->capture_default_str();
   app.add_option("--energies", energies, "flexure energies to run")->delimiter(',');
+  app.add_option("--solvers", solvers, "newton, ceres")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
   modeling::Mesh mesh = modeling::readMesh(meshPath);
@@ -145,12 +149,16 @@ int main(int argc, char** argv) {
     const double memory = peakMemoryMb();
     const optimize::FairingMeasures m = optimize::measureFairing(patch, result, material);
     double midedge = 0.0;
-    for (const auto& e : m.bending)
+    json after = json::object();
+    for (const auto& e : m.bending) {
       if (e.energy == "midedge") midedge = e.value;
+      after[e.energy] = e.value;
+    }
     json c = {{"case", name},
               {"seconds", seconds},
               {"peak_memory_mb", memory},
               {"midedge_energy_after", midedge},
+              {"bending_energy_after", after},
               {"min_angle_degrees", m.quality.minAngleDegrees}};
     c.update(extra);
     if (cgalSeconds > 0.0) c["ratio_to_cgal_fair"] = seconds / cgalSeconds;
@@ -171,17 +179,23 @@ int main(int argc, char** argv) {
   record("linear_fair", secondsSince(start), linear, json::object());
 
   for (const std::string& energy : energies) {
-    optimize::FairingOptions options;
-    options.bending.discretization = curvature::parseDiscretization(energy);
-    resetPeakMemory();
-    start = Clock::now();
-    const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
-    record(energy, secondsSince(start), r.positions,
-           {{"iterations", r.report.iterations},
-            {"converged", r.report.converged},
-            {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
-            {"linear_solver_seconds", r.report.linearSolverSeconds},
-            {"evaluation_seconds", r.report.evaluationSeconds}});
+    for (const std::string& solver : solvers) {
+      optimize::FairingOptions options;
+      options.bending.discretization = curvature::parseDiscretization(energy);
+      options.solver.solver =
+          solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
+      resetPeakMemory();
+      start = Clock::now();
+      const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
+      record(energy + "/" + solver, secondsSince(start), r.positions,
+             {{"solver", r.report.solver},
+              {"iterations", r.report.iterations},
+              {"factorizations", r.report.factorizations},
+              {"converged", r.report.converged},
+              {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
+              {"linear_solver_seconds", r.report.linearSolverSeconds},
+              {"evaluation_seconds", r.report.evaluationSeconds}});
+    }
   }
   const json out = {{"mesh", meshPath},
                     {"refine", refine},

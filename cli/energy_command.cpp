@@ -72,15 +72,12 @@ EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& s
 
   if (!o.linearized) {
     Eigen::VectorXd xi = restXi;
-    if (term.usesEdgeUnknowns()) {
-      if (surface) {
-        const Eigen::VectorXd clamped = curvature::clampedBoundaryXi(stencils, current, *surface);
-        for (int e = 0; e < stencils.edgeCount(); ++e)
-          if (onBoundary[e]) xi[e] = clamped[e];
-      }
-      xi = optimize::minimizeEdgeUnknowns(terms, current, xi, freeEdge);
+    if (term.usesEdgeUnknowns() && surface) {
+      const Eigen::VectorXd clamped = curvature::clampedBoundaryXi(stencils, current, *surface);
+      for (int e = 0; e < stencils.edgeCount(); ++e)
+        if (onBoundary[e]) xi[e] = clamped[e];
     }
-    return {term.energy(current, xi), boundary};
+    return {optimize::relaxedEnergy(terms, current, xi, freeEdge), boundary};
   }
 
   // E_lin(δ) = ½ |J u|² with J at rest and u = (δ, ξ − ξ̄).

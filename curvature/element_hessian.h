@@ -35,10 +35,10 @@ struct ElementHessian {
   Eigen::MatrixXd hessian;   // n by n, symmetric
 };
 
-// Which second derivatives: the exact ∇²E_e, or the Gauss–Newton part J_eᵀJ_e alone (first
+// Which second derivatives: the exact ∇²E_e; the Gauss–Newton part J_eᵀJ_e alone (first
 // derivatives only, by Ceres' autodiff: much cheaper), which equals ∇²E_e where r_e = 0, e.g. at
-// a stress-free rest state.
-enum class SecondDerivatives { Exact, GaussNewton };
+// a stress-free rest state; or none (energy and gradient only; the hessian is left empty).
+enum class SecondDerivatives { Exact, GaussNewton, None };
 
 // Receives the elements' Hessians one at a time.
 class ElementHessianSink {

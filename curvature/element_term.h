@@ -302,8 +302,9 @@ class ElementTerm : public EnergyTerm {
     for (int e = begin; e < end; ++e) {
       parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
       blockLayout(elements_[e], static_cast<int>(x.rows()), firstColumn, sizes);
-      if (kind == SecondDerivatives::GaussNewton) {
-        gaussNewtonHessian(e, blocks, sizes, firstColumn, derivatives, hessian);
+      if (kind != SecondDerivatives::Exact) {
+        firstDerivatives(e, blocks, sizes, firstColumn, derivatives,
+                         kind == SecondDerivatives::GaussNewton, hessian);
         sink.add(hessian);
         continue;
       }
@@ -340,11 +341,12 @@ class ElementTerm : public EnergyTerm {
     out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
   }
 
-  // J_eᵀJ_e, J_eᵀr_e and ½|r_e|² of element e from its Ceres cost function (first derivatives),
-  // over the unknowns of elementUnknowns (a slot's columns; in height mode its last one).
-  void gaussNewtonHessian(int e, const std::vector<const double*>& blocks,
-                          const std::vector<int>& sizes, const std::vector<long>& firstColumn,
-                          Derivatives derivatives, ElementHessian& out) const {
+  // ½|r_e|², J_eᵀr_e and (gaussNewton) J_eᵀJ_e of element e from its Ceres cost function (first
+  // derivatives), over the unknowns of elementUnknowns (a slot's columns; in height mode its last
+  // one).
+  void firstDerivatives(int e, const std::vector<const double*>& blocks,
+                        const std::vector<int>& sizes, const std::vector<long>& firstColumn,
+                        Derivatives derivatives, bool gaussNewton, ElementHessian& out) const {
     curvature::elementUnknowns(sizes, firstColumn, derivatives, out.unknowns);
     const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e], derivatives));
     const int count = static_cast<int>(out.unknowns.size());
@@ -366,7 +368,10 @@ class ElementTerm : public EnergyTerm {
         }
     out.energy = 0.5 * r.squaredNorm();
     out.gradient = j.transpose() * r;
-    out.hessian = j.transpose() * j;
+    if (gaussNewton)
+      out.hessian = j.transpose() * j;
+    else
+      out.hessian.resize(0, 0);
   }
 
   // The first global unknown of each block the element reads, and the block's size (a vertex 3,

@@ -148,13 +148,6 @@ Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Posit
 
 }  // namespace
 
-EnergyGradient energyGradientFromJacobian(const std::vector<const EnergyTerm*>& terms,
-                                          const Positions& x, const Eigen::VectorXd& xi,
-                                          curvature::Derivatives derivatives) {
-  const Linearization at = linearize(terms, x, xi, derivatives);
-  return {0.5 * at.residuals.squaredNorm(), at.jacobian.transpose() * at.residuals};
-}
-
 SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                               const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
   return linearize(terms, x, xi, derivatives).jacobian;
@@ -312,6 +305,15 @@ Eigen::VectorXd minimizeEdgeUnknowns(const std::vector<const EnergyTerm*>& terms
   for (int e = 0; e < xi.size(); ++e) free[positionCount + e] = freeEdge[e];
   const Eigen::VectorXd step = minimizeLeastSquares(at.jacobian, at.residuals, u, free, x);
   return xi + step.tail(xi.size());
+}
+
+double relaxedEnergy(const std::vector<const EnergyTerm*>& terms, const Positions& x,
+                     const Eigen::VectorXd& xi, const std::vector<bool>& freeEdge) {
+  const Eigen::VectorXd relaxed =
+      usesEdgeUnknowns(terms) ? minimizeEdgeUnknowns(terms, x, xi, freeEdge) : xi;
+  double energy = 0.0;
+  for (const EnergyTerm* term : terms) energy += term->energy(x, relaxed);
+  return energy;
 }
 
 }  // namespace flexure::optimize

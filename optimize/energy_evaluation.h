@@ -27,12 +27,6 @@ bool usesEdgeUnknowns(const std::vector<const EnergyTerm*>& terms);
 EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                               const Eigen::VectorXd& xi);
 
-// E and ∇E = Jᵀr at (x, ξ) from the residual Jacobian assembled element by element on the
-// machine's cores (no Ceres problem); with Derivatives::HeightOnly the x and y entries are zero.
-EnergyGradient energyGradientFromJacobian(const std::vector<const EnergyTerm*>& terms,
-                                          const Positions& x, const Eigen::VectorXd& xi,
-                                          curvature::Derivatives derivatives);
-
 // The Jacobian J of the stacked residuals r at (x, ξ): E = ½ |r|², so at rest (r = 0) the
 // second-order expansion of E is E_lin(δ) = ½ |J δ|² (= |J' δ|² for the unscaled residuals r/√2
 // of docs/energies.md). Columns follow the unknown order above.
@@ -68,5 +62,11 @@ double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positi
 Eigen::VectorXd minimizeEdgeUnknowns(const std::vector<const EnergyTerm*>& terms,
                                      const Positions& x, const Eigen::VectorXd& xi,
                                      const std::vector<bool>& freeEdge);
+
+// E at positions x with the midedge unknowns at their minimum for x (minimizeEdgeUnknowns from
+// `xi`; edges with freeEdge[e] = false keep xi[e]): the energy of a configuration when ξ are
+// not given. Terms without ξ: E(x).
+double relaxedEnergy(const std::vector<const EnergyTerm*>& terms, const Positions& x,
+                     const Eigen::VectorXd& xi, const std::vector<bool>& freeEdge);
 
 }  // namespace flexure::optimize

@@ -46,12 +46,8 @@ double bendingEnergy(const CompiledPatch& c, const curvature::BendingOptions& b,
                      const Positions& x) {
   const std::unique_ptr<curvature::EnergyTerm> term =
       curvature::makeBendingEnergy(c.stencils, c.rest, b);
-  Eigen::VectorXd xi;
-  if (term->usesEdgeUnknowns()) {
-    xi = minimizeEdgeUnknowns({term.get()}, x, Eigen::VectorXd::Zero(c.stencils.edgeCount()),
-                              std::vector<bool>(c.stencils.edgeCount(), true));
-  }
-  return term->energy(x, xi);
+  return relaxedEnergy({term.get()}, x, Eigen::VectorXd::Zero(c.stencils.edgeCount()),
+                       std::vector<bool>(c.stencils.edgeCount(), true));
 }
 
 TriangleQuality triangleQuality(const CompiledPatch& c, const Positions& x) {

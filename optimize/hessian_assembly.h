@@ -47,7 +47,8 @@ class HessianAssembly {
 
   // E, ∇E and ∇²E at (x, ξ), on the machine's cores. `fixedMove` (all unknowns; read at the fixed
   // ones) fills fixedCoupling. Throws NumericalError naming a degenerate element.
-  // GaussNewton: JᵀJ in place of ∇²E (curvature/element_hessian.h).
+  // GaussNewton: JᵀJ in place of ∇²E; None: E and ∇E only, `values` empty
+  // (curvature/element_hessian.h).
   HessianEvaluation evaluate(
       const Positions& x, const Eigen::VectorXd& xi, HessianProjection projection,
       const Eigen::VectorXd* fixedMove = nullptr,

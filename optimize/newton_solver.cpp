@@ -196,15 +196,8 @@ class NewtonSolver {
 
   // E and ∇E over the free unknowns at x, from first derivatives only (no Hessian).
   HessianEvaluation gradientAt(const MinimizeResult& x) {
-    const auto t = Clock::now();
-    const EnergyGradient g = energyGradientFromJacobian(terms_, x.positions, x.xi, derivatives_);
-    report_.evaluationSeconds += secondsSince(t);
-    HessianEvaluation out;
-    out.energy = g.energy;
-    out.gradient.resize(assembly_.size());
-    for (int k = 0; k < assembly_.size(); ++k)
-      out.gradient[k] = g.gradient[assembly_.freeUnknowns()[k]];
-    return out;
+    return evaluate(x.positions, x.xi, HessianProjection::Exact, nullptr,
+                    curvature::SecondDerivatives::None);
   }
 
   // Each iteration evaluates E and ∇E (first derivatives) and, while a factor is at hand, the

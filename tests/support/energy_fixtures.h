@@ -54,7 +54,10 @@ struct BendingSetup {
   }
 
   // E at x, with ξ minimized for midedge.
-  double relaxedEnergy(const Positions& x) const { return term->energy(x, minimizedXi(x)); }
+  double relaxedEnergy(const Positions& x) const {
+    return optimize::relaxedEnergy(terms(), x, restXi,
+                                   std::vector<bool>(stencils.edgeCount(), true));
+  }
 };
 
 inline modeling::Mesh lifted(modeling::Mesh mesh, const modeling::PolynomialSurface& p) {
