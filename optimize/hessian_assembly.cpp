@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -225,9 +226,27 @@ cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>
 
 }  // namespace
 
+struct HessianFactorization::Simplicial {
+  using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  std::vector<int> columnStart, rowIndex;
+  Eigen::SimplicialLLT<Matrix, Eigen::Upper, Eigen::AMDOrdering<int>> llt;
+
+  Eigen::Map<const Matrix> matrix(const double* values) const {
+    const int n = static_cast<int>(columnStart.size()) - 1;
+    return {n, n, static_cast<int>(rowIndex.size()), columnStart.data(), rowIndex.data(), values};
+  }
+};
+
 HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
-                                           const std::vector<int>& order)
+                                           const std::vector<int>& order, bool simplicial)
     : cholmod_(std::make_unique<Cholmod>()), assembly_(assembly) {
+  if (simplicial) {
+    simplicial_ = std::make_unique<Simplicial>();
+    simplicial_->columnStart = assembly.columnStart();
+    simplicial_->rowIndex = assembly.rowIndex();
+    const std::vector<double> ones(simplicial_->rowIndex.size(), 1.0);
+    simplicial_->llt.analyzePattern(simplicial_->matrix(ones.data()));
+  }
   Cholmod& c = *cholmod_;
   c.columnStart = assembly.columnStart();
   c.rowIndex = assembly.rowIndex();
@@ -253,6 +272,11 @@ HessianFactorization::~HessianFactorization() {
 }
 
 bool HessianFactorization::factor(const std::vector<double>& values, double shift) {
+  if (simplicial_) {
+    simplicial_->llt.setShift(shift);
+    simplicial_->llt.factorize(simplicial_->matrix(values.data()));
+    return simplicial_->llt.info() == Eigen::Success;
+  }
   Cholmod& c = *cholmod_;
   cholmod_sparse matrix =
       upperTriangleView(c.columnStart, c.rowIndex, const_cast<double*>(values.data()));
@@ -262,6 +286,7 @@ bool HessianFactorization::factor(const std::vector<double>& values, double shif
 }
 
 Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
+  if (simplicial_) return simplicial_->llt.solve(b);
   Cholmod& c = *cholmod_;
   Eigen::VectorXd rhs = b;
   cholmod_dense view{};

@@ -72,7 +72,10 @@ class HessianAssembly {
 class HessianFactorization {
  public:
   // `order`: the elimination order of the free unknowns, or empty for CHOLMOD's AMD.
-  HessianFactorization(const HessianAssembly& assembly, const std::vector<int>& order);
+  // `simplicial`: Eigen's SimplicialLLT on its AMD order instead (single-threaded, column by
+  // column), the linear algebra of a plain Newton solver such as libshell's: a benchmark baseline.
+  HessianFactorization(const HessianAssembly& assembly, const std::vector<int>& order,
+                       bool simplicial = false);
   ~HessianFactorization();
   HessianFactorization(const HessianFactorization&) = delete;
   HessianFactorization& operator=(const HessianFactorization&) = delete;
@@ -86,7 +89,9 @@ class HessianFactorization {
 
  private:
   struct Cholmod;
+  struct Simplicial;
   std::unique_ptr<Cholmod> cholmod_;
+  std::unique_ptr<Simplicial> simplicial_;
   const HessianAssembly& assembly_;
 };
 

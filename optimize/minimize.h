@@ -52,6 +52,10 @@ struct MinimizeOptions {
   // Hand Ceres a METIS nested-dissection order of the vertices (elimination_order.h). false:
   // Ceres' AMD, the benchmark's baseline.
   bool nestedDissection = true;
+  // Benchmarks only: Newton as a plain Newton solver does it (libshell's, say) — Eigen's
+  // SimplicialLLT refactored in every iteration, no chord steps. The baseline of scripts/bench
+  // shell.
+  bool simplicialBaseline = false;
 };
 
 struct MinimizeReport {

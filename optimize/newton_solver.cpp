@@ -41,7 +41,10 @@ class NewtonSolver {
                                                     : curvature::Derivatives::All),
         free_(freeUnknowns()),
         assembly_(terms, free_, static_cast<int>(rest.rows()), derivatives_),
-        factorization_(assembly_, hessianOrder(assembly_, rest)),
+        factorization_(
+            assembly_,
+            options.simplicialBaseline ? std::vector<int>() : hessianOrder(assembly_, rest),
+            options.simplicialBaseline),
         projection_(options.hessian == HessianMode::Projected
                         ? HessianProjection::PositiveSemidefinite
                         : HessianProjection::Exact) {}
@@ -239,7 +242,8 @@ class NewtonSolver {
           finalStep(x, at, delta, "predicted decrease " + number(0.5 * decrement));
           return;
         }
-        chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
+        chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement &&
+                !options_.simplicialBaseline;
       }
       if (!chord) {
         HessianEvaluation h = evaluate(x.positions, x.xi, projection_, nullptr);
