@@ -10,7 +10,7 @@ void addSolverArguments(CLI::App& sub, SolverArguments& arguments) {
                  "ceres (Ceres' Levenberg-Marquardt, the reference)")
       ->capture_default_str();
   sub.add_option("--hessian", arguments.hessian,
-                 "newton: exact (shifted by mu I where indefinite) | projected (element Hessians "
+                 "newton: exact (J^T J where indefinite) | projected (element Hessians "
                  "projected to positive semidefinite)")
       ->capture_default_str();
 }

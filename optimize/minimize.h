@@ -30,10 +30,10 @@ enum class Start { Linearized, AsGiven };
 enum class Solver { Newton, Ceres };
 const char* solverName(Solver solver);  // "newton" | "ceres"
 
-// Which Hessian Newton factors: the exact one, shifted by μI in an iteration where it is not
-// positive definite (Exact), or the sum of the element Hessians projected to positive
-// semidefinite in every iteration (Projected; measured slower: the projection drops the
-// curvature a step needs, and near the minimizer the convergence is no longer quadratic).
+// Which Hessian Newton factors: the exact one, and JᵀJ in an iteration where it is not positive
+// definite (Exact), or the sum of the element Hessians projected to positive semidefinite
+// (Projected; measured slower: the projection drops curvature a step needs, and near the
+// minimizer the convergence is no longer quadratic).
 enum class HessianMode { Exact, Projected };
 
 struct MinimizeOptions {

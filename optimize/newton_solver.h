@@ -9,10 +9,11 @@
 // (hessian_assembly.h) and factored with CHOLMOD (supernodal; the symbolic analysis is done
 // once per problem and reused) for a Newton step, converging quadratically near the minimizer.
 // Steps are searched on the true energy (Armijo: E(x + αδ) ≤ E(x) + 10⁻⁴ α ∇Eᵀδ, α halved).
-// Where the Hessian is not positive definite (away from a minimizer, e.g. a compressed membrane
-// about to buckle) μI is added, the smallest μ of a 10-fold sequence that makes it so: every
-// step is a descent direction. HessianMode::Projected factors the sum of the element Hessians
-// projected to positive semidefinite instead.
+// Where the Hessian is not positive definite (away from a minimizer: a fairing start, a
+// compressed membrane about to buckle) that step uses the Gauss–Newton matrix JᵀJ at the iterate
+// instead (positive semidefinite; + μI where singular): every step is a descent direction, and
+// near a strict minimizer the steps are Newton's. HessianMode::Projected factors the sum of the
+// element Hessians projected to positive semidefinite instead of the exact one.
 //
 // Start::Linearized: the first step is the Gauss–Newton step from the rest state with the fixed
 // unknowns moved to their values — at a stress-free rest (every residual zero) JᵀJ is the exact
