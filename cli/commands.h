@@ -9,7 +9,8 @@
 namespace flexure::cli {
 
 struct GlobalOptions {
-  bool quiet = false;  // no progress or notices on stderr
+  bool quiet = false;    // no progress or notices on stderr
+  bool verbose = false;  // Ceres' and glog's own lines on stderr too
 };
 
 void registerMeshCommand(CLI::App& app, const GlobalOptions& global);

@@ -8,8 +8,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli/command_files.h"
 #include "cli/compare_command.h"
 #include "cli/mesh_json.h"
+#include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
@@ -27,12 +29,13 @@ std::string formatError(double error) {
   return text;
 }
 
-void createDirectory(const std::filesystem::path& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError(dir.string() + ": cannot create the output directory (" + ec.message() + ")");
-  }
+// The files compare writes: compare.png, compare.json and the panels <family>-<energy>.png.
+bool isCompareFile(const std::string& name) {
+  if (name == "compare.png" || name == "compare.json") return true;
+  const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
+  for (const char* family : {"patch48-", "stripe-", "criss-", "delaunay-"})
+    if (png && name.rfind(family, 0) == 0) return true;
+  return false;
 }
 
 }  // namespace
@@ -131,13 +134,14 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
       files.emplace_back(name, std::move(image));
       if (!global.quiet) {
         std::cerr << commandName << ": " << familyNames[f] << " " << variant.label << ": C2 "
-                  << formatError(error) << ", " << result.report.iterations << " iterations\n";
+                  << formatError(error) << ", " << counted(result.report.iterations, "iteration")
+                  << '\n';
       }
     }
   }
   const render::Image figure = render::composeFigureGrid(grid);
 
-  createDirectory(dir);
+  modeling::createOutputDirectory(dir.string());
   for (const auto& [name, image] : files) render::writePng((dir / name).string(), image);
   render::writePng((dir / "compare.png").string(), figure);
   writeJsonFile((dir / "compare.json").string(),
@@ -160,7 +164,12 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
   CLI::App* sub = app.add_subcommand(
       "compare",
       "Minimize every energy on every mesh family and render the minimizers side by side");
-  sub->add_option("-o,--output", o.outputDir, "Output directory (created if missing)")
+  auto files = CommandFiles::of(*sub);
+  files
+      ->output("-o,--output", o.outputDir,
+               "Output directory (created if missing; a previous compare's other files in it are "
+               "removed)",
+               OutputKind::Directory, isCompareFile)
       ->capture_default_str();
   sub->add_option("--families", o.families,
                   "Mesh families (rows): patch48, stripe, criss, delaunay")
@@ -173,18 +182,26 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--boundary", o.boundary,
                   "Boundary data: rings 0 and 1 lifted onto z = p(x, y) (quadratic:a,b,c)")
       ->capture_default_str();
-  sub->add_option("--n", o.n, "Cells per side of the meshes")->capture_default_str();
+  sub->add_option("--n", o.n, "Cells per side of the meshes")
+      ->capture_default_str()
+      ->check(inRange(4, 256));
   sub->add_option("--style", o.style, "Render style of every panel (see flexure render)")
       ->capture_default_str();
-  sub->add_option("--size", o.size, "Panel size in pixels (square)")->capture_default_str();
-  sub->add_option("--stripes", o.stripes, "Stripes per panel")->capture_default_str();
-  sub->add_option("--threads", o.threads, "Solver threads")->capture_default_str();
+  sub->add_option("--size", o.size, "Panel size in pixels (square)")
+      ->capture_default_str()
+      ->check(inRange(64, 4096));
+  sub->add_option("--stripes", o.stripes, "Stripes per panel")
+      ->capture_default_str()
+      ->check(inRange(1, 1000));
+  sub->add_option("--threads", o.threads, "Solver threads")
+      ->capture_default_str()
+      ->check(inRange(1, maxThreads()));
   addSolverArguments(*sub, o.solver);
   sub->footer(
       "Writes DIR/compare.png (rows = families, columns = energies, each panel titled with its "
       "C2 error), DIR/<family>-<energy>.png and DIR/compare.json.\n"
       "Example: flexure compare -o cmp --families patch48,delaunay --energies hinge,midedge");
-  sub->callback([options, &global] { runCompare(*options, global, "flexure compare"); });
+  files->onRun([options, &global] { runCompare(*options, global, "flexure compare"); });
 }
 
 }  // namespace flexure::cli

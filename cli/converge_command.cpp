@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/solver_arguments.h"
 #include "cli/study_outputs.h"
@@ -126,18 +127,22 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                   "delaunay: comma-separated seeds, one mesh sequence each")
       ->delimiter(',')
       ->capture_default_str();
-  sub->add_option("--mesh", options->meshFiles,
-                  "A flat mesh of yours (z = 0; repeat for several): C1, C2, nonlinear C2");
+  auto files = CommandFiles::of(*sub);
+  files->inputs("--mesh", options->meshFiles,
+                "A flat mesh of yours (z = 0; repeat for several): C1, C2, nonlinear C2");
   sub->add_option("--n", options->n, "Cells per side of the coarsest generated meshes")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(2, 1024));
   sub->add_option("--levels", options->levels, "Refinement levels: n, 2n, …, 2^(K-1) n (1 to 8)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(1, 8));
   sub->add_option("--quadratics", options->quadratics,
                   "Quadratics a,b,c (p = a x² + b xy + c y²) separated by ';' (default "
                   "\"1,0,0;0,1,0;1,0,1;1,0,-1;0.3,-0.7,0.5\")");
   sub->add_option("--amplitudes", options->amplitudes,
                   "Nonlinear C2 at eps = 2^-1 … 2^-K on the coarsest meshes (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(0, 30));
   sub->add_option("--solution", options->solution,
                   "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
       ->capture_default_str();
@@ -145,16 +150,21 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                   "Poisson's ratio nu for triavg, midedge and quadfit (default 0.3; hinge and "
                   "cotan are nu = 1 models)");
   sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(1, maxThreads()));
   addSolverArguments(*sub, options->solver);
-  sub->add_option("-o,--output", options->outputDir, "Output directory (created if missing)")
+  files
+      ->output("-o,--output", options->outputDir,
+               "Output directory (created if missing; a previous study's other files in it are "
+               "removed)",
+               OutputKind::Directory, isStudyFile)
       ->required();
   sub->footer(
       "Writes DIR/results.json (every run), DIR/results.csv (one row per solve), DIR/summary.md "
       "(the pass/fail table and the orders; also printed) and log-log plots DIR/*.png.\n"
       "Example: flexure converge --energies midedge,cotan,hinge --families patch48,delaunay "
       "--levels 3 -o study");
-  sub->callback([options, families, &global] {
+  files->onRun([options, families, &global] {
     runConvergeCommand(*options, families->count() > 0, global);
   });
 }

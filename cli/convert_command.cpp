@@ -2,7 +2,9 @@
 #include <iostream>
 #include <memory>
 
+#include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/mesh_json.h"
 #include "modeling/mesh_io.h"
 
 namespace flexure::cli {
@@ -21,8 +23,9 @@ void runConvertCommand(const ConvertCommandOptions& o, const GlobalOptions& glob
     for (const std::string& notice : notices) std::cerr << "flexure convert: " << notice << '\n';
   modeling::writeMesh(o.output, mesh);
   if (!global.quiet) {
-    std::cerr << "flexure convert: wrote " << o.output << " (" << mesh.vertexCount()
-              << " vertices, " << mesh.faceCount() << " faces)\n";
+    std::cerr << "flexure convert: wrote " << o.output << " ("
+              << counted(mesh.vertexCount(), "vertex") << ", " << counted(mesh.faceCount(), "face")
+              << ")\n";
   }
 }
 
@@ -32,10 +35,11 @@ void registerConvertCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<ConvertCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "convert", "Check a mesh and write it as .obj, .off or .ply (polygons split into triangles)");
-  sub->add_option("input", options->input, "Mesh file (.obj, .off, .ply, .stl)")->required();
-  sub->add_option("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
+  auto files = CommandFiles::of(*sub);
+  files->input("input", options->input, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  files->output("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
   sub->footer("Example: flexure convert scan.stl -o scan.ply");
-  sub->callback([options, &global] { runConvertCommand(*options, global); });
+  files->onRun([options, &global] { runConvertCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

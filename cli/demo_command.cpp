@@ -6,10 +6,12 @@
 #include <iostream>
 #include <memory>
 
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/compare_command.h"
 #include "cli/mesh_json.h"
 #include "cli/study_outputs.h"
+#include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/mesh_info.h"
@@ -26,18 +28,10 @@ struct DemoCommandOptions {
 // The general quadratic of the convergence study's default set: boundary data of the test problem.
 constexpr const char* kDemoSurface = "quadratic:0.3,-0.7,0.5";
 
-void createDirectory(const std::filesystem::path& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError(dir.string() + ": cannot create the output directory (" + ec.message() + ")");
-  }
-}
-
 void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
   namespace fs = std::filesystem;
   const fs::path dir(o.outputDir), meshDir = dir / "meshes";
-  createDirectory(meshDir);
+  modeling::createOutputDirectory(meshDir.string());
   const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(kDemoSurface);
 
   nlohmann::json records = nlohmann::json::array();
@@ -109,9 +103,12 @@ void registerDemoCommand(CLI::App& app, const GlobalOptions& global) {
       "demo",
       "The main job: the test-problem meshes of every family, a small convergence study and a "
       "small comparison figure");
-  sub->add_option("-o,--output", options->outputDir, "Output directory (created if missing)")
+  auto files = CommandFiles::of(*sub);
+  files
+      ->output("-o,--output", options->outputDir, "Output directory (created if missing)",
+               OutputKind::Directory)
       ->capture_default_str();
-  sub->callback([options, &global] { runDemoCommand(*options, global); });
+  files->onRun([options, &global] { runDemoCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

@@ -8,6 +8,7 @@
 
 #include "cli/bending_arguments.h"
 #include "cli/commands.h"
+#include "cli/mesh_json.h"
 #include "curvature/bending_energy.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
@@ -132,7 +133,7 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
   }
   std::printf("%s%s energy  %.17g\n", report["energy_name"].get<std::string>().c_str(),
               o.linearized ? " (linearized)" : "", result.energy);
-  std::printf("elements        %d %ss\n", term->elementCount(), term->elementKind().c_str());
+  std::printf("elements        %s\n", counted(term->elementCount(), term->elementKind()).c_str());
   std::printf("covered area    %.17g\n", term->coveredArea());
   std::printf("energy / area   %.17g\n", perArea);
   if (!result.boundary.empty()) std::printf("boundary xi     %s\n", result.boundary.c_str());

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli/bending_arguments.h"
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "cli/solver_arguments.h"
@@ -212,9 +213,10 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, choice.region);
   const int regionVertices = modeling::countVertices(choice.region);
   if (!global.quiet) {
-    std::cerr << "flexure fair: region " << regionVertices << " vertices, patch "
-              << patch.mesh.vertexCount() << " vertices and " << patch.mesh.faceCount()
-              << " faces (" << modeling::kHeldRings << " held rings)\n";
+    std::cerr << "flexure fair: region " << counted(regionVertices, "vertex", "vertices")
+              << ", patch " << counted(patch.mesh.vertexCount(), "vertex", "vertices") << " and "
+              << counted(patch.mesh.faceCount(), "face") << " (" << modeling::kHeldRings
+              << " held rings)\n";
   }
 
   const optimize::FairingMeasures before =
@@ -292,11 +294,11 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
 
   if (!converged) {
     report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
-    if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+    if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
     throw NumericalError("the fairing solve did not converge (" + solve->termination + "); " +
                          o.output + " not written" +
-                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
-                         "; raise --max-iterations or lower --membrane-weight");
+                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) + "; " +
+                         solverAdvice(*solve, o.solver) + " (or lower --membrane-weight)");
   }
   std::optional<render::Image> figure;
   if (!o.renderFile.empty()) {
@@ -336,7 +338,8 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   CLI::App* sub = app.add_subcommand(
       "fair",
       "Fair a region of a mesh: its vertices minimize a bending energy (flat rest) + membrane");
-  sub->add_option("mesh", options->input, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  auto files = CommandFiles::of(*sub);
+  files->input("mesh", options->input, "Input mesh (.obj, .off, .ply, .stl)")->required();
   sub->add_option("--region", options->region,
                   "What moves: vertices:FILE (indices) | sphere:x,y,z,r | all-interior (all but "
                   "the two boundary rings) | holes[:N] (fill every hole, or those of at most N "
@@ -354,30 +357,31 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--membrane-weight", options->membraneWeight,
                   "w: how firmly the triangles keep their shapes against bending (conformal "
                   "k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--start", options->start,
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "
                   "bending energy) | biharmonic (the linear fair) | input")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
-  sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
-  sub->add_option("--threads", options->solver.threads)->capture_default_str();
-  sub->add_option("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
-  sub->add_option("--report", options->reportFile,
-                  "JSON report: region, energies of all five before/after, triangle quality, "
-                  "displacement, time (written even when the solve fails)");
-  sub->add_option("--render", options->renderFile,
-                  "Before/after reflection-line figure (PNG) of the region and its surroundings: "
-                  "the input, CGAL's fair (with --method flexure) and the result");
+  addSolverLimits(*sub, options->solver, /*tolerances=*/false);
+  files->output("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
+  files->output("--report", options->reportFile,
+                "JSON report: region, energies of all five before/after, triangle quality, "
+                "displacement, time (written even when the solve fails)");
+  files->output("--render", options->renderFile,
+                "Before/after reflection-line figure (PNG) of the region and its surroundings: "
+                "the input, CGAL's fair (with --method flexure) and the result");
   sub->add_option("--render-size", options->renderSize, "Render panel size in pixels")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(64, 4096));
   sub->footer(
       "The two vertex rings around the region stay fixed (positions and normals).\n"
       "Exit 2 for bad input (empty region, region at the boundary, ...), 3 when the solve does "
       "not converge (the report says why; no mesh is written).\n"
       "Example: flexure fair elephant-with-holes.off --region holes -o filled.off --report "
       "filled.json --render filled.png");
-  sub->callback([options, &global] { runFairCommand(*options, global); });
+  files->onRun([options, &global] { runFairCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

@@ -50,6 +50,16 @@ nlohmann::json meshCheckJson(const modeling::MeshCheck& check) {
   return {{"valid", check.valid()}, {"problem_counts", counts}, {"problems", problems}};
 }
 
+void writeFailureReport(const std::string& path, const nlohmann::json& json) {
+  modeling::writeFileNow(path, json.dump(2) + "\n");
+}
+
+std::string counted(long long n, const std::string& singular, const std::string& plural) {
+  if (n == 1) return "1 " + singular;
+  if (!plural.empty()) return std::to_string(n) + " " + plural;
+  return std::to_string(n) + " " + (singular == "vertex" ? "vertices" : singular + "s");
+}
+
 void writeJsonFile(const std::string& path, const nlohmann::json& json) {
   modeling::writeFileAtomically(path, json.dump(2) + "\n");
 }

@@ -1,11 +1,15 @@
 // flexure minimize: the static minimizer of a bending energy (plus a membrane in xyz mode) with
 // fixed boundary vertices, written as a mesh, with a JSON report.
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli/bending_arguments.h"
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "cli/solver_arguments.h"
@@ -175,6 +179,13 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   const optimize::BoundaryNormals normals =
       boundaryNormals(o, surface.has_value(), midedge, global);
 
+  // Boundary data that overflows fails here, as bad input, rather than as a failed solve.
+  for (Eigen::Index v = 0; surface && v < rest.positions.rows(); ++v) {
+    const double x = rest.positions(v, 0), y = rest.positions(v, 1);
+    if (fixed[v] && !(std::isfinite(surface->height(x, y)) && surface->gradient(x, y).allFinite()))
+      throw InputError("--boundary " + o.boundary + ": vertex " + std::to_string(v) +
+                       " gets a non-finite height or slope (overflow); scale the surface down");
+  }
   optimize::BoundaryConditions bc;
   if (surface) {
     bc = optimize::surfaceBoundary(stencils, rest.positions, restXi, fixed, *surface, normals,
@@ -188,27 +199,49 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
     bc.fixedEdge.assign(restXi.size(), false);
   }
 
+  if (surface) {
+    // Boundary data too large for double precision (quadratic:1e300,0,1) overflows in the solve:
+    // an energy of inf, or edges of infinite length that read as degenerate. The kernels take
+    // fourth powers of lengths (squared areas), which stay finite up to |x| = 1e75 (1e300 <
+    // 1.8e308); the first energy evaluation catches what overflows sooner. Lifting moves only z,
+    // so a finite start has no degenerate element: a failure here is the data's size.
+    const double largest = bc.start.cwiseAbs().maxCoeff();
+    double startEnergy = std::numeric_limits<double>::infinity();
+    if (largest <= 1e75) {
+      try {
+        startEnergy = bending->energy(bc.start, bc.xi);
+      } catch (const NumericalError&) {
+      }
+    }
+    if (!std::isfinite(startEnergy)) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    ": the lifted boundary reaches |z| = %.3g, too large for double precision "
+                    "(the energy overflows; keep values below 1e75); scale the surface down",
+                    largest);
+      throw InputError("--boundary " + o.boundary + text);
+    }
+  }
   const optimize::MinimizeResult result =
       optimize::minimize(terms, bc, rest.positions, restXi, solver);
-  if (result.report.converged) {
-    modeling::Mesh out = restMesh;
-    out.positions = result.positions;
-    modeling::writeMesh(o.output, out);
-  }
   const nlohmann::json report = reportJson(o, b, result, result.report.converged);
-  if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
   if (!result.report.converged) {
+    if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
     throw NumericalError("the solve did not converge (" + result.report.termination + "); " +
                          o.output + " not written" +
-                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
-                         "; raise --max-iterations or loosen the tolerances");
+                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) + "; " +
+                         solverAdvice(result.report, solver));
   }
+  modeling::Mesh out = restMesh;
+  out.positions = result.positions;
+  modeling::writeMesh(o.output, out);
+  if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
   if (!global.quiet) {
     std::cerr << "flexure minimize: wrote " << o.output << " (energy "
               << result.report.initialEnergy << " -> " << result.report.finalEnergy << ", "
-              << result.report.solver << ", " << result.report.iterations << " iterations, "
-              << result.report.factorizations << " factorizations, " << result.report.totalSeconds
-              << " s)\n";
+              << result.report.solver << ", " << counted(result.report.iterations, "iteration")
+              << ", " << counted(result.report.factorizations, "factorization") << ", "
+              << result.report.totalSeconds << " s)\n";
   }
 }
 
@@ -218,23 +251,27 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<MinimizeCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "minimize", "Minimize a bending energy with fixed boundary vertices (static equilibrium)");
-  sub->add_option("--rest", options->restFile, "Rest mesh (flat plate or curved shell)")
-      ->required();
+  auto files = CommandFiles::of(*sub);
+  files->input("--rest", options->restFile, "Rest mesh (flat plate or curved shell)")->required();
   addBendingArguments(*sub, options->bending);
   sub->add_option("--dof", options->dof, "height (z only; x, y at rest) | xyz (needs --membrane)")
       ->capture_default_str();
   sub->add_option("--membrane", options->membrane, "xyz mode: stvk | springs | conformal");
   sub->add_option("--young", options->young, "stvk: Young's modulus x thickness")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--membrane-poisson", options->membranePoisson, "stvk: Poisson's ratio")
       ->capture_default_str();
   sub->add_option("--length-stiffness", options->lengthStiffness, "springs: k_L")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--area-stiffness", options->areaStiffness, "springs: k_A")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--shape-stiffness", options->shapeStiffness,
                   "conformal: k_S (triangle shape, not size)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--fix", options->fix,
                   "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
                   "vertices:FILE (indices)")
@@ -242,8 +279,8 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--boundary", options->boundary,
                   "Fixed vertices lifted onto z = p(x, y) at their rest x, y (quadratic:a,b,c or "
                   "polynomial:EXPR); the interior starts at rest");
-  sub->add_option("--init", options->initFile,
-                  "A mesh (rest connectivity) giving the fixed vertices' values and the start");
+  files->input("--init", options->initFile,
+               "A mesh (rest connectivity) giving the fixed vertices' values and the start");
   sub->add_option("--start", options->start,
                   "Start of the nonlinear solve: linearized (the linearized minimizer, one sparse "
                   "solve; default with --boundary) | given (the interior at rest, or as in --init; "
@@ -254,22 +291,14 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_flag("--linearized", options->linearized,
                 "Minimize the linearized energy E_lin exactly (one sparse solve)");
   addSolverArguments(*sub, options->solverArguments);
-  sub->add_option("--max-iterations", options->solver.maxIterations)->capture_default_str();
-  sub->add_option("--function-tolerance", options->solver.functionTolerance,
-                  "ceres: |dE| / E; newton: the predicted decrease of a step / E")
-      ->capture_default_str();
-  sub->add_option("--gradient-tolerance", options->solver.gradientTolerance)->capture_default_str();
-  sub->add_option("--parameter-tolerance", options->solver.parameterTolerance)
-      ->capture_default_str();
-  sub->add_option("--threads", options->solver.threads)->capture_default_str();
-  sub->add_option("-o,--output", options->output, "Minimizer mesh (.obj, .off, .ply)")->required();
-  sub->add_option("--report", options->reportFile,
-                  "JSON report (written even when the solve fails)");
+  addSolverLimits(*sub, options->solver, /*tolerances=*/true);
+  files->output("-o,--output", options->output, "Minimizer mesh (.obj, .off, .ply)")->required();
+  files->output("--report", options->reportFile, "JSON report (written even when the solve fails)");
   sub->footer(
       "Exit 3 when the solve does not converge (the report says why; no mesh is written).\n"
       "Example: flexure minimize --rest plate.obj --energy midedge --boundary quadratic:1,0,1 "
       "-o bowl.obj --report bowl.json");
-  sub->callback([options, &global] { runMinimizeCommand(*options, global); });
+  files->onRun([options, &global] { runMinimizeCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

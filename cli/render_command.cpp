@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "curvature/mean_curvature_field.h"
 #include "modeling/errors.h"
@@ -99,13 +100,16 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   RenderCommandOptions& o = *options;
   CLI::App* sub = app.add_subcommand(
       "render", "Render a mesh offscreen (OSMesa) to PNG: reflection lines, isophotes, ...");
-  sub->add_option("input", o.input, "Mesh file (.obj, .off, .ply, .stl)")->required();
-  sub->add_option("-o,--output", o.output, "Output image (.png)")->required();
+  auto files = CommandFiles::of(*sub);
+  files->input("input", o.input, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  files->output("-o,--output", o.output, "Output image (.png)")->required();
   sub->add_option("--style", o.style,
                   "reflection | isophote | highlight | shaded | error | curvature (default "
                   "reflection)");
-  sub->add_option("--width", o.render.width, "Image width in pixels (default 1024)");
-  sub->add_option("--height", o.render.height, "Image height in pixels (default 1024)");
+  sub->add_option("--width", o.render.width, "Image width in pixels (default 1024)")
+      ->check(inRange(16, 8192));
+  sub->add_option("--height", o.render.height, "Image height in pixels (default 1024)")
+      ->check(inRange(16, 8192));
   sub->add_option("--azimuth", o.render.azimuthDegrees,
                   "Camera azimuth in degrees about +z; 0 = seen from the -y side (default 0)");
   sub->add_option("--elevation", o.render.elevationDegrees,
@@ -115,7 +119,8 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_flag("--flat", o.flat, "Flat (face) normals instead of area-weighted vertex normals");
   sub->add_flag("--edges", o.render.edges, "Draw the triangle edges");
   sub->add_option("--stripes", o.render.stripeCount,
-                  "Number of stripes / bands / highlight lines (default 12)");
+                  "Number of stripes / bands / highlight lines (default 12)")
+      ->check(inRange(1, 1000));
   sub->add_option("--stripe-width", o.render.stripeWidth,
                   "Dark fraction of each stripe period, in (0, 1) (default 0.5)");
   sub->add_option("--stripe-direction", o.render.stripeDirectionDegrees,
@@ -136,7 +141,7 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "
       "by $FLEXURE_OSMESA_LIBRARY.");
-  sub->callback([options, &global] { runRenderCommand(*options, global); });
+  files->onRun([options, &global] { runRenderCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

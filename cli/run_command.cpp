@@ -102,6 +102,7 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
   for (size_t k = 0; k < steps.size(); ++k) {
     std::vector<std::string> args = steps[k];
     if (global.quiet) args.insert(args.begin() + 1, "--quiet");
+    if (global.verbose) args.insert(args.begin() + 1, "--verbose");
     std::string shown;
     for (size_t a = 0; a < args.size(); ++a) shown += (a ? " " : "") + args[a];
     if (o.dryRun) {

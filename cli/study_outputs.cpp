@@ -550,22 +550,21 @@ class ProgressReporter {
   int lastTenth_ = 0;
 };
 
-void createDirectory(const std::filesystem::path& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError(dir.string() + ": cannot create the output directory" +
-                     (ec ? " (" + ec.message() + ")" : std::string(" (a file is in the way)")));
-  }
-}
-
 }  // namespace
+
+bool isStudyFile(const std::string& name) {
+  if (name == "results.json" || name == "results.csv" || name == "summary.md") return true;
+  const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
+  for (const char* prefix : {"c2_", "refinement_", "nonlinear_c2_"})
+    if (png && name.rfind(prefix, 0) == 0) return true;
+  return false;
+}
 
 std::string runStudyInto(const optimize::StudyOptions& options, const std::string& dir,
                          const GlobalOptions& global, const std::string& commandName) {
   optimize::checkStudyOptions(options);  // bad options fail before the directory is made
   const std::filesystem::path out(dir);
-  createDirectory(out);
+  modeling::createOutputDirectory(out.string());
   ProgressReporter reporter(global, commandName);
   const StudyResults results = optimize::runConvergenceStudy(
       options, [&](const optimize::StudyProgress& p) { reporter(p); });

@@ -11,6 +11,10 @@
 
 namespace flexure::cli {
 
+// The files runStudyInto writes: results.json, results.csv, summary.md and the plots
+// (c2_*.png, refinement_*.png, refinement_energy_*.png, nonlinear_c2_*.png).
+bool isStudyFile(const std::string& name);
+
 // Runs the study (progress on stderr unless quiet: a bar on a terminal, else a line per tenth),
 // creates `dir` and writes every output there atomically; returns summary.md's text. The
 // outputs depend only on the options, not on the thread count or the time.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -53,11 +54,22 @@ struct Location {
   throw InputError(at.path + unit + std::to_string(at.position) + ": " + problem);
 }
 
-// A token as shown in a message: quoted, cut short when long (binary data read as text).
+// A token as shown in a message: quoted, cut short when long, bytes that are not printable ASCII
+// shown as \xNN (binary data read as text must not reach the terminal raw).
 std::string quoted(std::string_view token) {
   constexpr size_t kMaxShown = 40;
-  if (token.size() > kMaxShown) return "'" + std::string(token.substr(0, kMaxShown)) + "...'";
-  return "'" + std::string(token) + "'";
+  std::string shown = "'";
+  for (const char c : token.substr(0, kMaxShown)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      shown += c;
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      shown += escaped;
+    }
+  }
+  return shown + (token.size() > kMaxShown ? "...'" : "'");
 }
 
 // Iterates over the lines of a text; a line excludes its '\n' and a trailing '\r'.
@@ -896,8 +908,12 @@ PolygonSoup parseStl(const std::string& path, std::string_view bytes) {
 }  // namespace
 
 PolygonSoup readPolygonSoup(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory, not a mesh file");
   const MeshFormat format = meshFormatOf(path);
   const std::string bytes = readFileBytes(path);
+  if (bytes.empty()) throw InputError(path + ": the file is empty (0 bytes)");
   switch (format) {
     case MeshFormat::Obj:
       return parseObj(path, bytes);

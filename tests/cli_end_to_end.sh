@@ -30,7 +30,7 @@ run 0 --version; stdout_has "flexure 0."
 run 0 --help; stdout_has "mesh"; stdout_has "Exit codes"
 run 0 mesh --help; stdout_has "--family"
 run 2; stderr_has "subcommand"
-run 2 frobnicate
+run 2 frobnicate; stderr_has "unknown command 'frobnicate'"
 run 2 mesh --n 8  # no -o
 stderr_has "--output"
 
@@ -180,7 +180,8 @@ run 0 minimize --rest flat8.obj --energy quadfit --init bowl.obj -o again.obj --
 printf '0 1 2\n# the rest of the boundary\n3, 4, 5\n' > fixed.txt
 run 0 minimize --rest flat8.obj --energy triavg --fix vertices:fixed.txt --boundary quadratic:1,0,0 --dof xyz --membrane stvk -o xyz.obj --quiet --max-iterations 500
 run 3 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o slow.obj --report slow.json --max-iterations 1 --quiet
-stderr_has "did not converge"; absent slow.obj
+stderr_has "did not converge"; stderr_has "used all its iterations (--max-iterations 1): raise --max-iterations"
+absent slow.obj
 python3 -c "import json; d=json.load(open('slow.json')); assert not d['converged'] and 'NO_CONVERGENCE' in d['termination']" || fail "slow.json"
 run 2 minimize --rest flat8.obj --energy hinge -o x.obj; stderr_has "--boundary"; absent x.obj
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --dof xyz -o x.obj; stderr_has "needs a membrane"
@@ -271,14 +272,14 @@ run 0 converge --mesh patch48.obj --energies midedge:free --amplitudes 0 -o user
 grep -qF "| midedge(free) | — | fail" user/summary.md || fail "user mesh: midedge(free) should fail C2"
 run 2 converge --energies frobenius -o bad; stderr_has "--energies"; stderr_has "frobenius"; absent bad
 run 2 converge --families hexagonal -o bad; stderr_has "hexagonal"; absent bad
-run 2 converge --levels 0 -o bad; stderr_has "--levels 0"; absent bad
+run 2 converge --levels 0 -o bad; stderr_has "--levels: 0 is out of range: expected 1 .. 8"; absent bad
 run 2 converge --amplitudes 1 -o bad; stderr_has "--amplitudes 1"; absent bad
 run 2 converge --quadratics "1,0" -o bad; stderr_has "--quadratics"; stderr_has "'1,0'"; absent bad
 run 2 converge --solution "polynomial:x^^2" -o bad; stderr_has "x^^2"; absent bad
 run 2 converge --poisson 3 --energies triavg -o bad; stderr_has "outside [-1, 1]"; absent bad
 run 2 converge --mesh bowl.ply -o bad; stderr_has "bowl.ply: vertex"; stderr_has "flat"; absent bad
 run 2 converge --mesh missing.obj -o bad; stderr_has "missing.obj"; absent bad
-run 2 "${tiny[@]}" -o study/summary.md; stderr_has "cannot create the output directory"
+run 2 "${tiny[@]}" -o study/summary.md; stderr_has "--output study/summary.md: 'study/summary.md' is a file"
 run 2 converge --n 8; stderr_has "--output"
 
 # --- demo --------------------------------------------------------------------------------
@@ -429,6 +430,134 @@ run 3 fair "$lion" --region vertices:region.txt --max-iterations 1 --start input
   --report stopped.json --quiet
 stderr_has "did not converge"; absent e.off
 grep -q '"converged": false' stopped.json || fail "fair: stopped.json does not say converged false"
+
+# --- reliability (issue 14): every output checked before any work, nothing written on failure -----
+# A run that would fail at its last write fails first, before solving, and leaves nothing.
+run 2 minimize --rest flat8.obj --energy cotan --boundary quadratic:1,0,1 -o o.obj --report /nonexistent/r.json
+stderr_has "--report /nonexistent/r.json: directory '/nonexistent' does not exist"; absent o.obj
+[ ! -s out.txt ] && ! grep -q "iteration" err.txt || fail "minimize solved before checking --report"
+run 2 fair "$CGAL_MESHES/lion-head.off" --region all-interior -o nf.off --render /proc/f.png
+stderr_has "--render /proc/f.png: cannot create a file in '/proc'"; absent nf.off
+run 2 mesh --family patch48 --n 4 -o /proc/x.obj; stderr_has "--output /proc/x.obj"
+mkdir -p adir
+run 2 mesh --family patch48 --n 4 -o adir; stderr_has "--output adir: is a directory"
+run 2 render render-bowl.obj -o nowhere/x.png; stderr_has "--output nowhere/x.png: directory 'nowhere' does not exist"
+run 2 convert quad.obj -o /nonexistent/q.off; stderr_has "--output /nonexistent/q.off"; absent /nonexistent
+run 2 compare -o /proc/cmp --n 4; stderr_has "--output /proc/cmp: cannot create files in '/proc'"
+run 2 converge --n 8 -o render-bowl.obj/sub; stderr_has "'render-bowl.obj' is a file, not a directory"
+run 2 minimize --rest flat8.obj --energy cotan --boundary quadratic:1,0,1 -o same.obj --report same.obj
+stderr_has "--report same.obj: is also the file of --output"; absent same.obj
+# A failure after the first write (the mesh is staged, the solve of ... fails later): nothing stays.
+run 3 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o never.obj --report never.json --max-iterations 1 --quiet
+absent never.obj; [ -s never.json ] || fail "exit 3 lost its report (the report says why)"
+ls -a | grep -q '\.tmp\.' && fail "temporaries left behind: $(ls -a | grep '\.tmp\.')"
+
+# An output that is an input: refused unless --force.
+cp flat8.obj same-in.obj
+run 2 minimize --rest same-in.obj --energy cotan --boundary quadratic:1,0,1 --linearized -o same-in.obj
+stderr_has "--output same-in.obj: would overwrite the input --rest same-in.obj"; stderr_has "--force"
+cmp -s flat8.obj same-in.obj || fail "a refused minimize changed its input"
+run 2 convert same-in.obj -o ./same-in.obj; stderr_has "would overwrite the input"
+mkdir -p lion; cp "$CGAL_MESHES/lion-head.off" lion/nef.off
+run 2 fair lion/nef.off --region all-interior -o ./lion/../lion/nef.off
+stderr_has "--output ./lion/../lion/nef.off: would overwrite the input mesh lion/nef.off"
+cmp -s "$CGAL_MESHES/lion-head.off" lion/nef.off || fail "a refused fair changed its input"
+run 0 minimize --rest same-in.obj --energy cotan --boundary quadratic:1,0,1 --linearized -o same-in.obj --force --quiet
+cmp -s flat8.obj same-in.obj && fail "--force did not overwrite the input"
+
+# Numeric options out of range are usage errors (exit 2) naming the option and its range.
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --threads 0
+stderr_has "--threads: 0 is out of range: expected 1 .. "; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --threads 64
+stderr_has "--threads: 64 is out of range"; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --max-iterations 0
+stderr_has "--max-iterations: 0 is out of range: expected 1 .. 1e+06"; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --function-tolerance -1e-3
+stderr_has "--function-tolerance: -1e-3 is out of range: expected a number > 0"; absent x.obj
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --gradient-tolerance 0
+stderr_has "--gradient-tolerance: 0 is out of range"
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o x.obj --stiffness 0; stderr_has "--stiffness: 0"
+run 2 mesh --n 0 -o x.obj; stderr_has "--n: 0 is out of range: expected 1 .. 20000"; absent x.obj
+run 2 mesh --n 8 --aspect -1 -o x.obj; stderr_has "--aspect: -1 is out of range"; absent x.obj
+run 2 compare -o badcmp --n 0; stderr_has "--n: 0 is out of range: expected 4 .. 256"; absent badcmp
+run 2 compare -o badcmp --size 10; stderr_has "--size: 10 is out of range: expected 64 .. 4096"; absent badcmp
+run 2 compare -o badcmp --threads 0; stderr_has "--threads: 0"; absent badcmp
+run 2 converge --threads 1000 -o bad; stderr_has "--threads: 1000 is out of range"; absent bad
+run 2 converge --n 0 -o bad; stderr_has "--n: 0 is out of range"; absent bad
+run 2 fair "$CGAL_MESHES/lion-head.off" --region all-interior -o e.off --max-iterations -5; stderr_has "--max-iterations: -5"
+run 2 fair "$CGAL_MESHES/lion-head.off" --region all-interior -o e.off --render-size 10; stderr_has "--render-size: 10"
+run 2 render render-bowl.obj -o bad.png --width 0; stderr_has "--width: 0 is out of range"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --stripes 0; stderr_has "--stripes: 0 is out of range"; absent bad.png
+
+# Ceres' and glog's own lines reach stderr only with --verbose; overflowing data is named as such.
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1e300,0,1 -o big.obj --report big.json
+stderr_has "--boundary quadratic:1e300,0,1: the lifted boundary reaches |z| = 2.5e+299, too large for double precision"
+absent big.obj; absent big.json
+run 2 minimize --rest flat8.obj --energy midedge --boundary quadratic:1e100,0,1 -o big.obj
+stderr_has "reaches |z| = 2.5e+99"; absent big.obj
+# More threads than cores: Ceres warns through glog, which only --verbose shows. Ceres is not the
+# default solver: this runs once minimize has --solver ceres.
+cores=$(getconf _NPROCESSORS_ONLN)
+if "$FLEXURE" minimize --help | grep -q -- "--solver"; then
+  run 0 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o t.obj --threads $((cores + 1)) --solver ceres
+  grep -q "num_threads" err.txt && fail "a glog line without --verbose: $(cat err.txt)"
+  run 0 --verbose minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o t.obj --threads $((cores + 1)) --solver ceres
+  stderr_has "num_threads"
+else
+  echo "note: minimize has no --solver yet: the glog check waits for --solver ceres" >&2
+fi
+
+# Unknown commands and misspelt options: a suggestion, exit 2.
+run 2 meshh --n 4 -o x.obj; stderr_has "unknown command 'meshh'; did you mean 'mesh'?"; absent x.obj
+run 2 minimze --rest flat8.obj; stderr_has "did you mean 'minimize'?"
+run 2 energy --enrgy hinge --rest flat8.obj --current flat8.obj; stderr_has "'--enrgy' is not an option; did you mean '--energy'?"
+run 2 mesh --famliy patch48 -o x.obj; stderr_has "did you mean '--family'?"; absent x.obj
+run 2 mesh --n 4 -o x.obj --quite; stderr_has "did you mean '--quiet'?"; absent x.obj
+
+# Messages: plurals, escaped bytes, empty files, directories.
+run 0 energy --energy cotan --rest flat8.obj --current p8.obj; stdout_has "49 vertices"
+grep -q "vertexs" out.txt && fail "energy printed 'vertexs'"
+run 0 mesh --family patch48 --n 1 -o one.obj; stderr_has "4 vertices, 2 faces"
+run 0 minimize --rest flat8.obj --energy cotan --boundary quadratic:0.3,-0.7,0.5 -o one-it.obj --linearized
+stderr_has "1 iteration, "
+printf 'v 0 0 0\n\x01\x02\xff\xfe garbage\n' > binary.obj
+run 2 info binary.obj; stderr_has "binary.obj: line 2"; stderr_has '\x01\x02\xff\xfe'
+LC_ALL=C grep -q $'\x01' err.txt && fail "raw control bytes echoed: $(cat -v err.txt)"
+: > empty0.off
+run 2 info empty0.off; stderr_has "empty0.off: the file is empty"
+grep -q "line 0" err.txt && fail "an empty file is reported at line 0"
+mkdir -p meshdir.obj
+run 2 info meshdir.obj; stderr_has "meshdir.obj: is a directory"
+run 2 info adir; stderr_has "adir: is a directory"
+
+# Re-runs into an existing folder: the folder holds this run's files, stale ones of the same
+# command removed, other files untouched.
+run 0 compare -o rerun --families patch48,delaunay --energies hinge --n 4 --size 64 --quiet
+echo "mine" > rerun/notes.txt; echo "mine" > rerun/my-figure.png
+run 0 compare -o rerun --families patch48 --energies hinge --n 4 --size 64 --quiet
+[ -s rerun/patch48-hinge.png ] || fail "compare rerun lost patch48-hinge.png"
+absent rerun/delaunay-hinge.png
+[ "$(cat rerun/notes.txt)" = mine ] && [ "$(cat rerun/my-figure.png)" = mine ] || fail "compare rerun touched other files"
+run 0 converge --energies hinge --families patch48,criss --n 8 --levels 2 --amplitudes 0 --solution none -o rerun-study --quiet
+[ -s rerun-study/c2_criss.png ] || fail "converge wrote no c2_criss.png"
+echo "mine" > rerun-study/notes.md
+run 0 converge --energies hinge --families patch48 --n 8 --levels 2 --amplitudes 0 --solution none -o rerun-study --quiet
+absent rerun-study/c2_criss.png; [ -s rerun-study/c2_patch48.png ] || fail "converge rerun lost c2_patch48.png"
+[ -s rerun-study/notes.md ] || fail "converge rerun removed notes.md"
+# A failed rerun removes nothing.
+run 2 compare -o rerun --families patch48 --energies frobenius --quiet
+[ -s rerun/patch48-hinge.png ] || fail "a failed compare removed the earlier run's files"
+
+# Memory: a mesh that cannot fit is refused with the estimate, before any allocation.
+run 2 mesh --family patch48 --n 19999 -o huge.obj; stderr_has "--n 19999: the mesh needs about"
+stderr_has "GB available"; absent huge.obj
+# Under a cap (here an address-space limit), the estimate is against the cap.
+(ulimit -v 500000; run 2 mesh --family patch48 --n 2000 -o capped.obj)
+stderr_has "--n 2000: the mesh needs about 2.0 GB"; absent capped.obj
+# An allocation that fails anyway exits 3, "out of memory", and leaves no output.
+run 0 mesh --family patch48 --n 600 -o m600.obj --quiet
+(ulimit -v 150000; run 3 convert m600.obj -o m600.off)
+stderr_has "out of memory"; absent m600.off
 
 echo "cli_end_to_end: $checks runs, $failures failures"
 [ "$failures" -eq 0 ]
