@@ -63,7 +63,7 @@ std::string commandWord(const std::vector<std::string>& args) {
 
 }  // namespace
 
-int runFlexure(const std::vector<std::string>& args) {
+int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   CLI::App app(
       "flexure: static minimizers of discrete bending energies on triangle meshes with fixed "
       "boundaries, and how the discretizations differ.",
@@ -72,6 +72,7 @@ int runFlexure(const std::vector<std::string>& args) {
   app.require_subcommand(1);
   app.fallthrough();  // --quiet and --verbose are accepted after the subcommand too
   GlobalOptions global;
+  global.checkOnly = checkOnly;
   app.add_flag("-q,--quiet", global.quiet, "No progress or notices on stderr");
   app.add_flag("--verbose", global.verbose,
                "Also the solver library's own log lines (Ceres, glog) on stderr");

@@ -52,11 +52,13 @@ bool sameFile(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
-void checkFileOutput(const std::string& option, const std::string& path) {
+void checkFileOutput(const std::string& option, const std::string& path,
+                     bool directoriesMayAppear) {
   const std::string where = option + " " + path;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InputError(where + ": is a directory; give a file name");
   const fs::path dir = directoryOf(path);
+  if (!fs::exists(dir, ec) && directoriesMayAppear) return;
   if (!fs::exists(dir, ec))
     throw InputError(where + ": directory '" + dir.string() + "' does not exist; create it first");
   if (!fs::is_directory(dir, ec))
@@ -104,13 +106,14 @@ CLI::Option* CommandFiles::output(const std::string& names, std::string& path,
   return sub_.add_option(names, path, help);
 }
 
-void CommandFiles::onRun(std::function<void()> run) {
+void CommandFiles::onRun(const GlobalOptions& global, std::function<void()> run) {
   const bool fileOutput = std::any_of(outputs_.begin(), outputs_.end(),
                                       [](const Declared& d) { return d.kind == OutputKind::File; });
   if (!inputs_.empty() && fileOutput)
     sub_.add_flag("--force", force_, "Write an output even when it is one of the input files");
-  sub_.callback([self = shared_from_this(), run = std::move(run)] {
-    self->check();
+  sub_.callback([self = shared_from_this(), &global, run = std::move(run)] {
+    self->check(global.checkOnly);
+    if (global.checkOnly) return;
     run();
     self->removeStaleFiles();
   });
@@ -132,7 +135,7 @@ void CommandFiles::removeStaleFiles() const {
   }
 }
 
-void CommandFiles::check() const {
+void CommandFiles::check(bool directoriesMayAppear) const {
   std::vector<std::pair<std::string, std::string>> inputFiles;  // option, path
   for (const Declared& in : inputs_) {
     if (in.path && !in.path->empty()) inputFiles.emplace_back(in.option, *in.path);
@@ -144,7 +147,7 @@ void CommandFiles::check() const {
     const std::string& path = *out.path;
     if (path.empty()) continue;  // an optional output not asked for
     if (out.kind == OutputKind::File) {
-      checkFileOutput(out.option, path);
+      checkFileOutput(out.option, path, directoriesMayAppear);
     } else {
       checkDirectoryOutput(out.option, path);
     }

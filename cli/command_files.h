@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/commands.h"
+
 namespace flexure::cli {
 
 enum class OutputKind {
@@ -37,10 +39,13 @@ class CommandFiles : public std::enable_shared_from_this<CommandFiles> {
                       OutputKind kind = OutputKind::File, OwnedFiles owned = {});
 
   // Sets the subcommand's callback: check(), then `run`, then the removal of stale files from the
-  // output folders (at the commit). Adds --force when the command has input and output files.
-  void onRun(std::function<void()> run);
+  // output folders (at the commit); with global.checkOnly, check() alone. Adds --force when the
+  // command has input and output files.
+  void onRun(const GlobalOptions& global, std::function<void()> run);
   // Throws InputError naming the option and the path of the first output that cannot be written.
-  void check() const;
+  // With `directoriesMayAppear`, a missing directory is no error: in a run spec's check an earlier
+  // step may create it.
+  void check(bool directoriesMayAppear = false) const;
 
  private:
   explicit CommandFiles(CLI::App& sub) : sub_(sub) {}

@@ -11,6 +11,9 @@ namespace flexure::cli {
 struct GlobalOptions {
   bool quiet = false;    // no progress or notices on stderr
   bool verbose = false;  // Ceres' and glog's own lines on stderr too
+  // Parse and check the options and outputs, run nothing: `flexure run` checks every step
+  // before it runs the first.
+  bool checkOnly = false;
 };
 
 void registerMeshCommand(CLI::App& app, const GlobalOptions& global);
@@ -27,6 +30,6 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global);
 
 // Parses `args` (args[0] is the program name) and runs the chosen subcommand; returns the exit
 // code: 0 success, 2 bad input or usage, 3 numerical failure. `flexure run` re-enters here.
-int runFlexure(const std::vector<std::string>& args);
+int runFlexure(const std::vector<std::string>& args, bool checkOnly = false);
 
 }  // namespace flexure::cli

@@ -201,7 +201,7 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
       "Writes DIR/compare.png (rows = families, columns = energies, each panel titled with its "
       "C2 error), DIR/<family>-<energy>.png and DIR/compare.json.\n"
       "Example: flexure compare -o cmp --families patch48,delaunay --energies hinge,midedge");
-  files->onRun([options, &global] { runCompare(*options, global, "flexure compare"); });
+  files->onRun(global, [options, &global] { runCompare(*options, global, "flexure compare"); });
 }
 
 }  // namespace flexure::cli

@@ -164,7 +164,7 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
       "(the pass/fail table and the orders; also printed) and log-log plots DIR/*.png.\n"
       "Example: flexure converge --energies midedge,cotan,hinge --families patch48,delaunay "
       "--levels 3 -o study");
-  files->onRun([options, families, &global] {
+  files->onRun(global, [options, families, &global] {
     runConvergeCommand(*options, families->count() > 0, global);
   });
 }

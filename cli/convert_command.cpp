@@ -39,7 +39,7 @@ void registerConvertCommand(CLI::App& app, const GlobalOptions& global) {
   files->input("input", options->input, "Mesh file (.obj, .off, .ply, .stl)")->required();
   files->output("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
   sub->footer("Example: flexure convert scan.stl -o scan.ply");
-  files->onRun([options, &global] { runConvertCommand(*options, global); });
+  files->onRun(global, [options, &global] { runConvertCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

@@ -108,7 +108,7 @@ void registerDemoCommand(CLI::App& app, const GlobalOptions& global) {
       ->output("-o,--output", options->outputDir, "Output directory (created if missing)",
                OutputKind::Directory)
       ->capture_default_str();
-  files->onRun([options, &global] { runDemoCommand(*options, global); });
+  files->onRun(global, [options, &global] { runDemoCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

@@ -381,7 +381,7 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
       "not converge (the report says why; no mesh is written).\n"
       "Example: flexure fair elephant-with-holes.off --region holes -o filled.off --report "
       "filled.json --render filled.png");
-  files->onRun([options, &global] { runFairCommand(*options, global); });
+  files->onRun(global, [options, &global] { runFairCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

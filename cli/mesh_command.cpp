@@ -143,7 +143,7 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
   files->output("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
   sub->footer(
       "Example: flexure mesh --family delaunay --n 32 --seed 7 --height quadratic:1,0,1 -o d.obj");
-  files->onRun([options, &global] { runMeshCommand(*options, global); });
+  files->onRun(global, [options, &global] { runMeshCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

@@ -298,7 +298,7 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
       "Exit 3 when the solve does not converge (the report says why; no mesh is written).\n"
       "Example: flexure minimize --rest plate.obj --energy midedge --boundary quadratic:1,0,1 "
       "-o bowl.obj --report bowl.json");
-  files->onRun([options, &global] { runMinimizeCommand(*options, global); });
+  files->onRun(global, [options, &global] { runMinimizeCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

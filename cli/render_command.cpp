@@ -141,7 +141,7 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "
       "by $FLEXURE_OSMESA_LIBRARY.");
-  files->onRun([options, &global] { runRenderCommand(*options, global); });
+  files->onRun(global, [options, &global] { runRenderCommand(*options, global); });
 }
 
 }  // namespace flexure::cli

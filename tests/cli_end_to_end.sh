@@ -489,6 +489,33 @@ run 2 fair "$CGAL_MESHES/lion-head.off" --region all-interior -o e.off --render-
 run 2 render render-bowl.obj -o bad.png --width 0; stderr_has "--width: 0 is out of range"; absent bad.png
 run 2 render render-bowl.obj -o bad.png --stripes 0; stderr_has "--stripes: 0 is out of range"; absent bad.png
 
+# A run spec: every step's outputs and options are checked before the first step runs.
+cat > late.json <<'JSON'
+{"steps": [
+  {"command": "mesh", "options": {"n": 4, "o": "late-first.obj"}},
+  {"command": "minimize", "options": {"rest": "late-first.obj", "energy": "hinge",
+   "boundary": "quadratic:1,0,1", "o": "late.obj", "report": "/proc/late.json"}}
+]}
+JSON
+run 2 run late.json; stderr_has "--report /proc/late.json"; stderr_has "step 2 would fail (exit 2); no step was run"
+absent late-first.obj
+cat > later.json <<'JSON'
+{"steps": [
+  {"command": "mesh", "options": {"n": 4, "o": "later-first.obj"}},
+  {"command": "minimize", "options": {"rest": "later-first.obj", "energy": "hinge",
+   "boundary": "quadratic:1,0,1", "o": "later.obj", "threads": 0}}
+]}
+JSON
+run 2 run later.json; stderr_has "--threads: 0 is out of range"; absent later-first.obj
+# A directory an earlier step makes is no error in the check.
+cat > made.json <<'JSON'
+{"steps": [
+  {"command": "compare", "options": {"o": "made", "families": "patch48", "energies": "hinge", "size": 64}},
+  {"command": "mesh", "options": {"n": 4, "o": "made/plate.obj"}}
+]}
+JSON
+run 0 run made.json --quiet; [ -s made/plate.obj ] || fail "run: made/plate.obj not written"
+
 # Ceres' and glog's own lines reach stderr only with --verbose; overflowing data is named as such.
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1e300,0,1 -o big.obj --report big.json
 stderr_has "--boundary quadratic:1e300,0,1: the lifted boundary reaches |z| = 2.5e+299, too large for double precision"
