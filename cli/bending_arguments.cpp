@@ -53,43 +53,4 @@ curvature::BendingOptions bendingOptions(const BendingArguments& a) {
   return b;
 }
 
-std::string solverAdvice(const optimize::MinimizeReport& report,
-                         const optimize::MinimizeOptions& solver) {
-  // Ceres reports a residual that evaluates to inf or NaN as "Evaluation of the residual ...
-  // failed" or "Residual and Jacobian evaluation failed".
-  if (!std::isfinite(report.initialEnergy) || !std::isfinite(report.finalEnergy) ||
-      report.termination.find("valuation") != std::string::npos) {
-    return "the energy is not finite (overflow, or a degenerate triangle): values this large do "
-           "not fit in double precision; scale the boundary data down, and check the mesh with "
-           "flexure info";
-  }
-  if (report.iterations >= solver.maxIterations) {
-    return "the solver used all its iterations (--max-iterations " +
-           std::to_string(solver.maxIterations) + "): raise --max-iterations";
-  }
-  return "the solver stopped early; check the mesh for degenerate triangles (flexure info) or "
-         "loosen the tolerances";
-}
-
-void addSolverLimits(CLI::App& sub, optimize::MinimizeOptions& solver, bool tolerances) {
-  sub.add_option("--max-iterations", solver.maxIterations)
-      ->capture_default_str()
-      ->check(inRange(1, 1e6));
-  if (tolerances) {
-    sub.add_option("--function-tolerance", solver.functionTolerance,
-                   "ceres: |dE| / E; newton: the predicted decrease of a step / E")
-        ->capture_default_str()
-        ->check(positive());
-    sub.add_option("--gradient-tolerance", solver.gradientTolerance)
-        ->capture_default_str()
-        ->check(positive());
-    sub.add_option("--parameter-tolerance", solver.parameterTolerance)
-        ->capture_default_str()
-        ->check(positive());
-  }
-  sub.add_option("--threads", solver.threads)
-      ->capture_default_str()
-      ->check(inRange(1, maxThreads()));
-}
-
 }  // namespace flexure::cli

@@ -31,14 +31,4 @@ void addBendingArguments(CLI::App& sub, BendingArguments& arguments,
 // Checked options: an option that does not apply to the chosen energy is an InputError.
 curvature::BendingOptions bendingOptions(const BendingArguments& arguments);
 
-// The solver limits shared by minimize and fair (the solver itself: solver_arguments.h), each
-// checked for its range at parse time: --max-iterations, --threads, with `tolerances` the three
-// tolerances.
-void addSolverLimits(CLI::App& sub, optimize::MinimizeOptions& solver, bool tolerances);
-
-// What to do about a solve that did not converge, from why it stopped: a non-finite energy
-// (overflowing data) is not helped by more iterations.
-std::string solverAdvice(const optimize::MinimizeReport& report,
-                         const optimize::MinimizeOptions& solver);
-
 }  // namespace flexure::cli
