@@ -79,26 +79,6 @@ Mesh singleTriangle() {
   return m;
 }
 
-// The mesh with its first interior face split 1 → 3 at the centroid: a vertex of valence 3,
-// which faces around it read through two flap slots.
-Mesh withValenceThreeVertex(const Mesh& mesh) {
-  const modeling::Stencils s = modeling::compileStencils(mesh);
-  int f = 0;
-  while (!s.faceIsInterior(f)) ++f;
-  const auto t = mesh.triangles.row(f);
-  Mesh out = mesh;
-  const int v = mesh.vertexCount();
-  out.positions.conservativeResize(v + 1, 3);
-  out.positions.row(v) =
-      (mesh.positions.row(t(0)) + mesh.positions.row(t(1)) + mesh.positions.row(t(2))) / 3.0;
-  const int a = t(0), b = t(1), c = t(2);
-  out.triangles.conservativeResize(mesh.faceCount() + 2, 3);
-  out.triangles.row(f) << a, b, v;
-  out.triangles.row(mesh.faceCount()) << b, c, v;
-  out.triangles.row(mesh.faceCount() + 1) << c, a, v;
-  return out;
-}
-
 Mesh delaunayPatch() {
   return modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 7, {}});
 }
@@ -303,7 +283,7 @@ TEST(Hessians, EveryEnergyOnACurvedIrregularShell) {
 }
 
 TEST(Hessians, RepeatedFlapVertex) {
-  const Mesh rest = curvedRest(withValenceThreeVertex(delaunayPatch()), 5);
+  const Mesh rest = curvedRest(testing::withValenceThreeVertex(delaunayPatch()), 5);
   unsigned seed = 200;
   // quadfit refuses these stencils: a repeated point leaves five for six coefficients.
   for (const Energy& energy : allEnergies())

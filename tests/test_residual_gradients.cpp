@@ -411,32 +411,12 @@ double energyAt(const curvature::EnergyTerm& term, const Eigen::VectorXd& u, Eig
   return term.energy(x, u.tail(xi.size()));
 }
 
-// The mesh with its first interior face split 1 → 3 at the centroid: the new vertex has valence
-// 3, so the faces around it see one vertex as two of their flaps (a repeated parameter block).
-Mesh withValenceThreeVertex(const Mesh& mesh) {
-  const modeling::Stencils s = modeling::compileStencils(mesh);
-  int f = 0;
-  while (!s.faceIsInterior(f)) ++f;
-  const auto t = mesh.triangles.row(f);
-  Mesh out = mesh;
-  const int v = mesh.vertexCount();
-  out.positions.conservativeResize(v + 1, 3);
-  out.positions.row(v) =
-      (mesh.positions.row(t(0)) + mesh.positions.row(t(1)) + mesh.positions.row(t(2))) / 3.0;
-  const int a = t(0), b = t(1), c = t(2);
-  out.triangles.conservativeResize(mesh.faceCount() + 2, 3);
-  out.triangles.row(f) << a, b, v;
-  out.triangles.row(mesh.faceCount()) << b, c, v;
-  out.triangles.row(mesh.faceCount() + 1) << c, a, v;
-  return out;
-}
-
 // max_k |FD_h(u)_k − ∇E_k| / max_k |∇E_k| for h = 1e-4, 1e-5, 1e-6.
 std::array<double, 3> differenceErrors(Discretization d, RestCurvature restCurvature,
                                        bool valenceThree = false) {
   std::mt19937 rng(100 + static_cast<unsigned>(d));
   const Mesh delaunay = modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 3, {}});
-  const Mesh flat = valenceThree ? withValenceThreeVertex(delaunay) : delaunay;
+  const Mesh flat = valenceThree ? testing::withValenceThreeVertex(delaunay) : delaunay;
   const Mesh restMesh = testing::lifted(flat, testing::randomCubic(rng, 1.0));
   const BendingSetup setup(restMesh, bendingOptions(d, restCurvature));
   // Current state: another cubic, plus in-plane and normal jitter of 0.02 (edges ~0.25).
@@ -525,8 +505,8 @@ TEST(ResidualGradients, RepeatedFlapVertexGradient) {
 // bending one.
 TEST(ResidualJacobian, DirectAssemblyIsCeresJacobian) {
   std::mt19937 rng(7);
-  const Mesh flat =
-      withValenceThreeVertex(modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 3, {}}));
+  const Mesh flat = testing::withValenceThreeVertex(
+      modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 3, {}}));
   const Mesh restMesh = testing::lifted(flat, testing::randomCubic(rng, 1.0));
   const Positions x =
       testing::jittered(testing::lifted(flat, testing::randomCubic(rng, 1.0)).positions, rng, 0.02);

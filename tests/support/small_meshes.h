@@ -2,6 +2,7 @@
 #pragma once
 
 #include "modeling/mesh.h"
+#include "modeling/stencils.h"
 
 namespace flexure::testing {
 
@@ -50,6 +51,26 @@ Mesh gridMesh(int nx, int ny, Skip skip) {
 
 inline Mesh gridMesh(int nx, int ny) {
   return gridMesh(nx, ny, [](int, int) { return false; });
+}
+
+// The mesh with its first interior face split 1 → 3 at the centroid: the new vertex has valence
+// 3, so the faces around it see one vertex as two of their flaps (a repeated parameter block).
+inline Mesh withValenceThreeVertex(const Mesh& mesh) {
+  const modeling::Stencils s = modeling::compileStencils(mesh);
+  int f = 0;
+  while (!s.faceIsInterior(f)) ++f;
+  const auto t = mesh.triangles.row(f);
+  Mesh out = mesh;
+  const int v = mesh.vertexCount();
+  out.positions.conservativeResize(v + 1, 3);
+  out.positions.row(v) =
+      (mesh.positions.row(t(0)) + mesh.positions.row(t(1)) + mesh.positions.row(t(2))) / 3.0;
+  const int a = t(0), b = t(1), c = t(2);
+  out.triangles.conservativeResize(mesh.faceCount() + 2, 3);
+  out.triangles.row(f) << a, b, v;
+  out.triangles.row(mesh.faceCount()) << b, c, v;
+  out.triangles.row(mesh.faceCount() + 1) << c, a, v;
+  return out;
 }
 
 }  // namespace flexure::testing
