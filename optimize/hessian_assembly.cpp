@@ -302,10 +302,6 @@ Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
   return out;
 }
 
-double HessianFactorization::factorNonzeros() const {
-  return cholmod_->common.lnz;
-}
-
 std::vector<int> hessianOrder(const HessianAssembly& assembly, const Positions& at) {
   const std::vector<int>& unknowns = assembly.freeUnknowns();
   if (unknowns.empty() || unknowns.back() >= 3 * at.rows()) return {};

@@ -84,8 +84,6 @@ class HessianFactorization {
   bool factor(const std::vector<double>& values, double shift = 0.0);
   // H⁻¹ b with the last successful factor.
   Eigen::VectorXd solve(const Eigen::VectorXd& b);
-  // Nonzeros of the factor L (after analysis).
-  double factorNonzeros() const;
 
  private:
   struct Cholmod;

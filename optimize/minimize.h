@@ -1,10 +1,11 @@
 // Static minimizers with fixed boundaries: the shape a plate or shell takes when some vertices
 // (and, for midedge, some ξ) are held and the rest minimize the energy terms.
 //
-// Nonlinear: Ceres' trust-region Levenberg–Marquardt with SPARSE_NORMAL_CHOLESKY on SuiteSparse;
-// one parameter block per vertex, fixed vertices constant, and in height mode a SubsetManifold
-// keeps x and y. Linearized: E_lin(u) = ½ |J (u − ū)|² with J the residual Jacobian at rest,
-// minimized exactly by one sparse Cholesky solve (CHOLMOD) over the free unknowns.
+// Nonlinear: flexure's Newton method on the exact Hessian (newton_solver.h, the default), or
+// Ceres' trust-region Levenberg–Marquardt with SPARSE_NORMAL_CHOLESKY on SuiteSparse (the
+// reference; one parameter block per vertex, fixed vertices constant, and in height mode a
+// SubsetManifold keeps x and y). Linearized: E_lin(u) = ½ |J (u − ū)|² with J the residual Jacobian
+// at rest, minimized exactly by one sparse Cholesky solve (CHOLMOD) over the free unknowns.
 #pragma once
 
 #include <Eigen/Core>
