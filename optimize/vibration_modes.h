@@ -1,0 +1,111 @@
+// Small vibrations about the rest state: the generalized eigenproblem K v = ω² M v.
+//
+// K = ∇²E at rest over the free unknowns. Every residual vanishes at rest, so K = JᵀJ, the
+// Gauss–Newton matrix the Hessian assembly already builds (hessian_assembly.h). M is the lumped
+// mass, ρh times a vertex area: barycentric (Discrete Shells: m_v = ρh/3 Σ incident Ā_T) or the
+// mixed Voronoi area. The midedge ξ carry no mass: they are eliminated (K's Schur complement on
+// the vertex unknowns), so a mode is a vertex motion.
+//
+// The smallest eigenpairs come from shift-invert Lanczos (Spectra) on C = M^{-1/2} S M^{-1/2},
+// S the Schur complement, with (C − σ)⁻¹ = M^{1/2} (S − σM)⁻¹ M^{1/2} applied through one CHOLMOD
+// factorization of the whole K − σM (ξ rows carry no mass): solving it with a right-hand side
+// that is zero on the ξ rows applies (S − σM)⁻¹. σ < 0 sits just below the spectrum (K is
+// positive semidefinite at rest), so free plates' rigid modes leave the factorization definite.
+//
+// Frequencies are reported as ω and as the dimensionless λ = ω L² √(ρh / D), D = 2 k_B: flexure's
+// energy is k_B ∫ Ψ_ν and the continuum plate's is (D/2) ∫ Ψ_ν (docs/energies.md). On a square
+// of side L simply supported, λ_mn = π² (m² + n²) exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "curvature/energy_term.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
+#include "optimize/minimize.h"
+
+namespace flexure::optimize {
+
+// How the boundary (ring 0) is held.
+//  Clamped: zero deflection and slope. SimplySupported: ring 0 fixed, rotation free (midedge
+//  boundary ξ free: no moment). Free: nothing fixed; the rigid motions (3 in height mode, 6 in
+//  xyz) are zero modes, reported as such.
+enum class Support { Clamped, SimplySupported, Free };
+// How a clamp holds the slope: Rings fixes rings 0 and 1 (a band one edge wide held flat, what
+// minimize's rings:2 does; any energy); Normals (midedge only) fixes ring 0 and holds the
+// boundary midedge normals vertical: each boundary ξ becomes the linear function of the boundary
+// face's free vertex that keeps the normal at the edge midpoint at its rest direction
+// (curvature::linearizedClampedBoundaryXi with a flat boundary surface).
+enum class Clamp { Rings, Normals };
+enum class MassLumping { Barycentric, Voronoi };
+
+// "clamped" | "simply-supported" | "free"; "rings" | "normals"; "barycentric" | "voronoi".
+// InputError listing the names otherwise.
+Support parseSupport(const std::string& name);
+Clamp parseClamp(const std::string& name);
+MassLumping parseMassLumping(const std::string& name);
+const char* supportName(Support support);
+const char* clampName(Clamp clamp);
+const char* massLumpingName(MassLumping mass);
+
+struct ModesOptions {
+  int count = 12;  // flexible modes wanted (the expected rigid modes come on top)
+  DofMode dof = DofMode::Height;
+  Support support = Support::Clamped;
+  Clamp clamp = Clamp::Rings;
+  std::vector<bool> extraFixed;  // #V or empty: vertices held in addition (--fix)
+  MassLumping mass = MassLumping::Barycentric;
+  double density = 1.0;           // ρh: mass per unit rest area
+  double bendingStiffness = 1.0;  // k_B, for λ (D = 2 k_B)
+  double length = 0.0;            // L for λ; ≤ 0: the rest bounding box's largest side
+};
+
+struct VibrationMode {
+  double omegaSquared = 0.0;  // ω², the eigenvalue
+  double omega = 0.0;         // √ω² (0 for a zero mode whose computed ω² rounds below 0)
+  double lambda = 0.0;        // ω L² √(ρh / D)
+  bool zero = false;          // λ < kZeroModeLambda: a rigid motion or a spurious zero mode
+  int multiplicity = 1;  // modes whose λ agree to kDegenerateTolerance (relative), this one too
+  double residual = 0.0;  // ‖K v − ω² M v‖ / ‖K v‖ (zero modes: ‖K v‖ / (‖K‖∞ ‖v‖))
+  double nodalLength = 0.0;  // length of the nodal lines (rest metric), see nodalSegments
+  Positions shape;           // #V by 3 displacement, M-normalized: Σ_v m_v |v_v|² = 1
+};
+
+inline constexpr double kZeroModeLambda = 1e-3;
+inline constexpr double kDegenerateTolerance = 1e-6;
+
+struct ModesResult {
+  std::vector<VibrationMode> modes;  // ascending ω²: the zero modes first
+  int rigidModes = 0;  // the dimension of the rigid motions the fixed vertices leave free
+  // Zero modes beyond the rigid ones (a vertex no element touches, say). They take the place of
+  // flexible modes; the solve asks once more for as many more. When flexibleModes is still below
+  // the count asked for, the spurious zero modes are more than were computed: a lower bound.
+  int spuriousZeroModes = 0;
+  int flexibleModes = 0;
+  double length = 0.0, flexuralRigidity = 0.0, shift = 0.0;  // L, D, σ
+  int unknowns = 0, massUnknowns = 0, fixedVertices = 0;
+  int operations = 0, restarts = 0;  // Lanczos: solves with the factor, restarts
+  double assemblySeconds = 0.0, factorSeconds = 0.0, eigenSeconds = 0.0, totalSeconds = 0.0;
+};
+
+// The smallest `count` flexible modes (and every rigid one). Throws InputError for an unusable
+// request (Normals without ξ, count < 1, more modes than unknowns, nothing free), NumericalError
+// when the factorization or Lanczos fails.
+ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& terms,
+                           const modeling::Stencils& stencils, const modeling::RestState& rest,
+                           const Eigen::VectorXd& restXi, const ModesOptions& options);
+
+// The held vertices for a support (and Clamp::Rings / Normals), with `extra` added.
+std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
+                                       Clamp clamp, const std::vector<bool>& extra);
+
+// The nodal lines of a mode: the zero set of the normal displacement s_v = v_v · n̄_v (n̄_v the
+// area-weighted rest vertex normal), linear over each rest face, as segments (pairs of rest-space
+// points). Held vertices have s = 0: a face with two of them (the held boundary) has no segment;
+// a nodal line that meets the boundary ends at the held vertex it passes through.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
+    const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape);
+
+}  // namespace flexure::optimize
