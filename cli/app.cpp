@@ -91,6 +91,7 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   registerRenderCommand(app, global);
   registerCompareCommand(app, global);
   registerFairCommand(app, global);
+  registerModesCommand(app, global);
 
   // CLI11 would call an unknown command word "a subcommand is required".
   const std::string command = commandWord(args);

@@ -3,6 +3,7 @@
 #include <Spectra/SymEigsShiftSolver.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/QR>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -97,16 +98,6 @@ Eigen::VectorXd lumpedMasses(const modeling::RestState& rest, const ModesOptions
   return o.density * area;
 }
 
-Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
-                                   const modeling::RestState& rest) {
-  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(stencils.vertexCount(), 3);
-  for (int f = 0; f < stencils.faceCount(); ++f)
-    for (int i = 0; i < 3; ++i)
-      normals.row(stencils.faces(f, i)) += rest.faceAreas[f] * rest.faceNormals.row(f);
-  normals.rowwise().normalize();
-  return normals;
-}
-
 }  // namespace
 
 Support parseSupport(const std::string& name) {
@@ -141,6 +132,16 @@ const char* clampName(Clamp clamp) {
 }
 const char* massLumpingName(MassLumping mass) {
   return mass == MassLumping::Barycentric ? "barycentric" : "voronoi";
+}
+
+Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
+                                   const modeling::RestState& rest) {
+  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(stencils.vertexCount(), 3);
+  for (int f = 0; f < stencils.faceCount(); ++f)
+    for (int i = 0; i < 3; ++i)
+      normals.row(stencils.faces(f, i)) += rest.faceAreas[f] * rest.faceNormals.row(f);
+  normals.rowwise().normalize();
+  return normals;
 }
 
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
@@ -336,10 +337,30 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
     vectors = eigs.eigenvectors();
   };
   lanczos(wanted);
-  // Spurious zero modes take the place of flexible ones: ask once more for as many more.
-  const int zeros = static_cast<int>((values.array() < zeroOmegaSquared).count());
-  if (zeros > result.rigidModes && wanted < m - 1)
-    lanczos(std::min(m - 1, wanted + zeros - result.rigidModes));
+  // Zero modes beyond the rigid ones take the place of flexible modes, and Lanczos may return
+  // fewer copies of a repeated zero eigenvalue than there are. Count them exactly, by Sylvester's
+  // law of inertia: the eigenvalues of (S, M) below τ are the negative pivots of an LDLᵀ of
+  // K − τM (the massless ξ block of K is positive definite and adds none); then ask for that
+  // many more.
+  const int zerosFound = static_cast<int>((values.array() < zeroOmegaSquared).count());
+  result.zeroModes = zerosFound;
+  if (zerosFound > 0) {
+    Sparse below = stiffness;
+    for (int k = 0; k < reduced; ++k) below.coeffRef(k, k) -= zeroOmegaSquared * mass[k];
+    Eigen::SimplicialLDLT<Sparse, Eigen::Upper> ldlt(below);
+    if (ldlt.info() == Eigen::Success)
+      result.zeroModes = static_cast<int>((ldlt.vectorD().array() < 0.0).count());
+  }
+  if (o.count + result.zeroModes > wanted && wanted < m - 1) {
+    const Eigen::VectorXd firstValues = values;
+    const Eigen::MatrixXd firstVectors = vectors;
+    try {
+      lanczos(std::min(m - 1, o.count + result.zeroModes));
+    } catch (const NumericalError&) {  // a long run of equal eigenvalues: keep the first answer
+      values = firstValues;
+      vectors = firstVectors;
+    }
+  }
   std::vector<int> order(values.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
@@ -350,14 +371,16 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
       for (Sparse::InnerIterator it(stiffness, k); it; ++it) rows[it.row()] += std::abs(it.value());
     return rows.maxCoeff();
   }();
-  int zeroModes = 0;
+  int zerosReturned = 0, flexibleReturned = 0;
   for (int index : order) {
     VibrationMode mode;
     mode.omegaSquared = values[index];
     mode.omega = std::sqrt(std::max(mode.omegaSquared, 0.0));
     mode.lambda = mode.omega * lambdaScale;
     mode.zero = mode.lambda < kZeroModeLambda;
-    zeroModes += mode.zero;
+    if (!mode.zero && flexibleReturned == o.count) break;
+    zerosReturned += mode.zero;
+    flexibleReturned += !mode.zero;
     // The whole eigenvector, ξ included: (ω² − σ) (K − σM)⁻¹ M v solves the ξ rows exactly and
     // returns v where v is an eigenvector.
     Eigen::VectorXd b = Eigen::VectorXd::Zero(reduced);
@@ -380,8 +403,8 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
       mode.nodalLength += (b2 - a).norm();
     result.modes.push_back(std::move(mode));
   }
-  result.spuriousZeroModes = std::max(0, zeroModes - result.rigidModes);
-  result.flexibleModes = static_cast<int>(result.modes.size()) - zeroModes;
+  result.spuriousZeroModes = std::max(0, result.zeroModes - result.rigidModes);
+  result.flexibleModes = flexibleReturned;
   // Multiplicities: runs of modes whose λ agree to kDegenerateTolerance; the zero modes are one.
   for (size_t i = 0; i < result.modes.size();) {
     size_t j = i + 1;

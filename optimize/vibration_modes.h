@@ -79,9 +79,12 @@ inline constexpr double kDegenerateTolerance = 1e-6;
 struct ModesResult {
   std::vector<VibrationMode> modes;  // ascending ω²: the zero modes first
   int rigidModes = 0;  // the dimension of the rigid motions the fixed vertices leave free
-  // Zero modes beyond the rigid ones (a vertex no element touches, say). They take the place of
-  // flexible modes; the solve asks once more for as many more. When flexibleModes is still below
-  // the count asked for, the spurious zero modes are more than were computed: a lower bound.
+  // The zero modes (λ < kZeroModeLambda), counted exactly by inertia, and those beyond the rigid
+  // ones (a vertex no element touches, say), which take the place of flexible modes: the solve
+  // asks for as many more. `modes` holds every zero mode Lanczos returned (it may return fewer
+  // copies of a repeated zero than there are) and `flexibleModes` flexible ones, fewer than
+  // asked for only when a long run of zero modes kept Lanczos from converging.
+  int zeroModes = 0;
   int spuriousZeroModes = 0;
   int flexibleModes = 0;
   double length = 0.0, flexuralRigidity = 0.0, shift = 0.0;  // L, D, σ
@@ -100,6 +103,10 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
 // The held vertices for a support (and Clamp::Rings / Normals), with `extra` added.
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra);
+
+// #V by 3: n̄_v, the normalized sum of the incident rest faces' area-weighted unit normals.
+Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
+                                   const modeling::RestState& rest);
 
 // The nodal lines of a mode: the zero set of the normal displacement s_v = v_v · n̄_v (n̄_v the
 // area-weighted rest vertex normal), linear over each rest face, as segments (pairs of rest-space

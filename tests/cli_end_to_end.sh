@@ -2,28 +2,7 @@
 # End-to-end runs of the flexure executable ($FLEXURE): exit codes, messages that name the file
 # and the element, outputs written whole or not at all, byte-identical reruns.
 set -uo pipefail
-: "${FLEXURE:?set FLEXURE to the flexure executable}"
-FLEXURE="$(realpath "$FLEXURE")"
-[ -x "$FLEXURE" ] || { echo "no flexure executable at $FLEXURE" >&2; exit 1; }
-work="$(mktemp -d "${TMPDIR:-/tmp}/flexure-e2e.XXXXXX")"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-checks=0
-
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# run EXPECTED_EXIT ARGS...: runs flexure, keeps stdout in out.txt and stderr in err.txt.
-run() {
-  local expected=$1; shift
-  checks=$((checks + 1))
-  "$FLEXURE" "$@" >out.txt 2>err.txt
-  local code=$?
-  [ "$code" -eq "$expected" ] || fail "flexure $* exited $code, expected $expected; stderr: $(cat err.txt)"
-}
-stderr_has() { grep -qF -- "$1" err.txt || fail "stderr lacks '$1': $(cat err.txt)"; }
-stdout_has() { grep -qF -- "$1" out.txt || fail "stdout lacks '$1'"; }
-absent() { [ ! -e "$1" ] || fail "$1 exists but should not"; }
+source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
 
 # --- usage ---------------------------------------------------------------------------------
 run 0 --version; stdout_has "flexure 0."
@@ -124,10 +103,6 @@ grep -qxF "v 0 1 -2.5e-07" precise.obj || fail "precision lost: $(cat precise.ob
 # --- energy: C1 through the command line, option checks ------------------------------------
 run 0 mesh --family patch48 --n 8 -o flat8.obj
 run 0 mesh --family patch48 --n 8 --height quadratic:0.3,-0.7,0.5 -o p8.obj
-near() {  # near KEY VALUE TOLERANCE: the JSON on stdout has KEY within TOLERANCE of VALUE
-  python3 -c "import json,sys; d=json.load(open('out.txt')); sys.exit(0 if abs(d['$1']-$2) <= $3 else 1)" \
-    || fail "$1 is not $2 ± $3: $(cat out.txt)"
-}
 # rho = Psi_0.3([[0.6, -0.7], [-0.7, 1.0]]) = 0.7 (0.36 + 0.98 + 1) + 0.3 (1.6)^2 = 2.406
 run 0 energy --energy midedge --rest flat8.obj --current p8.obj --linearized --boundary-surface quadratic:0.3,-0.7,0.5 --json
 near energy_per_area 2.406 1e-9; stdout_has '"boundary_xi": "clamped to quadratic:0.3,-0.7,0.5"'
@@ -293,7 +268,6 @@ done
 run 0 info demo/meshes/stripe-n16.obj --json; stdout_has '"valid": true'
 
 # --- render ------------------------------------------------------------------------------
-is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 run 0 mesh --family patch48 --n 8 --height quadratic:1,0,0.5 -o render-bowl.obj --quiet
 run 0 render render-bowl.obj -o bowl.png --width 160 --height 120 --elevation 60
 stderr_has "wrote bowl.png (160 x 120, reflection"

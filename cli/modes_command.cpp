@@ -1,0 +1,423 @@
+// flexure modes: the vibration modes of a plate or shell about its rest state for one or more
+// bending energies (optimize/vibration_modes.h), with the Chladni figure (mode shapes with their
+// nodal lines), a JSON report and, for the square plate, the errors against exact or tabulated
+// frequencies.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "cli/command_files.h"
+#include "cli/commands.h"
+#include "cli/mesh_json.h"
+#include "curvature/bending_energy.h"
+#include "curvature/membrane_energy.h"
+#include "modeling/atomic_write.h"
+#include "modeling/errors.h"
+#include "modeling/generators.h"
+#include "modeling/mesh_io.h"
+#include "modeling/rest_state.h"
+#include "optimize/boundary_conditions.h"
+#include "optimize/convergence_study.h"
+#include "optimize/vibration_modes.h"
+#include "render/field_map.h"
+#include "render/figure_grid.h"
+#include "render/mesh_renderer.h"
+
+namespace flexure::cli {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct ModesCommandOptions {
+  std::string meshFile, family, outputDir;
+  int n = 32;
+  std::uint64_t seed = 1;
+  std::vector<std::string> energies;
+  std::optional<double> poisson;
+  double stiffness = 1.0;
+  std::string support = "clamped", clamp, mass = "barycentric", fix, dof = "height", membrane;
+  double young = 1e3, density = 1.0, length = 0.0, scale = 0.1;
+  int count = 12, size = 200;
+  std::string reference;
+  bool writeShapes = false;
+};
+
+// The files modes writes into its folder.
+bool isModesFile(const std::string& name) {
+  return name == "modes.json" || name == "chladni.png" ||
+         (name.rfind("mode-", 0) == 0 && name.size() > 4 && name.substr(name.size() - 4) == ".obj");
+}
+
+// Reference λ of the square plate of side L, ascending: simply supported, exact π²(m² + n²)
+// for m, n ≥ 1; clamped, Leissa (1973), J. Sound Vib. 31(3), the CCCC square (ν-independent),
+// the first six.
+std::vector<double> referenceLambdas(const std::string& name, int count) {
+  if (name == "square-simply-supported") {
+    std::vector<double> lambdas;
+    for (int m = 1; m <= count + 1; ++m)
+      for (int k = 1; k <= count + 1; ++k) lambdas.push_back(kPi * kPi * (m * m + k * k));
+    std::sort(lambdas.begin(), lambdas.end());
+    lambdas.resize(count);
+    return lambdas;
+  }
+  return {35.992, 73.413, 73.413, 108.27, 131.64, 132.24};
+}
+
+struct EnergyRun {
+  std::string spec;
+  curvature::BendingOptions bending;
+  optimize::Clamp clamp = optimize::Clamp::Rings;
+  optimize::ModesResult result;
+};
+
+std::string lambdaText(double lambda) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", lambda);
+  return text;
+}
+
+void runModes(const ModesCommandOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  // Every option and input is checked before the first solve.
+  if (o.meshFile.empty() == o.family.empty())
+    throw InputError("give the plate as --mesh FILE or as --family F --n N (one of the two)");
+  if (o.energies.empty()) throw InputError("--energy: give at least one energy");
+  for (size_t i = 0; i < o.energies.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (o.energies[i] == o.energies[j])
+        throw InputError("--energy: " + o.energies[i] + " is given twice");
+  optimize::ModesOptions base;
+  base.count = o.count;
+  base.support = optimize::parseSupport(o.support);
+  base.mass = optimize::parseMassLumping(o.mass);
+  base.density = o.density;
+  base.bendingStiffness = o.stiffness;
+  base.length = o.length;
+  if (!o.clamp.empty() && base.support != optimize::Support::Clamped)
+    throw InputError("--clamp applies to --support clamped");
+  if (o.dof == "height") {
+    base.dof = optimize::DofMode::Height;
+    if (!o.membrane.empty()) throw InputError("--membrane applies to --dof xyz");
+  } else if (o.dof == "xyz") {
+    base.dof = optimize::DofMode::Xyz;
+    if (o.membrane.empty())
+      throw InputError("--dof xyz needs a membrane (--membrane stvk|springs|conformal)");
+  } else {
+    throw InputError("--dof " + o.dof + ": expected height or xyz");
+  }
+  std::vector<EnergyRun> runs;
+  for (const std::string& spec : o.energies) {
+    if (spec.find(':') != std::string::npos && spec.rfind("midedge", 0) == 0)
+      throw InputError("--energy " + spec +
+                       ": midedge's boundary normals follow --support and --clamp; give midedge");
+    EnergyRun run;
+    run.spec = spec;
+    try {
+      run.bending = optimize::parseEnergyVariant(spec, o.poisson).bending;
+    } catch (const InputError& e) {
+      throw InputError(std::string("--energy: ") + e.what());
+    }
+    run.bending.stiffness = o.stiffness;
+    curvature::effectivePoisson(run.bending);  // a ν the energy does not take fails here
+    const bool midedge = run.bending.discretization == curvature::Discretization::Midedge;
+    run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
+                                : optimize::parseClamp(o.clamp);
+    if (run.clamp == optimize::Clamp::Normals && !midedge &&
+        base.support == optimize::Support::Clamped)
+      throw InputError("--clamp normals holds the midedge normals: " + spec +
+                       " has none; use --clamp rings or --energy midedge");
+    runs.push_back(std::move(run));
+  }
+  if (!o.reference.empty() && o.reference != "square-simply-supported" &&
+      o.reference != "square-clamped")
+    throw InputError("--reference " + o.reference +
+                     ": expected square-simply-supported or square-clamped");
+  if (o.reference == "square-simply-supported" &&
+      base.support != optimize::Support::SimplySupported)
+    throw InputError("--reference square-simply-supported needs --support simply-supported");
+  if (o.reference == "square-clamped" && base.support != optimize::Support::Clamped)
+    throw InputError("--reference square-clamped needs --support clamped");
+
+  modeling::Mesh mesh;
+  std::string source;
+  if (!o.meshFile.empty()) {
+    mesh = modeling::readMesh(o.meshFile);
+    source = o.meshFile;
+  } else {
+    modeling::GeneratorOptions generator;
+    generator.family = modeling::parseMeshFamily(o.family);
+    generator.n = o.n;
+    generator.seed = o.seed;
+    mesh = modeling::generateMesh(generator);
+    source =
+        std::string(modeling::meshFamilyName(generator.family)) + " n = " + std::to_string(o.n);
+  }
+  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
+  if (!o.fix.empty()) base.extraFixed = optimize::parseFixedSet(o.fix, stencils);
+  if (!o.reference.empty()) {
+    const Eigen::Vector3d extent =
+        mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff();
+    if (extent.z() != 0.0 || std::abs(extent.x() - extent.y()) > 1e-9 * extent.maxCoeff())
+      throw InputError("--reference " + o.reference + ": " + source +
+                       " is not a flat square plate (bounding box " + std::to_string(extent.x()) +
+                       " x " + std::to_string(extent.y()) + " x " + std::to_string(extent.z()) +
+                       ")");
+    if (o.length > 0.0 && std::abs(o.length - extent.x()) > 1e-9 * extent.x())
+      throw InputError("--reference " + o.reference + ": --length must be the square's side");
+  }
+  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
+  if (!o.membrane.empty()) {
+    curvature::MembraneOptions m;
+    m.model = curvature::parseMembraneModel(o.membrane);
+    m.young = o.young;
+    membrane = curvature::makeMembraneEnergy(stencils, rest, m);
+  }
+
+  for (EnergyRun& run : runs) {
+    const std::unique_ptr<curvature::EnergyTerm> bending =
+        curvature::makeBendingEnergy(stencils, rest, run.bending);
+    std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
+    for (const auto& term : membrane) terms.push_back(term.get());
+    const Eigen::VectorXd restXi =
+        run.bending.discretization == curvature::Discretization::Midedge
+            ? curvature::midedgeRestXi(stencils, rest, run.bending.restCurvature)
+            : Eigen::VectorXd();
+    optimize::ModesOptions options = base;
+    options.clamp = run.clamp;
+    run.result = optimize::vibrationModes(terms, stencils, rest, restXi, options);
+    if (!global.quiet) {
+      const optimize::ModesResult& r = run.result;
+      std::cerr << "flexure modes: " << run.spec << ": " << counted(r.flexibleModes, "mode")
+                << " in " << lambdaText(r.totalSeconds) << " s (" << counted(r.operations, "solve")
+                << " with one factor)";
+      if (r.rigidModes > 0) std::cerr << ", " << counted(r.rigidModes, "rigid mode");
+      if (r.spuriousZeroModes > 0)
+        std::cerr << ", " << counted(r.spuriousZeroModes, "spurious zero mode");
+      std::cerr << '\n';
+    }
+  }
+
+  // The report, the table and the figure.
+  const std::vector<double> reference =
+      o.reference.empty() ? std::vector<double>() : referenceLambdas(o.reference, o.count);
+  const double length = runs.front().result.length;
+  nlohmann::json energies = nlohmann::json::array();
+  render::FigureGrid grid;
+  grid.title = std::string(optimize::supportName(base.support)) + " plate, " + source +
+               ": vibration modes, nodal lines black";
+  for (int k = 1; k <= o.count; ++k) grid.columnLabels.push_back("mode " + std::to_string(k));
+  std::vector<std::pair<std::string, modeling::Mesh>> shapes;
+  std::printf("%-10s", "mode");
+  for (const EnergyRun& run : runs) std::printf(" %12s", run.spec.c_str());
+  if (!reference.empty()) std::printf(" %12s", "reference");
+  std::printf("\n");
+  std::vector<std::vector<double>> table(o.count);
+  const Eigen::MatrixX3d normals = optimize::restVertexNormals(stencils, rest);
+  for (const EnergyRun& run : runs) {
+    const optimize::ModesResult& r = run.result;
+    nlohmann::json modes = nlohmann::json::array();
+    grid.rowLabels.push_back(run.spec);
+    grid.panels.emplace_back();
+    grid.panelTitles.emplace_back();
+    int flexible = 0, zero = 0;
+    for (const optimize::VibrationMode& mode : r.modes) {
+      nlohmann::json m = {{"lambda", mode.lambda},
+                          {"omega", mode.omega},
+                          {"omega_squared", mode.omegaSquared},
+                          {"multiplicity", mode.multiplicity},
+                          {"residual", mode.residual},
+                          {"nodal_length", mode.nodalLength}};
+      if (mode.zero) {
+        m["kind"] = ++zero <= r.rigidModes ? "rigid" : "spurious zero";
+        modes.push_back(m);
+        continue;
+      }
+      if (flexible == o.count) continue;
+      const int index = ++flexible;
+      m["kind"] = "flexible";
+      m["index"] = index;
+      table[index - 1].push_back(mode.lambda);
+      if (index <= static_cast<int>(reference.size())) {
+        m["reference"] = reference[index - 1];
+        m["relative_error"] = mode.lambda / reference[index - 1] - 1.0;
+      }
+      // The normal displacement, whose zero set the nodal lines are.
+      render::FieldMap map;
+      map.mesh = &mesh;
+      for (int v = 0; v < mesh.vertexCount(); ++v)
+        map.values.push_back(mode.shape.row(v).dot(normals.row(v)));
+      map.lines = optimize::nodalSegments(stencils, rest, mode.shape);
+      map.size = o.size;
+      grid.panels.back().push_back(render::renderFieldMap(map));
+      grid.panelTitles.back().push_back(
+          "λ" + std::to_string(index) + " = " + lambdaText(mode.lambda) +
+          (mode.multiplicity > 1 ? " (×" + std::to_string(mode.multiplicity) + ")" : ""));
+      if (o.writeShapes) {
+        const std::string name = "mode-" + run.spec + "-" + std::to_string(index) + ".obj";
+        modeling::Mesh shaped = mesh;
+        const double largest = mode.shape.rowwise().norm().maxCoeff();
+        shaped.positions += (o.scale * length / largest) * mode.shape;
+        m["shape"] = name;
+        shapes.emplace_back(name, std::move(shaped));
+      }
+      modes.push_back(m);
+    }
+    for (int k = flexible; k < o.count; ++k) {  // spurious zero modes took these places
+      table[k].push_back(std::nan(""));
+      render::Image blank;
+      blank.width = blank.height = o.size;
+      blank.rgba.assign(4 * o.size * o.size, 255);
+      grid.panels.back().push_back(blank);
+      grid.panelTitles.back().push_back("(not computed)");
+    }
+    energies.push_back({{"energy", run.spec},
+                        {"poisson", curvature::effectivePoisson(run.bending)},
+                        {"clamp", base.support == optimize::Support::Clamped
+                                      ? nlohmann::json(optimize::clampName(run.clamp))
+                                      : nlohmann::json(nullptr)},
+                        {"rigid_modes", r.rigidModes},
+                        {"spurious_zero_modes", r.spuriousZeroModes},
+                        {"zero_modes", r.zeroModes},
+                        {"unknowns", r.unknowns},
+                        {"vertex_unknowns", r.massUnknowns},
+                        {"fixed_vertices", r.fixedVertices},
+                        {"lanczos", {{"solves", r.operations}, {"restarts", r.restarts}}},
+                        {"seconds",
+                         {{"assembly", r.assemblySeconds},
+                          {"factorization", r.factorSeconds},
+                          {"eigensolve", r.eigenSeconds},
+                          {"total", r.totalSeconds}}},
+                        {"modes", modes}});
+  }
+  for (int k = 0; k < o.count; ++k) {
+    std::printf("%-10d", k + 1);
+    for (double lambda : table[k]) std::printf(" %12.6g", lambda);
+    if (k < static_cast<int>(reference.size())) {
+      std::printf(" %12.6g", reference[k]);
+      for (double lambda : table[k]) std::printf("  %+.2e", lambda / reference[k] - 1.0);
+    }
+    std::printf("\n");
+  }
+  const render::Image figure = render::composeFigureGrid(grid);
+
+  const fs::path dir(o.outputDir);
+  modeling::createOutputDirectory(dir.string());
+  render::writePng((dir / "chladni.png").string(), figure);
+  for (const auto& [name, shaped] : shapes) modeling::writeMesh((dir / name).string(), shaped);
+  const optimize::ModesResult& first = runs.front().result;
+  nlohmann::json report = {
+      {"plate", source},
+      {"vertices", mesh.vertexCount()},
+      {"faces", mesh.faceCount()},
+      {"support", optimize::supportName(base.support)},
+      {"dof", o.dof},
+      {"mass", optimize::massLumpingName(base.mass)},
+      {"density", o.density},
+      {"bending_stiffness", o.stiffness},
+      {"length", first.length},
+      {"flexural_rigidity", first.flexuralRigidity},
+      {"shift", first.shift},
+      {"lambda", "omega L^2 sqrt(rho h / D), D = 2 k_B"},
+      {"residual", "|K v - omega^2 M v| / |K v| (zero modes: |K v| / (|K|_inf |v|))"},
+      {"figure", "chladni.png"},
+      {"energies", energies}};
+  if (!o.fix.empty()) report["fix"] = o.fix;
+  if (!o.reference.empty()) {
+    report["reference"] = {
+        {"name", o.reference},
+        {"source", o.reference == "square-clamped"
+                       ? "Leissa, The free vibration of rectangular plates, J. Sound Vib. 31(3), "
+                         "1973 (CCCC square)"
+                       : "exact: pi^2 (m^2 + n^2)"}};
+  }
+  writeJsonFile((dir / "modes.json").string(), report);
+  if (!global.quiet) {
+    std::cerr << "flexure modes: wrote " << (dir / "chladni.png").string() << " (" << figure.width
+              << " x " << figure.height << "), modes.json"
+              << (shapes.empty() ? "" : " and " + counted(shapes.size(), "mode shape")) << '\n';
+  }
+}
+
+}  // namespace
+
+void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<ModesCommandOptions>();
+  ModesCommandOptions& o = *options;
+  CLI::App* sub = app.add_subcommand(
+      "modes", "Vibration modes of a plate or shell (Chladni figures) for each bending energy");
+  auto files = CommandFiles::of(*sub);
+  files->input("--mesh", o.meshFile, "Rest mesh (a flat plate or a shell)");
+  sub->add_option("--family", o.family,
+                  "Or a generated plate: patch48 | stripe | criss | delaunay");
+  sub->add_option("-n,--n", o.n, "Cells per side of the generated plate")
+      ->capture_default_str()
+      ->check(inRange(2, 2048));
+  sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")->capture_default_str();
+  sub->add_option("--energy", o.energies,
+                  "Energies, comma-separated: hinge, hinge:tan, triavg, cotan, cotan:barycentric, "
+                  "midedge, quadfit")
+      ->delimiter(',')
+      ->required();
+  sub->add_option("--poisson", o.poisson, "ν for triavg, midedge and quadfit (0.3)");
+  sub->add_option("--stiffness", o.stiffness, "Bending stiffness k_B (D = 2 k_B)")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--support", o.support, "clamped | simply-supported | free")
+      ->capture_default_str();
+  sub->add_option("--clamp", o.clamp,
+                  "How a clamp holds the slope: rings (rings 0 and 1 fixed) | normals (ring 0 "
+                  "fixed, midedge boundary normals held); default normals for midedge, rings "
+                  "otherwise");
+  sub->add_option("--fix", o.fix,
+                  "Vertices held in addition: vertices:FILE | rings:K (e.g. the centre point)");
+  sub->add_option("--count", o.count, "Flexible modes per energy")
+      ->capture_default_str()
+      ->check(inRange(1, 200));
+  sub->add_option("--mass", o.mass,
+                  "Lumped mass: barycentric (ρh/3 Σ incident face areas) | voronoi")
+      ->capture_default_str();
+  sub->add_option("--density", o.density, "ρh, mass per unit area")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--length", o.length,
+                  "L of λ = ω L² √(ρh/D) (default: the bounding box's largest side)")
+      ->check(positive());
+  sub->add_option("--dof", o.dof, "height (transverse vibration of a plate) | xyz (a shell)")
+      ->capture_default_str();
+  sub->add_option("--membrane", o.membrane, "xyz: stvk | springs | conformal");
+  sub->add_option("--young", o.young, "stvk: Young's modulus x thickness")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--reference", o.reference,
+                  "Compare with square-simply-supported (exact) or square-clamped (Leissa 1973)");
+  sub->add_flag("--write-shapes", o.writeShapes,
+                "Also write mode-<energy>-<k>.obj: the rest mesh displaced by each mode");
+  sub->add_option("--scale", o.scale,
+                  "--write-shapes: the largest displacement, as a fraction of L")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--size", o.size, "Panel size of the figure in pixels")
+      ->capture_default_str()
+      ->check(inRange(64, 2048));
+  files
+      ->output("-o,--output", o.outputDir,
+               "Output directory (created if missing; a previous modes run's files in it are "
+               "removed)",
+               OutputKind::Directory, isModesFile)
+      ->required();
+  sub->footer(
+      "Writes DIR/modes.json (per energy: λ, ω, multiplicity, residual, nodal-line length of "
+      "each mode; rigid and spurious zero modes named), DIR/chladni.png (rows = energies, "
+      "columns = modes, nodal lines black) and with --write-shapes DIR/mode-<energy>-<k>.obj; "
+      "prints the λ table.\n"
+      "Example: flexure modes --family patch48 --n 32 --energy midedge,cotan "
+      "--support simply-supported --reference square-simply-supported -o modes");
+  files->onRun(global, [options, &global] { runModes(*options, global); });
+}
+
+}  // namespace flexure::cli
