@@ -304,6 +304,11 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   for (int k = 0; k < reduced; ++k) shifted.coeffRef(k, k) -= result.shift * mass[k];
   Eigen::CholmodSupernodalLLT<Sparse, Eigen::Upper> factor;
   factor.cholmod().print = 0;
+  // AMD. Measured at n = 256 (one run each, a loaded machine): midedge's factor 4.5 s on AMD
+  // against 7.3 on METIS, 7.8 on CHOLMOD's nested dissection and 6.3 on CHOLMOD's default
+  // choice; hinge and cotan within 10 % of each other on all four.
+  factor.cholmod().nmethods = 1;
+  factor.cholmod().method[0].ordering = CHOLMOD_AMD;
   factor.compute(shifted);
   if (factor.info() != Eigen::Success) {
     throw NumericalError(
