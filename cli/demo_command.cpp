@@ -1,6 +1,7 @@
 // flexure demo: the main job. It generates and describes the test-problem meshes of every family
 // at three refinement levels, runs a small convergence study (seconds) into convergence/ and a
-// small `flexure compare` (every energy's minimizer on three families, rendered) into compare/.
+// small `flexure compare` (every energy's minimizer on three families, rendered) into compare/ and
+// the clamped square's vibration modes (`flexure modes`, the Chladni figure) into modes/.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/compare_command.h"
 #include "cli/mesh_json.h"
+#include "cli/modes_command.h"
 #include "cli/study_outputs.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -93,6 +95,18 @@ void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
   compare.size = 240;
   compare.stripes = 10;
   runCompare(compare, global, "flexure demo");
+
+  // Chladni's plates: the first six vibration modes of the clamped square for three energies
+  // against Leissa's frequencies, with their nodal lines (a second).
+  ModesOptions modes;
+  modes.outputDir = (dir / "modes").string();
+  modes.family = "patch48";
+  modes.n = 24;
+  modes.energies = {"midedge", "cotan", "hinge"};
+  modes.count = 6;
+  modes.reference = "square-clamped";
+  std::printf("\nVibration modes of the clamped square (λ = ω L² √(ρh/D)):\n");
+  runModes(modes, global, "flexure demo");
 }
 
 }  // namespace
@@ -101,8 +115,8 @@ void registerDemoCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<DemoCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "demo",
-      "The main job: the test-problem meshes of every family, a small convergence study and a "
-      "small comparison figure");
+      "The main job: the test-problem meshes of every family, a small convergence study, a "
+      "small comparison figure and the clamped square's vibration modes");
   auto files = CommandFiles::of(*sub);
   files
       ->output("-o,--output", options->outputDir, "Output directory (created if missing)",

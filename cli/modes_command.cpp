@@ -2,6 +2,7 @@
 // bending energies (optimize/vibration_modes.h), with the Chladni figure (mode shapes with their
 // nodal lines), a JSON report and, for the square plate, the errors against exact or tabulated
 // frequencies.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+
+#include "cli/modes_command.h"
 
 #include "cli/command_files.h"
 #include "cli/commands.h"
@@ -31,20 +34,6 @@ namespace flexure::cli {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-struct ModesCommandOptions {
-  std::string meshFile, family, outputDir;
-  int n = 32;
-  std::uint64_t seed = 1;
-  std::vector<std::string> energies;
-  std::optional<double> poisson;
-  double stiffness = 1.0;
-  std::string support = "clamped", clamp, mass = "barycentric", fix, dof = "height", membrane;
-  double young = 1e3, density = 1.0, length = 0.0, scale = 0.1;
-  int count = 12, size = 200;
-  std::string reference;
-  bool writeShapes = false;
-};
 
 // The files modes writes into its folder.
 bool isModesFile(const std::string& name) {
@@ -80,7 +69,9 @@ std::string lambdaText(double lambda) {
   return text;
 }
 
-void runModes(const ModesCommandOptions& o, const GlobalOptions& global) {
+}  // namespace
+
+void runModes(const ModesOptions& o, const GlobalOptions& global, const std::string& commandName) {
   namespace fs = std::filesystem;
   // Every option and input is checked before the first solve.
   if (o.meshFile.empty() == o.family.empty())
@@ -192,7 +183,7 @@ void runModes(const ModesCommandOptions& o, const GlobalOptions& global) {
     run.result = optimize::vibrationModes(terms, stencils, rest, restXi, options);
     if (!global.quiet) {
       const optimize::ModesResult& r = run.result;
-      std::cerr << "flexure modes: " << run.spec << ": " << counted(r.flexibleModes, "mode")
+      std::cerr << commandName << ": " << run.spec << ": " << counted(r.flexibleModes, "mode")
                 << " in " << lambdaText(r.totalSeconds) << " s (" << counted(r.operations, "solve")
                 << " with one factor)";
       if (r.rigidModes > 0) std::cerr << ", " << counted(r.rigidModes, "rigid mode");
@@ -208,7 +199,9 @@ void runModes(const ModesCommandOptions& o, const GlobalOptions& global) {
   const double length = runs.front().result.length;
   nlohmann::json energies = nlohmann::json::array();
   render::FigureGrid grid;
-  grid.title = std::string(optimize::supportName(base.support)) + " plate, " + source +
+  const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
+  grid.title = std::string(optimize::supportName(base.support)) + " plate" +
+               (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " + source +
                ": vibration modes, nodal lines black";
   for (int k = 1; k <= o.count; ++k) grid.columnLabels.push_back("mode " + std::to_string(k));
   std::vector<std::pair<std::string, modeling::Mesh>> shapes;
@@ -337,17 +330,15 @@ void runModes(const ModesCommandOptions& o, const GlobalOptions& global) {
   }
   writeJsonFile((dir / "modes.json").string(), report);
   if (!global.quiet) {
-    std::cerr << "flexure modes: wrote " << (dir / "chladni.png").string() << " (" << figure.width
+    std::cerr << commandName << ": wrote " << (dir / "chladni.png").string() << " (" << figure.width
               << " x " << figure.height << "), modes.json"
               << (shapes.empty() ? "" : " and " + counted(shapes.size(), "mode shape")) << '\n';
   }
 }
 
-}  // namespace
-
 void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
-  auto options = std::make_shared<ModesCommandOptions>();
-  ModesCommandOptions& o = *options;
+  auto options = std::make_shared<ModesOptions>();
+  ModesOptions& o = *options;
   CLI::App* sub = app.add_subcommand(
       "modes", "Vibration modes of a plate or shell (Chladni figures) for each bending energy");
   auto files = CommandFiles::of(*sub);
@@ -417,7 +408,7 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
       "prints the λ table.\n"
       "Example: flexure modes --family patch48 --n 32 --energy midedge,cotan "
       "--support simply-supported --reference square-simply-supported -o modes");
-  files->onRun(global, [options, &global] { runModes(*options, global); });
+  files->onRun(global, [options, &global] { runModes(*options, global, "flexure modes"); });
 }
 
 }  // namespace flexure::cli

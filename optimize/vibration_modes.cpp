@@ -158,7 +158,10 @@ std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Suppo
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
     const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape) {
   const Eigen::MatrixX3d normals = restVertexNormals(stencils, rest);
-  const Eigen::VectorXd s = (shape.array() * normals.array()).rowwise().sum();
+  Eigen::VectorXd s = (shape.array() * normals.array()).rowwise().sum();
+  const double floor = kNodalFloor * s.cwiseAbs().maxCoeff();
+  for (double& value : s)
+    if (std::abs(value) <= floor) value = 0.0;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
   auto point = [&](int v) -> Eigen::Vector3d { return rest.positions.row(v).transpose(); };
   for (int f = 0; f < stencils.faceCount(); ++f) {
@@ -178,6 +181,13 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
       }
     }
     if (points.size() == 2) segments.emplace_back(points[0], points[1]);
+  }
+  // A line along an edge between two zeros: where s changes sign across it (the two opposite
+  // vertices differ in sign), which the held boundary, zero on both sides, never does.
+  for (int h = 0; h < stencils.hingeCount(); ++h) {
+    const int i = stencils.hinges(h, 0), j = stencils.hinges(h, 1);
+    const int k = stencils.hinges(h, 2), l = stencils.hinges(h, 3);
+    if (s[i] == 0.0 && s[j] == 0.0 && s[k] * s[l] < 0.0) segments.emplace_back(point(i), point(j));
   }
   return segments;
 }

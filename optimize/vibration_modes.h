@@ -75,6 +75,7 @@ struct VibrationMode {
 
 inline constexpr double kZeroModeLambda = 1e-3;
 inline constexpr double kDegenerateTolerance = 1e-6;
+inline constexpr double kNodalFloor = 1e-4;
 
 struct ModesResult {
   std::vector<VibrationMode> modes;  // ascending ω²: the zero modes first
@@ -110,8 +111,11 @@ Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
 
 // The nodal lines of a mode: the zero set of the normal displacement s_v = v_v · n̄_v (n̄_v the
 // area-weighted rest vertex normal), linear over each rest face, as segments (pairs of rest-space
-// points). Held vertices have s = 0: a face with two of them (the held boundary) has no segment;
-// a nodal line that meets the boundary ends at the held vertex it passes through.
+// points). Held vertices have s = 0, and so has every vertex where |s| ≤ kNodalFloor max |s|:
+// the lines are where sand would settle, not the sign changes of a clamped corner's tiny
+// oscillations. A nodal line that meets a zero vertex passes through it; one runs along an edge
+// between two zeros when s changes sign across the edge (the held boundary, zero on both sides of
+// its edges, is no nodal line).
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
     const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape);
 
