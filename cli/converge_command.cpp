@@ -9,6 +9,7 @@
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/solver_arguments.h"
+#include "cli/spectrum_outputs.h"
 #include "cli/study_outputs.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
@@ -25,6 +26,9 @@ struct ConvergeCommandOptions {
   std::optional<double> poisson;
   std::string outputDir;
   SolverArguments solver;
+  // --measure modes: the vibration spectrum (cli/spectrum_outputs.h) in place of C1/C2.
+  std::string measure = "c1c2", support = "simply-supported";
+  int count = 6;
 };
 
 // "a,b,c;a,b,c;…" → quadratics. Throws InputError quoting the entry.
@@ -95,8 +99,47 @@ optimize::StudyOptions studyOptions(const ConvergeCommandOptions& o, bool famili
   return study;
 }
 
+optimize::SpectrumStudyOptions spectrumOptions(const ConvergeCommandOptions& o,
+                                               bool familiesGiven) {
+  const optimize::StudyOptions study = studyOptions(o, familiesGiven);
+  optimize::SpectrumStudyOptions spectrum;
+  spectrum.energies = study.energies;
+  if (o.energies.empty()) {  // the five energies, midedge once
+    spectrum.energies.clear();
+    for (const char* name : {"midedge", "cotan", "quadfit", "triavg", "hinge"})
+      spectrum.energies.push_back(optimize::parseEnergyVariant(name, o.poisson));
+  }
+  // midedge's boundary normals follow --support here, not the variant's clamped/free.
+  for (optimize::EnergyVariant& v : spectrum.energies)
+    if (v.label == "midedge(clamped)") v.label = "midedge";
+  spectrum.families = familiesGiven
+                          ? study.families
+                          : std::vector<modeling::MeshFamily>{modeling::MeshFamily::Patch48,
+                                                              modeling::MeshFamily::Delaunay};
+  spectrum.seeds = o.seeds;
+  spectrum.baseN = o.n;
+  spectrum.levels = o.levels;
+  spectrum.count = o.count;
+  spectrum.support = optimize::parseSupport(o.support);
+  return spectrum;
+}
+
 void runConvergeCommand(const ConvergeCommandOptions& o, bool familiesGiven,
                         const GlobalOptions& global) {
+  if (o.measure == "modes") {
+    if (!o.meshFiles.empty())
+      throw InputError("--measure modes runs on the generated square plates; --mesh is for C1/C2");
+    const std::string summary = runSpectrumStudyInto(spectrumOptions(o, familiesGiven), o.outputDir,
+                                                     global, "flexure converge");
+    std::cout << summary;
+    if (!global.quiet) {
+      std::cerr << "flexure converge: wrote spectrum.md, spectrum.json, spectrum.csv and the "
+                   "plots to "
+                << o.outputDir << '\n';
+    }
+    return;
+  }
+  if (o.measure != "c1c2") throw InputError("--measure " + o.measure + ": expected c1c2 or modes");
   const optimize::StudyOptions study = studyOptions(o, familiesGiven);
   const std::string summary = runStudyInto(study, o.outputDir, global, "flexure converge");
   std::cout << summary;
@@ -136,16 +179,19 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--levels", options->levels, "Refinement levels: n, 2n, …, 2^(K-1) n (1 to 8)")
       ->capture_default_str()
       ->check(inRange(1, 8));
-  sub->add_option("--quadratics", options->quadratics,
-                  "Quadratics a,b,c (p = a x² + b xy + c y²) separated by ';' (default "
-                  "\"1,0,0;0,1,0;1,0,1;1,0,-1;0.3,-0.7,0.5\")");
-  sub->add_option("--amplitudes", options->amplitudes,
-                  "Nonlinear C2 at eps = 2^-1 … 2^-K on the coarsest meshes (0: none)")
-      ->capture_default_str()
-      ->check(inRange(0, 30));
-  sub->add_option("--solution", options->solution,
-                  "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
-      ->capture_default_str();
+  CLI::Option* quadratics =
+      sub->add_option("--quadratics", options->quadratics,
+                      "Quadratics a,b,c (p = a x² + b xy + c y²) separated by ';' (default "
+                      "\"1,0,0;0,1,0;1,0,1;1,0,-1;0.3,-0.7,0.5\")");
+  CLI::Option* amplitudes =
+      sub->add_option("--amplitudes", options->amplitudes,
+                      "Nonlinear C2 at eps = 2^-1 … 2^-K on the coarsest meshes (0: none)")
+          ->capture_default_str()
+          ->check(inRange(0, 30));
+  CLI::Option* solution =
+      sub->add_option("--solution", options->solution,
+                      "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
+          ->capture_default_str();
   sub->add_option("--poisson", options->poisson,
                   "Poisson's ratio nu for triavg, midedge and quadfit (default 0.3; hinge and "
                   "cotan are nu = 1 models)");
@@ -153,18 +199,41 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(inRange(1, maxThreads()));
   addSolverArguments(*sub, options->solver);
+  sub->add_option("--measure", options->measure,
+                  "c1c2 (quadratic reproduction, nonlinear C2, refinement) | modes (the "
+                  "vibration spectrum of the square plate against exact or tabulated λ over "
+                  "the levels)")
+      ->capture_default_str();
+  CLI::Option* support =
+      sub->add_option("--support", options->support,
+                      "--measure modes: simply-supported (exact λ) | clamped (Leissa 1973)")
+          ->capture_default_str();
+  CLI::Option* count = sub->add_option("--count", options->count, "--measure modes: modes λ1 … λK")
+                           ->capture_default_str()
+                           ->check(inRange(1, 12));
   files
       ->output("-o,--output", options->outputDir,
                "Output directory (created if missing; a previous study's other files in it are "
                "removed)",
-               OutputKind::Directory, isStudyFile)
+               OutputKind::Directory,
+               [](const std::string& name) { return isStudyFile(name) || isSpectrumFile(name); })
       ->required();
   sub->footer(
       "Writes DIR/results.json (every run), DIR/results.csv (one row per solve), DIR/summary.md "
       "(the pass/fail table and the orders; also printed) and log-log plots DIR/*.png.\n"
+      "With --measure modes: DIR/spectrum.md (orders and finest errors; also printed), "
+      "DIR/spectrum.json, DIR/spectrum.csv and DIR/spectrum_<family>.png.\n"
       "Example: flexure converge --energies midedge,cotan,hinge --families patch48,delaunay "
-      "--levels 3 -o study");
-  files->onRun(global, [options, families, &global] {
+      "--levels 3 -o study\n"
+      "Example: flexure converge --measure modes --support clamped --levels 3 -o spectrum");
+  files->onRun(global, [=, &global] {
+    // An option of the other measurement is refused rather than ignored.
+    const bool modes = options->measure == "modes";
+    for (const CLI::Option* other :
+         modes ? std::vector<const CLI::Option*>{quadratics, amplitudes, solution}
+               : std::vector<const CLI::Option*>{support, count})
+      if (other->count() > 0)
+        throw InputError(other->get_name() + " applies to --measure " + (modes ? "c1c2" : "modes"));
     runConvergeCommand(*options, families->count() > 0, global);
   });
 }

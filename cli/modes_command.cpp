@@ -25,6 +25,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/convergence_study.h"
+#include "optimize/spectrum_study.h"
 #include "optimize/vibration_modes.h"
 #include "render/field_map.h"
 #include "render/figure_grid.h"
@@ -33,27 +34,10 @@
 namespace flexure::cli {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // The files modes writes into its folder.
 bool isModesFile(const std::string& name) {
   return name == "modes.json" || name == "chladni.png" ||
          (name.rfind("mode-", 0) == 0 && name.size() > 4 && name.substr(name.size() - 4) == ".obj");
-}
-
-// Reference λ of the square plate of side L, ascending: simply supported, exact π²(m² + n²)
-// for m, n ≥ 1; clamped, Leissa (1973), J. Sound Vib. 31(3), the CCCC square (ν-independent),
-// the first six.
-std::vector<double> referenceLambdas(const std::string& name, int count) {
-  if (name == "square-simply-supported") {
-    std::vector<double> lambdas;
-    for (int m = 1; m <= count + 1; ++m)
-      for (int k = 1; k <= count + 1; ++k) lambdas.push_back(kPi * kPi * (m * m + k * k));
-    std::sort(lambdas.begin(), lambdas.end());
-    lambdas.resize(count);
-    return lambdas;
-  }
-  return {35.992, 73.413, 73.413, 108.27, 131.64, 132.24};
 }
 
 struct EnergyRun {
@@ -195,7 +179,11 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
 
   // The report, the table and the figure.
   const std::vector<double> reference =
-      o.reference.empty() ? std::vector<double>() : referenceLambdas(o.reference, o.count);
+      o.reference.empty()
+          ? std::vector<double>()
+          : optimize::squarePlateLambdas(base.support, base.support == optimize::Support::Clamped
+                                                           ? std::min(o.count, 6)
+                                                           : o.count);
   const double length = runs.front().result.length;
   nlohmann::json energies = nlohmann::json::array();
   render::FigureGrid grid;
@@ -321,12 +309,8 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
       {"energies", energies}};
   if (!o.fix.empty()) report["fix"] = o.fix;
   if (!o.reference.empty()) {
-    report["reference"] = {
-        {"name", o.reference},
-        {"source", o.reference == "square-clamped"
-                       ? "Leissa, The free vibration of rectangular plates, J. Sound Vib. 31(3), "
-                         "1973 (CCCC square)"
-                       : "exact: pi^2 (m^2 + n^2)"}};
+    report["reference"] = {{"name", o.reference},
+                           {"source", optimize::squarePlateSource(base.support)}};
   }
   writeJsonFile((dir / "modes.json").string(), report);
   if (!global.quiet) {

@@ -204,22 +204,6 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
   return records;
 }
 
-// The slope of the series' errors in h over its positive errors, when they converge or stall (an
-// exact series has no order).
-std::optional<double> seriesOrder(const std::vector<double>& h, const std::vector<double>& errors,
-                                  Refinement verdict) {
-  if (verdict != Refinement::Converges && verdict != Refinement::DoesNotConverge) return {};
-  std::vector<double> x, y;
-  for (size_t k = 0; k < errors.size(); ++k) {
-    if (errors[k] > 0.0) {
-      x.push_back(h[k]);
-      y.push_back(errors[k]);
-    }
-  }
-  if (x.size() < 2) return {};
-  return logLogSlope(x, y);
-}
-
 void fitRefinements(StudyResults& results) {
   std::vector<std::vector<size_t>> series;  // record indices of each series, in level order
   for (size_t i = 0; i < results.records.size(); ++i) {
@@ -264,6 +248,20 @@ void fitRefinements(StudyResults& results) {
 }
 
 }  // namespace
+
+std::optional<double> seriesOrder(const std::vector<double>& h, const std::vector<double>& errors,
+                                  Refinement verdict) {
+  if (verdict != Refinement::Converges && verdict != Refinement::DoesNotConverge) return {};
+  std::vector<double> x, y;
+  for (size_t k = 0; k < errors.size(); ++k) {
+    if (errors[k] > 0.0) {
+      x.push_back(h[k]);
+      y.push_back(errors[k]);
+    }
+  }
+  if (x.size() < 2) return {};
+  return logLogSlope(x, y);
+}
 
 // ---------------------------------------------------------------------------------------------
 

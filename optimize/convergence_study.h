@@ -122,6 +122,10 @@ enum class Refinement { Converges, DoesNotConverge, Exact, Unmeasured };
 inline constexpr double kStallRatio = 0.7;
 Refinement classifyRefinement(const std::vector<double>& errors);
 std::string_view refinementName(Refinement r);  // "converges" | "does not converge" | …
+// The least-squares slope of log error against log h over the positive errors of a series that
+// converges or stalls (an exact or unmeasured series has no order).
+std::optional<double> seriesOrder(const std::vector<double>& h, const std::vector<double>& errors,
+                                  Refinement verdict);
 
 // ---------------------------------------------------------------------------------------------
 // The study

@@ -45,6 +45,22 @@ json_check free "d['energies'][1]['spurious_zero_modes'] == 4" "triavg: the 4 co
 json_check free "[m['kind'] for m in d['energies'][1]['modes']].count('flexible') == 2" "triavg: 2 flexible"
 stderr_has "4 spurious zero modes"
 
+# The spectrum as a convergence study: orders per energy and family, files, stale ones removed.
+run 0 converge --measure modes --support clamped --energies midedge,hinge --families patch48 \
+  --n 8 --levels 3 --count 3 -o spectrum
+stdout_has "| midedge | order"; stdout_has "| hinge | does not converge"
+for f in spectrum.md spectrum.json spectrum.csv spectrum_patch48.png; do
+  [ -s "spectrum/$f" ] || fail "converge --measure modes wrote no $f"
+done
+[ "$(wc -l < spectrum/spectrum.csv)" -eq $((1 + 2 * 3 * 3)) ] || fail "spectrum.csv rows"
+run 0 converge --energies cotan --families patch48 --n 8 --levels 1 --amplitudes 0 -o spectrum --quiet
+absent spectrum/spectrum.md; [ -s spectrum/summary.md ] || fail "no summary.md after the C1/C2 run"
+run 2 converge --measure modes --support free -o bad; stderr_has "--support free"; absent bad
+run 2 converge --measure modes --support clamped --count 7 -o bad; stderr_has "Leissa"; absent bad
+run 2 converge --measure spectra -o bad; stderr_has "--measure spectra"; absent bad
+run 2 converge --support clamped -o bad; stderr_has "--support applies to --measure modes"; absent bad
+run 2 converge --measure modes --amplitudes 2 -o bad; stderr_has "--amplitudes applies to --measure c1c2"
+
 # Refusals: exit 2, the option named, nothing written.
 run 2 modes --family patch48 --n 8 --energy cotan --clamp normals -o bad; stderr_has "--clamp normals"
 absent bad

@@ -13,6 +13,7 @@
 #include "curvature/bending_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "optimize/spectrum_study.h"
 #include "optimize/vibration_modes.h"
 
 namespace flexure {
@@ -263,6 +264,29 @@ TEST(VibrationModes, NodalLinesOfTheSquaresSecondModesAreStraightOrDiagonal) {
                 farthest);
     EXPECT_LE(farthest, 0.1 / n);
   }
+}
+
+// The spectrum study (flexure converge --measure modes) measures what the tests above assert.
+TEST(VibrationModes, SpectrumStudyMeasuresTheOrders) {
+  EXPECT_NEAR(optimize::squarePlateLambdas(Support::SimplySupported, 6)[5], 10 * kPi * kPi, 1e-12);
+  EXPECT_THROW(optimize::squarePlateLambdas(Support::Clamped, 7), InputError);
+  EXPECT_THROW(optimize::squarePlateLambdas(Support::Free, 1), InputError);
+  optimize::SpectrumStudyOptions o;
+  o.energies = {optimize::parseEnergyVariant("midedge"), optimize::parseEnergyVariant("hinge")};
+  o.families = {MeshFamily::Patch48};
+  o.count = 3;
+  o.support = Support::Clamped;
+  const auto series = optimize::runSpectrumStudy(o);
+  ASSERT_EQ(series.size(), 2u);
+  EXPECT_EQ(series[0].clamp, Clamp::Normals);
+  for (int k = 0; k < o.count; ++k) {
+    ASSERT_TRUE(series[0].orders[k].has_value());
+    EXPECT_GT(*series[0].orders[k], 1.5);
+    EXPECT_EQ(series[0].verdicts[k], optimize::Refinement::Converges);
+    EXPECT_EQ(series[1].verdicts[k], optimize::Refinement::DoesNotConverge);
+  }
+  o.energies = {optimize::parseEnergyVariant("midedge:free")};
+  EXPECT_THROW(optimize::runSpectrumStudy(o), InputError);
 }
 
 TEST(VibrationModes, RefusesWhatCannotBeComputed) {

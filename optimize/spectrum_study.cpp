@@ -1,0 +1,125 @@
+#include "optimize/spectrum_study.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "curvature/bending_energy.h"
+#include "modeling/errors.h"
+#include "modeling/rest_state.h"
+
+namespace flexure::optimize {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+std::vector<double> squarePlateLambdas(Support support, int count) {
+  if (support == Support::SimplySupported) {
+    std::vector<double> lambdas;
+    for (int m = 1; m <= count; ++m)
+      for (int k = 1; k <= count; ++k) lambdas.push_back(kPi * kPi * (m * m + k * k));
+    std::sort(lambdas.begin(), lambdas.end());
+    lambdas.resize(count);
+    return lambdas;
+  }
+  if (support == Support::Clamped) {
+    const std::vector<double> leissa = {35.992, 73.413, 73.413, 108.27, 131.64, 132.24};
+    if (count > static_cast<int>(leissa.size()))
+      throw InputError("the clamped square's reference has " + std::to_string(leissa.size()) +
+                       " frequencies (Leissa 1973); ask for at most that many modes");
+    return {leissa.begin(), leissa.begin() + count};
+  }
+  throw InputError("the free square plate has no reference frequencies in flexure");
+}
+
+const char* squarePlateSource(Support support) {
+  return support == Support::Clamped
+             ? "Leissa, The free vibration of rectangular plates, J. Sound Vib. 31(3), 1973 "
+               "(the square clamped on all four edges)"
+             : "exact: pi^2 (m^2 + n^2)";
+}
+
+void checkSpectrumStudyOptions(const SpectrumStudyOptions& o) {
+  if (o.energies.empty()) throw InputError("--energies: give at least one energy");
+  if (o.families.empty()) throw InputError("--families: give at least one mesh family");
+  if (o.baseN < 4) throw InputError("--n " + std::to_string(o.baseN) + ": expected at least 4");
+  if (o.levels < 1 || o.levels > 8)
+    throw InputError("--levels " + std::to_string(o.levels) + ": expected 1 .. 8");
+  if (o.count < 1 || o.count > 12)
+    throw InputError("--count " + std::to_string(o.count) + ": expected 1 .. 12");
+  if (o.support == Support::Free)
+    throw InputError(
+        "--support free: the spectrum study needs reference frequencies "
+        "(simply-supported or clamped)");
+  squarePlateLambdas(o.support, o.count);
+  for (const EnergyVariant& v : o.energies)
+    if (v.normals == BoundaryNormals::Free)
+      throw InputError("--energies " + v.label +
+                       ": midedge's boundary normals follow --support; give midedge");
+}
+
+std::vector<SpectrumSeries> runSpectrumStudy(
+    const SpectrumStudyOptions& o, const std::function<void(const std::string&)>& progress) {
+  checkSpectrumStudyOptions(o);
+  const std::vector<double> reference = squarePlateLambdas(o.support, o.count);
+  std::vector<SpectrumSeries> all;
+  for (int e = 0; e < static_cast<int>(o.energies.size()); ++e) {
+    const EnergyVariant& variant = o.energies[e];
+    const bool midedge = variant.bending.discretization == curvature::Discretization::Midedge;
+    for (const modeling::MeshFamily family : o.families) {
+      std::vector<std::optional<std::uint64_t>> seeds = {std::nullopt};
+      if (family == modeling::MeshFamily::Delaunay) seeds.assign(o.seeds.begin(), o.seeds.end());
+      for (const auto& seed : seeds) {
+        SpectrumSeries series;
+        series.energy = e;
+        series.family = std::string(modeling::meshFamilyName(family));
+        series.seed = seed;
+        series.clamp = midedge ? Clamp::Normals : Clamp::Rings;
+        const std::vector<modeling::Mesh> meshes =
+            modeling::refinementSequence({family, o.baseN, seed.value_or(1), {}}, o.levels);
+        for (int level = 0; level < o.levels; ++level) {
+          const modeling::Stencils stencils = modeling::compileStencils(meshes[level]);
+          const modeling::RestState rest =
+              modeling::precomputeRestState(stencils, meshes[level].positions);
+          const auto term = curvature::makeBendingEnergy(stencils, rest, variant.bending);
+          const Eigen::VectorXd restXi =
+              midedge ? curvature::midedgeRestXi(stencils, rest, variant.bending.restCurvature)
+                      : Eigen::VectorXd();
+          ModesOptions modes;
+          modes.count = o.count;
+          modes.support = o.support;
+          modes.clamp = series.clamp;
+          const ModesResult result = vibrationModes({term.get()}, stencils, rest, restXi, modes);
+          std::vector<double> lambdas, errors;
+          for (const VibrationMode& mode : result.modes) {
+            if (mode.zero) continue;
+            errors.push_back(std::abs(mode.lambda / reference[lambdas.size()] - 1.0));
+            lambdas.push_back(mode.lambda);
+          }
+          if (static_cast<int>(lambdas.size()) < o.count)
+            throw NumericalError(variant.label + " on " + series.family + ": " +
+                                 std::to_string(result.spuriousZeroModes) +
+                                 " spurious zero modes took the place of flexible ones");
+          series.n.push_back(o.baseN << level);
+          series.h.push_back(1.0 / series.n.back());
+          series.lambdas.push_back(lambdas);
+          series.errors.push_back(errors);
+          if (progress)
+            progress(variant.label + " on " + series.family +
+                     (seed ? " seed " + std::to_string(*seed) : "") +
+                     " n=" + std::to_string(series.n.back()));
+        }
+        for (int k = 0; k < o.count; ++k) {
+          std::vector<double> modeErrors;
+          for (const auto& level : series.errors) modeErrors.push_back(level[k]);
+          series.verdicts.push_back(classifyRefinement(modeErrors));
+          series.orders.push_back(seriesOrder(series.h, modeErrors, series.verdicts.back()));
+        }
+        all.push_back(std::move(series));
+      }
+    }
+  }
+  return all;
+}
+
+}  // namespace flexure::optimize
