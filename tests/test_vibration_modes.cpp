@@ -11,6 +11,7 @@
 #include <functional>
 
 #include "curvature/bending_energy.h"
+#include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "optimize/spectrum_study.h"
@@ -264,6 +265,56 @@ TEST(VibrationModes, NodalLinesOfTheSquaresSecondModesAreStraightOrDiagonal) {
                 farthest);
     EXPECT_LE(farthest, 0.1 / n);
   }
+}
+
+// A flat plate in xyz with a membrane: at rest the out-of-plane motion decouples from the
+// in-plane one, so with a membrane much stiffer than bending the smallest modes are the bending
+// modes of height mode; a free plate has the six rigid motions of space.
+TEST(VibrationModes, XyzModeOfAFlatPlateHasTheHeightModeSpectrum) {
+  const Plate plate(MeshFamily::Delaunay, 12, Discretization::Midedge);
+  curvature::MembraneOptions m;
+  m.model = curvature::MembraneModel::Stvk;
+  m.young = 1e6;
+  const auto membrane = curvature::makeMembraneEnergy(plate.stencils, plate.rest, m);
+  std::vector<const curvature::EnergyTerm*> terms = {plate.term.get()};
+  for (const auto& term : membrane) terms.push_back(term.get());
+  for (const Support support : {Support::SimplySupported, Support::Free}) {
+    ModesOptions o;
+    o.count = 4;
+    o.support = support;
+    const ModesResult height = plate.modes(o);
+    o.dof = optimize::DofMode::Xyz;
+    const ModesResult xyz =
+        optimize::vibrationModes(terms, plate.stencils, plate.rest, plate.restXi, o);
+    expectSmallResiduals(xyz, "xyz");
+    EXPECT_EQ(xyz.rigidModes, support == Support::Free ? 6 : 0);
+    EXPECT_EQ(xyz.spuriousZeroModes, 0);
+    std::vector<double> a, b;
+    for (const auto& mode : height.modes)
+      if (!mode.zero) a.push_back(mode.lambda);
+    for (const auto& mode : xyz.modes)
+      if (!mode.zero) b.push_back(mode.lambda);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_NEAR(b[k] / a[k], 1.0, 1e-8) << optimize::supportName(support) << " mode " << k;
+      // A bending mode moves along the normal only.
+      const auto& shape = xyz.modes[xyz.rigidModes + k].shape;
+      EXPECT_LE(shape.leftCols(2).norm(), 1e-6 * shape.norm());
+    }
+  }
+}
+
+// Voronoi lumping converges to the same spectrum (cotan, simply supported).
+TEST(VibrationModes, VoronoiMassesConvergeToo) {
+  ModesOptions o;
+  o.count = 1;
+  o.support = Support::SimplySupported;
+  o.mass = optimize::MassLumping::Voronoi;
+  const auto lambda = spectra(Discretization::Cotan, o, {16, 32});
+  const double e1 = std::abs(lambda[0][0] / kSimplySupported[0] - 1.0);
+  const double e2 = std::abs(lambda[1][0] / kSimplySupported[0] - 1.0);
+  EXPECT_LT(e2, 2e-3);
+  EXPECT_GT(std::log2(e1 / e2), 1.5);
 }
 
 // The spectrum study (flexure converge --measure modes) measures what the tests above assert.
