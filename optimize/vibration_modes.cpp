@@ -92,11 +92,6 @@ class ShiftInvertOperator {
   mutable int operations_ = 0;
 };
 
-Eigen::VectorXd lumpedMasses(const modeling::RestState& rest, const ModesOptions& o) {
-  const Eigen::VectorXd& area =
-      o.mass == MassLumping::Barycentric ? rest.vertexBarycentricAreas : rest.vertexVoronoiAreas;
-  return o.density * area;
-}
 
 }  // namespace
 
@@ -142,6 +137,12 @@ Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
       normals.row(stencils.faces(f, i)) += rest.faceAreas[f] * rest.faceNormals.row(f);
   normals.rowwise().normalize();
   return normals;
+}
+
+Eigen::VectorXd lumpedVertexMasses(const modeling::RestState& rest, MassLumping lumping,
+                                   double density) {
+  return density * (lumping == MassLumping::Barycentric ? rest.vertexBarycentricAreas
+                                                        : rest.vertexVoronoiAreas);
 }
 
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
@@ -285,7 +286,7 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   }
 
   // Masses on the reduced unknowns: m_v on each free vertex coordinate, 0 on ξ.
-  const Eigen::VectorXd vertexMass = lumpedMasses(rest, o);
+  const Eigen::VectorXd vertexMass = lumpedVertexMasses(rest, o.mass, o.density);
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(reduced);
   std::vector<int> massive;
   std::vector<int> unknownOfReduced(reduced);

@@ -101,6 +101,10 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
                            const modeling::Stencils& stencils, const modeling::RestState& rest,
                            const Eigen::VectorXd& restXi, const ModesOptions& options);
 
+// #V: m_v = ρh × the vertex's rest area (barycentric: Σ incident Ā_T / 3; or mixed Voronoi).
+Eigen::VectorXd lumpedVertexMasses(const modeling::RestState& rest, MassLumping lumping,
+                                   double density);
+
 // The held vertices for a support (and Clamp::Rings / Normals), with `extra` added.
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra);

@@ -1,0 +1,313 @@
+#include "optimize/time_stepping.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "modeling/errors.h"
+#include "optimize/energy_evaluation.h"
+#include "optimize/hessian_assembly.h"
+
+namespace flexure::optimize {
+
+Integrator parseIntegrator(const std::string& name) {
+  if (name == "newmark") return Integrator::Newmark;
+  if (name == "backward-euler") return Integrator::BackwardEuler;
+  if (name == "central-difference") return Integrator::CentralDifference;
+  throw InputError("--integrator " + name +
+                   ": expected newmark, backward-euler or central-difference");
+}
+
+const char* integratorName(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::Newmark:
+      return "newmark";
+    case Integrator::BackwardEuler:
+      return "backward-euler";
+    case Integrator::CentralDifference:
+      return "central-difference";
+  }
+  return "";
+}
+
+double EnergySample::total() const {
+  double sum = kinetic + gravity;
+  for (double e : terms) sum += e;
+  return sum;
+}
+
+// The implicit step's Newton machinery, built once per run: the Hessian pattern over the free
+// unknowns (unpinned vertex coordinates, then ξ), its CHOLMOD analysis, and the free unknowns'
+// masses and rest stiffness K̄ (for Rayleigh damping) in the pattern's order.
+struct TimeStepper::Implicit {
+  HessianAssembly assembly;
+  HessianFactorization factorization;
+  Eigen::VectorXd mass;            // per free unknown: m_v, or 0 for ξ
+  std::vector<double> restValues;  // K̄ on the vertex unknowns, in the pattern; empty: β = 0
+  std::vector<int> diagonal;       // per free unknown: its diagonal entry in the pattern
+
+  Implicit(const std::vector<const curvature::EnergyTerm*>& terms, const std::vector<bool>& free,
+           int vertexCount, const Positions& rest)
+      : assembly(terms, free, vertexCount, curvature::Derivatives::All),
+        factorization(assembly, hessianOrder(assembly, rest)) {}
+
+  // C y over the free unknowns (C = α M + β K̄; ξ rows 0).
+  Eigen::VectorXd damping(const Eigen::VectorXd& y, double alpha, double beta) const {
+    Eigen::VectorXd out = alpha * mass.cwiseProduct(y);
+    if (restValues.empty() || beta == 0.0) return out;
+    const std::vector<int>& start = assembly.columnStart();
+    const std::vector<int>& row = assembly.rowIndex();
+    for (int j = 0; j < assembly.size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p) {
+        const int i = row[p];
+        out[i] += beta * restValues[p] * y[j];
+        if (i != j) out[j] += beta * restValues[p] * y[i];
+      }
+    return out;
+  }
+};
+
+TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
+                         const modeling::Stencils& stencils, const modeling::RestState& rest,
+                         const Eigen::VectorXd& restXi, std::vector<bool> pinned,
+                         const DynamicsOptions& options)
+    : terms_(std::move(terms)), pinned_(std::move(pinned)), options_(options) {
+  const DynamicsOptions& o = options_;
+  if (o.integrator == Integrator::Newmark && !(o.beta > 0.0 && o.beta <= 0.5))
+    throw InputError("--beta: expected 0 < β ≤ 0.5 (β = 0 is --integrator central-difference)");
+  if (o.integrator == Integrator::Newmark && !(o.gamma >= 0.5 && o.gamma <= 1.0))
+    throw InputError("--gamma: expected 0.5 ≤ γ ≤ 1");
+  if (o.integrator == Integrator::CentralDifference &&
+      (o.rayleighMass != 0.0 || o.rayleighStiffness != 0.0))
+    throw InputError(
+        "--damping: the explicit central-difference scheme takes no damping; use "
+        "newmark or backward-euler");
+  if (!(o.density > 0.0)) throw InputError("--density: expected a value > 0");
+  if (o.rayleighMass < 0.0 || o.rayleighStiffness < 0.0)
+    throw InputError("--damping rayleigh:α,β: expected α, β ≥ 0");
+  const int vertexCount = stencils.vertexCount();
+  if (static_cast<int>(pinned_.size()) != vertexCount)
+    throw InputError("pinned vertices: expected one flag per vertex");
+  if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
+    throw InputError("every vertex is pinned: nothing can move");
+  mass_ = lumpedVertexMasses(rest, o.mass, o.density);
+  length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
+  xi_ = restXi;
+  freeEdge_.assign(restXi.size(), true);
+  if (!o.heldEdges.empty()) {
+    if (o.heldEdges.size() != freeEdge_.size())
+      throw InputError("held edges: expected one flag per edge of a midedge energy");
+    for (size_t e = 0; e < freeEdge_.size(); ++e) freeEdge_[e] = !o.heldEdges[e];
+  }
+  if (o.integrator == Integrator::CentralDifference) return;
+
+  std::vector<bool> free(3 * vertexCount + restXi.size(), false);
+  for (int v = 0; v < vertexCount; ++v)
+    for (int c = 0; c < 3; ++c) free[3 * v + c] = !pinned_[v];
+  for (int e = 0; e < restXi.size(); ++e) free[3 * vertexCount + e] = freeEdge_[e];
+  implicit_ = std::make_unique<Implicit>(terms_, free, vertexCount, rest.positions);
+  Implicit& im = *implicit_;
+  const std::vector<int>& unknowns = im.assembly.freeUnknowns();
+  im.mass = Eigen::VectorXd::Zero(im.assembly.size());
+  im.diagonal.resize(im.assembly.size());
+  for (int k = 0; k < im.assembly.size(); ++k) {
+    if (unknowns[k] < 3 * vertexCount) im.mass[k] = mass_[unknowns[k] / 3];
+    im.diagonal[k] = im.assembly.columnStart()[k + 1] - 1;  // sorted upper columns end on it
+  }
+  if (o.rayleighStiffness > 0.0) {
+    // K̄ = JᵀJ at rest (every residual vanishes there), kept on the vertex unknowns only.
+    im.restValues = im.assembly
+                        .evaluate(rest.positions, restXi, HessianProjection::Exact, nullptr,
+                                  curvature::SecondDerivatives::GaussNewton)
+                        .values;
+    const std::vector<int>& start = im.assembly.columnStart();
+    for (int j = 0; j < im.assembly.size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p)
+        if (im.mass[j] == 0.0 || im.mass[im.assembly.rowIndex()[p]] == 0.0) im.restValues[p] = 0.0;
+  }
+}
+
+TimeStepper::~TimeStepper() = default;
+
+Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const {
+  const EnergyGradient e = energyGradient(terms_, x, xi);
+  Positions a = Positions::Zero(x.rows(), 3);
+  for (int v = 0; v < x.rows(); ++v) {
+    if (pinned_[v]) continue;
+    for (int c = 0; c < 3; ++c) a(v, c) = options_.gravity[c] - e.gradient[3 * v + c] / mass_[v];
+  }
+  return a;
+}
+
+void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
+  x_ = x;
+  v_ = v;
+  for (int k = 0; k < v_.rows(); ++k)
+    if (pinned_[k]) v_.row(k).setZero();
+  xi_ = xi.size() > 0 ? xi : xi_;
+  if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
+  time_ = 0.0;
+  // With damping the initial acceleration also carries −M⁻¹ C v₀; a start at rest (v₀ = 0, the
+  // usual case) has none, and a moving start takes the undamped one.
+  a_ = accelerationFromForces(x_, xi_);
+}
+
+TimeStepper::Outcome TimeStepper::step(double h) {
+  try {
+    return implicit_ ? implicitStep(h) : explicitStep(h);
+  } catch (const NumericalError& e) {
+    return {false, 0, e.what()};
+  }
+}
+
+TimeStepper::Outcome TimeStepper::explicitStep(double h) {
+  const Positions x = x_ + h * v_ + 0.5 * h * h * a_;
+  const Eigen::VectorXd xi = xi_.size() > 0 ? minimizeEdgeUnknowns(terms_, x, xi_, freeEdge_) : xi_;
+  const Positions a = accelerationFromForces(x, xi);
+  if (!a.allFinite()) return {false, 0, "the forces are not finite (the step is unstable)"};
+  v_ += 0.5 * h * (a_ + a);
+  x_ = x;
+  xi_ = xi;
+  a_ = a;
+  time_ += h;
+  return {true, 0, ""};
+}
+
+TimeStepper::Outcome TimeStepper::implicitStep(double h) {
+  Implicit& im = *implicit_;
+  const DynamicsOptions& o = options_;
+  const bool euler = o.integrator == Integrator::BackwardEuler;
+  const double beta = euler ? 1.0 : o.beta, gamma = euler ? 1.0 : o.gamma;
+  const double p = euler ? 0.0 : 0.5 - beta, q = euler ? 0.0 : 1.0 - gamma;
+  const double massWeight = 1.0 / (beta * h * h), dampingWeight = gamma / (beta * h);
+  const std::vector<int>& unknowns = im.assembly.freeUnknowns();
+  const int n = im.assembly.size();
+  const long positionCount = x_.size();
+
+  // The predictors and the linear parts of Φ over the free unknowns.
+  const Positions xHat = x_ + h * v_ + p * h * h * a_;
+  const Positions vHat = v_ + q * h * a_;
+  Eigen::VectorXd hat(n), vHatFree(n), gravityForce(n);
+  for (int k = 0; k < n; ++k) {
+    const long u = unknowns[k];
+    const bool vertex = u < positionCount;
+    hat[k] = vertex ? xHat.data()[u] : 0.0;
+    vHatFree[k] = vertex ? vHat.data()[u] : 0.0;
+    gravityForce[k] = vertex ? im.mass[k] * o.gravity[u % 3] : 0.0;
+  }
+  const Eigen::VectorXd dampingOfVHat = im.damping(vHatFree, o.rayleighMass, o.rayleighStiffness);
+
+  // (x, ξ) from the free unknowns and back.
+  auto values = [&](const Positions& x, const Eigen::VectorXd& xi) {
+    Eigen::VectorXd y(n);
+    for (int k = 0; k < n; ++k) {
+      const long u = unknowns[k];
+      y[k] = u < positionCount ? x.data()[u] : xi[u - positionCount];
+    }
+    return y;
+  };
+  auto place = [&](const Eigen::VectorXd& y, Positions& x, Eigen::VectorXd& xi) {
+    for (int k = 0; k < n; ++k) {
+      const long u = unknowns[k];
+      (u < positionCount ? x.data()[u] : xi[u - positionCount]) = y[k];
+    }
+  };
+  // Φ's inertial, damping and gravity parts at y (the ξ entries of `hat` and `mass` are 0).
+  auto extra = [&](const Eigen::VectorXd& y, Eigen::VectorXd* gradient) {
+    const Eigen::VectorXd d = (y - hat).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
+    const Eigen::VectorXd cd = im.damping(d, o.rayleighMass, o.rayleighStiffness);
+    if (gradient != nullptr)
+      *gradient =
+          massWeight * im.mass.cwiseProduct(d) + dampingWeight * cd + dampingOfVHat - gravityForce;
+    return 0.5 * massWeight * d.dot(im.mass.cwiseProduct(d)) + 0.5 * dampingWeight * d.dot(cd) +
+           dampingOfVHat.dot(d) - gravityForce.dot(y);
+  };
+  auto phi = [&](const Eigen::VectorXd& y) {
+    Positions x = x_;
+    Eigen::VectorXd xi = xi_;
+    place(y, x, xi);
+    double e = 0.0;
+    for (const curvature::EnergyTerm* term : terms_) e += term->energy(x, xi);
+    return e + extra(y, nullptr);
+  };
+
+  Positions x = x_;
+  Eigen::VectorXd xi = xi_;
+  for (int k = 0; k < n; ++k)
+    if (unknowns[k] < positionCount) x.data()[unknowns[k]] = hat[k];
+  Eigen::VectorXd y = values(x, xi);
+  Outcome outcome;
+  const double stepTolerance = o.tolerance * length_;
+  for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
+    place(y, x, xi);
+    HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact);
+    Eigen::VectorXd extraGradient;
+    const double energy = at.energy + extra(y, &extraGradient);
+    const Eigen::VectorXd gradient = at.gradient + extraGradient;
+    // M/(βh²) + γ C/(βh) on the pattern: the diagonal, and γβ_K/(βh) K̄ everywhere.
+    auto addInertia = [&](std::vector<double>& h2) {
+      for (int k = 0; k < n; ++k)
+        h2[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
+      for (size_t e = 0; e < im.restValues.size(); ++e)
+        h2[e] += dampingWeight * o.rayleighStiffness * im.restValues[e];
+    };
+    addInertia(at.values);
+    bool factored = im.factorization.factor(at.values);
+    if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
+      HessianEvaluation gn = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr,
+                                                  curvature::SecondDerivatives::GaussNewton);
+      addInertia(gn.values);
+      factored = im.factorization.factor(gn.values);
+    }
+    if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};
+    const Eigen::VectorXd delta = -im.factorization.solve(gradient);
+    outcome.newtonIterations = iteration;
+    // Converged: the Newton step itself is below the tolerance (taken whole: near the minimizer
+    // Φ's change is at its roundoff, where a line search cannot judge).
+    if (delta.cwiseAbs().maxCoeff() <= stepTolerance) {
+      y += delta;
+      outcome.converged = true;
+      break;
+    }
+    const double slope = gradient.dot(delta);
+    double alpha = 1.0;
+    Eigen::VectorXd trial = y + delta;
+    for (double trialEnergy = phi(trial);
+         trialEnergy > energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy);
+         trialEnergy = phi(trial)) {
+      alpha *= 0.5;
+      if (alpha < 1e-10) return {false, iteration, "the line search found no decrease of Φ"};
+      trial = y + alpha * delta;
+    }
+    y = trial;
+  }
+  if (!outcome.converged) {
+    outcome.failure =
+        "Newton did not converge in " + std::to_string(o.maxNewtonIterations) + " iterations";
+    return outcome;
+  }
+  place(y, x, xi);
+  Positions a = (x - xHat) * massWeight;
+  for (int v = 0; v < x.rows(); ++v)
+    if (pinned_[v]) a.row(v).setZero();
+  v_ = vHat + gamma * h * a;
+  for (int v = 0; v < x.rows(); ++v)
+    if (pinned_[v]) v_.row(v).setZero();
+  x_ = x;
+  xi_ = xi;
+  a_ = a;
+  time_ += h;
+  return outcome;
+}
+
+EnergySample TimeStepper::energies() const {
+  EnergySample s;
+  s.time = time_;
+  for (int v = 0; v < x_.rows(); ++v) {
+    s.kinetic += 0.5 * mass_[v] * v_.row(v).squaredNorm();
+    s.gravity -= mass_[v] * options_.gravity.dot(x_.row(v).transpose());
+  }
+  for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x_, xi_));
+  return s;
+}
+
+}  // namespace flexure::optimize

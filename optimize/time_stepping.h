@@ -1,0 +1,112 @@
+// Shell dynamics: Discrete Shells' time stepping (Grinspun et al. 2003; seeds 001, 003) with any
+// of flexure's energies. Every coordinate of every unpinned vertex moves; midedge ξ are massless
+// unknowns solved with each step.
+//
+// Equations of motion, lumped mass M (m_v = ρ × the vertex's rest area, vibration_modes.h),
+// Rayleigh damping C = α M + β K̄ (K̄ the Hessian at rest, on the vertex unknowns), gravity g:
+//
+//   M a + C v + ∇E(x, ξ) − M g = 0,   ∇_ξ E(x, ξ) = 0.
+//
+// Newmark (β, γ), from (x_n, v_n, a_n) with the predictors x̂ = x_n + h v_n + h² (½ − β) a_n and
+// v̂ = v_n + h (1 − γ) a_n:  a = (x − x̂) / (β h²),  v = v̂ + γ h a. With β > 0 the step is the
+// minimizer over (x, ξ) of the incremental potential
+//
+//   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x,
+//
+// whose gradient is the equation above; Newton on its exact Hessian M/(βh²) + γC/(βh) + ∇²E
+// (pattern and CHOLMOD analysis once per run). β = ¼, γ = ½ (average acceleration, the default)
+// conserves the energy of a linear undamped system; backward Euler is the same minimization with
+// β = γ = 1 and x̂ = x_n + h v_n, v̂ = v_n (it dissipates); β = 0, γ = ½ is explicit central
+// differences (x = x̂, then a from the forces; ξ from minimizeEdgeUnknowns).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "curvature/energy_term.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
+#include "optimize/vibration_modes.h"
+
+namespace flexure::optimize {
+
+enum class Integrator { Newmark, BackwardEuler, CentralDifference };
+Integrator parseIntegrator(
+    const std::string& name);  // newmark | backward-euler | central-difference
+const char* integratorName(Integrator integrator);
+
+struct DynamicsOptions {
+  Integrator integrator = Integrator::Newmark;
+  double beta = 0.25, gamma = 0.5;  // Newmark's
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  double density = 1.0;  // ρ, mass per unit rest area
+  MassLumping mass = MassLumping::Barycentric;
+  double rayleighMass = 0.0, rayleighStiffness = 0.0;  // α, β of C = α M + β K̄
+  // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
+  // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
+  std::vector<bool> heldEdges;
+  int maxNewtonIterations = 30;
+  // A step has converged when the Newton step moves no unknown more than `tolerance` × the rest
+  // mesh's bounding-box diagonal.
+  double tolerance = 1e-10;
+};
+
+// The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x.
+struct EnergySample {
+  double time = 0.0, kinetic = 0.0, gravity = 0.0;
+  std::vector<double> terms;
+  double total() const;
+};
+
+class TimeStepper {
+ public:
+  // `pinned` vertices keep their start positions. Throws InputError for a bad option (β outside
+  // [0, ½] for Newmark, γ ≠ ½ with β = 0, damping with the explicit scheme, density ≤ 0, nothing
+  // free).
+  TimeStepper(std::vector<const curvature::EnergyTerm*> terms, const modeling::Stencils& stencils,
+              const modeling::RestState& rest, const Eigen::VectorXd& restXi,
+              std::vector<bool> pinned, const DynamicsOptions& options);
+  ~TimeStepper();
+  TimeStepper(const TimeStepper&) = delete;
+  TimeStepper& operator=(const TimeStepper&) = delete;
+
+  // The state at time 0: positions, velocities (#V by 3; pinned rows of v are ignored), ξ (#E or
+  // empty: minimized for x). The acceleration comes from the forces.
+  void start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi);
+
+  struct Outcome {
+    bool converged = false;
+    int newtonIterations = 0;
+    std::string failure;  // why it did not converge
+  };
+  // Advances by h. On failure the state is unchanged.
+  Outcome step(double h);
+
+  double time() const { return time_; }
+  const Positions& positions() const { return x_; }
+  const Positions& velocities() const { return v_; }
+  const Eigen::VectorXd& xi() const { return xi_; }
+  const Eigen::VectorXd& masses() const { return mass_; }
+  EnergySample energies() const;
+
+ private:
+  struct Implicit;
+  Outcome implicitStep(double h);
+  Outcome explicitStep(double h);
+  Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
+
+  std::vector<const curvature::EnergyTerm*> terms_;
+  std::vector<bool> pinned_;
+  DynamicsOptions options_;
+  Eigen::VectorXd mass_;
+  double length_ = 1.0;
+  std::vector<bool> freeEdge_;
+  std::unique_ptr<Implicit> implicit_;
+  double time_ = 0.0;
+  Positions x_, v_, a_;
+  Eigen::VectorXd xi_;
+};
+
+}  // namespace flexure::optimize
