@@ -11,6 +11,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
 #include "cli/solver_arguments.h"
 #include "curvature/membrane_energy.h"
@@ -28,9 +29,7 @@ struct MinimizeCommandOptions {
   BendingArguments bending;
   std::string restFile, output, reportFile;
   std::string dof = "height";
-  std::string membrane;
-  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3,
-         shapeStiffness = 1e3;
+  MembraneArguments membrane;
   std::string fix = "rings:2";
   std::string initFile, boundary, boundaryNormals;
   std::string start;  // linearized | given; empty: linearized with --boundary, given with --init
@@ -91,7 +90,8 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
       {"energy_name", std::string(curvature::discretizationName(b.discretization))},
       {"poisson", curvature::effectivePoisson(b)},
       {"dof", o.dof},
-      {"membrane", o.membrane.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.membrane)},
+      {"membrane",
+       o.membrane.model.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.membrane.model)},
       {"fix", o.fix},
       {"linearized", o.linearized},
       {"start", o.linearized ? "" : startName(o)},
@@ -134,11 +134,11 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   solver.progress = !global.quiet && !o.linearized;
   if (o.dof == "height") {
     solver.dof = optimize::DofMode::Height;
-    if (!o.membrane.empty())
+    if (!o.membrane.model.empty())
       throw InputError("--membrane applies to --dof xyz (height mode keeps x and y at rest)");
   } else if (o.dof == "xyz") {
     solver.dof = optimize::DofMode::Xyz;
-    if (o.membrane.empty()) {
+    if (o.membrane.model.empty()) {
       throw InputError(
           "--dof xyz needs a membrane (--membrane stvk|springs): bending alone has "
           "no stiffness against sliding in the surface");
@@ -158,16 +158,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   const std::unique_ptr<curvature::EnergyTerm> bending =
       curvature::makeBendingEnergy(stencils, rest, b);
   std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  if (!o.membrane.empty()) {
-    curvature::MembraneOptions m;
-    m.model = curvature::parseMembraneModel(o.membrane);
-    m.young = o.young;
-    m.poisson = o.membranePoisson;
-    m.lengthStiffness = o.lengthStiffness;
-    m.areaStiffness = o.areaStiffness;
-    m.shapeStiffness = o.shapeStiffness;
-    membrane = curvature::makeMembraneEnergy(stencils, rest, m);
-  }
+  if (!o.membrane.model.empty()) membrane = makeMembrane(o.membrane, stencils, rest);
   std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
   for (const auto& term : membrane) terms.push_back(term.get());
 
@@ -256,22 +247,7 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   addBendingArguments(*sub, options->bending);
   sub->add_option("--dof", options->dof, "height (z only; x, y at rest) | xyz (needs --membrane)")
       ->capture_default_str();
-  sub->add_option("--membrane", options->membrane, "xyz mode: stvk | springs | conformal");
-  sub->add_option("--young", options->young, "stvk: Young's modulus x thickness")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--membrane-poisson", options->membranePoisson, "stvk: Poisson's ratio")
-      ->capture_default_str();
-  sub->add_option("--length-stiffness", options->lengthStiffness, "springs: k_L")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--area-stiffness", options->areaStiffness, "springs: k_A")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--shape-stiffness", options->shapeStiffness,
-                  "conformal: k_S (triangle shape, not size)")
-      ->capture_default_str()
-      ->check(positive());
+  addMembraneArguments(*sub, options->membrane, "xyz mode: stvk | springs | conformal");
   sub->add_option("--fix", options->fix,
                   "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
                   "vertices:FILE (indices)")

@@ -17,7 +17,6 @@
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "curvature/bending_energy.h"
-#include "curvature/membrane_energy.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
@@ -76,10 +75,10 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     throw InputError("--clamp applies to --support clamped");
   if (o.dof == "height") {
     base.dof = optimize::DofMode::Height;
-    if (!o.membrane.empty()) throw InputError("--membrane applies to --dof xyz");
+    if (!o.membrane.model.empty()) throw InputError("--membrane applies to --dof xyz");
   } else if (o.dof == "xyz") {
     base.dof = optimize::DofMode::Xyz;
-    if (o.membrane.empty())
+    if (o.membrane.model.empty())
       throw InputError("--dof xyz needs a membrane (--membrane stvk|springs|conformal)");
   } else {
     throw InputError("--dof " + o.dof + ": expected height or xyz");
@@ -146,12 +145,7 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
       throw InputError("--reference " + o.reference + ": --length must be the square's side");
   }
   std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  if (!o.membrane.empty()) {
-    curvature::MembraneOptions m;
-    m.model = curvature::parseMembraneModel(o.membrane);
-    m.young = o.young;
-    membrane = curvature::makeMembraneEnergy(stencils, rest, m);
-  }
+  if (!o.membrane.model.empty()) membrane = makeMembrane(o.membrane, stencils, rest);
 
   for (EnergyRun& run : runs) {
     const std::unique_ptr<curvature::EnergyTerm> bending =
@@ -364,10 +358,7 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(positive());
   sub->add_option("--dof", o.dof, "height (transverse vibration of a plate) | xyz (a shell)")
       ->capture_default_str();
-  sub->add_option("--membrane", o.membrane, "xyz: stvk | springs | conformal");
-  sub->add_option("--young", o.young, "stvk: Young's modulus x thickness")
-      ->capture_default_str()
-      ->check(positive());
+  addMembraneArguments(*sub, o.membrane, "--dof xyz: stvk | springs | conformal");
   sub->add_option("--reference", o.reference,
                   "Compare with square-simply-supported (exact) or square-clamped (Leissa 1973)");
   sub->add_flag("--write-shapes", o.writeShapes,

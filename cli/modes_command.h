@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/membrane_arguments.h"
 
 namespace flexure::cli {
 
@@ -18,8 +19,9 @@ struct ModesOptions {
   std::vector<std::string> energies;
   std::optional<double> poisson;
   double stiffness = 1.0;  // k_B
-  std::string support = "clamped", clamp, mass = "barycentric", fix, dof = "height", membrane;
-  double young = 1e3, density = 1.0, length = 0.0, scale = 0.1;
+  std::string support = "clamped", clamp, mass = "barycentric", fix, dof = "height";
+  MembraneArguments membrane;  // --dof xyz
+  double density = 1.0, length = 0.0, scale = 0.1;
   int count = 12, size = 200;
   std::string reference;
   bool writeShapes = false;
