@@ -22,6 +22,7 @@ constexpr Rgb kPalette[] = {{0.122, 0.467, 0.706}, {1.000, 0.498, 0.055}, {0.173
                             {0.839, 0.153, 0.157}, {0.580, 0.404, 0.741}, {0.549, 0.337, 0.294},
                             {0.890, 0.467, 0.761}, {0.498, 0.498, 0.498}};
 constexpr int kMarkerKinds = 8;
+constexpr size_t kMostMarkers = 60;  // longer series (time histories) are drawn as lines only
 
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kTextSize = 13.0, kTitleSize = 16.0, kExponentScale = 0.72;
@@ -29,16 +30,25 @@ constexpr double kTextSize = 13.0, kTitleSize = 16.0, kExponentScale = 0.72;
 using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 
-// A log10 axis from lo to hi, both of the form m × 10^k with m in {1, 2, 5}.
+// An axis from lo to hi: log10 (both ends of the form m × 10^k, m in {1, 2, 5}) or linear (both
+// ends multiples of the tick step).
 struct Axis {
+  bool log = true;
   double lo = 0.1, hi = 1.0;
+  double step = 0.1;                    // linear: the tick spacing
   double pixelLo = 0.0, pixelHi = 1.0;  // where lo and hi land
 
   double pixel(double value) const {
-    return pixelLo +
-           (std::log10(value) - std::log10(lo)) / std::log10(hi / lo) * (pixelHi - pixelLo);
+    const double t =
+        log ? (std::log10(value) - std::log10(lo)) / std::log10(hi / lo) : (value - lo) / (hi - lo);
+    return pixelLo + t * (pixelHi - pixelLo);
   }
-  bool contains(double value) const { return value >= lo * (1 - 1e-9) && value <= hi * (1 + 1e-9); }
+  bool drawable(double value) const { return std::isfinite(value) && (!log || value > 0.0); }
+  bool contains(double value) const {
+    const double slack = 1e-9 * (log ? 1.0 : hi - lo);
+    return log ? value >= lo * (1 - 1e-9) && value <= hi * (1 + 1e-9)
+               : value >= lo - slack && value <= hi + slack;
+  }
   int firstDecade() const { return static_cast<int>(std::floor(std::log10(lo) + 1e-9)); }
   int lastDecade() const { return static_cast<int>(std::floor(std::log10(hi) + 1e-9)); }
   // At most two decades: the 2 and 5 ticks are labelled too.
@@ -69,8 +79,37 @@ Axis axisAround(double minimum, double maximum) {
   return axis;
 }
 
-bool drawable(double x, double y) {
-  return x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y);
+// A linear axis over [minimum, maximum] with 4 to 10 ticks at 1, 2 or 5 × 10^k.
+Axis linearAxisAround(double minimum, double maximum) {
+  Axis axis;
+  axis.log = false;
+  if (!std::isfinite(minimum) || !std::isfinite(maximum) || maximum < minimum) {
+    axis.lo = 0.0, axis.hi = 1.0, axis.step = 0.2;
+    return axis;
+  }
+  if (maximum == minimum) {
+    const double pad = minimum != 0.0 ? 0.5 * std::abs(minimum) : 1.0;
+    minimum -= pad;
+    maximum += pad;
+  }
+  axis.step = niceAbove((maximum - minimum) / 8.0);
+  axis.lo = std::floor(minimum / axis.step + 1e-9) * axis.step;
+  axis.hi = std::ceil(maximum / axis.step - 1e-9) * axis.step;
+  return axis;
+}
+
+// A tick value's label on a linear axis: as few digits as the step needs.
+std::string linearLabel(double value, double step) {
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  char text[32];
+  if (std::abs(value) < 1e-12 * step) value = 0.0;
+  if (std::abs(value) >= 1e5 || (value != 0.0 && std::abs(value) < 1e-3))
+    std::snprintf(text, sizeof text, "%.2g", value);
+  else
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string label = text;
+  if (label[0] == '-') label = "−" + label.substr(1);  // a true minus sign
+  return label;
 }
 
 double textWidth(cairo_t* cr, const std::string& text, double size) {
@@ -162,11 +201,11 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
   return CAIRO_STATUS_SUCCESS;
 }
 
-}  // namespace
-
-std::string renderLogLogPlot(const LogLogPlot& plot) {
+// The common drawing of both kinds: `plot` with log or linear axes (reference slopes only on
+// log-log ones).
+std::string renderPlot(const LogLogPlot& plot, bool logarithmic) {
   if (plot.width < 200 || plot.height < 150) {
-    throw std::invalid_argument("renderLogLogPlot: a plot needs at least 200 × 150 pixels (got " +
+    throw std::invalid_argument("render plot: a plot needs at least 200 × 150 pixels (got " +
                                 std::to_string(plot.width) + " × " + std::to_string(plot.height) +
                                 ")");
   }
@@ -179,8 +218,11 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
   cairo_paint(cr);
 
   // Data range over the drawable points.
-  double minX = std::numeric_limits<double>::infinity(), maxX = 0.0;
-  double minY = std::numeric_limits<double>::infinity(), maxY = 0.0;
+  Axis xAxis, yAxis;
+  xAxis.log = yAxis.log = logarithmic;
+  const auto drawable = [&](double x, double y) { return xAxis.drawable(x) && yAxis.drawable(y); };
+  const double infinity = std::numeric_limits<double>::infinity();
+  double minX = infinity, maxX = -infinity, minY = infinity, maxY = -infinity;
   double sumLogX = 0.0, sumLogY = 0.0;
   int drawn = 0;
   for (const PlotSeries& s : plot.series) {
@@ -190,12 +232,20 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
       maxX = std::max(maxX, s.x[k]);
       minY = std::min(minY, s.y[k]);
       maxY = std::max(maxY, s.y[k]);
-      sumLogX += std::log10(s.x[k]);
-      sumLogY += std::log10(s.y[k]);
+      if (logarithmic) {
+        sumLogX += std::log10(s.x[k]);
+        sumLogY += std::log10(s.y[k]);
+      }
       ++drawn;
     }
   }
-  Axis xAxis = axisAround(minX, maxX), yAxis = axisAround(minY, maxY);
+  if (logarithmic) {
+    xAxis = axisAround(minX, maxX);
+    yAxis = axisAround(minY, maxY);
+  } else {
+    xAxis = linearAxisAround(minX, maxX);
+    yAxis = linearAxisAround(minY, maxY);
+  }
 
   // Layout: title band, legend column on the right, tick labels and axis labels left and below.
   double legendWidth = 0.0;
@@ -205,8 +255,15 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
     legendWidth = std::max(legendWidth, textWidth(cr, r.label, kTextSize));
   legendWidth = legendWidth > 0.0 ? legendWidth + 56.0 : 0.0;
   double tickLabelWidth = 0.0;
-  for (int k = yAxis.firstDecade(); k <= yAxis.lastDecade(); ++k)
-    tickLabelWidth = std::max(tickLabelWidth, powerLabelWidth(cr, yAxis.labelsMinor() ? 5 : 1, k));
+  if (logarithmic) {
+    for (int k = yAxis.firstDecade(); k <= yAxis.lastDecade(); ++k)
+      tickLabelWidth =
+          std::max(tickLabelWidth, powerLabelWidth(cr, yAxis.labelsMinor() ? 5 : 1, k));
+  } else {
+    for (double v = yAxis.lo; v <= yAxis.hi + 1e-9 * yAxis.step; v += yAxis.step)
+      tickLabelWidth =
+          std::max(tickLabelWidth, textWidth(cr, linearLabel(v, yAxis.step), kTextSize));
+  }
   const double left = tickLabelWidth + 46.0, top = 44.0, bottom = plot.height - 58.0;
   const double right = std::max(left + 60.0, plot.width - 16.0 - legendWidth);
   xAxis.pixelLo = left;
@@ -231,9 +288,32 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
   cairo_restore(cr);
 
   cairo_set_line_width(cr, 1.0);
-  // Grid lines and ticks at m × 10^k: decades labelled, and 2 and 5 on short axes.
+  // Linear axes: a labelled grid line at every step.
   for (const bool vertical : {true, false}) {
     const Axis& axis = vertical ? xAxis : yAxis;
+    if (axis.log) continue;
+    const long count = std::lround((axis.hi - axis.lo) / axis.step);
+    for (long k = 0; k <= count; ++k) {
+      const double value = axis.lo + k * axis.step;
+      const double p = std::round(axis.pixel(value)) + 0.5;
+      cairo_set_source_rgb(cr, 0.87, 0.87, 0.87);
+      cairo_move_to(cr, vertical ? p : left, vertical ? top : p);
+      cairo_line_to(cr, vertical ? p : right, vertical ? bottom : p);
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      const std::string label = linearLabel(value, axis.step);
+      cairo_set_font_size(cr, kTextSize);
+      cairo_move_to(cr,
+                    vertical ? p - textWidth(cr, label, kTextSize) / 2
+                             : left - 10.0 - textWidth(cr, label, kTextSize),
+                    vertical ? bottom + 20.0 : p + 4.5);
+      cairo_show_text(cr, label.c_str());
+    }
+  }
+  // Log axes: grid lines and ticks at m × 10^k, decades labelled, and 2 and 5 on short axes.
+  for (const bool vertical : {true, false}) {
+    const Axis& axis = vertical ? xAxis : yAxis;
+    if (!axis.log) continue;
     for (int k = axis.firstDecade(); k <= axis.lastDecade(); ++k) {
       for (int m = 1; m <= 9; ++m) {
         const double value = m * std::pow(10.0, k);
@@ -274,7 +354,7 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
   cairo_rectangle(cr, left, top, right - left, bottom - top);
   cairo_stroke(cr);
   if (drawn == 0) {
-    const char* empty = "no positive values to plot";
+    const char* empty = logarithmic ? "no positive values to plot" : "no values to plot";
     cairo_set_font_size(cr, kTextSize);
     cairo_move_to(cr, (left + right) / 2 - textWidth(cr, empty, kTextSize) / 2, (top + bottom) / 2);
     cairo_show_text(cr, empty);
@@ -284,7 +364,7 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
   cairo_save(cr);
   cairo_rectangle(cr, left, top, right - left, bottom - top);
   cairo_clip(cr);
-  if (drawn > 0) {
+  if (drawn > 0 && logarithmic) {
     const double centreX = sumLogX / drawn, centreY = sumLogY / drawn;
     const double dashes[] = {6.0, 4.0};
     for (size_t r = 0; r < plot.referenceSlopes.size(); ++r) {
@@ -323,7 +403,8 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
     }
     cairo_stroke(cr);
     cairo_set_line_width(cr, 1.8);
-    for (size_t k = 0; k < std::min(series.x.size(), series.y.size()); ++k) {
+    for (size_t k = 0;
+         series.x.size() <= kMostMarkers && k < std::min(series.x.size(), series.y.size()); ++k) {
       if (drawable(series.x[k], series.y[k]))
         drawMarker(cr, static_cast<int>(s), xAxis.pixel(series.x[k]), yAxis.pixel(series.y[k]),
                    4.5);
@@ -370,10 +451,31 @@ std::string renderLogLogPlot(const LogLogPlot& plot) {
   const cairo_status_t status =
       cairo_surface_write_to_png_stream(surface.get(), appendToString, &png);
   if (status != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(std::string("renderLogLogPlot: cairo could not encode the PNG: ") +
+    throw std::runtime_error(std::string("render plot: cairo could not encode the PNG: ") +
                              cairo_status_to_string(status));
   }
   return png;
+}
+
+}  // namespace
+
+std::string renderLogLogPlot(const LogLogPlot& plot) {
+  return renderPlot(plot, true);
+}
+
+std::string renderLinePlot(const LinePlot& plot) {
+  LogLogPlot common;
+  common.title = plot.title;
+  common.xLabel = plot.xLabel;
+  common.yLabel = plot.yLabel;
+  common.series = plot.series;
+  common.width = plot.width;
+  common.height = plot.height;
+  return renderPlot(common, false);
+}
+
+void writeLinePlot(const LinePlot& plot, const std::string& path) {
+  modeling::writeFileAtomically(path, renderLinePlot(plot));
 }
 
 void writeLogLogPlot(const LogLogPlot& plot, const std::string& path) {

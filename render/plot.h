@@ -1,5 +1,6 @@
-// Log-log plots (Cairo) for convergence studies: error against mesh size or amplitude, one series
-// per energy, decade ticks, a legend and optional reference slopes. PNG out, written atomically.
+// Plots (Cairo): log-log ones for convergence studies (error against mesh size or amplitude, one
+// series per energy, decade ticks, a legend and optional reference slopes) and linear ones for
+// time histories. PNG out, written atomically.
 #pragma once
 
 #include <string>
@@ -36,5 +37,16 @@ std::string renderLogLogPlot(const LogLogPlot& plot);
 
 // renderLogLogPlot written to `path` atomically (InputError naming the path when it cannot be).
 void writeLogLogPlot(const LogLogPlot& plot, const std::string& path);
+
+// The same on linear axes (a time history, say): each axis from the largest multiple of its tick
+// step (1, 2 or 5 × 10^k, 4 to 10 ticks) below the data to the smallest above, every tick labelled;
+// series of more than 60 points drawn as lines without markers.
+struct LinePlot {
+  std::string title, xLabel, yLabel;
+  std::vector<PlotSeries> series;
+  int width = 880, height = 560;  // pixels
+};
+std::string renderLinePlot(const LinePlot& plot);
+void writeLinePlot(const LinePlot& plot, const std::string& path);
 
 }  // namespace flexure::render

@@ -1,5 +1,5 @@
-// Log-log plots (render/plot.h): a valid PNG of the requested size, read back with Cairo, with
-// the series drawn in the plot area; atomic writes; degenerate input.
+// Log-log and line plots (render/plot.h): a valid PNG of the requested size, read back with Cairo,
+// with the series drawn in the plot area; atomic writes; degenerate input.
 #include <cairo.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -101,6 +101,33 @@ TEST(LogLogPlot, WithoutSeriesThereIsNoColourAndTheAxesStillDraw) {
 
 TEST(LogLogPlot, SameInputSameBytes) {
   EXPECT_EQ(render::renderLogLogPlot(refinementPlot()), render::renderLogLogPlot(refinementPlot()));
+}
+
+// A time history on linear axes: negative values are drawn (a log plot would drop them), the
+// axes start at the data (t = 0 on the frame's left edge, not a step before), and a long series
+// has no markers, only its line.
+TEST(LinePlot, DrawsSignedHistoriesOnLinearAxes) {
+  render::LinePlot plot;
+  plot.title = "Energies";
+  plot.xLabel = "time";
+  plot.yLabel = "energy";
+  render::PlotSeries negative{"gravity", {}, {}};
+  for (int k = 0; k <= 400; ++k) {
+    negative.x.push_back(k / 400.0);
+    negative.y.push_back(-0.02 * (1.0 - std::exp(-5.0 * k / 400.0)));
+  }
+  plot.series = {negative};
+  plot.width = 640;
+  plot.height = 420;
+  const Surface image = decode(render::renderLinePlot(plot));
+  ASSERT_EQ(cairo_surface_status(image.get()), CAIRO_STATUS_SUCCESS);
+  EXPECT_GT(colouredPixels(image.get(), 60, 40, 520, 370), 400);
+  // The line starts at (0, 0), the frame's top-left corner region: coloured pixels there.
+  int firstColumn = 640;
+  for (int x = 0; x < 640 && firstColumn == 640; ++x)
+    if (colouredPixels(image.get(), x, 40, x + 1, 370) > 0) firstColumn = x;
+  EXPECT_LT(firstColumn, 120);
+  EXPECT_EQ(render::renderLinePlot(plot), render::renderLinePlot(plot));
 }
 
 TEST(LogLogPlot, TooSmallIsRefused) {

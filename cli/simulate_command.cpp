@@ -1,0 +1,321 @@
+// flexure simulate: a plate or shell in time (optimize/time_stepping.h) — a bending energy and a
+// membrane, lumped masses, gravity, pins, damping — written as frame meshes, an energy history
+// and a report.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/bending_arguments.h"
+#include "cli/command_files.h"
+#include "cli/commands.h"
+#include "cli/membrane_arguments.h"
+#include "cli/mesh_json.h"
+#include "curvature/midedge_boundary.h"
+#include "modeling/atomic_write.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_io.h"
+#include "modeling/rest_state.h"
+#include "optimize/boundary_conditions.h"
+#include "optimize/time_stepping.h"
+#include "render/plot.h"
+
+namespace flexure::cli {
+namespace {
+
+struct SimulateOptions {
+  std::string restFile, initFile, outputDir;
+  BendingArguments bending;
+  MembraneArguments membrane;
+  std::string pin = "none", integrator = "newmark", gravity, damping, mass = "barycentric";
+  double beta = 0.25, gamma = 0.5, density = 1.0, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
+};
+
+bool isSimulationFile(const std::string& name) {
+  if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
+  return name.rfind("frame-", 0) == 0 && name.size() > 4 &&
+         name.compare(name.size() - 4, 4, ".obj") == 0;
+}
+
+// "gx,gy,gz" → g; "rayleigh:α,β" → (α, β). InputError quoting the text otherwise.
+std::vector<double> numbers(const std::string& option, const std::string& text, size_t count) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(value)) values.clear(), values.resize(99);
+    values.push_back(value);
+  }
+  if (values.size() != count)
+    throw InputError(option + " " + text + ": expected " + std::to_string(count) +
+                     " comma-separated numbers");
+  return values;
+}
+
+struct Run {
+  int steps = 0, newtonIterations = 0, maxNewtonIterations = 0, halvings = 0;
+  double smallestStep = 0.0;
+};
+
+void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  // Every option first, then the inputs; nothing is written before the run ends well.
+  if (!(o.dt > 0.0)) throw InputError("--dt: expected a time step > 0");
+  if (!(o.duration >= o.dt)) throw InputError("--duration: expected at least one --dt");
+  if (o.duration / o.dt > 1e7) throw InputError("--duration / --dt: more than 10^7 steps");
+  if (!(o.fps > 0.0)) throw InputError("--fps: expected a value > 0");
+  const double minDt = o.minDt > 0.0 ? o.minDt : o.dt / 64.0;
+  if (minDt > o.dt) throw InputError("--min-dt: expected at most --dt");
+  if (o.membrane.model.empty())
+    throw InputError(
+        "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
+        "conformal); bending alone has no stiffness against stretching");
+  optimize::DynamicsOptions dynamics;
+  dynamics.integrator = optimize::parseIntegrator(o.integrator);
+  dynamics.beta = o.beta;
+  dynamics.gamma = o.gamma;
+  dynamics.density = o.density;
+  dynamics.mass = optimize::parseMassLumping(o.mass);
+  if (!o.gravity.empty()) {
+    const std::vector<double> g = numbers("--gravity", o.gravity, 3);
+    dynamics.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
+  }
+  if (!o.damping.empty()) {
+    if (o.damping.rfind("rayleigh:", 0) != 0)
+      throw InputError("--damping " + o.damping + ": expected rayleigh:alpha,beta");
+    const std::vector<double> ab = numbers("--damping", o.damping.substr(9), 2);
+    dynamics.rayleighMass = ab[0];
+    dynamics.rayleighStiffness = ab[1];
+  }
+  const curvature::BendingOptions b = bendingOptions(o.bending);
+
+  const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
+  const modeling::Stencils stencils = modeling::compileStencils(restMesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
+  modeling::Positions start = restMesh.positions;
+  if (!o.initFile.empty()) {
+    const modeling::Mesh init = modeling::readMesh(o.initFile);
+    if (init.vertexCount() != restMesh.vertexCount() || init.triangles != restMesh.triangles)
+      throw InputError(o.initFile + ": does not share the connectivity of " + o.restFile +
+                       ": --init must be the rest mesh in other positions");
+    start = init.positions;
+  }
+  const std::vector<bool> pinned = o.pin == "none"
+                                       ? std::vector<bool>(restMesh.vertexCount(), false)
+                                       : optimize::parseFixedSet(o.pin, stencils);
+  const std::unique_ptr<curvature::EnergyTerm> bending =
+      curvature::makeBendingEnergy(stencils, rest, b);
+  const auto membrane = makeMembrane(o.membrane, stencils, rest);
+  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
+  for (const auto& term : membrane) terms.push_back(term.get());
+  const bool midedge = bending->usesEdgeUnknowns();
+  const Eigen::VectorXd restXi =
+      midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
+  // Pinning two rings clamps: the boundary faces are held, and with them midedge's boundary
+  // normals (as minimize's rings:2 and modes' --clamp rings).
+  if (midedge && o.pin.rfind("rings:", 0) == 0 && o.pin != "rings:1")
+    dynamics.heldEdges = curvature::boundaryEdges(stencils);
+  optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, dynamics);
+  stepper.start(start, modeling::Positions::Zero(restMesh.vertexCount(), 3), Eigen::VectorXd());
+
+  // Frames every 1/fps of simulated time (and the last state); the energies after every step.
+  const fs::path dir(o.outputDir);
+  std::vector<std::string> termNames;
+  for (const curvature::EnergyTerm* term : terms) termNames.push_back(term->name());
+  std::ostringstream csv;
+  csv << "time,kinetic";
+  for (const std::string& name : termNames) csv << ',' << name;
+  csv << ",gravity,total\n";
+  std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity, total
+  auto sample = [&] {
+    const optimize::EnergySample e = stepper.energies();
+    std::vector<double> row = {e.time, e.kinetic};
+    row.insert(row.end(), e.terms.begin(), e.terms.end());
+    row.push_back(e.gravity);
+    row.push_back(e.total());
+    char text[40];
+    for (size_t k = 0; k < row.size(); ++k) {
+      std::snprintf(text, sizeof text, "%.17g", row[k]);
+      csv << (k ? "," : "") << text;
+    }
+    csv << '\n';
+    history.push_back(std::move(row));
+  };
+  std::vector<std::pair<std::string, modeling::Mesh>> frames;
+  auto frame = [&] {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame-%05zu.obj", frames.size());
+    modeling::Mesh m = restMesh;
+    m.positions = stepper.positions();
+    frames.emplace_back(name, std::move(m));
+  };
+  sample();
+  frame();
+
+  Run run;
+  run.smallestStep = o.dt;
+  const auto clock = std::chrono::steady_clock::now();
+  const long steps = std::lround(o.duration / o.dt);
+  const double frameInterval = 1.0 / o.fps;
+  double nextFrame = frameInterval;
+  std::string failure;
+  // One step of h, halved (recursively, down to --min-dt) while Newton fails.
+  std::function<bool(double)> advance = [&](double h) {
+    const optimize::TimeStepper::Outcome outcome = stepper.step(h);
+    if (outcome.converged) {
+      ++run.steps;
+      run.newtonIterations += outcome.newtonIterations;
+      run.maxNewtonIterations = std::max(run.maxNewtonIterations, outcome.newtonIterations);
+      return true;
+    }
+    if (h / 2.0 < minDt) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g", stepper.time(),
+                    h, outcome.failure.c_str(), minDt);
+      failure = std::string(text) + " stops the halving";
+      return false;
+    }
+    ++run.halvings;
+    run.smallestStep = std::min(run.smallestStep, h / 2.0);
+    return advance(h / 2.0) && advance(h / 2.0);
+  };
+  for (long k = 1; k <= steps && failure.empty(); ++k) {
+    if (!advance(o.dt)) break;
+    sample();
+    if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
+      frame();
+      while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
+    }
+    if (!global.quiet && (k % std::max(1L, steps / 20) == 0 || k == steps)) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+      std::fprintf(stderr, "flexure simulate: t = %.4g / %.4g s, %.1f steps/s\n", stepper.time(),
+                   o.duration, run.steps / std::max(seconds, 1e-9));
+    }
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+  const std::vector<double>& last = history.back();
+  nlohmann::json report = {
+      {"rest", o.restFile},
+      {"energy_name", std::string(curvature::discretizationName(b.discretization))},
+      {"membrane", o.membrane.model},
+      {"integrator", optimize::integratorName(dynamics.integrator)},
+      {"dt", o.dt},
+      {"duration", o.duration},
+      {"reached_time", stepper.time()},
+      {"completed", failure.empty()},
+      {"failure", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)},
+      {"steps", run.steps},
+      {"step_halvings", run.halvings},
+      {"smallest_step", run.smallestStep},
+      {"newton_iterations",
+       {{"total", run.newtonIterations},
+        {"per_step", run.steps ? double(run.newtonIterations) / run.steps : 0.0},
+        {"max", run.maxNewtonIterations}}},
+      {"seconds", seconds},
+      {"steps_per_second", run.steps / std::max(seconds, 1e-9)},
+      {"vertices", restMesh.vertexCount()},
+      {"pinned", o.pin},
+      {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
+      {"density", o.density},
+      {"frames", frames.size()},
+      {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
+  if (!failure.empty()) {
+    fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
+    writeFailureReport((dir / "report.json").string(), report);
+    throw NumericalError("the simulation could not proceed " + failure + "; see " +
+                         (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
+  }
+
+  // The energy history as a plot: each energy against time.
+  render::LinePlot plot;
+  plot.title = "Energies: " + std::string(curvature::discretizationName(b.discretization)) + " + " +
+               o.membrane.model + ", " + optimize::integratorName(dynamics.integrator);
+  plot.xLabel = "time";
+  plot.yLabel = "energy";
+  std::vector<std::string> labels = {"kinetic"};
+  labels.insert(labels.end(), termNames.begin(), termNames.end());
+  labels.push_back("gravity");
+  labels.push_back("total");
+  for (size_t c = 0; c < labels.size(); ++c) {
+    render::PlotSeries series{labels[c], {}, {}};
+    for (const auto& row : history) {
+      series.x.push_back(row[0]);
+      series.y.push_back(row[c + 1]);
+    }
+    plot.series.push_back(std::move(series));
+  }
+  modeling::createOutputDirectory(dir.string());
+  for (const auto& [name, mesh] : frames) modeling::writeMesh((dir / name).string(), mesh);
+  modeling::writeFileAtomically((dir / "energies.csv").string(), csv.str());
+  render::writeLinePlot(plot, (dir / "energies.png").string());
+  writeJsonFile((dir / "report.json").string(), report);
+  if (!global.quiet) {
+    std::fprintf(stderr,
+                 "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
+                 "to %s (%d steps, %.2f Newton iterations per step, %d halvings, %.1f s)\n",
+                 frames.size(), dir.string().c_str(), run.steps,
+                 run.steps ? double(run.newtonIterations) / run.steps : 0.0, run.halvings, seconds);
+  }
+}
+
+}  // namespace
+
+void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<SimulateOptions>();
+  SimulateOptions& o = *options;
+  CLI::App* sub = app.add_subcommand(
+      "simulate", "A plate or shell in time: Newmark, backward Euler or central differences");
+  auto files = CommandFiles::of(*sub);
+  files->input("--rest", o.restFile, "Rest mesh (a flat plate or a curved shell)")->required();
+  files->input("--init", o.initFile,
+               "Start positions (the rest mesh's connectivity; default rest)");
+  addBendingArguments(*sub, o.bending);
+  addMembraneArguments(*sub, o.membrane, "stvk | springs | conformal (required)");
+  sub->add_option("--pin", o.pin,
+                  "Vertices held in place: none | rings:K (2 clamps) | vertices:FILE")
+      ->capture_default_str();
+  sub->add_option("--gravity", o.gravity, "Gravity gx,gy,gz (e.g. 0,0,-9.81; default none)");
+  sub->add_option("--density", o.density, "ρ, mass per unit rest area")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--mass", o.mass, "Lumped mass: barycentric | voronoi")->capture_default_str();
+  sub->add_option("--integrator", o.integrator,
+                  "newmark (average acceleration: conserves energy) | backward-euler "
+                  "(dissipates) | central-difference (explicit)")
+      ->capture_default_str();
+  sub->add_option("--beta", o.beta, "newmark: β")->capture_default_str();
+  sub->add_option("--gamma", o.gamma, "newmark: γ")->capture_default_str();
+  sub->add_option("--damping", o.damping,
+                  "rayleigh:alpha,beta: C = alpha M + beta K (K the Hessian at rest)");
+  sub->add_option("--dt", o.dt, "Time step (s)")->required()->check(positive());
+  sub->add_option("--duration", o.duration, "Simulated time (s)")->required()->check(positive());
+  sub->add_option("--fps", o.fps, "Frames per simulated second")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--min-dt", o.minDt,
+                  "Smallest step a failing step is halved to (default --dt / 64)")
+      ->check(positive());
+  files
+      ->output("-o,--output", o.outputDir,
+               "Output directory (created if missing; a previous simulation's files in it are "
+               "removed)",
+               OutputKind::Directory, isSimulationFile)
+      ->required();
+  sub->footer(
+      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time), DIR/energies.csv and "
+      "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
+      "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
+      "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "
+      "--gravity 0,0,-9.81 --damping rayleigh:5,0 --dt 0.005 --duration 2 -o droop");
+  files->onRun(global, [options, &global] { runSimulate(*options, global); });
+}
+
+}  // namespace flexure::cli

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# End-to-end runs of `flexure simulate`: frames, energy history and report; re-runs; refusals
+# (exit 2, nothing written) and a run that cannot proceed (exit 3, the report alone).
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
+
+report_check() {  # report_check DIR EXPRESSION MESSAGE: a Python test over d = report.json
+  python3 -c "import json,sys; d=json.load(open('$1/report.json')); sys.exit(0 if ($2) else 1)" \
+    || fail "$1/report.json: $3"
+}
+
+run 0 mesh --family delaunay --n 8 -o plate.obj --quiet
+# A clamped plate sagging under gravity, damped: 20 steps, a frame every 0.05 s.
+run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
+  --damping rayleigh:20,0 --dt 0.01 --duration 0.2 --fps 20 -o sag
+stderr_has "flexure simulate: t = 0.2 / 0.2 s"; stderr_has "wrote 5 frames"
+for k in 0 1 2 3 4; do [ -s "sag/frame-0000$k.obj" ] || fail "sag/frame-0000$k.obj missing"; done
+absent sag/frame-00005.obj
+[ "$(wc -l < sag/energies.csv)" -eq 22 ] || fail "energies.csv: a header and 21 samples"
+head -1 sag/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,total" \
+  || fail "energies.csv header: $(head -1 sag/energies.csv)"
+is_png sag/energies.png || fail "sag/energies.png is not a PNG"
+report_check sag "d['completed'] and d['steps'] == 20 and d['step_halvings'] == 0" "20 steps"
+report_check sag "d['final_energies']['total'] < 0" "gravity did work: the total fell below 0"
+run 0 info sag/frame-00004.obj --json; stdout_has '"valid": true'
+# The last frame sags: its lowest z is below 0.
+python3 -c "
+import sys
+z = [float(l.split()[3]) for l in open('sag/frame-00004.obj') if l.startswith('v ')]
+sys.exit(0 if min(z) < 0 else 1)" || fail "the plate did not sag"
+
+# A shorter re-run into the same folder leaves exactly its own frames.
+touch sag/notes.txt
+run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 --dt 0.01 \
+  --duration 0.05 --fps 20 -o sag --quiet --integrator backward-euler
+absent sag/frame-00002.obj; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
+report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
+
+# Refusals: exit 2, the option named, nothing written.
+run 2 simulate --rest plate.obj --energy hinge --dt 0.01 --duration 0.1 -o bad
+stderr_has "give a membrane"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0 --duration 0.1 -o bad
+stderr_has "--dt"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.1 --duration 0.01 -o bad
+stderr_has "--duration"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --damping viscous:1 -o bad; stderr_has "rayleigh:alpha,beta"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --gravity 0,-9.81 -o bad; stderr_has "--gravity 0,-9.81"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --integrator central-difference --damping rayleigh:1,0 -o bad; stderr_has "central-difference"
+absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --integrator leapfrog -o bad; stderr_has "leapfrog"; absent bad
+run 0 mesh --family patch48 --n 4 -o other.obj --quiet
+run 2 simulate --rest plate.obj --init other.obj --energy hinge --membrane stvk --dt 0.01 \
+  --duration 0.1 -o bad; stderr_has "connectivity"; absent bad
+
+# The explicit scheme far above its stability limit blows up: exit 3, the report says where and
+# no frame is left.
+run 3 simulate --rest plate.obj --energy hinge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
+  --integrator central-difference --dt 0.01 --min-dt 0.01 --duration 5 -o blown
+stderr_has "could not proceed"; stderr_has "blown/report.json"
+report_check blown "not d['completed'] and 'a step of 0.01 s failed' in d['failure']" "the failure"
+absent blown/frame-00000.obj; absent blown/energies.csv
+
+finish cli_simulate
