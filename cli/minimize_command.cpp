@@ -164,7 +164,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
 
   const Eigen::VectorXd restXi =
       midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
-  const std::vector<bool> fixed = optimize::parseFixedSet(o.fix, stencils);
+  const std::vector<bool> fixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
   std::optional<modeling::PolynomialSurface> surface;
   if (!o.boundary.empty()) surface = modeling::PolynomialSurface::parse(o.boundary);
   const optimize::BoundaryNormals normals =

@@ -132,7 +132,8 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   }
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
-  if (!o.fix.empty()) base.extraFixed = optimize::parseFixedSet(o.fix, stencils);
+  if (!o.fix.empty())
+    base.extraFixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
   if (!o.reference.empty()) {
     const Eigen::Vector3d extent =
         mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff();

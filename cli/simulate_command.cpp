@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli/bending_arguments.h"
@@ -21,6 +22,8 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/time_stepping.h"
+#include "render/mesh_renderer.h"
+#include "render/offscreen_context.h"
 #include "render/plot.h"
 
 namespace flexure::cli {
@@ -32,12 +35,15 @@ struct SimulateOptions {
   MembraneArguments membrane;
   std::string pin = "none", integrator = "newmark", gravity, damping, mass = "barycentric";
   double beta = 0.25, gamma = 0.5, density = 1.0, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
+  std::string renderStyle = "reflection";  // "none": no frame images
+  int renderSize = 480;
 };
 
 bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
-  return name.rfind("frame-", 0) == 0 && name.size() > 4 &&
-         name.compare(name.size() - 4, 4, ".obj") == 0;
+  const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
+  const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
+  return name.rfind("frame-", 0) == 0 && (obj || png);
 }
 
 // "gx,gy,gz" → g; "rayleigh:α,β" → (α, β). InputError quoting the text otherwise.
@@ -93,6 +99,20 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     dynamics.rayleighStiffness = ab[1];
   }
   const curvature::BendingOptions b = bendingOptions(o.bending);
+  std::optional<render::RenderOptions> look;
+  if (o.renderStyle != "none") {
+    look.emplace();
+    look->style = render::parseRenderStyle(o.renderStyle);
+    if (look->style == render::RenderStyle::Error || look->style == render::RenderStyle::Curvature)
+      throw InputError("--render-style " + o.renderStyle +
+                       ": expected reflection, isophote, highlight, shaded or none");
+    look->width = look->height = o.renderSize;
+    look->azimuthDegrees = 25.0;
+    look->elevationDegrees = 30.0;
+  }
+  // A missing OSMesa fails here, before the simulation.
+  std::unique_ptr<render::OffscreenContext> context;
+  if (look) context = std::make_unique<render::OffscreenContext>();
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   const modeling::Stencils stencils = modeling::compileStencils(restMesh);
@@ -105,9 +125,9 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                        ": --init must be the rest mesh in other positions");
     start = init.positions;
   }
-  const std::vector<bool> pinned = o.pin == "none"
-                                       ? std::vector<bool>(restMesh.vertexCount(), false)
-                                       : optimize::parseFixedSet(o.pin, stencils);
+  const std::vector<bool> pinned =
+      o.pin == "none" ? std::vector<bool>(restMesh.vertexCount(), false)
+                      : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions);
   const std::unique_ptr<curvature::EnergyTerm> bending =
       curvature::makeBendingEnergy(stencils, rest, b);
   const auto membrane = makeMembrane(o.membrane, stencils, rest);
@@ -254,6 +274,18 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   }
   modeling::createOutputDirectory(dir.string());
   for (const auto& [name, mesh] : frames) modeling::writeMesh((dir / name).string(), mesh);
+  if (look) {
+    // One camera for the whole run, framed on every frame's vertices.
+    look->framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * restMesh.vertexCount(),
+                               3);
+    for (size_t f = 0; f < frames.size(); ++f)
+      look->framingPoints.middleRows(f * restMesh.vertexCount(), restMesh.vertexCount()) =
+          frames[f].second.positions;
+    for (const auto& [name, mesh] : frames) {
+      const std::string png = name.substr(0, name.size() - 4) + ".png";
+      render::writePng((dir / png).string(), render::renderMesh(*context, mesh, *look));
+    }
+  }
   modeling::writeFileAtomically((dir / "energies.csv").string(), csv.str());
   render::writeLinePlot(plot, (dir / "energies.png").string());
   writeJsonFile((dir / "report.json").string(), report);
@@ -300,6 +332,13 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--fps", o.fps, "Frames per simulated second")
       ->capture_default_str()
       ->check(positive());
+  sub->add_option("--render-style", o.renderStyle,
+                  "Each frame also as frame-NNNNN.png: reflection | shaded | isophote | "
+                  "highlight | none")
+      ->capture_default_str();
+  sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
+      ->capture_default_str()
+      ->check(inRange(32, 4096));
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
@@ -310,7 +349,8 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                OutputKind::Directory, isSimulationFile)
       ->required();
   sub->footer(
-      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time), DIR/energies.csv and "
+      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time) and frame-NNNNN.png (rendered "
+      "with one camera for the whole run), DIR/energies.csv and "
       "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
       "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "

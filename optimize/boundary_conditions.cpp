@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 
 #include "curvature/midedge_boundary.h"
 #include "modeling/boundary_rings.h"
@@ -18,21 +19,46 @@ std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount) 
   return fixed;
 }
 
-std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencils& stencils) {
+std::vector<bool> parseFixedSet(const std::string& option, const std::string& spec,
+                                const modeling::Stencils& stencils, const Positions& rest) {
   const auto colon = spec.find(':');
   const std::string kind = spec.substr(0, colon),
                     value = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const std::string expected = ": expected rings:K, vertices:FILE or box:X0,X1,Y0,Y1,Z0,Z1";
   if (kind == "rings") {
     int rings = -1;
     const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), rings);
     if (error != std::errc() || end != value.data() + value.size() || rings < 1) {
-      throw InputError("--fix " + spec + ": expected rings:K with K >= 1");
+      throw InputError(option + " " + spec + ": expected rings:K with K >= 1");
     }
     return fixedRings(stencils, rings);
   }
   if (kind == "vertices" && !value.empty())
     return modeling::readVertexSet(value, stencils.vertexCount(), "fixed-vertex list");
-  throw InputError("--fix " + spec + ": expected rings:K or vertices:FILE");
+  if (kind == "box") {
+    // The rest vertices inside an axis-aligned box (bounds inclusive).
+    double bounds[6];
+    const char* cursor = value.c_str();
+    for (int k = 0; k < 6; ++k) {
+      char* end = nullptr;
+      bounds[k] = std::strtod(cursor, &end);
+      if (end == cursor || (k < 5 && *end != ',') || (k == 5 && *end != '\0'))
+        throw InputError(option + " " + spec + expected);
+      cursor = end + 1;
+    }
+    std::vector<bool> inside(rest.rows(), false);
+    int count = 0;
+    for (int v = 0; v < rest.rows(); ++v) {
+      bool in = true;
+      for (int c = 0; c < 3; ++c)
+        in = in && rest(v, c) >= bounds[2 * c] && rest(v, c) <= bounds[2 * c + 1];
+      inside[v] = in;
+      count += in;
+    }
+    if (count == 0) throw InputError(option + " " + spec + ": the box holds no vertex of the mesh");
+    return inside;
+  }
+  throw InputError(option + " " + spec + expected);
 }
 
 Positions boundaryFromSurface(const Positions& rest, const std::vector<bool>& fixedVertex,

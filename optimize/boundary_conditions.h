@@ -25,8 +25,11 @@ struct BoundaryConditions {
 // normals: "clamped").
 std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount);
 
-// `--fix rings:K` or `--fix vertices:FILE` (a list as modeling::readVertexSet reads it).
-std::vector<bool> parseFixedSet(const std::string& spec, const modeling::Stencils& stencils);
+// A set of held vertices, as `option` (--fix, --pin) gives it: rings:K (rings 0 .. K − 1),
+// vertices:FILE (a list as modeling::readVertexSet reads it) or box:X0,X1,Y0,Y1,Z0,Z1 (the `rest`
+// vertices inside the box, bounds included; a box that holds none is an error).
+std::vector<bool> parseFixedSet(const std::string& option, const std::string& spec,
+                                const modeling::Stencils& stencils, const Positions& rest);
 
 // Positions that hold x̄, ȳ of `rest` and lift the fixed vertices onto z = p(x̄, ȳ); the free
 // ones keep their rest z (the interior starts at rest).

@@ -92,7 +92,6 @@ class ShiftInvertOperator {
   mutable int operations_ = 0;
 };
 
-
 }  // namespace
 
 Support parseSupport(const std::string& name) {

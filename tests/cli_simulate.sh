@@ -14,7 +14,10 @@ run 0 mesh --family delaunay --n 8 -o plate.obj --quiet
 run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
   --damping rayleigh:20,0 --dt 0.01 --duration 0.2 --fps 20 -o sag
 stderr_has "flexure simulate: t = 0.2 / 0.2 s"; stderr_has "wrote 5 frames"
-for k in 0 1 2 3 4; do [ -s "sag/frame-0000$k.obj" ] || fail "sag/frame-0000$k.obj missing"; done
+for k in 0 1 2 3 4; do
+  [ -s "sag/frame-0000$k.obj" ] || fail "sag/frame-0000$k.obj missing"
+  is_png "sag/frame-0000$k.png" || fail "sag/frame-0000$k.png is not a PNG"
+done
 absent sag/frame-00005.obj
 [ "$(wc -l < sag/energies.csv)" -eq 22 ] || fail "energies.csv: a header and 21 samples"
 head -1 sag/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,total" \
@@ -32,8 +35,8 @@ sys.exit(0 if min(z) < 0 else 1)" || fail "the plate did not sag"
 # A shorter re-run into the same folder leaves exactly its own frames.
 touch sag/notes.txt
 run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 --dt 0.01 \
-  --duration 0.05 --fps 20 -o sag --quiet --integrator backward-euler
-absent sag/frame-00002.obj; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
+  --duration 0.05 --fps 20 -o sag --quiet --integrator backward-euler --render-style none
+absent sag/frame-00002.obj; absent sag/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
 report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
 
 # Refusals: exit 2, the option named, nothing written.
@@ -52,6 +55,11 @@ run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --durat
 absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --integrator leapfrog -o bad; stderr_has "leapfrog"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --pin box:5,6,0,1,0,1 -o bad; stderr_has "--pin box:5,6,0,1,0,1: the box holds no vertex"
+absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --render-style curvature -o bad; stderr_has "--render-style curvature"; absent bad
 run 0 mesh --family patch48 --n 4 -o other.obj --quiet
 run 2 simulate --rest plate.obj --init other.obj --energy hinge --membrane stvk --dt 0.01 \
   --duration 0.1 -o bad; stderr_has "connectivity"; absent bad

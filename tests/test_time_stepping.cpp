@@ -112,8 +112,8 @@ TEST(TimeStepping, ReleasedFromTheFirstModeItOscillatesWithItsPeriod) {
     // Both schemes' own period for a linear oscillator: Newmark's average acceleration lengthens
     // it to T (ωh/2) / atan(ωh/2), central differences shorten it to T (ωh/2) / asin(ωh/2).
     const double half = 0.5 * mode.omega * h;
-    const double own = period * half /
-                       (integrator == Integrator::Newmark ? std::atan(half) : std::asin(half));
+    const double own =
+        period * half / (integrator == Integrator::Newmark ? std::atan(half) : std::asin(half));
     EXPECT_NEAR(measured / own, 1.0, 2e-4);
   }
 }
@@ -137,7 +137,8 @@ TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
     const int steps = integrator == Integrator::Newmark ? 1000 : 300;
     for (int k = 0; k < steps; ++k) {
       const auto outcome = stepper.step(h);
-      ASSERT_TRUE(outcome.converged) << optimize::integratorName(integrator) << " " << k << ": " << outcome.failure;
+      ASSERT_TRUE(outcome.converged)
+          << optimize::integratorName(integrator) << " " << k << ": " << outcome.failure;
       const double total = stepper.energies().total();
       worst = std::max(worst, std::abs(total / initial - 1.0));
       if (integrator == Integrator::BackwardEuler) {
