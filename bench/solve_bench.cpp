@@ -405,6 +405,7 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
   for (const char* mode : {"newton", "ceres"}) {
     for (const std::string& e : energies) {
       const json* r = find(e, mode);
+      if (r == nullptr) continue;  // not run (--modes)
       const bool newton = std::string(mode) == "newton";
       const double bound = e == "midedge" ? (newton ? 6.0 : 10.0) : (newton ? 2.5 : 3.0);
       const json value = ok(r) && floor ? (*r)["ratio_to_floor"] : json(nullptr);
@@ -418,6 +419,7 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
   for (const std::string& e : energies) {
     const json* newton = find(e, "newton");
     const json* ceres = find(e, "ceres");
+    if (newton == nullptr || ceres == nullptr) continue;
     const json value = ok(newton) && ok(ceres)
                            ? json(primarySeconds(*newton) / primarySeconds(*ceres))
                            : json(nullptr);
@@ -427,6 +429,7 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
   }
   for (const std::string& e : energies) {
     const json* r = find(e, "linearized");
+    if (r == nullptr) continue;
     const json value = ok(r) && floor ? (*r)["ratio_to_floor"] : json(nullptr);
     targets.push_back({{"what", "linearized " + e + " <= 1.5x floor"},
                        {"ratio", value},
@@ -435,6 +438,7 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
   for (const char* mode : {"newton", "ceres", "linearized"}) {
     for (const std::string& e : energies) {
       const json* r = find(e, mode);
+      if (r == nullptr) continue;
       const json value = ok(r) && fair ? (*r)["ratio_to_cgal_fair"] : json(nullptr);
       targets.push_back({{"what", std::string(mode) + " " + e + " faster than cgal_fair"},
                          {"ratio", value},
