@@ -401,59 +401,40 @@ json summarize(const json& records, int n, const std::vector<std::string>& energ
     return r && !r->contains("error") && r->value("converged", true);
   };
   json targets = json::array();
+  // "what": `r`'s ratio (its `key`, against a baseline that ran) at most `bound` (below it when
+  // `strict`); a case that did not run (--modes) has no target.
+  const auto target = [&](const json* r, bool baselineRan, const char* key, const std::string& what,
+                          double bound, bool strict) {
+    if (r == nullptr) return;
+    const json value = ok(r) && baselineRan ? (*r)[key] : json(nullptr);
+    const bool met =
+        value.is_number() && (strict ? value.get<double>() < bound : value.get<double>() <= bound);
+    targets.push_back({{"what", what}, {"ratio", value}, {"met", met}});
+  };
+  char what[96];
   // Issue #13: Newton ≤ 2.5× the floor (midedge ≤ 6×); issue #4's Ceres targets (3×, 10×).
   for (const char* mode : {"newton", "ceres"}) {
     for (const std::string& e : energies) {
-      const json* r = find(e, mode);
-      if (r == nullptr) continue;  // not run (--modes)
       const bool newton = std::string(mode) == "newton";
       const double bound = e == "midedge" ? (newton ? 6.0 : 10.0) : (newton ? 2.5 : 3.0);
-      const json value = ok(r) && floor ? (*r)["ratio_to_floor"] : json(nullptr);
-      char what[96];
       std::snprintf(what, sizeof what, "%s %s <= %gx floor", mode, e.c_str(), bound);
-      targets.push_back({{"what", what},
-                         {"ratio", value},
-                         {"met", value.is_number() && value.get<double>() <= bound}});
+      target(find(e, mode), floor != nullptr, "ratio_to_floor", what, bound, false);
     }
   }
-  for (const std::string& e : energies) {
-    const json* newton = find(e, "newton");
-    const json* ceres = find(e, "ceres");
-    if (newton == nullptr || ceres == nullptr) continue;
-    const json value = ok(newton) && ok(ceres)
-                           ? json(primarySeconds(*newton) / primarySeconds(*ceres))
-                           : json(nullptr);
-    targets.push_back({{"what", "newton " + e + " faster than ceres"},
-                       {"ratio", value},
-                       {"met", value.is_number() && value.get<double>() < 1.0}});
-  }
-  for (const std::string& e : energies) {
-    const json* r = find(e, "linearized");
-    if (r == nullptr) continue;
-    const json value = ok(r) && floor ? (*r)["ratio_to_floor"] : json(nullptr);
-    targets.push_back({{"what", "linearized " + e + " <= 1.5x floor"},
-                       {"ratio", value},
-                       {"met", value.is_number() && value.get<double>() <= 1.5}});
-  }
-  for (const char* mode : {"newton", "ceres", "linearized"}) {
-    for (const std::string& e : energies) {
-      const json* r = find(e, mode);
-      if (r == nullptr) continue;
-      const json value = ok(r) && fair ? (*r)["ratio_to_cgal_fair"] : json(nullptr);
-      targets.push_back({{"what", std::string(mode) + " " + e + " faster than cgal_fair"},
-                         {"ratio", value},
-                         {"met", value.is_number() && value.get<double>() < 1.0}});
-    }
-  }
+  for (const std::string& e : energies)
+    target(find(e, "newton"), find(e, "ceres") != nullptr, "ratio_to_ceres",
+           "newton " + e + " faster than ceres", 1.0, true);
+  for (const std::string& e : energies)
+    target(find(e, "linearized"), floor != nullptr, "ratio_to_floor",
+           "linearized " + e + " <= 1.5x floor", 1.5, false);
+  for (const char* mode : {"newton", "ceres", "linearized"})
+    for (const std::string& e : energies)
+      target(find(e, mode), fair != nullptr, "ratio_to_cgal_fair",
+             std::string(mode) + " " + e + " faster than cgal_fair", 1.0, true);
   // Issue #16: 12 vibration modes ≤ 4× the floor.
-  for (const std::string& e : energies) {
-    const json* r = find(e, "vibration");
-    if (r == nullptr) continue;
-    const json value = ok(r) && floor ? (*r)["ratio_to_floor"] : json(nullptr);
-    targets.push_back({{"what", "vibration " + e + " (12 modes) <= 4x floor"},
-                       {"ratio", value},
-                       {"met", value.is_number() && value.get<double>() <= 4.0}});
-  }
+  for (const std::string& e : energies)
+    target(find(e, "vibration"), floor != nullptr, "ratio_to_floor",
+           "vibration " + e + " (12 modes) <= 4x floor", 4.0, false);
   double peak = 0.0;
   std::string worst;
   for (const json* r : cases) {

@@ -15,6 +15,7 @@
 #include "optimize/energy_evaluation.h"
 #include "optimize/time_stepping.h"
 #include "optimize/vibration_modes.h"
+#include "support/plate.h"
 
 namespace flexure {
 namespace {
@@ -27,37 +28,12 @@ using optimize::TimeStepper;
 constexpr double kPi = 3.14159265358979323846;
 
 // A clamped square shell (rings 0 and 1 pinned): a bending energy + a StVK membrane, xyz.
-struct Shell {
-  modeling::Mesh mesh;
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::unique_ptr<curvature::EnergyTerm> bending;
-  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  Eigen::VectorXd restXi;
+struct Shell : testing::Plate {
   std::vector<bool> pinned;
 
-  Shell(int n, Discretization d, double young = 1e3) {
-    modeling::GeneratorOptions g;
-    g.family = modeling::MeshFamily::Delaunay;
-    g.n = n;
-    mesh = modeling::generateMesh(g);
-    stencils = modeling::compileStencils(mesh);
-    rest = modeling::precomputeRestState(stencils, mesh.positions);
-    curvature::BendingOptions b;
-    b.discretization = d;
-    bending = curvature::makeBendingEnergy(stencils, rest, b);
-    curvature::MembraneOptions m;
-    m.young = young;
-    membrane = curvature::makeMembraneEnergy(stencils, rest, m);
-    if (d == Discretization::Midedge)
-      restXi = curvature::midedgeRestXi(stencils, rest, b.restCurvature);
-    pinned = optimize::fixedRings(stencils, 2);
-  }
-  std::vector<const curvature::EnergyTerm*> terms() const {
-    std::vector<const curvature::EnergyTerm*> t = {bending.get()};
-    for (const auto& term : membrane) t.push_back(term.get());
-    return t;
-  }
+  Shell(int n, Discretization d, double young = 1e3)
+      : testing::Plate(modeling::MeshFamily::Delaunay, n, d, young),
+        pinned(optimize::fixedRings(stencils, 2)) {}
   // The first clamped mode of the same K and M (vibration_modes.h).
   optimize::VibrationMode firstMode() const {
     optimize::ModesOptions o;

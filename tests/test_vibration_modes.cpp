@@ -16,6 +16,7 @@
 #include "modeling/generators.h"
 #include "optimize/spectrum_study.h"
 #include "optimize/vibration_modes.h"
+#include "support/plate.h"
 
 namespace flexure {
 namespace {
@@ -29,28 +30,11 @@ using optimize::Support;
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Plate {
-  modeling::Mesh mesh;
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::unique_ptr<curvature::EnergyTerm> term;
-  Eigen::VectorXd restXi;
-
-  Plate(MeshFamily family, int n, Discretization d) {
-    modeling::GeneratorOptions g;
-    g.family = family;
-    g.n = n;
-    mesh = modeling::generateMesh(g);
-    stencils = modeling::compileStencils(mesh);
-    rest = modeling::precomputeRestState(stencils, mesh.positions);
-    curvature::BendingOptions b;
-    b.discretization = d;
-    term = curvature::makeBendingEnergy(stencils, rest, b);
-    if (d == Discretization::Midedge)
-      restXi = curvature::midedgeRestXi(stencils, rest, b.restCurvature);
-  }
+// The plate of each test, and its modes.
+struct Plate : testing::Plate {
+  using testing::Plate::Plate;
   ModesResult modes(const ModesOptions& o) const {
-    return optimize::vibrationModes({term.get()}, stencils, rest, restXi, o);
+    return optimize::vibrationModes(terms(), stencils, rest, restXi, o);
   }
 };
 
@@ -271,13 +255,9 @@ TEST(VibrationModes, NodalLinesOfTheSquaresSecondModesAreStraightOrDiagonal) {
 // in-plane one, so with a membrane much stiffer than bending the smallest modes are the bending
 // modes of height mode; a free plate has the six rigid motions of space.
 TEST(VibrationModes, XyzModeOfAFlatPlateHasTheHeightModeSpectrum) {
+  const Plate withMembrane(MeshFamily::Delaunay, 12, Discretization::Midedge, 1e6);
   const Plate plate(MeshFamily::Delaunay, 12, Discretization::Midedge);
-  curvature::MembraneOptions m;
-  m.model = curvature::MembraneModel::Stvk;
-  m.young = 1e6;
-  const auto membrane = curvature::makeMembraneEnergy(plate.stencils, plate.rest, m);
-  std::vector<const curvature::EnergyTerm*> terms = {plate.term.get()};
-  for (const auto& term : membrane) terms.push_back(term.get());
+  const std::vector<const curvature::EnergyTerm*> terms = withMembrane.terms();
   for (const Support support : {Support::SimplySupported, Support::Free}) {
     ModesOptions o;
     o.count = 4;
