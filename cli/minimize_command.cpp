@@ -11,6 +11,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/load_arguments.h"
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
 #include "cli/solver_arguments.h"
@@ -30,6 +31,7 @@ struct MinimizeCommandOptions {
   std::string restFile, output, reportFile;
   std::string dof = "height";
   MembraneArguments membrane;
+  LoadArguments load;
   std::string fix = "rings:2";
   std::string initFile, boundary, boundaryNormals;
   std::string start;  // linearized | given; empty: linearized with --boundary, given with --init
@@ -116,6 +118,9 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
         {"residuals", r.residuals}}},
   };
   if (!o.boundary.empty()) report["boundary"] = o.boundary;
+  if (!o.load.gravity.empty())
+    report["load"] = {
+        {"gravity", o.load.gravity}, {"density", o.load.density}, {"mass", o.load.mass}};
   if (!o.initFile.empty()) report["init"] = o.initFile;
   if (result.xi.size() > 0) {
     report["xi"] = std::vector<double>(result.xi.data(), result.xi.data() + result.xi.size());
@@ -213,6 +218,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
       throw InputError("--boundary " + o.boundary + text);
     }
   }
+  solver.externalForce = gravityLoad(o.load, rest);
   const optimize::MinimizeResult result =
       optimize::minimize(terms, bc, rest.positions, restXi, solver);
   const nlohmann::json report = reportJson(o, b, result, result.report.converged);
@@ -248,6 +254,7 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--dof", options->dof, "height (z only; x, y at rest) | xyz (needs --membrane)")
       ->capture_default_str();
   addMembraneArguments(*sub, options->membrane, "xyz mode: stvk | springs | conformal");
+  addLoadArguments(*sub, options->load);
   sub->add_option("--fix", options->fix,
                   "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
                   "vertices:FILE (indices)")

@@ -13,6 +13,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/load_arguments.h"
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
 #include "curvature/midedge_boundary.h"
@@ -33,8 +34,9 @@ struct SimulateOptions {
   std::string restFile, initFile, outputDir;
   BendingArguments bending;
   MembraneArguments membrane;
-  std::string pin = "none", integrator = "newmark", gravity, damping, mass = "barycentric";
-  double beta = 0.25, gamma = 0.5, density = 1.0, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
+  LoadArguments load;
+  std::string pin = "none", integrator = "newmark", damping;
+  double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
 };
@@ -44,23 +46,6 @@ bool isSimulationFile(const std::string& name) {
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
   return name.rfind("frame-", 0) == 0 && (obj || png);
-}
-
-// "gx,gy,gz" → g; "rayleigh:α,β" → (α, β). InputError quoting the text otherwise.
-std::vector<double> numbers(const std::string& option, const std::string& text, size_t count) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    char* end = nullptr;
-    const double value = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(value)) values.clear(), values.resize(99);
-    values.push_back(value);
-  }
-  if (values.size() != count)
-    throw InputError(option + " " + text + ": expected " + std::to_string(count) +
-                     " comma-separated numbers");
-  return values;
 }
 
 struct Run {
@@ -85,16 +70,13 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   dynamics.integrator = optimize::parseIntegrator(o.integrator);
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
-  dynamics.density = o.density;
-  dynamics.mass = optimize::parseMassLumping(o.mass);
-  if (!o.gravity.empty()) {
-    const std::vector<double> g = numbers("--gravity", o.gravity, 3);
-    dynamics.gravity = Eigen::Vector3d(g[0], g[1], g[2]);
-  }
+  dynamics.density = o.load.density;
+  dynamics.mass = massLumping(o.load);
+  dynamics.gravity = gravityVector(o.load);
   if (!o.damping.empty()) {
     if (o.damping.rfind("rayleigh:", 0) != 0)
       throw InputError("--damping " + o.damping + ": expected rayleigh:alpha,beta");
-    const std::vector<double> ab = numbers("--damping", o.damping.substr(9), 2);
+    const std::vector<double> ab = parseNumbers("--damping", o.damping.substr(9), 2);
     dynamics.rayleighMass = ab[0];
     dynamics.rayleighStiffness = ab[1];
   }
@@ -244,7 +226,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       {"vertices", restMesh.vertexCount()},
       {"pinned", o.pin},
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
-      {"density", o.density},
+      {"density", o.load.density},
       {"frames", frames.size()},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
   if (!failure.empty()) {
@@ -314,11 +296,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--pin", o.pin,
                   "Vertices held in place: none | rings:K (2 clamps) | vertices:FILE")
       ->capture_default_str();
-  sub->add_option("--gravity", o.gravity, "Gravity gx,gy,gz (e.g. 0,0,-9.81; default none)");
-  sub->add_option("--density", o.density, "ρ, mass per unit rest area")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--mass", o.mass, "Lumped mass: barycentric | voronoi")->capture_default_str();
+  addLoadArguments(*sub, o.load);
   sub->add_option("--integrator", o.integrator,
                   "newmark (average acceleration: conserves energy) | backward-euler "
                   "(dissipates) | central-difference (explicit)")

@@ -208,6 +208,12 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
                         const BoundaryConditions& conditions, const Positions& rest,
                         const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
   requireWellPosed(terms, conditions, options);
+  if (options.externalForce.rows() > 0 && (options.linearized || options.solver != Solver::Newton))
+    throw InputError(
+        "an external load (--gravity) needs the nonlinear Newton solve: not "
+        "--linearized, not --solver ceres");
+  if (options.externalForce.rows() > 0 && options.externalForce.rows() != rest.rows())
+    throw InputError("external load: expected one force per vertex");
   MinimizeResult result;
   if (options.linearized) {
     result = minimizeLinearized(terms, conditions, rest, restXi, options);

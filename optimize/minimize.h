@@ -53,6 +53,10 @@ struct MinimizeOptions {
   // Hand Ceres a METIS nested-dissection order of the vertices (elimination_order.h). false:
   // Ceres' AMD, the benchmark's baseline.
   bool nestedDissection = true;
+  // A constant external load (#V by 3; empty: none), e.g. gravity m_v g: the solve minimizes
+  // E − Σ_v f_v · x_v. Newton only (a linear term is no least-squares residual): the linearized
+  // and Ceres solves refuse it.
+  Positions externalForce;
   // Benchmarks only: Newton as a plain Newton solver does it (libshell's, say) — Eigen's
   // SimplicialLLT refactored in every iteration, no chord steps. The baseline of scripts/bench
   // shell.

@@ -88,8 +88,20 @@ class NewtonSolver {
       curvature::SecondDerivatives kind = curvature::SecondDerivatives::Exact) {
     const auto t = Clock::now();
     HessianEvaluation e = assembly_.evaluate(x, xi, projection, fixedMove, kind);
+    if (options_.externalForce.rows() > 0) {  // − fᵀx and its gradient − f
+      e.energy -= loadEnergy(x);
+      const std::vector<int>& unknowns = assembly_.freeUnknowns();
+      for (size_t k = 0; k < unknowns.size(); ++k)
+        if (unknowns[k] < x.size())
+          e.gradient[static_cast<Eigen::Index>(k)] -= options_.externalForce.data()[unknowns[k]];
+    }
     report_.evaluationSeconds += secondsSince(t);
     return e;
+  }
+
+  // fᵀx of the external load (0 without one).
+  double loadEnergy(const Positions& x) const {
+    return options_.externalForce.rows() > 0 ? options_.externalForce.cwiseProduct(x).sum() : 0.0;
   }
 
   // Factors h's matrix, or where it is singular (or not positive definite) the matrix + μI with
@@ -162,7 +174,7 @@ class NewtonSolver {
     }
   }
 
-  // E, or +∞ where an element is degenerate.
+  // E (− fᵀx under an external load), or +∞ where an element is degenerate.
   double energy(const MinimizeResult& at) const {
     double sum = 0.0;
     try {
@@ -170,6 +182,7 @@ class NewtonSolver {
     } catch (const NumericalError&) {
       return std::numeric_limits<double>::infinity();
     }
+    sum -= loadEnergy(at.positions);
     return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
   }
 

@@ -39,6 +39,19 @@ run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 
 absent sag/frame-00002.obj; absent sag/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
 report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
 
+# The static counterpart: minimize under gravity (Newton only).
+run 0 minimize --rest plate.obj --energy midedge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
+  --gravity 0,0,-9.81 -o static.obj --report static.json --quiet
+python3 -c "
+import json, sys
+d = json.load(open('static.json')); z = [float(l.split()[3]) for l in open('static.obj') if l.startswith('v ')]
+sys.exit(0 if d['converged'] and d['load']['gravity'] == '0,0,-9.81' and min(z) < 0 else 1)" \
+  || fail "minimize --gravity: no converged sag"
+run 2 minimize --rest plate.obj --energy hinge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
+  --gravity 0,0,-9.81 --solver ceres -o bad.obj; stderr_has "needs the nonlinear Newton"; absent bad.obj
+run 2 minimize --rest plate.obj --energy hinge --boundary quadratic:0,0,0 --gravity 0,0 -o bad.obj
+stderr_has "--gravity 0,0: expected 3"; absent bad.obj
+
 # Refusals: exit 2, the option named, nothing written.
 run 2 simulate --rest plate.obj --energy hinge --dt 0.01 --duration 0.1 -o bad
 stderr_has "give a membrane"; absent bad

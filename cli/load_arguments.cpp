@@ -1,0 +1,52 @@
+#include "cli/load_arguments.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "cli/command_files.h"
+#include "modeling/errors.h"
+
+namespace flexure::cli {
+
+void addLoadArguments(CLI::App& sub, LoadArguments& a) {
+  sub.add_option("--gravity", a.gravity, "Gravity gx,gy,gz (e.g. 0,0,-9.81; default none)");
+  sub.add_option("--density", a.density, "ρ, mass per unit rest area")
+      ->capture_default_str()
+      ->check(positive());
+  sub.add_option("--mass", a.mass, "Lumped mass: barycentric | voronoi")->capture_default_str();
+}
+
+std::vector<double> parseNumbers(const std::string& option, const std::string& text, size_t count) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  bool ok = true;
+  for (std::string item; std::getline(stream, item, ',');) {
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    ok = ok && !item.empty() && *end == '\0' && std::isfinite(value);
+    values.push_back(value);
+  }
+  if (!ok || values.size() != count)
+    throw InputError(option + " " + text + ": expected " + std::to_string(count) +
+                     " comma-separated numbers");
+  return values;
+}
+
+Eigen::Vector3d gravityVector(const LoadArguments& a) {
+  if (a.gravity.empty()) return Eigen::Vector3d::Zero();
+  const std::vector<double> g = parseNumbers("--gravity", a.gravity, 3);
+  return {g[0], g[1], g[2]};
+}
+
+optimize::MassLumping massLumping(const LoadArguments& a) {
+  return optimize::parseMassLumping(a.mass);
+}
+
+modeling::Positions gravityLoad(const LoadArguments& a, const modeling::RestState& rest) {
+  if (a.gravity.empty()) return {};
+  const Eigen::VectorXd mass = optimize::lumpedVertexMasses(rest, massLumping(a), a.density);
+  return mass * gravityVector(a).transpose();
+}
+
+}  // namespace flexure::cli
