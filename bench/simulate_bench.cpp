@@ -34,7 +34,8 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt) {
+json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
+               bool gaussNewton) {
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
   curvature::BendingOptions bending;
@@ -55,6 +56,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
                 std::abs(mesh.positions(v, 1) + 0.5) < 1e-12;
   optimize::DynamicsOptions options;
   options.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
 
   auto start = Clock::now();
   optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, options);
@@ -78,6 +80,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   const double seconds = secondsSince(start);
   const optimize::EnergySample e = stepper.energies();
   return {{"energy", energy},
+          {"hessian", gaussNewton ? "gauss-newton" : "exact"},
           {"vertices", mesh.vertexCount()},
           {"setup_seconds", setup},
           {"first_step_seconds", firstSeconds},
@@ -97,20 +100,25 @@ int main(int argc, char** argv) {
   flexure::optimize::reuseFreedMemory();
   int n = 99, steps = 40;
   double dt = 1.0 / 200.0;
-  std::string energies = "hinge,triavg,cotan,midedge,quadfit";
+  std::string energies = "hinge,triavg,cotan,midedge,quadfit", hessians = "exact,gauss-newton";
   CLI::App app("flexure simulate benchmark: a hanging ~10k-vertex sheet, Newmark, per energy");
   app.add_option("--n", n, "Cells per side (n = 99: 10 000 vertices)")->capture_default_str();
   app.add_option("--steps", steps, "Steps per energy")->capture_default_str();
   app.add_option("--dt", dt, "Time step")->capture_default_str();
   app.add_option("--energies", energies)->capture_default_str();
+  app.add_option("--hessians", hessians, "exact and/or gauss-newton (the step's Hessian of E)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
   json records = json::array();
   std::stringstream list(energies);
   for (std::string energy; std::getline(list, energy, ',');) {
-    json record = runEnergy(mesh, energy, steps, dt);
-    std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
-    records.push_back(record);
+    for (const char* hessian : {"exact", "gauss-newton"}) {
+      if (hessians.find(hessian) == std::string::npos) continue;
+      json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton");
+      std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
+      records.push_back(record);
+    }
   }
   std::cout << json({{"n", n}, {"dt", dt}, {"records", records}}).dump(2) << "\n";
   return 0;

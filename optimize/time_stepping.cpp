@@ -239,7 +239,8 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   const double stepTolerance = o.tolerance * length_;
   for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
     place(y, x, xi);
-    HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact);
+    HessianEvaluation at =
+        im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, o.hessian);
     Eigen::VectorXd extraGradient;
     const double energy = at.energy + extra(y, &extraGradient);
     const Eigen::VectorXd gradient = at.gradient + extraGradient;

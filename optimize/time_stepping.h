@@ -48,6 +48,9 @@ struct DynamicsOptions {
   // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
   std::vector<bool> heldEdges;
   int maxNewtonIterations = 30;
+  // The Hessian of E in each Newton iteration: exact, or its Gauss–Newton part JᵀJ (first
+  // derivatives only; the step's inertia M/(βh²) keeps it positive definite).
+  curvature::SecondDerivatives hessian = curvature::SecondDerivatives::Exact;
   // A step has converged when the Newton step moves no unknown more than `tolerance` × the rest
   // mesh's bounding-box diagonal.
   double tolerance = 1e-10;
