@@ -687,6 +687,19 @@ absent rerun-study/c2_criss.png; [ -s rerun-study/c2_patch48.png ] || fail "conv
 run 2 compare -o rerun --families patch48 --energies frobenius --quiet
 [ -s rerun/patch48-hinge.png ] || fail "a failed compare removed the earlier run's files"
 
+# converge: a study that cannot fit in memory is refused with the estimate before any mesh is made
+# (the largest case: midedge(free) on delaunay n = 1024 at --levels 8); nothing written.
+run 2 converge --levels 8 --n 64 -o bigstudy
+stderr_has "--n 64 --levels 8: the study needs about"; stderr_has "GB available"
+stderr_has "its largest case, midedge(free) on delaunay n=8192"; absent bigstudy
+# Progress inside a long case (from 50 000 vertices), one line per solve; --quiet silences it.
+run 0 converge --energies hinge --families patch48 --n 256 --levels 1 --amplitudes 0 \
+    --solution none --quadratics "1,0,1" -o longcase
+stderr_has "flexure converge: hinge on patch48 n=256: solve 1 of 1: C1 and C2, quadratic:1,0,1 (66049 vertices)"
+run 0 converge --energies hinge --families patch48 --n 256 --levels 1 --amplitudes 0 \
+    --solution none --quadratics "1,0,1" -o longcase --quiet
+[ -s err.txt ] && fail "converge --quiet wrote progress: $(cat err.txt)"
+
 # Memory: a mesh that cannot fit is refused with the estimate, before any allocation.
 run 2 mesh --family patch48 --n 19999 -o huge.obj; stderr_has "--n 19999: the mesh needs about"
 stderr_has "GB available"; absent huge.obj

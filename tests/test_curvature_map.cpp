@@ -146,7 +146,7 @@ TEST(CurvatureMap, LegendTicksAreRoundValues) {
   }
 }
 
-// A few spikes (bunny00.off's largest |H| is 267, its 98th percentile 3.2) do not set the range:
+// A few spikes (bunny00.off's largest |H| is 267, its 98th percentile 67.9) do not set the range:
 // the default is the 98th percentile of |H|; without outliers it is the largest value.
 TEST(CurvatureMap, DefaultRangeIsARobustPercentile) {
   std::vector<double> h(1000);
