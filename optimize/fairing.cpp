@@ -170,7 +170,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
 }
 
 bool FairingChecks::gradientPassed() const {
-  return !gradientChecked || finalGradientNorm <= kFairingGradientReduction * startGradientNorm;
+  return !gradientChecked || finalGradientNorm <= kFairingGradientReduction * startGradientNorm ||
+         finalGradientNorm <= kFairingGradientFloor;
 }
 
 std::string FairingChecks::failure() const {
@@ -215,9 +216,9 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
     checks.startGradientNorm = solve->startGradientNorm;
     checks.finalGradientNorm = solve->finalGradientNorm;
   }
-  // (x1 − x0) × (x2 − x0) of the triangle (a, b, c) at positions x.
-  const auto areaNormal = [](const Positions& x, int a, int b, int c) {
-    const Eigen::Vector3d x0 = x.row(a), x1 = x.row(b), x2 = x.row(c);
+  // (x1 − x0) × (x2 − x0) of the triangle (i, j, k) at positions x.
+  const auto areaNormal = [](const Positions& x, int i, int j, int k) {
+    const Eigen::Vector3d x0 = x.row(i), x1 = x.row(j), x2 = x.row(k);
     return Eigen::Vector3d((x1 - x0).cross(x2 - x0));
   };
   const auto angleDegrees = [](const Eigen::Vector3d& m, const Eigen::Vector3d& n) {

@@ -94,7 +94,9 @@ struct FairingMeasures {
 // stopping rule, which can stop at a stall: Ceres' parameter tolerance on a mesh with folded
 // triangles stopped with |∇E| larger than at the start):
 //  - gradient (flexure's fairing only): |∇E(result)| ≤ kFairingGradientReduction · |∇E(start)|,
-//    the 2-norms of FairingResult: the solve reached a stationary point;
+//    the 2-norms of FairingResult: the solve reached a stationary point (or |∇E(result)| ≤
+//    kFairingGradientFloor, the solver's default gradient tolerance: a start that was already
+//    stationary has nothing to reduce);
 //  - triangles (either method): no face touching a moving vertex is degenerate in the result
 //    (2A ≤ kDegenerateFlatness · (its longest edge)²: flattened onto a line or a point) or
 //    inverted: its normal n = (x1 − x0) × (x2 − x0) has turned over against the input's
@@ -104,6 +106,7 @@ struct FairingMeasures {
 //    of the input may sharpen past 90° without any triangle turning over.
 // The smallest angle of those faces is reported against the input's and not judged here.
 inline constexpr double kFairingGradientReduction = 1e-3;
+inline constexpr double kFairingGradientFloor = 1e-10;
 inline constexpr double kDegenerateFlatness = 1e-6;
 
 struct DegenerateFace {
