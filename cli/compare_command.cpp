@@ -1,6 +1,7 @@
 // flexure compare: the slides' experiment. Every energy's minimizer of the flat-plate test problem
-// (two fixed rings lifted onto a quadratic, nonlinear, height mode, midedge boundary normals
-// clamped) on every mesh family, rendered the same way and composed into one labelled grid.
+// (two fixed rings lifted onto a quadratic, height mode, midedge boundary normals clamped;
+// linearized by default, as condition C2 judges it, or nonlinear) on every mesh family, rendered
+// the same way beside the exact sample of p and composed into one labelled grid.
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -48,6 +49,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   if (o.energies.empty()) throw InputError("--energies: give at least one energy");
   if (o.size < 64 || o.size > 4096)
     throw InputError("--size " + std::to_string(o.size) + ": expected 64 .. 4096 pixels");
+  if (o.solve != "linearized" && o.solve != "nonlinear")
+    throw InputError("--solve " + o.solve + ": expected linearized or nonlinear");
   if (o.n < 4) throw InputError("--n " + std::to_string(o.n) + ": expected at least 4");
   std::vector<modeling::Mesh> meshes;
   std::vector<std::string> familyNames;
@@ -94,21 +97,33 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   applySolverArguments(o.solver, solver);
   render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
   const fs::path dir(o.outputDir);
+  const bool linearized = o.solve == "linearized";
   render::FigureGrid grid;
-  grid.title = "Minimizers with boundary " + o.boundary + " (n = " + std::to_string(o.n) + ", " +
-               std::string(render::renderStyleName(look.style)) + "); C2 = max |z - p| / max |p|";
+  grid.title = std::string(linearized ? "Linearized" : "Nonlinear") +
+               " minimizers, boundary rings on z = p(x, y), p = " + o.boundary +
+               " (n = " + std::to_string(o.n) + ", " +
+               std::string(render::renderStyleName(look.style)) +
+               "). Over each panel its C2 error: max |z - p| / max |p| over the free vertices";
   grid.rowLabels = familyNames;
+  grid.columnLabels.push_back("exact p (reference)");
   for (const auto& v : variants) grid.columnLabels.push_back(v.label);
   nlohmann::json panels = nlohmann::json::array();
   std::vector<std::pair<std::string, render::Image>> files;
   for (size_t f = 0; f < meshes.size(); ++f) {
     grid.panels.emplace_back();
     grid.panelTitles.emplace_back();
+    // The reference every panel is judged against: p sampled at the mesh's vertices, z = p(x, y).
+    modeling::Mesh exact = meshes[f];
+    modeling::applyHeightField(surface, exact.positions);
+    render::Image reference = render::renderMesh(context, exact, look);
+    grid.panelTitles.back().push_back("C2 = 0 (z = p exactly)");
+    grid.panels.back().push_back(reference);
+    files.emplace_back(familyNames[f] + "-exact.png", std::move(reference));
     for (size_t k = 0; k < variants.size(); ++k) {
       const optimize::EnergyVariant& variant = variants[k];
       const optimize::FlatPlateProblem problem(meshes[f], variant.bending);
-      const optimize::MinimizeResult result = optimize::solveWithSurfaceBoundary(
-          problem, surface, variant.normals, /*linearized=*/false, solver);
+      const optimize::MinimizeResult result =
+          optimize::solveWithSurfaceBoundary(problem, surface, variant.normals, linearized, solver);
       const double error = optimize::reproductionError(problem.rest.positions, result.positions,
                                                        problem.fixedVertex, surface);
       modeling::Mesh minimizer = meshes[f];
@@ -128,7 +143,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
                         {"final_energy", result.report.finalEnergy},
                         {"c2_error", error},
                         {"image", name}});
-      grid.panelTitles.back().push_back(variant.label + "  C2 " + formatError(error) +
+      grid.panelTitles.back().push_back("C2 " + formatError(error) +
                                         (result.report.converged ? "" : " (not converged)"));
       grid.panels.back().push_back(image);
       files.emplace_back(name, std::move(image));
@@ -140,6 +155,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
     }
   }
   const render::Image figure = render::composeFigureGrid(grid);
+  nlohmann::json references = nlohmann::json::array();
+  for (const std::string& family : familyNames)
+    references.push_back({{"family", family}, {"image", family + "-exact.png"}});
 
   modeling::createOutputDirectory(dir.string());
   for (const auto& [name, image] : files) render::writePng((dir / name).string(), image);
@@ -147,7 +165,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   writeJsonFile((dir / "compare.json").string(),
                 {{"boundary", o.boundary},
                  {"n", o.n},
+                 {"solve", o.solve},
                  {"style", std::string(render::renderStyleName(look.style))},
+                 {"references", references},
                  {"size", o.size},
                  {"error", "c2: max over the free vertices of |z - p(x, y)| / max |p(x, y)|"},
                  {"figure", "compare.png"},
@@ -185,6 +205,10 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--n", o.n, "Cells per side of the meshes")
       ->capture_default_str()
       ->check(inRange(4, 256));
+  sub->add_option("--solve", o.solve,
+                  "linearized (the minimizer of E_lin, as condition C2 judges it) | nonlinear (the "
+                  "full energy's minimizer at amplitude 1)")
+      ->capture_default_str();
   sub->add_option("--style", o.style, "Render style of every panel (see flexure render)")
       ->capture_default_str();
   sub->add_option("--size", o.size, "Panel size in pixels (square)")
@@ -198,8 +222,9 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(inRange(1, maxThreads()));
   addSolverArguments(*sub, o.solver);
   sub->footer(
-      "Writes DIR/compare.png (rows = families, columns = energies, each panel titled with its "
-      "C2 error), DIR/<family>-<energy>.png and DIR/compare.json.\n"
+      "Writes DIR/compare.png (rows = families; columns = the exact sample of p, then the "
+      "energies, each panel titled with its C2 error), DIR/<family>-exact.png, "
+      "DIR/<family>-<energy>.png and DIR/compare.json.\n"
       "Example: flexure compare -o cmp --families patch48,delaunay --energies hinge,midedge");
   files->onRun(global, [options, &global] { runCompare(*options, global, "flexure compare"); });
 }

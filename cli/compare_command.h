@@ -16,6 +16,7 @@ struct CompareOptions {
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
   std::string boundary = "quadratic:0.3,-0.7,0.5";
   int n = 16;
+  std::string solve = "linearized";  // or "nonlinear"
   std::string style = "reflection";
   int size = 400;  // panel width and height in pixels
   int stripes = 12;

@@ -59,8 +59,14 @@ struct RegionChoice {
   std::optional<modeling::FilledMesh> filled;  // holes only (its mesh moved into `mesh`)
 };
 
+// "the loop of 90 edges at vertex 12: CGAL's fill …"
+std::string skippedHoleText(const modeling::SkippedHole& h) {
+  return "the loop of " + std::to_string(h.boundaryEdges) + " edges at vertex " +
+         std::to_string(h.loopVertex) + ": " + h.reason;
+}
+
 RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
-                          const modeling::Stencils& stencils) {
+                          const modeling::Stencils& stencils, bool quiet) {
   RegionChoice choice;
   if (o.region == "holes" || o.region.rfind("holes:", 0) == 0) {
     int maxEdges = 0;
@@ -78,6 +84,19 @@ RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
     if (!stencils.vertexOnBoundary.any())
       throw InputError(o.input + ": the mesh is closed: it has no hole to fill");
     modeling::FilledMesh filled = modeling::fillHoles(input, maxEdges);
+    if (filled.holes.empty() && !filled.skipped.empty()) {
+      std::string loops;
+      for (const modeling::SkippedHole& h : filled.skipped) loops += "\n  " + skippedHoleText(h);
+      throw InputError("--region " + o.region + ": no boundary loop of " + o.input +
+                       " can be filled cleanly by CGAL:" + loops +
+                       "\nchoose the loops by size with --region holes:N (the loops of at most N "
+                       "edges), or fair a region of the surface (--region sphere:x,y,z,r)");
+    }
+    if (!quiet) {
+      for (const modeling::SkippedHole& h : filled.skipped)
+        std::cerr << "flexure fair: skipped " << skippedHoleText(h)
+                  << "; the other loops are filled\n";
+    }
     if (filled.holes.empty()) {
       throw InputError("--region " + o.region + ": no boundary loop of " + o.input +
                        " has at most " + std::to_string(maxEdges) + " edges");
@@ -107,6 +126,42 @@ nlohmann::json measuresJson(const optimize::FairingMeasures& m) {
            {{"min_angle_degrees", m.quality.minAngleDegrees},
             {"mean_shape", m.quality.meanShape},
             {"min_shape", m.quality.minShape}}}};
+}
+
+// The checks of optimize::FairingChecks, each with its verdict and threshold; at most
+// kListedFaces faces of each kind are listed.
+nlohmann::json checksJson(const optimize::FairingChecks& c) {
+  constexpr std::size_t kListedFaces = 10;
+  nlohmann::json degenerate = nlohmann::json::array(), inverted = nlohmann::json::array();
+  for (std::size_t i = 0; i < std::min(c.degenerateFaces.size(), kListedFaces); ++i) {
+    const optimize::DegenerateFace& f = c.degenerateFaces[i];
+    degenerate.push_back(
+        {{"vertices", {f.vertices[0], f.vertices[1], f.vertices[2]}}, {"flatness", f.flatness}});
+  }
+  for (std::size_t i = 0; i < std::min(c.invertedFaces.size(), kListedFaces); ++i) {
+    const optimize::InvertedFace& f = c.invertedFaces[i];
+    inverted.push_back({{"vertices", {f.vertices[0], f.vertices[1], f.vertices[2]}},
+                        {"input_turn_degrees", f.inputTurnDegrees},
+                        {"neighbour_turn_degrees", f.neighbourTurnDegrees}});
+  }
+  nlohmann::json gradient = nullptr;
+  if (c.gradientChecked) {
+    gradient = {{"passed", c.gradientPassed()},
+                {"start_norm", c.startGradientNorm},
+                {"final_norm", c.finalGradientNorm},
+                {"ratio", c.finalGradientNorm / c.startGradientNorm},
+                {"max_ratio", optimize::kFairingGradientReduction}};
+  }
+  return {{"gradient", gradient},
+          {"triangles",
+           {{"passed", c.trianglesPassed()},
+            {"degenerate", c.degenerateFaces.size()},
+            {"inverted", c.invertedFaces.size()},
+            {"degenerate_faces", degenerate},
+            {"inverted_faces", inverted},
+            {"max_flatness", optimize::kDegenerateFlatness}}},
+          {"min_angle_degrees",
+           {{"input", c.inputMinAngleDegrees}, {"result", c.resultMinAngleDegrees}}}};
 }
 
 double measuredEnergy(const optimize::FairingMeasures& m, const std::string& energy) {
@@ -206,7 +261,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure fair: " << notice << '\n';
   const modeling::Stencils inputStencils = modeling::compileStencils(input);
-  const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils);
+  const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils, global.quiet);
   const modeling::Mesh& mesh = choice.mesh;
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   modeling::requireFairableRegion(stencils, choice.region, o.input + ": --region " + o.region);
@@ -224,6 +279,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const auto solveStart = Clock::now();
   modeling::Positions patchAfter;
   std::optional<optimize::MinimizeReport> solve;
+  std::optional<optimize::FairingResult> fairing;
   std::string startUsed;
   if (cgal) {
     patchAfter = optimize::fairCgal(patch);
@@ -237,14 +293,17 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
                                               : optimize::FairingStart::Best;
     options.solver = solver;
     options.solver.progress = !global.quiet;
-    optimize::FairingResult result = optimize::fairNonlinear(patch, options);
-    patchAfter = std::move(result.positions);
-    solve = result.report;
-    startUsed = result.start == optimize::FairingStart::Input ? "input" : "biharmonic";
+    fairing = optimize::fairNonlinear(patch, options);
+    patchAfter = fairing->positions;
+    solve = fairing->report;
+    startUsed = fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
   }
   const double solveSeconds = secondsSince(solveStart);
   const optimize::FairingMeasures after = optimize::measureFairing(patch, patchAfter, bending);
-  const bool converged = !solve || solve->converged;
+  const optimize::FairingChecks checks =
+      optimize::checkFairing(patch, patchAfter, fairing ? &*fairing : nullptr);
+  const bool solverConverged = !solve || solve->converged;
+  const bool converged = solverConverged && checks.passed();
   const modeling::Positions faired =
       modeling::scatterPatchPositions(mesh.positions, patch, patchAfter);
 
@@ -262,7 +321,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
       {"after", measuresJson(after)},
       {"max_displacement", after.maxDisplacement},
       {"converged", converged},
+      {"checks", checksJson(checks)},
   };
+  if (!checks.passed()) report["failed_check"] = checks.failure();
   if (!cgal) {
     report["energy_name"] = energyName;
     report["poisson"] = curvature::effectivePoisson(bending);
@@ -271,6 +332,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["start"] = startUsed;
     report["solver"] = {{"name", solve->solver},
                         {"factorizations", solve->factorizations},
+                        {"converged", solve->converged},
                         {"termination", solve->termination},
                         {"iterations", solve->iterations},
                         {"initial_energy", solve->initialEnergy},
@@ -282,10 +344,17 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     nlohmann::json holes = nlohmann::json::array();
     for (const modeling::FilledHole& h : choice.filled->holes) {
       holes.push_back({{"boundary_edges", h.boundaryEdges},
+                       {"vertex", h.loopVertex},
                        {"new_faces", h.newFaces},
                        {"new_vertices", h.newVertices}});
     }
-    report["holes"] = {{"filled", holes}, {"loops_left", choice.filled->loopsLeft}};
+    nlohmann::json skipped = nlohmann::json::array();
+    for (const modeling::SkippedHole& h : choice.filled->skipped) {
+      skipped.push_back(
+          {{"boundary_edges", h.boundaryEdges}, {"vertex", h.loopVertex}, {"reason", h.reason}});
+    }
+    report["holes"] = {
+        {"filled", holes}, {"skipped", skipped}, {"loops_left", choice.filled->loopsLeft}};
   }
   nlohmann::json errors = nlohmann::json::object();
   for (const optimize::EnergyMeasure& e : before.bending)
@@ -295,6 +364,15 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (!converged) {
     report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
     if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
+  }
+  if (solverConverged && !checks.passed()) {
+    throw NumericalError(
+        std::string(cgal ? "CGAL's fair" : "the fairing solve") +
+        " ended at a result that fails its checks: " + checks.failure() + "; " + o.output +
+        " not written" + (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
+        (cgal ? "" : "; try a larger --membrane-weight, another --energy or a smaller region"));
+  }
+  if (!converged) {
     throw NumericalError("the fairing solve did not converge (" + solve->termination + "); " +
                          o.output + " not written" +
                          (o.reportFile.empty() ? "" : ", see " + o.reportFile) + "; " +
@@ -327,7 +405,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (!global.quiet) {
     std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
               << measuredEnergy(before, energyName) << " -> " << measuredEnergy(after, energyName)
-              << ", max displacement " << after.maxDisplacement << ", " << solveSeconds << " s)\n";
+              << ", max displacement " << after.maxDisplacement << ", smallest angle "
+              << checks.inputMinAngleDegrees << " -> " << checks.resultMinAngleDegrees << " deg, "
+              << solveSeconds << " s)\n";
   }
 }
 

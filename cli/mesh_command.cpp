@@ -1,6 +1,4 @@
 // flexure mesh: one generated test-problem mesh, written to a file.
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cli/available_memory.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
@@ -32,46 +31,6 @@ constexpr int kMaxCellsPerSide = 20000;
 // n = 500 and 1000, 126 MB and 472 MB for 0.31e6 and 1.23e6 vertices (395 B a vertex, 482 B per
 // (n + 1)²). 500 B covers every family.
 constexpr double kMeshBytesPerVertex = 500.0;
-
-// The first number after `key` in a /proc file ("MemAvailable:", "VmSize:"), in kB; -1 if none.
-double procField(const char* file, const std::string& key) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    std::string name;
-    double kilobytes = 0.0;
-    if (fields >> name >> kilobytes && name == key) return kilobytes;
-  }
-  return -1.0;
-}
-
-// The memory a new allocation can get, in bytes, or 0 when unknown: the least of the kernel's
-// MemAvailable (what can be used without swapping), the address-space limit (ulimit -v) less what
-// the process already maps, and a cgroup's memory limit (v2 memory.max, v1 limit_in_bytes) less
-// its usage — a job under a cap fails at the cap, not at the machine's size.
-double availableMemoryBytes() {
-  double available = std::numeric_limits<double>::infinity();
-  if (const double kb = procField("/proc/meminfo", "MemAvailable:"); kb >= 0.0)
-    available = kb * 1024.0;
-  rlimit limit{};
-  const double mapped = procField("/proc/self/status", "VmSize:") * 1024.0;
-  if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && mapped >= 0.0)
-    available = std::min(available, static_cast<double>(limit.rlim_cur) - mapped);
-  const auto number = [](const char* file) {
-    std::ifstream in(file);
-    double value = -1.0;
-    return in >> value ? value : -1.0;  // "max" (no limit) reads as -1
-  };
-  for (const auto& [max, current] :
-       {std::pair{"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"},
-        std::pair{"/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                  "/sys/fs/cgroup/memory/memory.usage_in_bytes"}}) {
-    const double cap = number(max), used = number(current);
-    if (cap > 0.0 && cap < 1e18 && used >= 0.0) available = std::min(available, cap - used);
-  }
-  return std::isfinite(available) ? std::max(available, 0.0) : 0.0;
-}
 
 // Refuses a mesh whose generation would not fit in the available memory, before any allocation.
 // The estimate scales (n + 1)² by the rows an --aspect below 1 adds (stripe has half as many

@@ -136,7 +136,8 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
                   "Curvature style: the discretization of H (cotan: H = K.n / (2 A), the cotan "
                   "energy's kernel; default cotan)");
   sub->add_option("--curvature-max", o.curvatureMax,
-                  "Curvature style: the colour map spans [-M, M] (default: the largest |H|)");
+                  "Curvature style: the colour map spans [-M, M] (default: the 98th percentile of "
+                  "|H| over the vertices)");
   sub->footer(
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "

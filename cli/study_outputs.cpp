@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/available_memory.h"
 #include "cli/mesh_json.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -524,6 +525,12 @@ class ProgressReporter {
 
   void operator()(const optimize::StudyProgress& p) {
     if (quiet_) return;
+    if (!p.step.empty()) {  // inside a long case: a line of its own, on a terminal too
+      std::fprintf(stderr, "%s%s: %s: %s\n", terminal_ ? "\n" : "", name_.c_str(),
+                   p.running.c_str(), p.step.c_str());
+      std::fflush(stderr);
+      return;
+    }
     if (terminal_) {
       constexpr int kWidth = 30;
       const int filled = p.total > 0 ? p.done * kWidth / p.total : kWidth;
@@ -550,6 +557,27 @@ class ProgressReporter {
   int lastTenth_ = 0;
 };
 
+// Refuses a study whose peak memory (optimize::estimateStudyMemory) exceeds what is available,
+// before any mesh is made.
+void requireMemoryFor(const optimize::StudyOptions& options) {
+  const optimize::StudyMemoryEstimate estimate = optimize::estimateStudyMemory(options);
+  const double available = availableMemoryBytes();
+  if (available <= 0.0 || estimate.peakBytes <= available) return;
+  char text[512];
+  std::snprintf(
+      text, sizeof text,
+      "--n %d --levels %d: the study needs about %.3g GB of memory, more than the %.1f GB "
+      "available: its largest case, %s (%.3g vertices), about %.3g GB%s; give a smaller "
+      "--n or fewer --levels%s",
+      options.baseN, options.levels, estimate.peakBytes / 1e9, available / 1e9,
+      estimate.largestCase.c_str(), estimate.largestCaseVertices, estimate.largestCaseBytes / 1e9,
+      estimate.concurrent > 1
+          ? (", " + std::to_string(estimate.concurrent) + " cases at a time (--threads)").c_str()
+          : "",
+      estimate.concurrent > 1 ? ", or --threads 1" : "");
+  throw InputError(text);
+}
+
 }  // namespace
 
 bool isStudyFile(const std::string& name) {
@@ -563,6 +591,7 @@ bool isStudyFile(const std::string& name) {
 std::string runStudyInto(const optimize::StudyOptions& options, const std::string& dir,
                          const GlobalOptions& global, const std::string& commandName) {
   optimize::checkStudyOptions(options);  // bad options fail before the directory is made
+  requireMemoryFor(options);
   const std::filesystem::path out(dir);
   modeling::createOutputDirectory(out.string());
   ProgressReporter reporter(global, commandName);

@@ -3,7 +3,11 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <iterator>
+#include <sstream>
 #include <string>
 
 #include "modeling/cgal_surface_mesh.h"
@@ -11,36 +15,149 @@
 #include "modeling/mesh_check.h"
 
 namespace flexure::modeling {
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Halfedge = CgalSurfaceMesh::Halfedge_index;
+using Face = CgalSurfaceMesh::Face_index;
+using Vertex = CgalSurfaceMesh::Vertex_index;
+
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Vector3d point(const CgalSurfaceMesh& sm, Vertex v) {
+  const auto& p = sm.point(v);
+  return {p.x(), p.y(), p.z()};
+}
+
+// (x1 − x0) × (x2 − x0) of a triangle: its normal times twice its area.
+Eigen::Vector3d areaNormal(const CgalSurfaceMesh& sm, Face f) {
+  Eigen::Vector3d x[3];
+  int i = 0;
+  for (const Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) x[i++] = point(sm, v);
+  return (x[1] - x[0]).cross(x[2] - x[0]);
+}
+
+double longestSquaredEdge(const CgalSurfaceMesh& sm, Face f) {
+  double longest = 0.0;
+  for (const Halfedge h : CGAL::halfedges_around_face(sm.halfedge(f), sm))
+    longest = std::max(longest, (point(sm, sm.target(h)) - point(sm, sm.source(h))).squaredNorm());
+  return longest;
+}
+
+// Why the fill made of `faces` is not clean (hole_filling.h), or "" when it is. `inputVertices`:
+// vertices below it are the input's and are named by their index.
+std::string uncleanFill(const CgalSurfaceMesh& sm, const std::vector<Face>& faces,
+                        int inputVertices) {
+  const auto name = [&](Vertex v) {
+    return static_cast<int>(v) < inputVertices ? std::to_string(static_cast<int>(v))
+                                               : std::string("new");
+  };
+  const double foldCosine = std::cos(kCleanFillFoldDegrees * kPi / 180.0);
+  for (const Face f : faces) {
+    const Eigen::Vector3d n = areaNormal(sm, f);
+    if (!(n.norm() > kCleanFillFlatness * longestSquaredEdge(sm, f))) {
+      std::ostringstream s;
+      s << "CGAL's fill has a face of zero area (vertices";
+      const char* separator = " ";
+      for (const Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+        s << separator << name(v);
+        separator = ", ";
+      }
+      s << ")";
+      return s.str();
+    }
+    for (const Halfedge h : CGAL::halfedges_around_face(sm.halfedge(f), sm)) {
+      const Face g = sm.face(sm.opposite(h));
+      if (g == CgalSurfaceMesh::null_face()) continue;
+      const Eigen::Vector3d m = areaNormal(sm, g);
+      const double cosine = n.dot(m) / (n.norm() * m.norm());
+      if (cosine < foldCosine) {
+        std::ostringstream s;
+        s << "CGAL's fill folds over at edge (" << name(sm.source(h)) << ", " << name(sm.target(h))
+          << "): the faces on its two sides turn by "
+          << std::lround(std::acos(std::max(-1.0, cosine)) * 180.0 / kPi) << "° (more than "
+          << kCleanFillFoldDegrees << "°)";
+        return s.str();
+      }
+    }
+  }
+  return "";
+}
+
+int smallestVertex(const CgalSurfaceMesh& sm, Halfedge loop) {
+  int smallest = static_cast<int>(sm.target(loop));
+  for (const Halfedge h : CGAL::halfedges_around_face(loop, sm))
+    smallest = std::min(smallest, static_cast<int>(sm.target(h)));
+  return smallest;
+}
+
+int loopLength(const CgalSurfaceMesh& sm, Halfedge loop) {
+  int edges = 0;
+  for (const Halfedge h : CGAL::halfedges_around_face(loop, sm)) {
+    (void)h;
+    ++edges;
+  }
+  return edges;
+}
+
+// Fills the loop at `loop`: the new faces and vertices, and why the fill is not clean ("" when
+// it is).
+struct LoopFill {
+  std::vector<Face> faces;
+  std::vector<Vertex> vertices;
+  std::string problem;
+};
+
+LoopFill fillLoop(CgalSurfaceMesh& sm, Halfedge loop, int inputVertices) {
+  LoopFill fill;
+  PMP::triangulate_and_refine_hole(sm, loop, std::back_inserter(fill.faces),
+                                   std::back_inserter(fill.vertices));
+  fill.problem = fill.faces.empty() ? std::string("CGAL could not triangulate it")
+                                    : uncleanFill(sm, fill.faces, inputVertices);
+  return fill;
+}
+
+}  // namespace
 
 FilledMesh fillHoles(const Mesh& mesh, int maxBoundaryEdges) {
-  namespace PMP = CGAL::Polygon_mesh_processing;
-  using Halfedge = CgalSurfaceMesh::Halfedge_index;
   CgalSurfaceMesh sm = toCgalSurfaceMesh(mesh, "fillHoles");
-
   std::vector<Halfedge> loops;  // one border halfedge per boundary cycle
   PMP::extract_boundary_cycles(sm, std::back_inserter(loops));
+
+  // First every chosen loop is filled on a copy to see which fills are clean (the loops are
+  // disjoint and a fill reads only its own loop, so a fill does not depend on the others); then
+  // the clean ones are filled on the mesh itself. Surface_mesh keeps element indices on copy and
+  // only appends, so the loops' halfedges name the same loops in both.
   FilledMesh filled;
-  for (std::size_t i = 0; i < loops.size(); ++i) {
+  std::vector<std::size_t> clean;
+  {
+    CgalSurfaceMesh trial = sm;
+    for (std::size_t i = 0; i < loops.size(); ++i) {
+      const int edges = loopLength(sm, loops[i]);
+      if (maxBoundaryEdges > 0 && edges > maxBoundaryEdges) {
+        ++filled.loopsLeft;
+        continue;
+      }
+      const LoopFill fill = fillLoop(trial, loops[i], mesh.vertexCount());
+      if (fill.problem.empty()) {
+        clean.push_back(i);
+      } else {
+        filled.skipped.push_back({edges, smallestVertex(sm, loops[i]), fill.problem});
+      }
+    }
+  }
+  for (const std::size_t i : clean) {
     FilledHole hole;
-    for (const Halfedge h : CGAL::halfedges_around_face(loops[i], sm)) {
-      (void)h;
-      ++hole.boundaryEdges;
+    hole.boundaryEdges = loopLength(sm, loops[i]);
+    hole.loopVertex = smallestVertex(sm, loops[i]);
+    const LoopFill fill = fillLoop(sm, loops[i], mesh.vertexCount());
+    if (!fill.problem.empty()) {
+      throw NumericalError("hole filling: the loop of " + std::to_string(hole.boundaryEdges) +
+                           " edges at vertex " + std::to_string(hole.loopVertex) +
+                           " filled cleanly alone but not among the others: " + fill.problem);
     }
-    if (maxBoundaryEdges > 0 && hole.boundaryEdges > maxBoundaryEdges) {
-      ++filled.loopsLeft;
-      continue;
-    }
-    std::vector<CgalSurfaceMesh::Face_index> faces;
-    std::vector<CgalSurfaceMesh::Vertex_index> vertices;
-    PMP::triangulate_and_refine_hole(sm, loops[i], std::back_inserter(faces),
-                                     std::back_inserter(vertices));
-    if (faces.empty()) {
-      throw NumericalError("hole filling: CGAL could not triangulate boundary loop " +
-                           std::to_string(i) + " (" + std::to_string(hole.boundaryEdges) +
-                           " edges)");
-    }
-    hole.newFaces = static_cast<int>(faces.size());
-    hole.newVertices = static_cast<int>(vertices.size());
+    hole.newFaces = static_cast<int>(fill.faces.size());
+    hole.newVertices = static_cast<int>(fill.vertices.size());
     filled.holes.push_back(hole);
   }
   filled.mesh = fromCgalSurfaceMesh(sm);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <exception>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -140,9 +142,11 @@ std::vector<StudyMesh> studyMeshes(const StudyOptions& options) {
   return meshes;
 }
 
-// Everything the study computes for one energy on one mesh.
+// Everything the study computes for one energy on one mesh. `step` (may be empty) is told each
+// solve before it runs, on meshes of at least kStepProgressVertices vertices.
 std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
-                                 const StudyMesh& studyMesh) {
+                                 const StudyMesh& studyMesh,
+                                 const std::function<void(const std::string&)>& step) {
   const EnergyVariant& variant = options.energies[energyIndex];
   const FlatPlateProblem problem(studyMesh.mesh, variant.bending);
   const double poisson = curvature::effectivePoisson(variant.bending);
@@ -164,9 +168,22 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
   base.freeVertices =
       static_cast<int>(std::count(problem.fixedVertex.begin(), problem.fixedVertex.end(), false));
 
+  const bool refinement = studyMesh.n && !options.solution.empty();
+  const bool nonlinear = studyMesh.level == 0 && options.amplitudes > 0;
+  const int solves =
+      static_cast<int>(options.quadratics.size()) * (nonlinear ? 2 : 1) + (refinement ? 1 : 0);
+  int solve = 0;
+  const auto announce = [&](const std::string& what) {
+    ++solve;
+    if (step && studyMesh.mesh.vertexCount() >= kStepProgressVertices) {
+      step("solve " + std::to_string(solve) + " of " + std::to_string(solves) + ": " + what + " (" +
+           std::to_string(studyMesh.mesh.vertexCount()) + " vertices)");
+    }
+  };
   std::vector<StudyRecord> records;
   for (const Quadratic& q : options.quadratics) {
     const PolynomialSurface p = q.surface();
+    announce("C1 and C2, " + p.spec());
     StudyRecord r = base;
     r.kind = RecordKind::Quadratic;
     r.data = p.spec();
@@ -178,8 +195,10 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     r.c2Error = c2Error(problem, p, variant.normals);
     records.push_back(std::move(r));
   }
-  if (studyMesh.level == 0 && options.amplitudes > 0) {
+  if (nonlinear) {
     for (const Quadratic& q : options.quadratics) {
+      announce("nonlinear C2, " + q.surface().spec() + " at " + std::to_string(options.amplitudes) +
+               " amplitudes");
       StudyRecord r = base;
       r.kind = RecordKind::NonlinearC2;
       r.data = q.surface().spec();
@@ -187,8 +206,9 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
       records.push_back(std::move(r));
     }
   }
-  if (studyMesh.n && !options.solution.empty()) {
+  if (refinement) {
     const PolynomialSurface u = PolynomialSurface::parse(options.solution);
+    announce("refinement, " + u.spec());
     StudyRecord r = base;
     r.kind = RecordKind::Refinement;
     r.data = u.spec();
@@ -536,6 +556,64 @@ void checkStudyOptions(const StudyOptions& o) {
   }
 }
 
+double studyBytesPerVertex(curvature::Discretization discretization) {
+  // Peak resident memory per vertex of one case (five quadratics' linearized solves), measured
+  // with /usr/bin/time -v on patch48 between n = 128 and 256 (16 641 and 66 049 vertices), one
+  // run each: midedge 9.9 kB (the ξ per edge: four times the unknowns), triavg and quadfit
+  // 5.7 kB, hinge and cotan 2.9 kB; rounded up.
+  switch (discretization) {
+    case curvature::Discretization::Midedge:
+      return 11e3;
+    case curvature::Discretization::TriangleAveraged:
+    case curvature::Discretization::QuadraticFit:
+      return 6.5e3;
+    case curvature::Discretization::Hinge:
+    case curvature::Discretization::Cotan:
+      return 3.5e3;
+  }
+  return 11e3;
+}
+
+StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {
+  checkStudyOptions(options);
+  struct Case {
+    double bytes, vertices;
+    std::string name;
+  };
+  std::vector<Case> cases;
+  for (const EnergyVariant& v : options.energies) {
+    const double perVertex = studyBytesPerVertex(v.bending.discretization);
+    const auto add = [&](double vertices, const std::string& mesh) {
+      cases.push_back(
+          {kStudyCaseBaseBytes + perVertex * vertices, vertices, v.label + " on " + mesh});
+    };
+    for (const modeling::MeshFamily family : options.families) {
+      const double delaunay = family == modeling::MeshFamily::Delaunay ? 1.25 : 1.0;
+      const int seeds =
+          family == modeling::MeshFamily::Delaunay ? static_cast<int>(options.seeds.size()) : 1;
+      for (int level = 0; level < options.levels; ++level) {
+        const double n = std::ldexp(static_cast<double>(options.baseN), level);
+        for (int s = 0; s < seeds; ++s) {
+          char name[96];
+          std::snprintf(name, sizeof name, "%s n=%.0f",
+                        std::string(modeling::meshFamilyName(family)).c_str(), n);
+          add(delaunay * (n + 1.0) * (n + 1.0), name);
+        }
+      }
+    }
+    for (const UserMesh& user : options.userMeshes) add(user.mesh.vertexCount(), user.name);
+  }
+  std::sort(cases.begin(), cases.end(),
+            [](const Case& a, const Case& b) { return a.bytes > b.bytes; });
+  StudyMemoryEstimate estimate;
+  estimate.concurrent = std::max(1, std::min(options.threads, static_cast<int>(cases.size())));
+  for (int k = 0; k < estimate.concurrent; ++k) estimate.peakBytes += cases[k].bytes;
+  estimate.largestCaseBytes = cases.front().bytes;
+  estimate.largestCaseVertices = cases.front().vertices;
+  estimate.largestCase = cases.front().name;
+  return estimate;
+}
+
 StudyResults runConvergenceStudy(const StudyOptions& options,
                                  const std::function<void(const StudyProgress&)>& progress) {
   checkStudyOptions(options);
@@ -558,8 +636,13 @@ StudyResults runConvergenceStudy(const StudyOptions& options,
   const auto worker = [&] {
     for (int c; !failed && (c = next++) < cases;) {
       try {
+        const auto step = [&](const std::string& what) {
+          if (!progress) return;
+          std::lock_guard<std::mutex> lock(progressMutex);
+          progress({done, cases, "", caseName(c), what});
+        };
         caseRecords[c] =
-            runCase(options, c / static_cast<int>(meshes.size()), meshes[c % meshes.size()]);
+            runCase(options, c / static_cast<int>(meshes.size()), meshes[c % meshes.size()], step);
       } catch (const InputError& e) {
         failures[c] = std::make_exception_ptr(InputError(caseName(c) + ": " + e.what()));
         failed = true;

@@ -2,9 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <sstream>
+#include <utility>
 
 #include "modeling/cgal_fair.h"
 #include "modeling/errors.h"
@@ -151,7 +155,120 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   solver.linearized = false;
   solver.start = Start::AsGiven;
   MinimizeResult result = minimize(terms, bc, c.rest.positions, restXi, solver);
-  return {std::move(result.positions), result.report, start};
+  // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
+  const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
+    const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
+    double squared = g.tail(g.size() - 3 * x.rows()).squaredNorm();
+    for (Eigen::Index v = 0; v < x.rows(); ++v)
+      if (patch.moves[static_cast<std::size_t>(v)]) squared += g.segment<3>(3 * v).squaredNorm();
+    return std::sqrt(squared);
+  };
+  FairingResult fairing{std::move(result.positions), result.report, start};
+  fairing.startGradientNorm = freeGradientNorm(bc.start, bc.xi);
+  fairing.finalGradientNorm = freeGradientNorm(fairing.positions, result.xi);
+  return fairing;
+}
+
+bool FairingChecks::gradientPassed() const {
+  return !gradientChecked || finalGradientNorm <= kFairingGradientReduction * startGradientNorm ||
+         finalGradientNorm <= kFairingGradientFloor;
+}
+
+std::string FairingChecks::failure() const {
+  std::ostringstream s;
+  s.precision(3);
+  const char* separator = "";
+  if (!gradientPassed()) {
+    s << "gradient check: |grad E| = " << finalGradientNorm << " at the result against "
+      << startGradientNorm << " at the start (a converged fairing has at most "
+      << kFairingGradientReduction << " times the start's)";
+    separator = "; ";
+  }
+  const auto face = [](const int(&v)[3]) {
+    return "(" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) +
+           ")";
+  };
+  if (!degenerateFaces.empty()) {
+    const DegenerateFace& f = degenerateFaces.front();
+    s << separator << "triangle check: " << degenerateFaces.size()
+      << (degenerateFaces.size() == 1 ? " face is" : " faces are") << " degenerate (2 area at most "
+      << kDegenerateFlatness << " times the longest edge squared), "
+      << "face " << face(f.vertices) << " at " << f.flatness;
+    separator = "; ";
+  }
+  if (!invertedFaces.empty()) {
+    const InvertedFace& f = invertedFaces.front();
+    s << separator << "triangle check: " << invertedFaces.size()
+      << (invertedFaces.size() == 1 ? " face is" : " faces are")
+      << " inverted (normal turned 90 degrees or more from the input's and from a neighbour's), "
+      << "face " << face(f.vertices) << " by " << f.inputTurnDegrees << " degrees ("
+      << f.neighbourTurnDegrees << " against a neighbour)";
+  }
+  return s.str();
+}
+
+FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions& positions,
+                           const FairingResult* solve) {
+  const CompiledPatch c = compilePatch(patch);
+  FairingChecks checks;
+  if (solve) {
+    checks.gradientChecked = true;
+    checks.startGradientNorm = solve->startGradientNorm;
+    checks.finalGradientNorm = solve->finalGradientNorm;
+  }
+  // (x1 − x0) × (x2 − x0) of the triangle (i, j, k) at positions x.
+  const auto areaNormal = [](const Positions& x, int i, int j, int k) {
+    const Eigen::Vector3d x0 = x.row(i), x1 = x.row(j), x2 = x.row(k);
+    return Eigen::Vector3d((x1 - x0).cross(x2 - x0));
+  };
+  const auto angleDegrees = [](const Eigen::Vector3d& m, const Eigen::Vector3d& n) {
+    return std::atan2(m.cross(n).norm(), m.dot(n)) * 180.0 / kPi;
+  };
+  const Positions& input = patch.mesh.positions;
+  // The faces at each face's edges: for face f, edge i (from corner i to i + 1) the face across.
+  std::vector<std::array<int, 3>> across(c.stencils.faceCount(), {-1, -1, -1});
+  {
+    std::map<std::pair<int, int>, std::pair<int, int>> halfedge;  // (from, to) → (face, edge)
+    for (int f = 0; f < c.stencils.faceCount(); ++f)
+      for (int i = 0; i < 3; ++i)
+        halfedge[{c.stencils.faces(f, i), c.stencils.faces(f, (i + 1) % 3)}] = {f, i};
+    for (const auto& [edge, at] : halfedge) {
+      const auto twin = halfedge.find({edge.second, edge.first});
+      if (twin != halfedge.end()) across[at.first][at.second] = twin->second.first;
+    }
+  }
+  for (int f : c.regionFaces) {
+    const auto t = c.stencils.faces.row(f);
+    const int named[3] = {patch.inputVertex[t(0)], patch.inputVertex[t(1)],
+                          patch.inputVertex[t(2)]};
+    const Eigen::Vector3d before = areaNormal(input, t(0), t(1), t(2));
+    const Eigen::Vector3d after = areaNormal(positions, t(0), t(1), t(2));
+    double longest = 0.0;
+    for (int i = 0; i < 3; ++i)
+      longest =
+          std::max(longest, (positions.row(t((i + 1) % 3)) - positions.row(t(i))).squaredNorm());
+    const double flatness = longest > 0.0 ? after.norm() / longest : 0.0;
+    if (!(flatness > kDegenerateFlatness)) {
+      checks.degenerateFaces.push_back({{named[0], named[1], named[2]}, flatness});
+      continue;  // its normal is meaningless
+    }
+    if (before.dot(after) > 0.0) continue;
+    double neighbourTurn = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const int g = across[f][i];
+      if (g < 0) continue;
+      const auto u = c.stencils.faces.row(g);
+      neighbourTurn =
+          std::max(neighbourTurn, angleDegrees(after, areaNormal(positions, u(0), u(1), u(2))));
+    }
+    if (neighbourTurn >= 90.0) {
+      checks.invertedFaces.push_back(
+          {{named[0], named[1], named[2]}, angleDegrees(before, after), neighbourTurn});
+    }
+  }
+  checks.inputMinAngleDegrees = triangleQuality(c, patch.mesh.positions).minAngleDegrees;
+  checks.resultMinAngleDegrees = triangleQuality(c, positions).minAngleDegrees;
+  return checks;
 }
 
 Positions fairCgal(const modeling::FairingPatch& patch) {

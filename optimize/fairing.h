@@ -56,6 +56,9 @@ struct FairingResult {
   Positions positions;  // the patch's vertices, #patch vertices by 3
   MinimizeReport report;
   FairingStart start;  // Biharmonic or Input: where the solve started
+  // |∇E| (2-norm over the free unknowns: the moving vertices' x, y, z and, for midedge, every ξ)
+  // of E = E_bend + E_membrane at the start and at the result.
+  double startGradientNorm = 0.0, finalGradientNorm = 0.0;
 };
 
 // flexure's fairing of `patch`. Throws InputError for a degenerate element of the input (named in
@@ -86,6 +89,55 @@ struct FairingMeasures {
   TriangleQuality quality;
   double maxDisplacement = 0.0;  // max |x_v − x_v(input)| over the patch
 };
+
+// A fairing result is called converged only when it passes these checks (besides the solver's own
+// stopping rule, which can stop at a stall: Ceres' parameter tolerance on a mesh with folded
+// triangles stopped with |∇E| larger than at the start):
+//  - gradient (flexure's fairing only): |∇E(result)| ≤ kFairingGradientReduction · |∇E(start)|,
+//    the 2-norms of FairingResult: the solve reached a stationary point (or |∇E(result)| ≤
+//    kFairingGradientFloor, the solver's default gradient tolerance: a start that was already
+//    stationary has nothing to reduce);
+//  - triangles (either method): no face touching a moving vertex is degenerate in the result
+//    (2A ≤ kDegenerateFlatness · (its longest edge)²: flattened onto a line or a point) or
+//    inverted: its normal n = (x1 − x0) × (x2 − x0) has turned over against the input's
+//    (n · n_input ≤ 0) and against a neighbouring face's in the result (n · n_g ≤ 0) — both, since
+//    a smooth result may turn a region far from the input (a filled hole's input is CGAL's flat
+//    patch; on a cone the faired fill turns its faces near the rim by more than 90°), and a crease
+//    of the input may sharpen past 90° without any triangle turning over.
+// The smallest angle of those faces is reported against the input's and not judged here.
+inline constexpr double kFairingGradientReduction = 1e-3;
+inline constexpr double kFairingGradientFloor = 1e-10;
+inline constexpr double kDegenerateFlatness = 1e-6;
+
+struct DegenerateFace {
+  int vertices[3];        // the face's vertices, in the mesh's numbering (patch.inputVertex)
+  double flatness = 0.0;  // 2A / (longest edge)² in the result
+};
+
+struct InvertedFace {
+  int vertices[3];
+  double inputTurnDegrees = 0.0;      // angle between its normal and the input's
+  double neighbourTurnDegrees = 0.0;  // largest angle between its normal and a neighbour's
+};
+
+struct FairingChecks {
+  bool gradientChecked = false;  // false for CGAL's fair, which has no energy to check
+  double startGradientNorm = 0.0, finalGradientNorm = 0.0;
+  std::vector<DegenerateFace> degenerateFaces;
+  std::vector<InvertedFace> invertedFaces;
+  double inputMinAngleDegrees = 0.0, resultMinAngleDegrees = 0.0;
+
+  bool gradientPassed() const;
+  bool trianglesPassed() const { return degenerateFaces.empty() && invertedFaces.empty(); }
+  bool passed() const { return gradientPassed() && trianglesPassed(); }
+  // The failed checks in words (with the threshold), "" when all passed.
+  std::string failure() const;
+};
+
+// The checks of `positions` (the patch's vertices) against the input patch; `solve` is flexure's
+// fairing result (nullptr for CGAL's fair: no gradient check).
+FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions& positions,
+                           const FairingResult* solve);
 
 // The measures of `positions` (the patch's vertices) against the input patch. The five energies
 // share `material`'s stiffness and, where the discretization takes one, its Poisson's ratio

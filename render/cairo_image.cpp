@@ -1,7 +1,9 @@
 #include "render/cairo_image.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <sstream>
 
 namespace flexure::render {
 
@@ -48,6 +50,65 @@ Image imageFromSurface(cairo_surface_t* surface) {
     }
   }
   return image;
+}
+
+double textWidth(cairo_t* cr, const std::string& text, double size) {
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, text.c_str(), &extents);
+  return extents.x_advance;
+}
+
+namespace {
+
+// `text` broken at spaces into lines at most `maxWidth` wide at font `size` (greedy; a word wider
+// than maxWidth makes a line of its own).
+std::vector<std::string> wrapWords(cairo_t* cr, const std::string& text, double size,
+                                   double maxWidth) {
+  std::vector<std::string> lines;
+  std::istringstream words(text);
+  std::string word, line;
+  while (words >> word) {
+    const std::string longer = line.empty() ? word : line + " " + word;
+    if (!line.empty() && textWidth(cr, longer, size) > maxWidth) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = longer;
+    }
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+TextLayout layOutText(cairo_t* cr, const std::string& text, double size, double maxWidth,
+                      double maxHeight) {
+  for (double s = size; s >= kSmallestTextSize; s -= 0.5) {
+    TextLayout layout{s, wrapWords(cr, text, s, maxWidth)};
+    bool fits = layout.height() <= maxHeight;
+    for (const std::string& line : layout.lines) fits = fits && textWidth(cr, line, s) <= maxWidth;
+    if (fits) return layout;
+  }
+  const double width = textWidth(cr, text, size);
+  return {std::min(size, size * maxWidth / width), {text}};
+}
+
+void showCentred(cairo_t* cr, const TextLayout& layout, double centreX, double centreY) {
+  cairo_set_font_size(cr, layout.size);
+  cairo_font_extents_t font;
+  cairo_font_extents(cr, &font);
+  const double lineHeight = kLineSpacing * layout.size;
+  // Baseline of the first line: the block of lines centred, each line's ink (ascent above the
+  // baseline, descent below) centred in its line height.
+  double baseline =
+      centreY - layout.height() / 2.0 + lineHeight / 2.0 + (font.ascent - font.descent) / 2.0;
+  for (const std::string& line : layout.lines) {
+    cairo_move_to(cr, centreX - textWidth(cr, line, layout.size) / 2.0, baseline);
+    cairo_show_text(cr, line.c_str());
+    baseline += lineHeight;
+  }
 }
 
 }  // namespace flexure::render

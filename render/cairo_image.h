@@ -6,6 +6,8 @@
 #include <cairo.h>
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "render/image.h"
 
@@ -22,5 +24,28 @@ CairoSurface surfaceFromImage(const Image& image);
 
 // The pixels of an RGB24 surface.
 Image imageFromSurface(cairo_surface_t* surface);
+
+// Text that fits a band: the font size and the lines, for the current font face of a context.
+inline constexpr double kSmallestTextSize = 7.0;  // the smallest a wrapped text is set
+inline constexpr double kLineSpacing = 1.25;      // line height / font size
+inline constexpr double kTextMargin = 4.0;        // kept free on each side of a text's band
+
+struct TextLayout {
+  double size = 0.0;
+  std::vector<std::string> lines;
+  double height() const { return static_cast<double>(lines.size()) * kLineSpacing * size; }
+};
+
+// The advance width of `text` at font `size`.
+double textWidth(cairo_t* cr, const std::string& text, double size);
+
+// How `text` is set in a band maxWidth × maxHeight: at the largest size from `size` down to
+// kSmallestTextSize (in steps of ½) at which its words, wrapped at spaces, fit the band; when
+// none does, on one line shrunk to the band's width.
+TextLayout layOutText(cairo_t* cr, const std::string& text, double size, double maxWidth,
+                      double maxHeight);
+
+// The lines of `layout` centred horizontally on `centreX`, the block vertically on `centreY`.
+void showCentred(cairo_t* cr, const TextLayout& layout, double centreX, double centreY);
 
 }  // namespace flexure::render

@@ -2,8 +2,11 @@
 
 #include <cairo.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "modeling/errors.h"
 #include "render/cairo_image.h"
@@ -13,16 +16,8 @@ namespace {
 
 constexpr const char* kFont = "DejaVu Sans";
 constexpr double kTitleSize = 17.0, kLabelSize = 15.0, kPanelTitleSize = 12.5;
-
-// `text` centred horizontally on `centreX`, baseline at `baseline`.
-void showCentred(cairo_t* cr, const std::string& text, double size, double centreX,
-                 double baseline) {
-  cairo_set_font_size(cr, size);
-  cairo_text_extents_t extents;
-  cairo_text_extents(cr, text.c_str(), &extents);
-  cairo_move_to(cr, centreX - extents.x_advance / 2.0, baseline);
-  cairo_show_text(cr, text.c_str());
-}
+constexpr double kTitleBandPadding = 6.0;  // above and below the title's lines
+constexpr double kMaxTitleLines = 4;       // then the title shrinks
 
 void checkGrid(const FigureGrid& grid) {
   const auto fail = [](const std::string& what) { throw InputError("figure grid: " + what); };
@@ -52,8 +47,20 @@ Image composeFigureGrid(const FigureGrid& grid) {
   const int columns = static_cast<int>(grid.panels.front().size());
   const int w = grid.panels.front().front().width, h = grid.panels.front().front().height;
   const int width = kGridRowLabelWidth + columns * (w + kGridGap);
+
+  // The texts are laid out first: the title's lines decide the height of its band.
+  CairoSurface measure(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1),
+                       &cairo_surface_destroy);
+  CairoContext measuring(cairo_create(measure.get()), &cairo_destroy);
+  cairo_select_font_face(measuring.get(), kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+  const TextLayout title =
+      layOutText(measuring.get(), grid.title, kTitleSize, width - 2.0 * kTextMargin,
+                 kMaxTitleLines * kLineSpacing * kTitleSize);
+  const int titleHeight = std::max(
+      kGridTitleHeight, static_cast<int>(std::ceil(title.height() + 2.0 * kTitleBandPadding)));
   const int height =
-      kGridTitleHeight + kGridColumnLabelHeight + rows * (kGridPanelTitleHeight + h + kGridGap);
+      titleHeight + kGridColumnLabelHeight + rows * (kGridPanelTitleHeight + h + kGridGap);
+
   CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height),
                        &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
@@ -67,7 +74,7 @@ Image composeFigureGrid(const FigureGrid& grid) {
 
   const auto panelLeft = [&](int c) { return kGridRowLabelWidth + c * (w + kGridGap); };
   const auto panelTop = [&](int r) {
-    return kGridTitleHeight + kGridColumnLabelHeight + r * (kGridPanelTitleHeight + h + kGridGap) +
+    return titleHeight + kGridColumnLabelHeight + r * (kGridPanelTitleHeight + h + kGridGap) +
            kGridPanelTitleHeight;
   };
   for (int r = 0; r < rows; ++r)
@@ -77,20 +84,27 @@ Image composeFigureGrid(const FigureGrid& grid) {
 
   cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
   cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-  showCentred(cr, grid.title, kTitleSize, width / 2.0, kGridTitleHeight - 12.0);
+  showCentred(cr, title, width / 2.0, titleHeight / 2.0);
   for (int c = 0; c < columns; ++c) {
-    showCentred(cr, grid.columnLabels[c], kLabelSize, panelLeft(c) + w / 2.0,
-                kGridTitleHeight + kGridColumnLabelHeight - 8.0);
+    showCentred(cr,
+                layOutText(cr, grid.columnLabels[c], kLabelSize, w - 2.0 * kTextMargin,
+                           kGridColumnLabelHeight - 2.0),
+                panelLeft(c) + w / 2.0, titleHeight + kGridColumnLabelHeight / 2.0);
   }
   for (int r = 0; r < rows; ++r) {
-    showCentred(cr, grid.rowLabels[r], kLabelSize, kGridRowLabelWidth / 2.0,
-                panelTop(r) + h / 2.0 + 0.35 * kLabelSize);
+    showCentred(
+        cr,
+        layOutText(cr, grid.rowLabels[r], kLabelSize, kGridRowLabelWidth - 2.0 * kTextMargin, h),
+        kGridRowLabelWidth / 2.0, panelTop(r) + h / 2.0);
   }
   cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   for (size_t r = 0; r < grid.panelTitles.size(); ++r) {
     for (int c = 0; c < columns; ++c) {
-      showCentred(cr, grid.panelTitles[r][c], kPanelTitleSize, panelLeft(c) + w / 2.0,
-                  panelTop(static_cast<int>(r)) - 7.0);
+      showCentred(cr,
+                  layOutText(cr, grid.panelTitles[r][c], kPanelTitleSize, w - 2.0 * kTextMargin,
+                             kGridPanelTitleHeight - 2.0),
+                  panelLeft(c) + w / 2.0,
+                  panelTop(static_cast<int>(r)) - kGridPanelTitleHeight / 2.0);
     }
   }
   return imageFromSurface(surface.get());

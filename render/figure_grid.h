@@ -1,15 +1,20 @@
 // A labelled grid of equally sized images (Cairo): a title on top, column labels above the
-// columns, row labels left of the rows, and a one-line title above every panel. PNG out through
+// columns, row labels left of the rows, and a title above every panel. PNG out through
 // encodePng / writePng (mesh_renderer.h), written atomically.
 //
-// Layout (pixels; w × h the panel size, R rows, C columns):
+// Layout (pixels; w × h the panel size, R rows, C columns, T the title band's height):
 //   width  = kGridRowLabelWidth + C · (w + kGridGap)
-//   height = kGridTitleHeight + kGridColumnLabelHeight + R · (kGridPanelTitleHeight + h + kGridGap)
+//   height = T + kGridColumnLabelHeight + R · (kGridPanelTitleHeight + h + kGridGap)
 // Panel (r, c) has its top-left corner at
 //   x = kGridRowLabelWidth + c · (w + kGridGap),
-//   y = kGridTitleHeight + kGridColumnLabelHeight + r · (kGridPanelTitleHeight + h + kGridGap)
+//   y = T + kGridColumnLabelHeight + r · (kGridPanelTitleHeight + h + kGridGap)
 //       + kGridPanelTitleHeight,
 // the panel title in the kGridPanelTitleHeight band above it. The background is white.
+//
+// Every text fits its band (the figure's width less a margin for the title, the panel's width for
+// column labels and panel titles, kGridRowLabelWidth for row labels): set at the largest size, from
+// its nominal size down to 7 pt, at which its words wrapped at spaces fit, else shrunk on one line.
+// T is kGridTitleHeight, or more when the title wraps (at most 4 lines; it shrinks beyond).
 #pragma once
 
 #include <string>

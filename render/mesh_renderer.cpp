@@ -508,10 +508,25 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   return image;
 }
 
+// A tick's label: fixed-point with as many decimals as the tick step needs (0.2 → "0.4"), or
+// %g for very small or large steps; a round-off zero prints as "0".
+std::string tickLabel(double value, double step) {
+  char label[32];
+  if (std::abs(value) < 1e-9 * step) value = 0.0;
+  if (step >= 1e-4 && step < 1e5) {
+    const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+    std::snprintf(label, sizeof label, "%.*f", decimals, value);
+  } else {
+    std::snprintf(label, sizeof label, "%.3g", value);
+  }
+  return label;
+}
+
 // The mesh image on the left, and on the right a vertical colour bar of `map` from `minimum`
-// (bottom) to `maximum` (top) with five labelled ticks and `title` above it.
+// (bottom) to `maximum` (top) with ticks at legendTicks, and above it `title` and `range` (how
+// the range was chosen), each fitted to the legend's width.
 Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum, double maximum,
-                 const ColourMap& map, const std::string& title) {
+                 const ColourMap& map, const std::string& title, const std::string& range) {
   CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, o.width, o.height),
                        &cairo_surface_destroy);
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
@@ -538,19 +553,31 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
   cairo_stroke(cr.get());
   cairo_select_font_face(cr.get(), kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   const double textSize = std::clamp(0.022 * o.height, 10.0, 15.0);
-  cairo_set_font_size(cr.get(), textSize);
-  for (int k = 0; k <= 4; ++k) {
-    const double y = barBottom - k / 4.0 * (barBottom - barTop);
+  const std::vector<double> ticks = legendTicks(minimum, maximum);
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : maximum - minimum;
+  const double labelLeft = barLeft + barWidth + 8.0;
+  const double labelWidth = o.width - kTextMargin - labelLeft;
+  for (const double tick : ticks) {
+    const double y = barBottom - (tick - minimum) / (maximum - minimum) * (barBottom - barTop);
     cairo_move_to(cr.get(), barLeft + barWidth, std::round(y) + 0.5);
     cairo_rel_line_to(cr.get(), 5.0, 0.0);
     cairo_stroke(cr.get());
-    char label[32];
-    std::snprintf(label, sizeof label, "%.3g", minimum + k / 4.0 * (maximum - minimum));
-    cairo_move_to(cr.get(), barLeft + barWidth + 8.0, y + 0.35 * textSize);
-    cairo_show_text(cr.get(), label);
+    const std::string label = tickLabel(tick, step);
+    const double size =
+        std::min(textSize, textSize * labelWidth / textWidth(cr.get(), label, textSize));
+    cairo_set_font_size(cr.get(), size);
+    cairo_move_to(cr.get(), labelLeft, y + 0.35 * size);
+    cairo_show_text(cr.get(), label.c_str());
   }
-  cairo_move_to(cr.get(), barLeft - 4.0, barTop - 0.9 * textSize);
-  cairo_show_text(cr.get(), title.c_str());
+  // The title and the range line in the band above the bar, centred on the legend strip.
+  const double legendLeft = meshImage.width, legendWidth = o.width - meshImage.width;
+  const double bandHeight = (barTop - 0.5 * textSize) / 2.0;
+  const TextLayout titleText =
+      layOutText(cr.get(), title, textSize, legendWidth - 2.0 * kTextMargin, bandHeight);
+  const TextLayout rangeText =
+      layOutText(cr.get(), range, textSize, legendWidth - 2.0 * kTextMargin, bandHeight);
+  showCentred(cr.get(), titleText, legendLeft + legendWidth / 2.0, bandHeight / 2.0);
+  showCentred(cr.get(), rangeText, legendLeft + legendWidth / 2.0, 1.5 * bandHeight);
   return imageFromSurface(surface.get());
 }
 
@@ -611,6 +638,53 @@ std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
   return errors;
 }
 
+std::vector<double> legendTicks(double minimum, double maximum) {
+  const double span = maximum - minimum;
+  if (!(span > 0.0) || !std::isfinite(span)) return {minimum};
+  // The largest step 1, 2 or 5 × 10^k with at least kMinimumTicks multiples in the range.
+  constexpr int kMinimumTicks = 4;
+  double decade = std::pow(10.0, std::ceil(std::log10(span)));
+  for (;; decade /= 10.0) {
+    for (const double mantissa : {5.0, 2.0, 1.0}) {
+      const double step = mantissa * decade;
+      const double first = std::ceil(minimum / step - 1e-9),
+                   last = std::floor(maximum / step + 1e-9);
+      if (last - first + 1.0 >= kMinimumTicks) {
+        std::vector<double> ticks;
+        for (double k = first; k <= last; k += 1.0) ticks.push_back(k * step);
+        return ticks;
+      }
+    }
+  }
+}
+
+double curvatureRange(const std::vector<double>& values) {
+  if (values.empty()) return 1e-12;
+  std::vector<double> magnitudes(values.size());
+  std::transform(values.begin(), values.end(), magnitudes.begin(),
+                 [](double v) { return std::abs(v); });
+  // Nearest rank: the smallest |H| with at least kCurvatureRangePercentile % of the values at or
+  // below it.
+  const auto rank = static_cast<std::size_t>(
+      std::ceil(kCurvatureRangePercentile / 100.0 * static_cast<double>(magnitudes.size())));
+  const std::size_t index = std::clamp<std::size_t>(rank, 1, magnitudes.size()) - 1;
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + static_cast<std::ptrdiff_t>(index),
+                   magnitudes.end());
+  const double percentile = magnitudes[index];
+  if (percentile > 0.0) return percentile;
+  return std::max(*std::max_element(magnitudes.begin(), magnitudes.end()), 1e-12);
+}
+
+std::string curvatureRangeRule(const std::vector<double>& values) {
+  const double range = curvatureRange(values);
+  bool anyAbove = false;
+  for (const double v : values) anyAbove = anyAbove || std::abs(v) > range;
+  if (!anyAbove) return "largest";
+  char rule[32];
+  std::snprintf(rule, sizeof rule, "%gth percentile", kCurvatureRangePercentile);
+  return rule;
+}
+
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options) {
   return renderMesh(context, mesh, options, nullptr);
@@ -631,16 +705,17 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
       throw InputError("render: " + std::to_string(values.size()) + " curvature values for " +
                        std::to_string(mesh.vertexCount()) + " vertices");
     }
-    double largest = 0.0;
-    for (double value : values) {
+    for (double value : values)
       if (!std::isfinite(value)) throw InputError("render: a curvature value is not finite");
-      largest = std::max(largest, std::abs(value));
-    }
-    // Symmetric about 0, so that white is 0; an all-zero field still needs a non-empty range.
-    const double bound = options.curvatureMax ? *options.curvatureMax : std::max(largest, 1e-12);
+    // Symmetric about 0, so that white is 0.
+    const double bound = options.curvatureMax ? *options.curvatureMax : curvatureRange(values);
+    char range[96];
+    std::snprintf(range, sizeof range, "|%s| ≤ %.3g (%s)", options.scalarSymbol.c_str(), bound,
+                  options.curvatureMax ? "given" : curvatureRangeRule(values).c_str());
     const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, values,
                                       -bound, bound, divergingColourMap(), timings);
-    return withLegend(meshImage, options, -bound, bound, divergingColourMap(), options.scalarLabel);
+    return withLegend(meshImage, options, -bound, bound, divergingColourMap(), options.scalarLabel,
+                      range);
   }
   const std::vector<double> errors = vertexSurfaceErrors(mesh, options.surface);
   const double largest = *std::max_element(errors.begin(), errors.end());
@@ -648,7 +723,11 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
   const double maximum = options.errorMax ? *options.errorMax : std::max(largest, 1e-12);
   const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, errors, 0.0,
                                     maximum, sequentialColourMap(), timings);
-  return withLegend(meshImage, options, 0.0, maximum, sequentialColourMap(), "|z − p(x, y)|");
+  char range[64];
+  std::snprintf(range, sizeof range, "0 to %.3g (%s)", maximum,
+                options.errorMax ? "given" : "largest");
+  return withLegend(meshImage, options, 0.0, maximum, sequentialColourMap(), "|z − p(x, y)|",
+                    range);
 }
 
 Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options) {

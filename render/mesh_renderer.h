@@ -77,12 +77,26 @@ struct RenderOptions {
   modeling::Positions framingPoints;
   // The `curvature` style: a signed value per vertex (#V; the renderer does not compute it, so
   // render/ stays independent of curvature/), interpolated across faces on a diverging colour map
-  // (blue negative, white 0, red positive) over [−m, m], m = max |value| or `curvatureMax`, with
-  // a legend titled `scalarLabel`.
+  // (blue negative, white 0, red positive) over [−m, m], m = curvatureRange(values) or
+  // `curvatureMax` (values beyond take the end colours), with a legend titled `scalarLabel` and
+  // the range "|symbol| ≤ m (98th percentile)" (or "largest", "given").
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
-  std::string scalarLabel = "H";
+  std::string scalarLabel = "H", scalarSymbol = "H";
 };
+
+// Legend ticks over [minimum, maximum]: the multiples in the range of the largest step 1, 2 or
+// 5 × 10^k that gives at least four ([-0.75, 0.75] → -0.6, -0.4, …, 0.6).
+std::vector<double> legendTicks(double minimum, double maximum);
+
+// The default colour range m of a curvature map: the kCurvatureRangePercentile-th percentile of
+// |value| (nearest rank), so that a few extreme vertices (a scan's spikes, the tip of a cone) do
+// not wash the map out; the largest |value| when that percentile is 0; 1e-12 for an all-zero
+// field. curvatureRangeRule says which in words: "98th percentile", or "largest" when no value
+// exceeds m.
+inline constexpr double kCurvatureRangePercentile = 98.0;
+double curvatureRange(const std::vector<double>& values);
+std::string curvatureRangeRule(const std::vector<double>& values);
 
 // Width in pixels of the legend strip on the right of `error` and `curvature` renders (the mesh is
 // framed in the remaining width).

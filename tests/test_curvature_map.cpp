@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "curvature/mean_curvature_field.h"
 #include "modeling/errors.h"
@@ -90,6 +92,73 @@ TEST(CurvatureMap, RenderUsesADivergingMapSymmetricAboutZero) {
   EXPECT_GT(redness(saddle, 128, 226), 50);
   EXPECT_LT(redness(saddle, 30, 128), -50);
   EXPECT_LT(redness(saddle, 226, 128), -50);
+}
+
+// Pixels on the image's border that differ from the (white) background.
+int inkOnBorder(const render::Image& image) {
+  int count = 0;
+  const auto ink = [&](int x, int y) {
+    const auto p = image.pixel(x, y);
+    return p[0] != 255 || p[1] != 255 || p[2] != 255;
+  };
+  for (int x = 0; x < image.width; ++x) count += ink(x, 0) + ink(x, image.height - 1);
+  for (int y = 0; y < image.height; ++y) count += ink(0, y) + ink(image.width - 1, y);
+  return count;
+}
+
+// `flexure render bowl.obj --style curvature` (README's bowl) at the default size and at a small
+// one: the legend's title and range line fit in the image (no ink on its border; the title used to
+// run off the right edge).
+TEST(CurvatureMap, LegendTextStaysInsideTheImage) {
+  render::OffscreenContext context;
+  const modeling::Mesh bowl = heightField(32, "quadratic:1,0,0.5");
+  for (const int size : {1024, 200}) {
+    render::RenderOptions options;
+    options.style = render::RenderStyle::Curvature;
+    options.width = size + render::kLegendWidth;
+    options.height = size;
+    options.scalarLabel = "mean curvature H";
+    options.vertexScalars = curvature::cotanVertexMeanCurvature(bowl);
+    EXPECT_EQ(inkOnBorder(render::renderMesh(context, bowl, options)), 0) << "size " << size;
+  }
+}
+
+// Round ticks: multiples of a 1-2-5 step, at least four, inside the range.
+TEST(CurvatureMap, LegendTicksAreRoundValues) {
+  const std::vector<double> symmetric = render::legendTicks(-0.75, 0.75);
+  ASSERT_EQ(symmetric.size(), 7u);  // step 0.2: -0.6 … 0.6
+  for (std::size_t k = 0; k < symmetric.size(); ++k)
+    EXPECT_NEAR(symmetric[k], -0.6 + 0.2 * static_cast<double>(k), 1e-12);
+  const std::vector<double> error = render::legendTicks(0.0, 3.7e-4);
+  ASSERT_EQ(error.size(), 4u);  // step 1e-4: 0 … 3e-4
+  EXPECT_NEAR(error.back(), 3e-4, 1e-18);
+  for (const auto& [lo, hi] :
+       {std::pair{-267.0, 267.0}, std::pair{0.0, 1.0}, std::pair{-3.2, 3.2}}) {
+    const std::vector<double> t = render::legendTicks(lo, hi);
+    ASSERT_GE(t.size(), 4u);
+    const double step = t[1] - t[0];
+    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
+    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-9 || std::abs(mantissa - 2) < 1e-9 ||
+                std::abs(mantissa - 5) < 1e-9)
+        << "step " << step;
+    EXPECT_GE(t.front(), lo);
+    EXPECT_LE(t.back(), hi);
+  }
+}
+
+// A few spikes (bunny00.off's largest |H| is 267, its 98th percentile 67.9) do not set the range:
+// the default is the 98th percentile of |H|; without outliers it is the largest value.
+TEST(CurvatureMap, DefaultRangeIsARobustPercentile) {
+  std::vector<double> h(1000);
+  for (int v = 0; v < 1000; ++v) h[v] = (v % 2 ? 1.0 : -1.0) * (v % 100) / 100.0;  // |H| < 1
+  h[17] = 267.0;
+  h[18] = -150.0;
+  EXPECT_NEAR(render::curvatureRange(h), 0.98, 1e-12);  // 98 % of the values are ≤ 0.98
+  EXPECT_EQ(render::curvatureRangeRule(h), "98th percentile");
+  const std::vector<double> smooth = {0.1, -0.3, 0.75};
+  EXPECT_EQ(render::curvatureRange(smooth), 0.75);
+  EXPECT_EQ(render::curvatureRangeRule(smooth), "largest");
+  EXPECT_EQ(render::curvatureRange(std::vector<double>(10, 0.0)), 1e-12);
 }
 
 TEST(CurvatureMap, TheRendererNeedsAValuePerVertex) {

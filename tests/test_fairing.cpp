@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -142,6 +143,22 @@ TEST(HoleFilling, LeavesAManifoldMeshWithoutHoles) {
   EXPECT_EQ(modeling::countVertices(filled.newVertex), newVertices);
 }
 
+// Loops whose CGAL fill is not clean stay open with the reason; the others are filled.
+// mask_cone.off: the fill of its 90-edge loop folds a face onto its neighbour; its 34-edge loop
+// fills cleanly.
+TEST(HoleFilling, LoopsWithoutACleanFillAreSkipped) {
+  const Mesh mask = cgalMesh("mask_cone.off");
+  const modeling::FilledMesh filled = modeling::fillHoles(mask);
+  ASSERT_EQ(filled.holes.size(), 1u);
+  EXPECT_EQ(filled.holes[0].boundaryEdges, 34);
+  ASSERT_EQ(filled.skipped.size(), 1u);
+  EXPECT_EQ(filled.skipped[0].boundaryEdges, 90);
+  EXPECT_EQ(filled.skipped[0].loopVertex, 299);
+  EXPECT_THAT(filled.skipped[0].reason, ::testing::HasSubstr("folds over"));
+  EXPECT_TRUE(modeling::checkMesh(filled.mesh).valid());
+  EXPECT_EQ(modeling::boundaryLoops(modeling::compileStencils(filled.mesh)).size(), 1u);
+}
+
 TEST(HoleFilling, LongLoopsCanBeLeftOpen) {
   const Mesh holes = cgalMesh("holes.off");  // loops of 136, 36, 32, 28, 28, 28, 16 edges
   const modeling::FilledMesh filled = modeling::fillHoles(holes, 30);
@@ -177,6 +194,59 @@ TEST(Fairing, LionRegionBeatsInputAndCgalFair) {
   EXPECT_LT(energyOf(linear, "midedge"), energyOf(input, "midedge"));
   EXPECT_GT(faired.maxDisplacement, 0.0);
   EXPECT_GT(faired.quality.minAngleDegrees, 1.0);
+}
+
+// The checks a result passes before it is called converged (optimize/fairing.h): the input itself
+// passes; a face reflected across one of its edges is inverted; one moved onto a
+// neighbour makes them degenerate; a gradient above 1e-3 of the start's fails.
+TEST(FairingChecks, CatchInvertedAndDegenerateFacesAndALargeGradient) {
+  const Mesh lion = cgalMesh("lion-head.off");
+  const modeling::Stencils s = modeling::compileStencils(lion);
+  const FairingPatch patch = modeling::extractFairingPatch(lion, s, lionRegion(lion));
+  const optimize::FairingChecks unchanged =
+      optimize::checkFairing(patch, patch.mesh.positions, nullptr);
+  EXPECT_TRUE(unchanged.passed()) << unchanged.failure();
+  EXPECT_EQ(unchanged.failure(), "");
+  EXPECT_FALSE(unchanged.gradientChecked);
+  EXPECT_EQ(unchanged.inputMinAngleDegrees, unchanged.resultMinAngleDegrees);
+  EXPECT_GT(unchanged.inputMinAngleDegrees, 1.0);
+
+  // A moving vertex v of a face (v, a, b), and that face reflected through the midpoint of ab:
+  // v moves to a + b − v, the face turns over onto the far side of ab.
+  int moving = -1, neighbour = -1, other = -1;
+  for (int f = 0; f < patch.mesh.faceCount() && moving < 0; ++f) {
+    const auto t = patch.mesh.triangles.row(f);
+    if (patch.moves[t(0)]) moving = t(0), neighbour = t(1), other = t(2);
+  }
+  ASSERT_GE(moving, 0);
+  Positions pushed = patch.mesh.positions;
+  pushed.row(moving) = pushed.row(neighbour) + pushed.row(other) - pushed.row(moving);
+  const optimize::FairingChecks inverted = optimize::checkFairing(patch, pushed, nullptr);
+  EXPECT_FALSE(inverted.trianglesPassed());
+  ASSERT_FALSE(inverted.invertedFaces.empty());
+  EXPECT_THAT(inverted.invertedFaces.front().vertices,
+              ::testing::Contains(patch.inputVertex[moving]));
+  EXPECT_GE(inverted.invertedFaces.front().inputTurnDegrees, 90.0);
+  EXPECT_THAT(inverted.failure(), ::testing::HasSubstr("inverted"));
+
+  Positions merged = patch.mesh.positions;
+  merged.row(moving) = merged.row(neighbour);
+  const optimize::FairingChecks degenerate = optimize::checkFairing(patch, merged, nullptr);
+  ASSERT_FALSE(degenerate.degenerateFaces.empty());
+  EXPECT_EQ(degenerate.degenerateFaces.front().flatness, 0.0);
+  EXPECT_THAT(degenerate.failure(), ::testing::HasSubstr("degenerate"));
+
+  optimize::FairingResult solve;
+  solve.startGradientNorm = 1749.0;
+  solve.finalGradientNorm = 1749.0;  // elephant-with-holes' Ceres stall, as the issue found it
+  const optimize::FairingChecks stalled =
+      optimize::checkFairing(patch, patch.mesh.positions, &solve);
+  EXPECT_TRUE(stalled.gradientChecked);
+  EXPECT_FALSE(stalled.gradientPassed());
+  EXPECT_TRUE(stalled.trianglesPassed());
+  EXPECT_THAT(stalled.failure(), ::testing::HasSubstr("gradient check"));
+  solve.finalGradientNorm = 1e-3 * 1749.0;  // at the threshold: passes
+  EXPECT_TRUE(optimize::checkFairing(patch, patch.mesh.positions, &solve).passed());
 }
 
 // flexure's linear fair (the default start) is CGAL's fair: the same bi-Laplacian system.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 
 #include "modeling/errors.h"
 #include "modeling/generators.h"
@@ -93,6 +94,46 @@ TEST(FigureGrid, EveryRenderedPanelIsInPlaceAndLabelsAreDrawn) {
   EXPECT_GT(inkIn(figure, 0, 0, figure.width, render::kGridTitleHeight), 10) << "no title";
   // The gaps stay white.
   EXPECT_EQ(inkIn(figure, render::kGridRowLabelWidth + 96, top, render::kGridGap, 96), 0);
+}
+
+// Pixels on the image's border that are not white.
+int inkOnBorder(const Image& image) {
+  return inkIn(image, 0, 0, image.width, 1) + inkIn(image, 0, image.height - 1, image.width, 1) +
+         inkIn(image, 0, 0, 1, image.height) + inkIn(image, image.width - 1, 0, 1, image.height);
+}
+
+// `flexure compare`'s texts at the smallest and the largest panel size it allows (64 and 4096
+// pixels): every text stays inside the image and inside its panel's column (the gaps between
+// columns stay white above the panels), and the title is still drawn.
+TEST(FigureGrid, TextFitsAtTheSmallestAndLargestPanelSizes) {
+  for (const auto& [size, columns] : {std::pair{64, 5}, std::pair{4096, 1}}) {
+    render::FigureGrid g = grid(3, columns, filled(size, size, 40));
+    g.title =
+        "Linearized minimizers, boundary quadratic:0.3,-0.7,0.5, n = 16, reflection lines; "
+        "C2 error = max |z - p| / max |p| over the free vertices";
+    g.rowLabels = {"patch48", "stripe", "delaunay-with-a-long-name"};
+    for (int c = 0; c < columns; ++c) {
+      g.columnLabels[c] = "cotan:barycentric";
+      for (int r = 0; r < 3; ++r) g.panelTitles[r][c] = "C2 1.23e-02 (not converged)";
+    }
+    const Image figure = render::composeFigureGrid(g);
+    EXPECT_EQ(inkOnBorder(figure), 0) << "panel size " << size;
+    const int firstPanelTop = figure.height - 3 * (size + render::kGridGap) -
+                              2 * render::kGridPanelTitleHeight;  // below the title's band
+    EXPECT_GT(inkIn(figure, 0, 0, figure.width,
+                    firstPanelTop - render::kGridPanelTitleHeight - render::kGridColumnLabelHeight),
+              10)
+        << "no title at panel size " << size;
+    for (int c = 0; c < columns; ++c) {
+      const int gapLeft = render::kGridRowLabelWidth + c * (size + render::kGridGap) + size;
+      EXPECT_EQ(
+          inkIn(figure, gapLeft,
+                0 + firstPanelTop - render::kGridPanelTitleHeight - render::kGridColumnLabelHeight,
+                render::kGridGap, render::kGridColumnLabelHeight + render::kGridPanelTitleHeight),
+          0)
+          << "a label spills out of column " << c << " at panel size " << size;
+    }
+  }
 }
 
 TEST(FigureGrid, MalformedGridsAreInputErrors) {
