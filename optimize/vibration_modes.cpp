@@ -335,16 +335,16 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
       std::pow(result.length, 2) * std::sqrt(o.density / result.flexuralRigidity);
   const double zeroOmegaSquared = std::pow(kZeroModeLambda / lambdaScale, 2);
   const int m = result.massUnknowns;
-  // The smallest `wanted` eigenpairs, ascending.
+  // The smallest `pairs` eigenpairs.
   Eigen::VectorXd values;
   Eigen::MatrixXd vectors;
-  auto lanczos = [&](int wanted) {
-    const int ncv = std::min(m, std::max(2 * wanted + 1, wanted + 20));
-    Spectra::SymEigsShiftSolver<ShiftInvertOperator> eigs(op, wanted, ncv, result.shift);
+  auto lanczos = [&](int pairs) {
+    const int ncv = std::min(m, std::max(2 * pairs + 1, pairs + 20));
+    Spectra::SymEigsShiftSolver<ShiftInvertOperator> eigs(op, pairs, ncv, result.shift);
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
     if (eigs.info() != Spectra::CompInfo::Successful) {
-      throw NumericalError("the Lanczos iteration did not converge to " + std::to_string(wanted) +
+      throw NumericalError("the Lanczos iteration did not converge to " + std::to_string(pairs) +
                            " eigenpairs in 1000 restarts");
     }
     result.restarts += static_cast<int>(eigs.num_iterations());
