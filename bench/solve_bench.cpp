@@ -172,6 +172,18 @@ json runFloor(const Problem& p, const modeling::PolynomialSurface& surface) {
            optimize::reproductionError(p.rest.positions, result, p.fixed, surface)}};
 }
 
+// A bending energy on the problem's rest state, with its rest ξ̄ (midedge; else empty).
+struct BendingTerm {
+  std::unique_ptr<curvature::EnergyTerm> term;
+  Eigen::VectorXd restXi;
+};
+BendingTerm makeBendingTerm(const Problem& p, const curvature::BendingOptions& bending) {
+  BendingTerm b{curvature::makeBendingEnergy(p.stencils, p.rest, bending), {}};
+  if (b.term->usesEdgeUnknowns())
+    b.restXi = curvature::midedgeRestXi(p.stencils, p.rest, bending.restCurvature);
+  return b;
+}
+
 json runCgalFair(const Problem& p, const modeling::PolynomialSurface& surface) {
   modeling::Mesh lifted = p.mesh;
   lifted.positions = optimize::boundaryFromSurface(p.rest.positions, p.fixed, surface);
@@ -196,11 +208,8 @@ json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, con
   options.progress = false;
 
   const auto start = Clock::now();
-  const std::unique_ptr<curvature::EnergyTerm> term =
-      curvature::makeBendingEnergy(p.stencils, p.rest, bending);
-  const Eigen::VectorXd restXi =
-      term->usesEdgeUnknowns() ? curvature::midedgeRestXi(p.stencils, p.rest, bending.restCurvature)
-                               : Eigen::VectorXd();
+  const BendingTerm bendingTerm = makeBendingTerm(p, bending);
+  const auto& [term, restXi] = bendingTerm;
   const optimize::BoundaryConditions bc =
       optimize::surfaceBoundary(p.stencils, p.rest.positions, restXi, p.fixed, surface,
                                 optimize::BoundaryNormals::Clamped, options.linearized);
@@ -237,11 +246,8 @@ json runVibration(const Problem& p, const Case& c) {
   curvature::BendingOptions bending;
   bending.discretization = curvature::parseDiscretization(c.energy);
   const auto start = Clock::now();
-  const std::unique_ptr<curvature::EnergyTerm> term =
-      curvature::makeBendingEnergy(p.stencils, p.rest, bending);
-  const Eigen::VectorXd restXi =
-      term->usesEdgeUnknowns() ? curvature::midedgeRestXi(p.stencils, p.rest, bending.restCurvature)
-                               : Eigen::VectorXd();
+  const BendingTerm bendingTerm = makeBendingTerm(p, bending);
+  const auto& [term, restXi] = bendingTerm;
   const double setup = secondsSince(start);
   optimize::ModesOptions options;
   options.count = kVibrationModes;

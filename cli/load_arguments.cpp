@@ -27,7 +27,7 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
     ok = ok && !item.empty() && *end == '\0' && std::isfinite(value);
     values.push_back(value);
   }
-  if (!ok || values.size() != count)
+  if (!ok || values.size() != count || text.empty() || text.back() == ',')
     throw InputError(option + " " + text + ": expected " + std::to_string(count) +
                      " comma-separated numbers");
   return values;

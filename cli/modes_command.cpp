@@ -3,6 +3,7 @@
 // nodal lines), a JSON report and, for the square plate, the errors against exact or tabulated
 // frequencies.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -234,7 +235,11 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
           "λ" + std::to_string(index) + " = " + lambdaText(mode.lambda) +
           (mode.multiplicity > 1 ? " (×" + std::to_string(mode.multiplicity) + ")" : ""));
       if (o.writeShapes) {
-        const std::string name = "mode-" + run.spec + "-" + std::to_string(index) + ".obj";
+        // The spec as a file-name part: "hinge:tan" → "hinge_tan".
+        std::string stem = run.spec;
+        for (char& ch : stem)
+          if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+        const std::string name = "mode-" + stem + "-" + std::to_string(index) + ".obj";
         modeling::Mesh shaped = mesh;
         const double largest = mode.shape.rowwise().norm().maxCoeff();
         shaped.positions += (o.scale * length / largest) * mode.shape;

@@ -36,6 +36,8 @@ run 0 modes --family delaunay --n 12 --energy midedge --count 2 --write-shapes -
 absent cl/mode-midedge-3.obj
 [ -e cl/notes.txt ] || fail "modes removed a file it did not write"
 run 0 info cl/mode-midedge-1.obj --json; stdout_has '"valid": true'
+run 0 modes --family patch48 --n 8 --energy hinge:tan --count 1 --write-shapes -o tan --quiet
+[ -s tan/mode-hinge_tan-1.obj ] || fail "modes: the shape of hinge:tan is not mode-hinge_tan-1.obj"
 
 # A free plate: three rigid modes named, and triavg's spurious zero modes reported.
 run 0 modes --family patch48 --n 8 --energy midedge,triavg --support free --count 2 -o free

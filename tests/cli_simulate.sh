@@ -51,6 +51,8 @@ run 2 minimize --rest plate.obj --energy hinge --dof xyz --membrane stvk --bound
   --gravity 0,0,-9.81 --solver ceres -o bad.obj; stderr_has "needs the nonlinear Newton"; absent bad.obj
 run 2 minimize --rest plate.obj --energy hinge --boundary quadratic:0,0,0 --gravity 0,0 -o bad.obj
 stderr_has "--gravity 0,0: expected 3"; absent bad.obj
+run 2 minimize --rest plate.obj --energy hinge --boundary quadratic:0,0,0 --gravity 0,0,-9.81, \
+  -o bad.obj; stderr_has "expected 3"; absent bad.obj
 
 # Refusals: exit 2, the option named, nothing written.
 run 2 simulate --rest plate.obj --energy hinge --dt 0.01 --duration 0.1 -o bad
