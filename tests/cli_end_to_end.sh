@@ -486,37 +486,30 @@ a = r["checks"]["min_angle_degrees"]
 assert 0 < a["result"] and 0 < a["input"] < 60, a
 PY
 # The smallest-angle rule (#15): flexure's result may not have a smallest angle more than 1 degree
-# below min(the input's, CGAL's fair's). three_peaks all-interior (4.65 degrees in the input):
-# whatever the fairing reaches, the exit code, the report's verdict and the mesh agree — below
-# the limit exit 3, failed_check naming the angles, no mesh; --allow-slivers writes it anyway.
-peaks="$CGAL_MESHES/three_peaks.off"
-"$FLEXURE" fair "$peaks" --region all-interior -o peaks.off --report peaks.json --quiet 2>err.txt
-code=$?
-python3 - "$code" <<'PY' || fail "fair: three_peaks' smallest-angle verdict: $(cat err.txt)"
-import json, os, sys
-code, r = int(sys.argv[1]), json.load(open("peaks.json"))
-a = r["checks"]["min_angle_degrees"]
-assert abs(a["input"] - 4.65) < 0.01 and a["tolerance"] == 1, a
-assert abs(a["limit"] - (min(a["input"], a["cgal"]) - 1)) < 1e-12 and a["allow_slivers"] is False, a
-assert a["passed"] == (a["result"] >= a["limit"]), a
-if not a["passed"]:
-    assert code == 3 and r["converged"] is False and r["output"] is None, (code, r["converged"])
-    assert r["failed_check"].startswith("smallest-angle check"), r["failed_check"]
-    assert not os.path.exists("peaks.off")
-    msg = open("err.txt").read()
-    assert "smallest-angle check" in msg and "--allow-slivers" in msg, msg
-else:
-    assert code == 0 and r["converged"] and os.path.exists("peaks.off"), code
-PY
-run 0 fair "$peaks" --region all-interior --allow-slivers -o peaks-any.off --report peaks-any.json
-python3 - <<'PY' || fail "fair: --allow-slivers report"
+# below min(the input's, CGAL's fair's), else exit 3 (the report: failed_check, the angles, the
+# limit; no mesh) unless --allow-slivers. A membrane too weak for the shark's fills
+# (--membrane-weight 0.02) passes every other check but leaves 8.8 degrees against CGAL's 13.8
+# and the fill's 13.2 (limit 12.2). (Should a change of the fairing lift it above the limit, this
+# needs another case that breaks the rule.)
+run 3 fair "$shark" --region holes --membrane-weight 0.02 -o thin.off --report thin.json --quiet
+stderr_has "smallest-angle check: the faired region's smallest angle"; stderr_has "--allow-slivers"
+absent thin.off
+run 0 fair "$shark" --region holes --membrane-weight 0.02 --allow-slivers -o thin.off \
+  --report thin-allowed.json
+stderr_has "--allow-slivers: accepting smallest-angle check"
+python3 - <<'PY' || fail "fair: the smallest-angle verdicts"
 import json
-r = json.load(open("peaks-any.json"))
+r, s = json.load(open("thin.json")), json.load(open("thin-allowed.json"))
 a = r["checks"]["min_angle_degrees"]
-assert r["converged"] and r["output"] == "peaks-any.off" and a["allow_slivers"] is True, r
-assert "failed_check" not in r, r["failed_check"]
+assert abs(a["input"] - 13.18) < 0.01 and abs(a["cgal"] - 13.81) < 0.01 and a["tolerance"] == 1, a
+assert a["limit"] == min(a["input"], a["cgal"]) - 1 and a["result"] < a["limit"] and not a["passed"], a
+assert r["converged"] is False and r["output"] is None and a["allow_slivers"] is False, r
+assert r["failed_check"].startswith("smallest-angle check") and r["checks"]["triangles"]["passed"], r
+assert r["checks"]["gradient"]["passed"], r["checks"]
+b = s["checks"]["min_angle_degrees"]
+assert s["converged"] and s["output"] == "thin.off" and "failed_check" not in s, s
+assert b["allow_slivers"] is True and not b["passed"] and b["result"] == a["result"], b
 PY
-grep -q "side by side" err.txt || fail "fair: no side-by-side table on stderr"
 # Holes CGAL cannot fill cleanly are left open with a notice naming the loop, the others filled:
 # mask_cone's loop of 90 edges folds (its fill made a zero-area face before); the 34-edge one is
 # filled and faired.
