@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> cases = {"noise40", "flat60"};
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
   double noise = 0.05, jitter = 0.3, weight = 1.0;
-  std::string metric = "current", shape = "start";
+  std::string metric = "current", shape = "first";
   int threads = 2, maxUpdates = 50;
   double metricTolerance = 1e-3;
   bool progress = false;
@@ -87,10 +87,9 @@ int main(int argc, char** argv) {
       const bool flat = spec.rfind("flat", 0) == 0;
       const double degrees = std::stod(spec.substr(flat ? 4 : 5));
       for (int level : levels) {
-        const modeling::Mesh exact =
-            surface == modeling::WillmoreSurface::Sphere
-                ? modeling::irregularSphere(level, jitter, 7)
-                : modeling::cliffordTorus(20 << (level - 3), jitter, 7);
+        const modeling::Mesh exact = surface == modeling::WillmoreSurface::Sphere
+                                         ? modeling::irregularSphere(level, jitter, 7)
+                                         : modeling::cliffordTorus(20 << (level - 3), jitter, 7);
         const Eigen::Vector3d centre = surface == modeling::WillmoreSurface::Sphere
                                            ? Eigen::Vector3d(0.0, 0.0, 1.0)
                                            : Eigen::Vector3d(std::sqrt(2.0) + 1.0, 0.0, 0.0);
@@ -132,8 +131,9 @@ int main(int argc, char** argv) {
           options.bending.restCurvature = curvature::RestCurvature::Flat;
           options.metric =
               metric == "input" ? optimize::FairingMetric::Input : optimize::FairingMetric::Current;
-          options.membraneShape =
-              shape == "input" ? optimize::FairingShape::Input : optimize::FairingShape::Start;
+          options.membraneShape = shape == "input"   ? optimize::FairingShape::Input
+                                  : shape == "first" ? optimize::FairingShape::FirstStart
+                                                     : optimize::FairingShape::Start;
           options.membraneWeight = weight;
           options.maxMetricUpdates = maxUpdates;
           options.metricTolerance = metricTolerance;

@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
-#include <iostream>
 #include <utility>
 
 #include "modeling/cgal_fair.h"
@@ -176,8 +176,20 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
     }
   };
   const bool lagged = options.metric == FairingMetric::Current;
+  const Positions firstStart = bc.start;
+  // The membrane's rest shape for a solve starting at x.
+  const auto membraneShape = [&](const Positions& x) -> const Positions& {
+    switch (options.membraneShape) {
+      case FairingShape::Input:
+        return patch.mesh.positions;
+      case FairingShape::FirstStart:
+        return firstStart;
+      default:
+        return x;
+    }
+  };
   buildTerms(lagged ? modeling::precomputeRestState(c.stencils, bc.start) : c.rest,
-             options.membraneShape == FairingShape::Input ? patch.mesh.positions : bc.start);
+             membraneShape(bc.start));
   if (bending->usesEdgeUnknowns())
     bc.xi = minimizeEdgeUnknowns(terms, bc.start, restXi,
                                  std::vector<bool>(c.stencils.edgeCount(), true));
@@ -196,23 +208,21 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   while (lagged && result.report.converged && outer < options.maxMetricUpdates) {
     const double change = normalMove(c, patch, bc.start, result.positions) / meanEdge;
     if (options.solver.progress)
-      std::cerr << "fair: metric update " << outer << ", largest move across the surface "
-                << change << " mean edges\n";
+      std::cerr << "fair: metric update " << outer << ", largest move across the surface " << change
+                << " mean edges\n";
     if (change <= options.metricTolerance) break;
     const Positions previousStart = bc.start;
     const Eigen::VectorXd previousXi = bc.xi;
     bc.start = result.positions;
     bc.xi = result.xi;
-    buildTerms(modeling::precomputeRestState(c.stencils, bc.start),
-               options.membraneShape == FairingShape::Input ? patch.mesh.positions : bc.start);
+    buildTerms(modeling::precomputeRestState(c.stencils, bc.start), membraneShape(bc.start));
     MinimizeResult next = minimize(terms, bc, c.rest.positions, restXi, solver);
     if (!next.report.converged) {
       // Keep the last converged solve (a minimizer on its own metric) and its terms.
       stalled = true;
       bc.start = previousStart;
       bc.xi = previousXi;
-      buildTerms(modeling::precomputeRestState(c.stencils, bc.start),
-                 options.membraneShape == FairingShape::Input ? patch.mesh.positions : bc.start);
+      buildTerms(modeling::precomputeRestState(c.stencils, bc.start), membraneShape(bc.start));
       break;
     }
     next.report.iterations += result.report.iterations;

@@ -50,7 +50,7 @@ enum class FairingMetric { Input, Current };
 // The membrane's rest triangle shapes: the input's, or the start of each solve (the default: the
 // membrane costs nothing at a fixed point, so it holds triangles in a solve without biasing the
 // fixed point; with Input it keeps the input's shapes, noisy or flattened ones included).
-enum class FairingShape { Input, Start };
+enum class FairingShape { Input, FirstStart, Start };
 
 struct FairingOptions {
   curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
@@ -58,10 +58,10 @@ struct FairingOptions {
   double membraneWeight = 1.0;  // w below
   FairingStart start = FairingStart::Best;
   FairingMetric metric = FairingMetric::Input;
-  FairingShape membraneShape = FairingShape::Start;
+  FairingShape membraneShape = FairingShape::FirstStart;
   int maxMetricUpdates = 50;
   double metricTolerance = 1e-3;  // largest move across the surface / mean edge length
-  MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
+  MinimizeOptions solver;         // dof and start are fairing's own: xyz, from `start`
 };
 
 // The membrane of weight w, bending stiffness k_B, mean rest edge length ℓ̄ of the region:
@@ -80,7 +80,7 @@ curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, doubl
 struct FairingResult {
   Positions positions;  // the patch's vertices, #patch vertices by 3
   MinimizeReport report;
-  FairingStart start;  // Biharmonic or Input: where the solve started
+  FairingStart start;     // Biharmonic or Input: where the solve started
   int metricUpdates = 1;  // converged solves (1 on the input's metric)
   // A later solve on an updated metric did not converge: the result is the last converged one.
   bool metricStalled = false;
