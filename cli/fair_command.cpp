@@ -45,8 +45,9 @@ constexpr int kMinRenderSize = 200;
 // than kSliverToleranceDegrees below min(the input's, CGAL's fair's) — a fair surface bought with
 // slivers is no better surface to work on, and CGAL's linear fair (the same held rings, the
 // input's cotangent weights) shows what fairing the region costs in angle. A result below the
-// limit exits 3 (the report, no mesh) unless --allow-slivers.
-constexpr double kSliverToleranceDegrees = 1.0;
+// limit exits 3 (the report, no mesh) unless --allow-slivers. flexure's fairing keeps it by an
+// angle barrier (optimize::FairingOptions::angleBarrier).
+using optimize::kSliverToleranceDegrees;
 
 struct SliverCheck {
   double inputDegrees = 0.0, cgalDegrees = 0.0, resultDegrees = 0.0;
@@ -70,7 +71,7 @@ struct FairCommandOptions {
   std::string input, region, output, reportFile, renderFile;
   std::string method = "flexure";
   BendingArguments bending;
-  std::string membrane = "conformal";
+  std::string membrane = "mips";
   double membraneWeight = 1.0;
   std::string start = "best";
   std::string metric = "input";
@@ -435,6 +436,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
                                               : optimize::FairingStart::Best;
     options.metric =
         o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input;
+    options.angleBarrier = !o.allowSlivers;
     options.solver = solver;
     options.solver.progress = !global.quiet;
     fairing = optimize::fairNonlinear(patch, options);
@@ -638,12 +640,13 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   addBendingArguments(*sub, options->bending, {"midedge", /*restCurvature=*/false});
   sub->add_option("--membrane", options->membrane,
-                  "conformal (triangle shapes kept, sizes free) | stvk | springs (lengths kept "
-                  "too), on the input's metric")
+                  "mips (triangle shapes kept, sizes free; a barrier against collapse) | "
+                  "conformal (the same, bounded) | stvk | springs (lengths kept too), on the "
+                  "start's metric")
       ->capture_default_str();
   sub->add_option("--membrane-weight", options->membraneWeight,
-                  "w: how firmly the triangles keep their shapes against bending (conformal "
-                  "k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
+                  "w: how firmly the triangles keep their shapes against bending (mips, "
+                  "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--start", options->start,
@@ -659,8 +662,9 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   addSolverLimits(*sub, options->solver, /*tolerances=*/false);
   files->output("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
   sub->add_flag("--allow-slivers", options->allowSlivers,
-                "Accept a result whose smallest angle falls more than 1 degree below the input's "
-                "and CGAL's fair's (otherwise exit 3)");
+                "Fair without the angle barrier that keeps the smallest angle at most 1 degree "
+                "below the input's and CGAL's fair's, and accept a result below that (otherwise "
+                "exit 3)");
   files->output("--report", options->reportFile,
                 "JSON report: region; input, CGAL's fair and the result side by side (all five "
                 "energies, triangle quality, displacement); checks; time (written even when the "

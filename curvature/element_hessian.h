@@ -66,6 +66,8 @@ constexpr int kMaxElementUnknowns<ConformalMembraneResidual> = 9;
 template <>
 constexpr int kMaxElementUnknowns<AreaSpringResidual> = 9;
 template <>
+constexpr int kMaxElementUnknowns<AngleBarrierResidual> = 9;
+template <>
 constexpr int kMaxElementUnknowns<EdgeSpringResidual> = 6;
 // Larger than any element's: a cotan vertex of valence 16 or more in xyz mode.
 inline constexpr int kMaxHessianUnknowns = 48;

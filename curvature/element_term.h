@@ -61,6 +61,9 @@ inline ceres::CostFunction* costFunction(const StvkMembraneResidual& r) {
 inline ceres::CostFunction* costFunction(const ConformalMembraneResidual& r) {
   return fixedArityCost<ConformalMembraneResidual, 3, 3, 3>(r);
 }
+inline ceres::CostFunction* costFunction(const AngleBarrierResidual& r) {
+  return fixedArityCost<AngleBarrierResidual, 3, 3, 3>(r);
+}
 inline ceres::CostFunction* costFunction(const EdgeSpringResidual& r) {
   return fixedArityCost<EdgeSpringResidual, 3, 3>(r);
 }

@@ -85,6 +85,38 @@ struct ConformalMembraneResidual {
   }
 };
 
+// angle barrier — a floor under a triangle's angles (fairing's triangle-quality rule): for each
+// corner angle α of the face, with d = α − α_min and a band d̂,
+//
+//   b(α) = −κ (d − d̂)² log(d / d̂)   for 0 < d < d̂,   0 for d ≥ d̂,
+//
+// the smooth log barrier of incremental-potential contact (Li et al. 2020) on the angle: C² at
+// d = d̂ where it switches on, +∞ as α → α_min. A solve that never raises its energy (every line
+// search here) keeps every angle above α_min. Residual r = √(2κ) (d̂ − d) √(−log(d / d̂)), ½ r² = b;
+// d ≤ 0 is infeasible (evaluation fails, the line search backs off).
+struct AngleBarrierResidual {
+  static constexpr int kResiduals = 3;
+  std::array<int, 3> vertices;
+  double sqrtWeight;  // √(2κ)
+  double minAngle;    // α_min, radians
+  double band;        // d̂, radians
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    using std::atan2;
+    using std::log;
+    using std::sqrt;
+    const Vec3<T> p[3] = {load(x[0]), load(x[1]), load(x[2])};
+    for (int i = 0; i < 3; ++i) {
+      const Vec3<T> a = p[(i + 1) % 3] - p[i], b = p[(i + 2) % 3] - p[i];
+      const T d = atan2(norm(cross(a, b)), dot(a, b)) - T(minAngle);
+      if (!(scalarPart(d) > 0.0)) return false;
+      r[i] = scalarPart(d) < band ? sqrtWeight * (T(band) - d) * sqrt(-log(d / T(band))) : T(0.0);
+    }
+    return true;
+  }
+};
+
 struct EdgeSpringResidual {
   static constexpr int kResiduals = 1;
   std::array<int, 2> vertices;

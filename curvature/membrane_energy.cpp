@@ -104,6 +104,20 @@ std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const Re
 
 }  // namespace
 
+std::unique_ptr<EnergyTerm> makeAngleBarrier(const Stencils& s, const std::vector<int>& faces,
+                                             const modeling::Positions& positions, double stiffness,
+                                             double minAngle, double band) {
+  requirePositive(stiffness, "angle barrier stiffness");
+  requirePositive(band, "angle barrier band");
+  std::vector<AngleBarrierResidual> elements;
+  for (int f : faces)
+    elements.push_back({faceVertices(s, f), std::sqrt(2.0 * stiffness), minAngle, band});
+  auto term = std::make_unique<ElementTerm<AngleBarrierResidual>>(
+      "angle barrier", "face", std::move(elements), faces, 0.0, false);
+  term->energy(positions, Eigen::VectorXd());  // a face at or below the floor throws, naming it
+  return term;
+}
+
 MembraneModel parseMembraneModel(std::string_view name) {
   if (name == "stvk") return MembraneModel::Stvk;
   if (name == "springs") return MembraneModel::Springs;

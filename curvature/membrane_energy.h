@@ -30,4 +30,12 @@ std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const modeling::Sten
                                                             const modeling::RestState& rest,
                                                             const MembraneOptions& options);
 
+// The angle barrier of membrane.h on `faces`: κ = `stiffness`, α_min and d̂ in radians. Throws
+// InputError for a non-positive κ or d̂, and NumericalError naming the face when one of its
+// angles is already at or below α_min at `positions` (a barrier needs a feasible start).
+std::unique_ptr<EnergyTerm> makeAngleBarrier(const modeling::Stencils& stencils,
+                                             const std::vector<int>& faces,
+                                             const modeling::Positions& positions, double stiffness,
+                                             double minAngle, double band);
+
 }  // namespace flexure::curvature

@@ -124,6 +124,11 @@ struct SecondOrderJet {
     const double root = std::sqrt(f.a);
     return chain(f, root, 0.5 / root, -0.25 / (f.a * root));
   }
+  // log f: g′ = 1/f, g″ = −1/f².
+  friend SecondOrderJet log(const SecondOrderJet& f) {
+    const double inverse = 1.0 / f.a;
+    return chain(f, std::log(f.a), inverse, -inverse * inverse);
+  }
   // tan f: g′ = 1 + tan² f, g″ = 2 tan f (1 + tan² f).
   friend SecondOrderJet tan(const SecondOrderJet& f) {
     const double t = std::tan(f.a), first = 1.0 + t * t;

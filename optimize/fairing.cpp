@@ -141,7 +141,10 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   } else {
     bc.start = fairBiharmonic(patch, c);
     if (start == FairingStart::Best) {
+      // The membrane keeps the start's triangles, so a linear fair with inverted or degenerate
+      // faces (three_peaks' all-interior: 13 faces turned over) is no start.
       const bool inputLower =
+          !checkFairing(patch, bc.start, nullptr).trianglesPassed() ||
           bendingEnergy(c, b, patch.mesh.positions) < bendingEnergy(c, b, bc.start);
       start = inputLower ? FairingStart::Input : FairingStart::Biharmonic;
       if (inputLower) bc.start = patch.mesh.positions;
@@ -163,6 +166,20 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
   std::vector<const curvature::EnergyTerm*> terms;
   Eigen::VectorXd restXi;
+  // The angle floor: the smallest-angle rule's limit (kSliverToleranceDegrees below the smaller of
+  // the input's and the linear fair's smallest angle — the linear fair is CGAL's) raised by
+  // kAngleFloorMarginDegrees, kept by the barrier. Both starts are above it.
+  std::unique_ptr<curvature::EnergyTerm> angleBarrier;
+  if (options.angleBarrier) {
+    const Positions linear =
+        start == FairingStart::Biharmonic ? bc.start : fairBiharmonic(patch, c);
+    const double floorDegrees = std::min(triangleQuality(c, patch.mesh.positions).minAngleDegrees,
+                                         triangleQuality(c, linear).minAngleDegrees) -
+                                kSliverToleranceDegrees + kAngleFloorMarginDegrees;
+    angleBarrier = curvature::makeAngleBarrier(c.stencils, c.regionFaces, bc.start, b.stiffness,
+                                               floorDegrees * kPi / 180.0,
+                                               kAngleBarrierBandDegrees * kPi / 180.0);
+  }
   const auto buildTerms = [&](const modeling::RestState& metric, const Positions& shape) {
     bending = curvature::makeBendingEnergy(c.stencils, metric, b);
     membrane = curvature::makeMembraneEnergy(
@@ -170,6 +187,7 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
         fairingMembrane(options.membrane, options.membraneWeight, b.stiffness, meanEdge));
     terms = {bending.get()};
     for (const auto& term : membrane) terms.push_back(term.get());
+    if (angleBarrier) terms.push_back(angleBarrier.get());
     if (bending->usesEdgeUnknowns()) {
       restXi = Eigen::VectorXd::Zero(c.stencils.edgeCount());
       bc.fixedEdge.assign(c.stencils.edgeCount(), false);

@@ -8,9 +8,9 @@
 //
 // E_bend one of the five energies of docs/energies.md with a flat rest curvature and the input's
 // metric (a fair surface has no preferred curvature), E_membrane a membrane on the input's metric
-// (curvature/membrane.h; by default `conformal`) so that the triangles keep their shapes and the
-// vertices do not slide. The held rings keep
-// their positions bit for bit; for midedge every ξ is free (the held rings carry the normals).
+// (curvature/membrane.h; by default `mips`, the conformal shape change as a barrier) so that the
+// triangles keep their shapes and the vertices do not slide. The held rings keep their positions
+// bit for bit; for midedge every ξ is free (the held rings carry the normals).
 #pragma once
 
 #include <string>
@@ -26,9 +26,10 @@ namespace flexure::optimize {
 // Where the nonlinear solve starts: at the linear fair (the cotangent bi-Laplacian of the input's
 // metric, solved for x, y and z: what CGAL's fair computes, here with CHOLMOD), from which Gauss–
 // Newton has a smooth surface to correct; at the input; or (Best) at whichever of the two has the
-// lower bending energy. The membrane's rest shape is the start, so it costs nothing there and the
-// solve, which never raises E_bend + E_membrane, ends with E_bend no higher than at the start:
-// with Best, no higher than the input's or the linear fair's.
+// lower bending energy — the input when the linear fair fails checkFairing's triangle checks. The
+// membrane's rest shape is the start, so it costs nothing there and the solve, which never raises
+// E_bend + E_membrane, ends with E_bend no higher than at the start: with Best, no higher than the
+// input's or the linear fair's.
 enum class FairingStart { Best, Biharmonic, Input };
 
 // Whose metric the bending energy measures curvature in.
@@ -54,22 +55,28 @@ enum class FairingShape { Input, FirstStart, Start };
 
 struct FairingOptions {
   curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
-  curvature::MembraneModel membrane = curvature::MembraneModel::Conformal;
+  curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
   double membraneWeight = 1.0;  // w below
   FairingStart start = FairingStart::Best;
   FairingMetric metric = FairingMetric::Input;
   FairingShape membraneShape = FairingShape::FirstStart;
+  // The angle barrier (curvature/membrane.h) on the faces touching a moving vertex, its floor
+  // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
+  // rule (see kSliverToleranceDegrees). Stiffness k_B, band kAngleBarrierBandDegrees.
+  bool angleBarrier = true;
   int maxMetricUpdates = 50;
   double metricTolerance = 1e-3;  // largest move across the surface / mean edge length
   MinimizeOptions solver;         // dof and start are fairing's own: xyz, from `start`
 };
 
 // The membrane of weight w, bending stiffness k_B, mean rest edge length ℓ̄ of the region:
-//   conformal: k_S = w k_B                      (the default: shapes kept, sizes free);
+//   mips, conformal: k_S = w k_B                (shapes kept, sizes free; mips the default:
+//                                               measured on three_peaks' all-interior, conformal
+//                                               let 4 faces turn over, mips none);
 //   stvk:      Y = w k_B / ℓ̄² (ν = 0.3);        springs: k_L = w k_B / ℓ̄,  k_A = w k_B / ℓ̄².
-// A triangle's change of shape (conformal: q → 1 as it collapses) or a strain ε of one triangle
-// (stvk, springs: ≈ w k_B ε²) then weighs like the bending energy of a triangle curved at radius
-// ℓ̄, ≈ k_B: w weighs the triangles' quality against bending at the mesh's own scale. All are
+// A triangle's change of shape (conformal: q → 1 as it collapses, mips: p → ∞) or a strain ε of one
+// triangle (stvk, springs: ≈ w k_B ε²) then weighs like the bending energy of a triangle curved at
+// radius ℓ̄, ≈ k_B: w weighs the triangles' quality against bending at the mesh's own scale. All are
 // unchanged by scaling the mesh, so a mesh and its scaled copy fair alike. stvk and springs also
 // keep the input's lengths, so the surface can only bend near-isometrically: for small
 // corrections. Too small a w lets vertices slide into degenerate triangles that lower the
@@ -134,6 +141,11 @@ struct FairingMeasures {
 //    of the input may sharpen past 90° without any triangle turning over.
 // The smallest angle of those faces is reported against the input's and not judged here.
 inline constexpr double kFairingGradientReduction = 1e-3;
+// The smallest-angle rule (issue #15): a faired region's smallest angle may fall at most this far
+// below the smaller of the input's and CGAL's fair's.
+inline constexpr double kSliverToleranceDegrees = 1.0;
+inline constexpr double kAngleFloorMarginDegrees = 0.25;
+inline constexpr double kAngleBarrierBandDegrees = 2.0;
 inline constexpr double kFairingGradientFloor = 1e-10;
 inline constexpr double kDegenerateFlatness = 1e-6;
 

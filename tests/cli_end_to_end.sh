@@ -466,11 +466,12 @@ original, faired = off(sys.argv[1]), off("shark.off")
 assert faired[:len(original)] == original, "an input vertex moved"
 assert len(faired) == len(original) + r["region"]["vertices"]
 PY
-# A result is checked before it is called converged (#14). cotan on the lion's brow: the solver
-# stops by its own rule, but a triangle has turned over (91° from the input, 162° from a
-# neighbour): exit 3, the report says which check failed, no mesh.
+# A result is checked before it is called converged (#14). cotan on the lion's brow with the
+# bounded conformal membrane and no angle barrier: the solver stops by its own rule, but a triangle
+# has turned over (91° from the input, 162° from a neighbour): exit 3, the report says which check
+# failed, no mesh. (By default — mips membrane, angle barrier — the same fairing converges.)
 run 3 fair "$lion" --region sphere:-0.2375,0.3126,0.1857,0.22 --energy cotan -o folded.off \
-  --report folded.json --render folded.png --quiet
+  --membrane conformal --allow-slivers --report folded.json --render folded.png --quiet
 stderr_has "fails its checks: triangle check: 1 face is inverted"; stderr_has "face (4561, 474, 4562)"
 absent folded.off; absent folded.png
 python3 - <<'PY' || fail "fair: folded.json does not say which check failed"
@@ -487,14 +488,15 @@ assert 0 < a["result"] and 0 < a["input"] < 60, a
 PY
 # The smallest-angle rule (#15): flexure's result may not have a smallest angle more than 1 degree
 # below min(the input's, CGAL's fair's), else exit 3 (the report: failed_check, the angles, the
-# limit; no mesh) unless --allow-slivers. A membrane too weak for the shark's fills
-# (--membrane-weight 0.02) passes every other check but leaves 8.8 degrees against CGAL's 13.8
-# and the fill's 13.2 (limit 12.2). (Should a change of the fairing lift it above the limit, this
-# needs another case that breaks the rule.)
-run 3 fair "$shark" --region holes --membrane-weight 0.02 -o thin.off --report thin.json --quiet
-stderr_has "smallest-angle check: the faired region's smallest angle"; stderr_has "--allow-slivers"
-absent thin.off
-run 0 fair "$shark" --region holes --membrane-weight 0.02 --allow-slivers -o thin.off \
+# limit; no mesh). The fairing keeps it by an angle barrier 0.25 degrees above the limit:
+# a membrane too weak for the shark's fills (conformal, --membrane-weight 0.02) left 8.8 degrees
+# without it
+# against CGAL's 13.8 and the fill's 13.2 (limit 12.2). --allow-slivers fairs without the barrier
+# and accepts the result, with the verdict in the report and a notice.
+run 0 fair "$shark" --region holes --membrane conformal --membrane-weight 0.02 -o thin.off \
+  --report thin.json --quiet
+run 0 fair "$shark" --region holes --membrane conformal --membrane-weight 0.02 --allow-slivers \
+  -o thin-allowed.off \
   --report thin-allowed.json
 stderr_has "--allow-slivers: accepting smallest-angle check"
 python3 - <<'PY' || fail "fair: the smallest-angle verdicts"
@@ -502,19 +504,17 @@ import json
 r, s = json.load(open("thin.json")), json.load(open("thin-allowed.json"))
 a = r["checks"]["min_angle_degrees"]
 assert abs(a["input"] - 13.18) < 0.01 and abs(a["cgal"] - 13.81) < 0.01 and a["tolerance"] == 1, a
-assert a["limit"] == min(a["input"], a["cgal"]) - 1 and a["result"] < a["limit"] and not a["passed"], a
-assert r["converged"] is False and r["output"] is None and a["allow_slivers"] is False, r
-assert r["failed_check"].startswith("smallest-angle check") and r["checks"]["triangles"]["passed"], r
-assert r["checks"]["gradient"]["passed"], r["checks"]
+assert a["limit"] == min(a["input"], a["cgal"]) - 1 and a["result"] >= a["limit"] + 0.25, a
+assert r["converged"] and a["passed"] and a["allow_slivers"] is False, r
 b = s["checks"]["min_angle_degrees"]
-assert s["converged"] and s["output"] == "thin.off" and "failed_check" not in s, s
-assert b["allow_slivers"] is True and not b["passed"] and b["result"] == a["result"], b
+assert s["converged"] and s["output"] == "thin-allowed.off" and "failed_check" not in s, s
+assert b["allow_slivers"] is True and not b["passed"] and b["result"] < b["limit"] - 2, b
 PY
 # Holes CGAL cannot fill cleanly are left open with a notice naming the loop, the others filled:
 # mask_cone's loop of 90 edges folds (its fill made a zero-area face before); the 34-edge one is
-# filled and faired. (--allow-slivers for now: the faired fill's smallest angle, 8.3 degrees,
-# is more than 1 degree below CGAL's fair's 16.0; to be removed once the fairing keeps it.)
-run 0 fair "$CGAL_MESHES/mask_cone.off" --region holes --allow-slivers -o mask.off --report mask.json
+# filled and faired (its smallest angle kept by the barrier: 15.2 degrees against CGAL's 16.0;
+# 8.3 without it).
+run 0 fair "$CGAL_MESHES/mask_cone.off" --region holes -o mask.off --report mask.json
 stderr_has "skipped the loop of 90 edges at vertex 299: CGAL's fill folds over"
 run 0 info mask.off; stdout_has 'boundary loops        1 (vertices: 90)'
 grep -q '"converged": true' mask.json || fail "fair: mask.json does not say converged"

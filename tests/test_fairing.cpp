@@ -297,6 +297,7 @@ TEST(Fairing, NeverAboveTheStart) {
                  curvature::Discretization::Midedge}) {
     optimize::FairingOptions options;
     options.bending.discretization = d;
+    options.angleBarrier = false;  // its energy at the start is not E_bend's
     const std::string name(curvature::discretizationName(d));
     for (auto start : {optimize::FairingStart::Input, optimize::FairingStart::Biharmonic}) {
       options.start = start;
