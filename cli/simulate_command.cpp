@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -73,6 +74,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   dynamics.density = o.load.density;
   dynamics.mass = massLumping(o.load);
   dynamics.gravity = gravityVector(o.load);
+  dynamics.obstacles = obstacleList(o.load);
   if (!o.damping.empty()) {
     if (o.damping.rfind("rayleigh:", 0) != 0)
       throw InputError("--damping " + o.damping + ": expected rayleigh:alpha,beta");
@@ -132,13 +134,21 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   std::ostringstream csv;
   csv << "time,kinetic";
   for (const std::string& name : termNames) csv << ',' << name;
-  csv << ",gravity,total\n";
-  std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity, total
+  const bool contact = !dynamics.obstacles.empty();
+  csv << ",gravity" << (contact ? ",contact" : "") << ",total\n";
+  // per sample: time, kinetic, terms…, gravity, (contact,) total
+  std::vector<std::vector<double>> history;
+  double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle, any step
   auto sample = [&] {
     const optimize::EnergySample e = stepper.energies();
     std::vector<double> row = {e.time, e.kinetic};
     row.insert(row.end(), e.terms.begin(), e.terms.end());
     row.push_back(e.gravity);
+    if (contact) {
+      row.push_back(e.contact);
+      smallestDistance =
+          std::min(smallestDistance, stepper.barrier().smallestDistance(stepper.positions()));
+    }
     row.push_back(e.total());
     char text[40];
     for (size_t k = 0; k < row.size(); ++k) {
@@ -228,7 +238,12 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
       {"density", o.load.density},
       {"frames", frames.size()},
+      {"obstacles", o.load.obstacles},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
+  if (contact) {
+    report["obstacle_layer"] = stepper.barrier().layer();
+    report["smallest_obstacle_distance"] = smallestDistance;
+  }
   if (!failure.empty()) {
     fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
     writeFailureReport((dir / "report.json").string(), report);
@@ -245,6 +260,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   std::vector<std::string> labels = {"kinetic"};
   labels.insert(labels.end(), termNames.begin(), termNames.end());
   labels.push_back("gravity");
+  if (contact) labels.push_back("contact");
   labels.push_back("total");
   for (size_t c = 0; c < labels.size(); ++c) {
     render::PlotSeries series{labels[c], {}, {}};

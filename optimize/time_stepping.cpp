@@ -30,7 +30,7 @@ const char* integratorName(Integrator integrator) {
 }
 
 double EnergySample::total() const {
-  double sum = kinetic + gravity;
+  double sum = kinetic + gravity + contact;
   for (double e : terms) sum += e;
   return sum;
 }
@@ -81,6 +81,10 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
     throw InputError(
         "--damping: the explicit central-difference scheme takes no damping; use "
         "newmark or backward-euler");
+  if (o.integrator == Integrator::CentralDifference && !o.obstacles.empty())
+    throw InputError(
+        "--obstacle: the explicit central-difference scheme cannot keep vertices outside; use "
+        "newmark or backward-euler");
   if (!(o.density > 0.0)) throw InputError("--density: expected a value > 0");
   if (o.rayleighMass < 0.0 || o.rayleighStiffness < 0.0)
     throw InputError("--damping rayleigh:α,β: expected α, β ≥ 0");
@@ -90,6 +94,7 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
   if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
     throw InputError("every vertex is pinned: nothing can move");
   mass_ = lumpedVertexMasses(rest, o.mass, o.density);
+  barrier_ = makeObstacleBarrier(o.obstacles, rest, mass_, o.gravity);
   length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
   xi_ = restXi;
   freeEdge_.assign(restXi.size(), true);
@@ -130,15 +135,19 @@ TimeStepper::~TimeStepper() = default;
 
 Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const {
   const EnergyGradient e = energyGradient(terms_, x, xi);
+  Positions contact = Positions::Zero(x.rows(), 3);
+  barrier_.addGradient(x, contact);
   Positions a = Positions::Zero(x.rows(), 3);
   for (int v = 0; v < x.rows(); ++v) {
     if (pinned_[v]) continue;
-    for (int c = 0; c < 3; ++c) a(v, c) = options_.gravity[c] - e.gradient[3 * v + c] / mass_[v];
+    for (int c = 0; c < 3; ++c)
+      a(v, c) = options_.gravity[c] - (e.gradient[3 * v + c] + contact(v, c)) / mass_[v];
   }
   return a;
 }
 
 void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
+  barrier_.requireOutside(x, "the start");
   x_ = x;
   v_ = v;
   for (int k = 0; k < v_.rows(); ++k)
@@ -227,20 +236,33 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
     place(y, x, xi);
     double e = 0.0;
     for (const curvature::EnergyTerm* term : terms_) e += term->energy(x, xi);
-    return e + extra(y, nullptr);
+    return e + extra(y, nullptr) + barrier_.energy(x);  // +∞ inside an obstacle
+  };
+  // The largest fraction of the step δ from y that keeps every vertex outside the obstacles.
+  auto feasible = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& delta) {
+    if (barrier_.empty()) return 1.0;
+    Positions from = x_, dx = Positions::Zero(x_.rows(), 3);
+    Eigen::VectorXd unusedXi = xi_;
+    place(y, from, unusedXi);
+    for (int k = 0; k < n; ++k)
+      if (unknowns[k] < positionCount) dx.data()[unknowns[k]] = delta[k];
+    return barrier_.stepBound(from, dx);
   };
 
+  // Newton starts at the predictor x̂ — with obstacles, from x_n towards x̂ as far as they allow
+  // (x_n is outside every obstacle; x̂ need not be).
   Positions x = x_;
   Eigen::VectorXd xi = xi_;
-  for (int k = 0; k < n; ++k)
-    if (unknowns[k] < positionCount) x.data()[unknowns[k]] = hat[k];
   Eigen::VectorXd y = values(x, xi);
+  const Eigen::VectorXd toHat = (hat - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
+  y += feasible(y, toHat) * toHat;
   Outcome outcome;
   const double stepTolerance = o.tolerance * length_;
   for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
     place(y, x, xi);
     HessianEvaluation at =
         im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, o.hessian);
+    barrier_.add(im.assembly, x, at, o.hessian != curvature::SecondDerivatives::Exact);
     Eigen::VectorXd extraGradient;
     const double energy = at.energy + extra(y, &extraGradient);
     const Eigen::VectorXd gradient = at.gradient + extraGradient;
@@ -256,22 +278,25 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
     if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
       HessianEvaluation gn = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr,
                                                   curvature::SecondDerivatives::GaussNewton);
+      barrier_.add(im.assembly, x, gn, true);
       addInertia(gn.values);
       factored = im.factorization.factor(gn.values);
     }
     if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};
     const Eigen::VectorXd delta = -im.factorization.solve(gradient);
     outcome.newtonIterations = iteration;
-    // Converged: the Newton step itself is below the tolerance (taken whole: near the minimizer
-    // Φ's change is at its roundoff, where a line search cannot judge).
+    const double bound = feasible(y, delta);
+    // Converged: the Newton step itself is below the tolerance (taken whole, or as far as the
+    // obstacles allow: near the minimizer Φ's change is at its roundoff, where a line search
+    // cannot judge).
     if (delta.cwiseAbs().maxCoeff() <= stepTolerance) {
-      y += delta;
+      y += bound * delta;
       outcome.converged = true;
       break;
     }
     const double slope = gradient.dot(delta);
-    double alpha = 1.0;
-    Eigen::VectorXd trial = y + delta;
+    double alpha = bound;
+    Eigen::VectorXd trial = y + alpha * delta;
     for (double trialEnergy = phi(trial);
          trialEnergy > energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy);
          trialEnergy = phi(trial)) {
@@ -308,6 +333,7 @@ EnergySample TimeStepper::energies() const {
     s.gravity -= mass_[v] * options_.gravity.dot(x_.row(v).transpose());
   }
   for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x_, xi_));
+  s.contact = barrier_.energy(x_);
   return s;
 }
 

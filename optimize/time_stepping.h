@@ -11,7 +11,10 @@
 // v̂ = v_n + h (1 − γ) a_n:  a = (x − x̂) / (β h²),  v = v̂ + γ h a. With β > 0 the step is the
 // minimizer over (x, ξ) of the incremental potential
 //
-//   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x,
+//   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x
+//       + B(x),
+//
+// (B the obstacles' barrier, obstacles.h; its force −∇B joins ∇E in the equation of motion)
 //
 // whose gradient is the equation above; Newton on its exact Hessian M/(βh²) + γC/(βh) + ∇²E
 // (pattern and CHOLMOD analysis once per run). β = ¼, γ = ½ (average acceleration, the default)
@@ -28,6 +31,7 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/obstacles.h"
 #include "optimize/vibration_modes.h"
 
 namespace flexure::optimize {
@@ -47,6 +51,9 @@ struct DynamicsOptions {
   // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
   // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
   std::vector<bool> heldEdges;
+  // Obstacles (obstacles.h): their barrier B(x) joins Φ, and each Newton step is capped so that no
+  // vertex reaches one; the implicit integrators only.
+  std::vector<Obstacle> obstacles;
   int maxNewtonIterations = 30;
   // The Hessian of E in each Newton iteration: exact, or its Gauss–Newton part JᵀJ (first
   // derivatives only; the step's inertia M/(βh²) keeps it positive definite).
@@ -56,9 +63,10 @@ struct DynamicsOptions {
   double tolerance = 1e-10;
 };
 
-// The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x.
+// The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x, the
+// obstacles' barrier B(x).
 struct EnergySample {
-  double time = 0.0, kinetic = 0.0, gravity = 0.0;
+  double time = 0.0, kinetic = 0.0, gravity = 0.0, contact = 0.0;
   std::vector<double> terms;
   double total() const;
 };
@@ -66,8 +74,8 @@ struct EnergySample {
 class TimeStepper {
  public:
   // `pinned` vertices keep their start positions. Throws InputError for a bad option (β outside
-  // [0, ½] for Newmark, γ ≠ ½ with β = 0, damping with the explicit scheme, density ≤ 0, nothing
-  // free).
+  // [0, ½] for Newmark, γ ≠ ½ with β = 0, damping or obstacles with the explicit scheme,
+  // density ≤ 0, nothing free).
   TimeStepper(std::vector<const curvature::EnergyTerm*> terms, const modeling::Stencils& stencils,
               const modeling::RestState& rest, const Eigen::VectorXd& restXi,
               std::vector<bool> pinned, const DynamicsOptions& options);
@@ -76,7 +84,8 @@ class TimeStepper {
   TimeStepper& operator=(const TimeStepper&) = delete;
 
   // The state at time 0: positions, velocities (#V by 3; pinned rows of v are ignored), ξ (#E or
-  // empty: minimized for x). The acceleration comes from the forces.
+  // empty: minimized for x). The acceleration comes from the forces. InputError when a vertex is
+  // inside or on an obstacle.
   void start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi);
 
   struct Outcome {
@@ -92,6 +101,7 @@ class TimeStepper {
   const Positions& velocities() const { return v_; }
   const Eigen::VectorXd& xi() const { return xi_; }
   const Eigen::VectorXd& masses() const { return mass_; }
+  const ObstacleBarrier& barrier() const { return barrier_; }
   EnergySample energies() const;
 
  private:
@@ -106,6 +116,7 @@ class TimeStepper {
   Eigen::VectorXd mass_;
   double length_ = 1.0;
   std::vector<bool> freeEdge_;
+  ObstacleBarrier barrier_;
   std::unique_ptr<Implicit> implicit_;
   double time_ = 0.0;
   Positions x_, v_, a_;

@@ -79,6 +79,41 @@ run 0 mesh --family patch48 --n 4 -o other.obj --quiet
 run 2 simulate --rest plate.obj --init other.obj --energy hinge --membrane stvk --dt 0.01 \
   --duration 0.1 -o bad; stderr_has "connectivity"; absent bad
 
+# Obstacles: a sheet falls onto a plane 0.02 below it and onto a sphere; the contact energy is a
+# column, the report's smallest distance stays positive (no vertex ever inside).
+run 0 mesh --family patch48 --n 6 -o sheet.obj --quiet
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 \
+  --obstacle plane:0,0,1,-0.02 --obstacle sphere:0.3,0.3,-0.5,0.47 --damping rayleigh:2,0 \
+  --dt 0.01 --duration 0.3 --render-style none -o drop --quiet
+head -1 drop/energies.csv | grep -qx "time,kinetic,hinge,stvk,gravity,contact,total" \
+  || fail "energies.csv header with contact: $(head -1 drop/energies.csv)"
+report_check drop "d['completed'] and 0 < d['smallest_obstacle_distance'] < d['obstacle_layer'] \
+  and len(d['obstacles']) == 2" "contact without penetration"
+# minimize under gravity held up by a plane: converged, every vertex above it.
+run 0 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --gravity 0,0,-200 \
+  --obstacle plane:0,0,1,-0.02 -o held.obj --report held.json --quiet
+python3 -c "
+import json, sys
+d = json.load(open('held.json')); z = [float(l.split()[3]) for l in open('held.obj') if l.startswith('v ')]
+sys.exit(0 if d['converged'] and min(z) > -0.02 and 0 < d['smallest_obstacle_distance'] < d['obstacle_layer'] else 1)" \
+  || fail "minimize --obstacle: not held above the plane"
+# Refusals: a malformed obstacle, a start inside one (the vertex named), the explicit scheme.
+for spec in plane:0,0,1 plane:0,0,0,1 sphere:0,0,0,-1 box:0,0,0,1; do
+  run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+    --obstacle "$spec" -o bad; stderr_has "--obstacle $spec"; absent bad
+done
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle sphere:0.5,0.5,0,0.1 -o bad; stderr_has "vertex 48 of the start is inside"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle plane:0,0,1,0 -o bad; stderr_has "is inside or on the obstacle"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle plane:0,0,1,-1 --integrator central-difference -o bad; stderr_has "central-difference"
+absent bad
+run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --obstacle plane:0,0,1,0.1 \
+  -o bad.obj; stderr_has "of the start is inside"; absent bad.obj
+run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --linearized \
+  --obstacle plane:0,0,1,-0.1 -o bad.obj; stderr_has "needs the nonlinear Newton"; absent bad.obj
+
 # The explicit scheme far above its stability limit blows up: exit 3, the report says where and
 # no frame is left.
 run 3 simulate --rest plate.obj --energy hinge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
