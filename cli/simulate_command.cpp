@@ -36,7 +36,8 @@ struct SimulateOptions {
   BendingArguments bending;
   MembraneArguments membrane;
   LoadArguments load;
-  std::string pin = "none", integrator = "newmark", damping;
+  std::string pin = "none", integrator = "newmark";
+  std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
@@ -75,12 +76,20 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   dynamics.mass = massLumping(o.load);
   dynamics.gravity = gravityVector(o.load);
   dynamics.obstacles = obstacleList(o.load);
-  if (!o.damping.empty()) {
-    if (o.damping.rfind("rayleigh:", 0) != 0)
-      throw InputError("--damping " + o.damping + ": expected rayleigh:alpha,beta");
-    const std::vector<double> ab = parseNumbers("--damping", o.damping.substr(9), 2);
-    dynamics.rayleighMass = ab[0];
-    dynamics.rayleighStiffness = ab[1];
+  bool rayleigh = false, bend = false;
+  for (const std::string& damping : o.damping) {
+    if (damping.rfind("rayleigh:", 0) == 0 && !rayleigh) {
+      const std::vector<double> ab = parseNumbers("--damping", damping.substr(9), 2);
+      dynamics.rayleighMass = ab[0];
+      dynamics.rayleighStiffness = ab[1];
+      rayleigh = true;
+    } else if (damping.rfind("bend:", 0) == 0 && !bend) {
+      dynamics.bendingDamping = parseNumbers("--damping", damping.substr(5), 1)[0];
+      bend = true;
+    } else {
+      throw InputError("--damping " + damping +
+                       ": expected rayleigh:alpha,beta or bend:c (each at most once)");
+    }
   }
   const curvature::BendingOptions b = bendingOptions(o.bending);
   std::optional<render::RenderOptions> look;
@@ -237,6 +246,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       {"pinned", o.pin},
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
       {"density", o.load.density},
+      {"damping", o.damping},
       {"frames", frames.size()},
       {"obstacles", o.load.obstacles},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
@@ -320,7 +330,8 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--beta", o.beta, "newmark: β")->capture_default_str();
   sub->add_option("--gamma", o.gamma, "newmark: γ")->capture_default_str();
   sub->add_option("--damping", o.damping,
-                  "rayleigh:alpha,beta: C = alpha M + beta K (K the Hessian at rest)");
+                  "rayleigh:alpha,beta (C = alpha M + beta K, K the Hessian at rest) and/or "
+                  "bend:c (force -c K_bend(x) v: the rate of bending only; repeatable)");
   sub->add_option("--dt", o.dt, "Time step (s)")->required()->check(positive());
   sub->add_option("--duration", o.duration, "Simulated time (s)")->required()->check(positive());
   sub->add_option("--fps", o.fps, "Frames per simulated second")

@@ -37,32 +37,53 @@ double EnergySample::total() const {
 
 // The implicit step's Newton machinery, built once per run: the Hessian pattern over the free
 // unknowns (unpinned vertex coordinates, then ξ), its CHOLMOD analysis, and the free unknowns'
-// masses and rest stiffness K̄ (for Rayleigh damping) in the pattern's order.
+// masses and rest stiffness K̄ (for Rayleigh damping) in the pattern's order; with bending
+// damping, the bending term's own pattern and where its entries sit in the full one.
 struct TimeStepper::Implicit {
   HessianAssembly assembly;
   HessianFactorization factorization;
   Eigen::VectorXd mass;            // per free unknown: m_v, or 0 for ξ
   std::vector<double> restValues;  // K̄ on the vertex unknowns, in the pattern; empty: β = 0
   std::vector<int> diagonal;       // per free unknown: its diagonal entry in the pattern
+  std::unique_ptr<HessianAssembly> bending;  // the first term alone; null without bend damping
+  std::vector<int> bendingEntry;             // per entry of its pattern: the full pattern's entry
 
   Implicit(const std::vector<const curvature::EnergyTerm*>& terms, const std::vector<bool>& free,
            int vertexCount, const Positions& rest)
       : assembly(terms, free, vertexCount, curvature::Derivatives::All),
         factorization(assembly, hessianOrder(assembly, rest)) {}
 
-  // C y over the free unknowns (C = α M + β K̄; ξ rows 0).
-  Eigen::VectorXd damping(const Eigen::VectorXd& y, double alpha, double beta) const {
-    Eigen::VectorXd out = alpha * mass.cwiseProduct(y);
-    if (restValues.empty() || beta == 0.0) return out;
+  // The matrix K (stiffness-proportional damping, on the pattern) times y over the free unknowns.
+  Eigen::VectorXd multiply(const std::vector<double>& values, const Eigen::VectorXd& y) const {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(y.size());
+    if (values.empty()) return out;
     const std::vector<int>& start = assembly.columnStart();
     const std::vector<int>& row = assembly.rowIndex();
     for (int j = 0; j < assembly.size(); ++j)
       for (int p = start[j]; p < start[j + 1]; ++p) {
         const int i = row[p];
-        out[i] += beta * restValues[p] * y[j];
-        if (i != j) out[j] += beta * restValues[p] * y[i];
+        out[i] += values[p] * y[j];
+        if (i != j) out[j] += values[p] * y[i];
       }
     return out;
+  }
+
+  // K_B(x) = J_Bᵀ J_B of the bending term at (x, ξ) on the full pattern, vertex unknowns only.
+  std::vector<double> bendingStiffness(const Positions& x, const Eigen::VectorXd& xi) const {
+    const HessianEvaluation e = bending->evaluate(x, xi, HessianProjection::Exact, nullptr,
+                                                  curvature::SecondDerivatives::GaussNewton);
+    std::vector<double> values(assembly.rowIndex().size(), 0.0);
+    for (size_t p = 0; p < e.values.size(); ++p) values[bendingEntry[p]] = e.values[p];
+    keepVertexEntries(values);
+    return values;
+  }
+
+  // Zeroes the entries of a ξ row or column (ξ carry no mass and no damping).
+  void keepVertexEntries(std::vector<double>& values) const {
+    const std::vector<int>& start = assembly.columnStart();
+    for (int j = 0; j < assembly.size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p)
+        if (mass[j] == 0.0 || mass[assembly.rowIndex()[p]] == 0.0) values[p] = 0.0;
   }
 };
 
@@ -88,6 +109,11 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
   if (!(o.density > 0.0)) throw InputError("--density: expected a value > 0");
   if (o.rayleighMass < 0.0 || o.rayleighStiffness < 0.0)
     throw InputError("--damping rayleigh:α,β: expected α, β ≥ 0");
+  if (o.bendingDamping < 0.0) throw InputError("--damping bend:c: expected c ≥ 0");
+  if (o.integrator == Integrator::CentralDifference && o.bendingDamping != 0.0)
+    throw InputError(
+        "--damping: the explicit central-difference scheme takes no damping; use "
+        "newmark or backward-euler");
   const int vertexCount = stencils.vertexCount();
   if (static_cast<int>(pinned_.size()) != vertexCount)
     throw InputError("pinned vertices: expected one flag per vertex");
@@ -124,10 +150,24 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
                         .evaluate(rest.positions, restXi, HessianProjection::Exact, nullptr,
                                   curvature::SecondDerivatives::GaussNewton)
                         .values;
-    const std::vector<int>& start = im.assembly.columnStart();
-    for (int j = 0; j < im.assembly.size(); ++j)
-      for (int p = start[j]; p < start[j + 1]; ++p)
-        if (im.mass[j] == 0.0 || im.mass[im.assembly.rowIndex()[p]] == 0.0) im.restValues[p] = 0.0;
+    im.keepVertexEntries(im.restValues);
+  }
+  if (o.bendingDamping > 0.0) {
+    im.bending =
+        std::make_unique<HessianAssembly>(std::vector<const curvature::EnergyTerm*>{terms_.front()},
+                                          free, vertexCount, curvature::Derivatives::All);
+    const std::vector<int>& start = im.bending->columnStart();
+    const std::vector<int>& row = im.bending->rowIndex();
+    const std::vector<int>& fullStart = im.assembly.columnStart();
+    const std::vector<int>& fullRow = im.assembly.rowIndex();
+    im.bendingEntry.resize(row.size());
+    for (int j = 0; j < im.bending->size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p) {
+        // The same free unknowns, numbered alike: the entry (row[p], j) of the full pattern.
+        const auto begin = fullRow.begin() + fullStart[j], end = fullRow.begin() + fullStart[j + 1];
+        im.bendingEntry[p] =
+            static_cast<int>(std::lower_bound(begin, end, row[p]) - fullRow.begin());
+      }
   }
 }
 
@@ -203,7 +243,23 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
     vHatFree[k] = vertex ? vHat.data()[u] : 0.0;
     gravityForce[k] = vertex ? im.mass[k] * o.gravity[u % 3] : 0.0;
   }
-  const Eigen::VectorXd dampingOfVHat = im.damping(vHatFree, o.rayleighMass, o.rayleighStiffness);
+  // The stiffness-proportional damping of this step, β K̄ + c K_B(x_n), on the pattern (empty:
+  // none); C = α M + that.
+  std::vector<double> stiffnessDamping;
+  if (!im.restValues.empty() && o.rayleighStiffness > 0.0) {
+    stiffnessDamping = im.restValues;
+    for (double& value : stiffnessDamping) value *= o.rayleighStiffness;
+  }
+  if (im.bending) {
+    const std::vector<double> kb = im.bendingStiffness(x_, xi_);
+    if (stiffnessDamping.empty()) stiffnessDamping.assign(kb.size(), 0.0);
+    for (size_t e = 0; e < kb.size(); ++e) stiffnessDamping[e] += o.bendingDamping * kb[e];
+  }
+  auto damping = [&](const Eigen::VectorXd& y) {  // C y, ξ rows 0
+    return Eigen::VectorXd(o.rayleighMass * im.mass.cwiseProduct(y) +
+                           im.multiply(stiffnessDamping, y));
+  };
+  const Eigen::VectorXd dampingOfVHat = damping(vHatFree);
 
   // (x, ξ) from the free unknowns and back.
   auto values = [&](const Positions& x, const Eigen::VectorXd& xi) {
@@ -223,7 +279,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   // Φ's inertial, damping and gravity parts at y (the ξ entries of `hat` and `mass` are 0).
   auto extra = [&](const Eigen::VectorXd& y, Eigen::VectorXd* gradient) {
     const Eigen::VectorXd d = (y - hat).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
-    const Eigen::VectorXd cd = im.damping(d, o.rayleighMass, o.rayleighStiffness);
+    const Eigen::VectorXd cd = damping(d);
     if (gradient != nullptr)
       *gradient =
           massWeight * im.mass.cwiseProduct(d) + dampingWeight * cd + dampingOfVHat - gravityForce;
@@ -270,8 +326,8 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
     auto addInertia = [&](std::vector<double>& h2) {
       for (int k = 0; k < n; ++k)
         h2[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
-      for (size_t e = 0; e < im.restValues.size(); ++e)
-        h2[e] += dampingWeight * o.rayleighStiffness * im.restValues[e];
+      for (size_t e = 0; e < stiffnessDamping.size(); ++e)
+        h2[e] += dampingWeight * stiffnessDamping[e];
     };
     addInertia(at.values);
     bool factored = im.factorization.factor(at.values);

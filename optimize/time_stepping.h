@@ -3,7 +3,8 @@
 // unknowns solved with each step.
 //
 // Equations of motion, lumped mass M (m_v = ρ × the vertex's rest area, vibration_modes.h),
-// Rayleigh damping C = α M + β K̄ (K̄ the Hessian at rest, on the vertex unknowns), gravity g:
+// damping C = α M + β K̄ + c K_B(x_n) (Rayleigh's α, β with K̄ the Hessian at rest; c the bending
+// damping below; all on the vertex unknowns), gravity g:
 //
 //   M a + C v + ∇E(x, ξ) − M g = 0,   ∇_ξ E(x, ξ) = 0.
 //
@@ -48,6 +49,16 @@ struct DynamicsOptions {
   double density = 1.0;  // ρ, mass per unit rest area
   MassLumping mass = MassLumping::Barycentric;
   double rayleighMass = 0.0, rayleighStiffness = 0.0;  // α, β of C = α M + β K̄
+  // c of the bending damping force −c K_B(x_n) v: K_B = J_Bᵀ J_B is the Gauss–Newton Hessian of
+  // the first term (the bending energy, as flexure simulate orders the terms) at the step's start,
+  // J_B the Jacobian of its residuals r_B (E_B = ½ |r_B|²). The force is −c J_Bᵀ ṙ_B: it opposes
+  // the rate of the bending strain only. For hinge r_B ∝ (θ − θ̄) per hinge, so this is seed
+  // 003's Discrete Shells damping −c Σ w (θ̇ − θ̄̇) ∇θ (θ̄̇ = 0); for the shape-operator energies
+  // the rate of the shape-operator difference S − S̄, and likewise for every energy — the analogue
+  // of Rayleigh's β K with the bending term's own Hessian. Positive semidefinite, so it only
+  // dissipates; membrane stretching is not damped. Midedge's ξ rows are left out (massless,
+  // solved with each step).
+  double bendingDamping = 0.0;
   // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
   // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
   std::vector<bool> heldEdges;

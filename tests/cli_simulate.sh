@@ -39,6 +39,12 @@ run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 
 absent sag/frame-00002.obj; absent sag/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
 report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
 
+# Bending damping with Rayleigh's: the run completes and the report names both.
+run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
+  --damping rayleigh:2,0 --damping bend:0.01 --dt 0.01 --duration 0.05 --render-style none \
+  -o bent --quiet
+report_check bent "d['completed'] and d['damping'] == ['rayleigh:2,0', 'bend:0.01']" "both dampings"
+
 # The static counterpart: minimize under gravity (Newton only).
 run 0 minimize --rest plate.obj --energy midedge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
   --gravity 0,0,-9.81 -o static.obj --report static.json --quiet
@@ -63,6 +69,10 @@ run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.1 --durati
 stderr_has "--duration"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --damping viscous:1 -o bad; stderr_has "rayleigh:alpha,beta"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --damping bend:-1 -o bad; stderr_has "bend:c"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --damping bend:1 --damping bend:2 -o bad; stderr_has "each at most once"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --gravity 0,-9.81 -o bad; stderr_has "--gravity 0,-9.81"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
