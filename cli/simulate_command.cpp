@@ -36,7 +36,7 @@ struct SimulateOptions {
   BendingArguments bending;
   MembraneArguments membrane;
   LoadArguments load;
-  std::string pin = "none", integrator = "newmark";
+  std::string pin = "none", integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   std::string renderStyle = "reflection";  // "none": no frame images
@@ -76,6 +76,12 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   dynamics.mass = massLumping(o.load);
   dynamics.gravity = gravityVector(o.load);
   dynamics.obstacles = obstacleList(o.load);
+  if (!o.pinMotion.empty()) {
+    if (o.pin == "none")
+      throw InputError("--pin-motion " + o.pinMotion +
+                       ": moves the pinned vertices; give them with --pin");
+    dynamics.pinMotion = optimize::parsePinMotion(o.pinMotion);
+  }
   bool rayleigh = false, bend = false;
   for (const std::string& damping : o.damping) {
     if (damping.rfind("rayleigh:", 0) == 0 && !rayleigh) {
@@ -244,6 +250,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       {"steps_per_second", run.steps / std::max(seconds, 1e-9)},
       {"vertices", restMesh.vertexCount()},
       {"pinned", o.pin},
+      {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
       {"density", o.load.density},
       {"damping", o.damping},
@@ -322,6 +329,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--pin", o.pin,
                   "Vertices held in place: none | rings:K (2 clamps) | vertices:FILE")
       ->capture_default_str();
+  sub->add_option("--pin-motion", o.pinMotion,
+                  "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
+                  "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");
   addLoadArguments(*sub, o.load);
   sub->add_option("--integrator", o.integrator,
                   "newmark (average acceleration: conserves energy) | backward-euler "

@@ -1,7 +1,9 @@
 #include "optimize/time_stepping.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "modeling/errors.h"
 #include "optimize/energy_evaluation.h"
@@ -27,6 +29,66 @@ const char* integratorName(Integrator integrator) {
       return "central-difference";
   }
   return "";
+}
+
+Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
+  switch (kind) {
+    case Kind::None:
+      return start;
+    case Kind::Translate:
+      return start + t * velocity;
+    case Kind::Rotate: {
+      const Eigen::Vector3d y = start - point;
+      const double phi = omega * t, c = std::cos(phi), s = std::sin(phi);
+      return point + c * y + s * axis.cross(y) + (1.0 - c) * axis.dot(y) * axis;
+    }
+  }
+  return start;
+}
+
+Eigen::Vector3d PinMotion::velocityAt(const Eigen::Vector3d& start, double t) const {
+  switch (kind) {
+    case Kind::None:
+      return Eigen::Vector3d::Zero();
+    case Kind::Translate:
+      return velocity;
+    case Kind::Rotate:
+      return omega * axis.cross(position(start, t) - point);
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+PinMotion parsePinMotion(const std::string& spec) {
+  const auto colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string expected = ": expected rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz";
+  const int count = kind == "rotate" ? 7 : kind == "translate" ? 3 : 0;
+  if (colon == std::string::npos || count == 0) throw InputError("--pin-motion " + spec + expected);
+  std::vector<double> value;
+  const std::string numbers = spec.substr(colon + 1);
+  const char* cursor = numbers.c_str();
+  for (int k = 0; k < count; ++k) {
+    char* end = nullptr;
+    value.push_back(std::strtod(cursor, &end));
+    if (end == cursor || (k < count - 1 && *end != ',') || (k == count - 1 && *end != '\0') ||
+        !std::isfinite(value.back()))
+      throw InputError("--pin-motion " + spec + expected + " (" + std::to_string(count) +
+                       " finite numbers)");
+    cursor = end + 1;
+  }
+  PinMotion m;
+  if (kind == "translate") {
+    m.kind = PinMotion::Kind::Translate;
+    m.velocity = Eigen::Vector3d(value[0], value[1], value[2]);
+    return m;
+  }
+  const Eigen::Vector3d axis(value[0], value[1], value[2]);
+  if (!(axis.norm() > 0.0)) throw InputError("--pin-motion " + spec + ": the axis is zero");
+  m.kind = PinMotion::Kind::Rotate;
+  m.axis = axis.normalized();
+  m.point = Eigen::Vector3d(value[3], value[4], value[5]);
+  m.omega = value[6];
+  return m;
 }
 
 double EnergySample::total() const {
@@ -186,12 +248,21 @@ Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::V
   return a;
 }
 
+void TimeStepper::movePins(Positions& x, Positions* v, double t) const {
+  for (int k = 0; k < x.rows(); ++k) {
+    if (!pinned_[k]) continue;
+    const Eigen::Vector3d start = pinnedStart_.row(k).transpose();
+    x.row(k) = options_.pinMotion.position(start, t).transpose();
+    if (v != nullptr) v->row(k) = options_.pinMotion.velocityAt(start, t).transpose();
+  }
+}
+
 void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
   barrier_.requireOutside(x, "the start");
   x_ = x;
   v_ = v;
-  for (int k = 0; k < v_.rows(); ++k)
-    if (pinned_[k]) v_.row(k).setZero();
+  pinnedStart_ = x;
+  movePins(x_, &v_, 0.0);
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
   time_ = 0.0;
@@ -209,7 +280,8 @@ TimeStepper::Outcome TimeStepper::step(double h) {
 }
 
 TimeStepper::Outcome TimeStepper::explicitStep(double h) {
-  const Positions x = x_ + h * v_ + 0.5 * h * h * a_;
+  Positions x = x_ + h * v_ + 0.5 * h * h * a_;
+  movePins(x, nullptr, time_ + h);
   const Eigen::VectorXd xi = xi_.size() > 0 ? minimizeEdgeUnknowns(terms_, x, xi_, freeEdge_) : xi_;
   const Positions a = accelerationFromForces(x, xi);
   if (!a.allFinite()) return {false, 0, "the forces are not finite (the step is unstable)"};
@@ -218,6 +290,7 @@ TimeStepper::Outcome TimeStepper::explicitStep(double h) {
   xi_ = xi;
   a_ = a;
   time_ += h;
+  movePins(x_, &v_, time_);
   return {true, 0, ""};
 }
 
@@ -261,6 +334,15 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   };
   const Eigen::VectorXd dampingOfVHat = damping(vHatFree);
 
+  // x_n with the pinned vertices where they are at t + h: the fixed part of every iterate.
+  Positions moved = x_;
+  movePins(moved, nullptr, time_ + h);
+  if (!barrier_.empty() && options_.pinMotion.kind != PinMotion::Kind::None) {
+    int vertex = -1;
+    if (barrier_.smallestDistance(moved, &vertex) <= 0.0 && pinned_[vertex])
+      return {false, 0, "pinned vertex " + std::to_string(vertex) + " is moved into an obstacle"};
+  }
+
   // (x, ξ) from the free unknowns and back.
   auto values = [&](const Positions& x, const Eigen::VectorXd& xi) {
     Eigen::VectorXd y(n);
@@ -287,7 +369,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
            dampingOfVHat.dot(d) - gravityForce.dot(y);
   };
   auto phi = [&](const Eigen::VectorXd& y) {
-    Positions x = x_;
+    Positions x = moved;
     Eigen::VectorXd xi = xi_;
     place(y, x, xi);
     double e = 0.0;
@@ -297,7 +379,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   // The largest fraction of the step δ from y that keeps every vertex outside the obstacles.
   auto feasible = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& delta) {
     if (barrier_.empty()) return 1.0;
-    Positions from = x_, dx = Positions::Zero(x_.rows(), 3);
+    Positions from = moved, dx = Positions::Zero(x_.rows(), 3);
     Eigen::VectorXd unusedXi = xi_;
     place(y, from, unusedXi);
     for (int k = 0; k < n; ++k)
@@ -307,7 +389,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
 
   // Newton starts at the predictor x̂ — with obstacles, from x_n towards x̂ as far as they allow
   // (x_n is outside every obstacle; x̂ need not be).
-  Positions x = x_;
+  Positions x = moved;
   Eigen::VectorXd xi = xi_;
   Eigen::VectorXd y = values(x, xi);
   const Eigen::VectorXd toHat = (hat - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
@@ -372,12 +454,11 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   for (int v = 0; v < x.rows(); ++v)
     if (pinned_[v]) a.row(v).setZero();
   v_ = vHat + gamma * h * a;
-  for (int v = 0; v < x.rows(); ++v)
-    if (pinned_[v]) v_.row(v).setZero();
   x_ = x;
   xi_ = xi;
   a_ = a;
   time_ += h;
+  movePins(x_, &v_, time_);
   return outcome;
 }
 

@@ -42,6 +42,26 @@ Integrator parseIntegrator(
     const std::string& name);  // newmark | backward-euler | central-difference
 const char* integratorName(Integrator integrator);
 
+// A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
+//   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
+//              (Rodrigues; a the unit axis, p a point on it, ω the angular speed in rad/s,
+//              counter-clockwise about a by the right-hand rule),
+//   translate: x₀ + u t (u the velocity),
+// with velocity ω a × (x − p) or u. None: the pinned vertices stay where they start.
+struct PinMotion {
+  enum class Kind { None, Rotate, Translate };
+  Kind kind = Kind::None;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero();
+  double omega = 0.0;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+
+  Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
+  Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
+};
+// rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz (InputError naming --pin-motion
+// otherwise: a zero axis, a number that is not finite).
+PinMotion parsePinMotion(const std::string& spec);
+
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
   double beta = 0.25, gamma = 0.5;  // Newmark's
@@ -59,6 +79,9 @@ struct DynamicsOptions {
   // dissipates; membrane stretching is not damped. Midedge's ξ rows are left out (massless,
   // solved with each step).
   double bendingDamping = 0.0;
+  // How the pinned vertices move (from where start() puts them). Damping acts on the free
+  // vertices' velocities only: a moving pin drags its neighbours through the elastic forces.
+  PinMotion pinMotion;
   // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
   // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
   std::vector<bool> heldEdges;
@@ -84,9 +107,9 @@ struct EnergySample {
 
 class TimeStepper {
  public:
-  // `pinned` vertices keep their start positions. Throws InputError for a bad option (β outside
-  // [0, ½] for Newmark, γ ≠ ½ with β = 0, damping or obstacles with the explicit scheme,
-  // density ≤ 0, nothing free).
+  // `pinned` vertices keep their start positions, or follow options.pinMotion from them. Throws
+  // InputError for a bad option (β outside [0, ½] for Newmark, γ ≠ ½ with β = 0, damping or
+  // obstacles with the explicit scheme, density ≤ 0, nothing free).
   TimeStepper(std::vector<const curvature::EnergyTerm*> terms, const modeling::Stencils& stencils,
               const modeling::RestState& rest, const Eigen::VectorXd& restXi,
               std::vector<bool> pinned, const DynamicsOptions& options);
@@ -120,6 +143,8 @@ class TimeStepper {
   Outcome implicitStep(double h);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
+  // Puts the pinned rows of x (and of v, when given) where the pin motion has them at time t.
+  void movePins(Positions& x, Positions* v, double t) const;
 
   std::vector<const curvature::EnergyTerm*> terms_;
   std::vector<bool> pinned_;
@@ -131,6 +156,7 @@ class TimeStepper {
   std::unique_ptr<Implicit> implicit_;
   double time_ = 0.0;
   Positions x_, v_, a_;
+  Positions pinnedStart_;  // the positions at time 0 (the pinned rows are read)
   Eigen::VectorXd xi_;
 };
 

@@ -45,6 +45,25 @@ run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 -
   -o bent --quiet
 report_check bent "d['completed'] and d['damping'] == ['rayleigh:2,0', 'bend:0.01']" "both dampings"
 
+# Moving pins: the rim turns a quarter about z (0.25 s at 2 pi rad/s); the last frame's pinned
+# corner (0.5, 0.5) is at (-0.5, 0.5).
+run 0 mesh --family patch48 --n 6 -o sheet.obj --quiet
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 \
+  --pin-motion rotate:0,0,1,0,0,0,6.283185307179586 --dt 0.01 --duration 0.25 --fps 4 \
+  --render-style none -o turn --quiet
+report_check turn "d['completed'] and d['pin_motion'].startswith('rotate:')" "the pin motion"
+python3 -c "
+import sys
+v = [[float(x) for x in l.split()[1:]] for l in open('turn/frame-00001.obj') if l.startswith('v ')]
+sys.exit(0 if any(abs(x + 0.5) < 1e-9 and abs(y - 0.5) < 1e-9 for x, y, z in v) else 1)" \
+  || fail "the pinned corner did not turn to (-0.5, 0.5)"
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --pin-motion translate:1,0,0 -o bad; stderr_has "give them with --pin"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+  --duration 0.1 --pin-motion rotate:0,0,0,0,0,0,1 -o bad; stderr_has "the axis is zero"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+  --duration 0.1 --pin-motion twist:1 -o bad; stderr_has "--pin-motion twist:1: expected"; absent bad
+
 # The static counterpart: minimize under gravity (Newton only).
 run 0 minimize --rest plate.obj --energy midedge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
   --gravity 0,0,-9.81 -o static.obj --report static.json --quiet
@@ -91,7 +110,6 @@ run 2 simulate --rest plate.obj --init other.obj --energy hinge --membrane stvk 
 
 # Obstacles: a sheet falls onto a plane 0.02 below it and onto a sphere; the contact energy is a
 # column, the report's smallest distance stays positive (no vertex ever inside).
-run 0 mesh --family patch48 --n 6 -o sheet.obj --quiet
 run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 \
   --obstacle plane:0,0,1,-0.02 --obstacle sphere:0.3,0.3,-0.5,0.47 --damping rayleigh:2,0 \
   --dt 0.01 --duration 0.3 --render-style none -o drop --quiet

@@ -259,6 +259,59 @@ TEST(TimeStepping, BendingDampingLeavesRigidMotionAlone) {
   }
 }
 
+// --pin-motion: the pinned vertices are where the rigid motion has them, at every step, with its
+// velocity (checked against the rotation written out about z, and a translation); the free
+// ones follow.
+TEST(TimeStepping, PinnedVerticesFollowTheirRigidMotion) {
+  const Shell shell(6, Discretization::Hinge);
+  const int vertexCount = shell.mesh.vertexCount();
+  const modeling::Positions still = modeling::Positions::Zero(vertexCount, 3);
+  const Eigen::Vector3d p(0.1, -0.2, 0.3);
+  const double omega = 2.0, h = 0.01;
+  DynamicsOptions o;
+  o.pinMotion = optimize::parsePinMotion("rotate:0,0,2,0.1,-0.2,0.3,2");
+  TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  stepper.start(shell.rest.positions, still, Eigen::VectorXd());
+  double worst = 0.0, worstVelocity = 0.0;
+  for (int k = 1; k <= 60; ++k) {
+    ASSERT_TRUE(stepper.step(h).converged) << "step " << k;
+    const double phi = omega * k * h, c = std::cos(phi), s = std::sin(phi);
+    for (int v = 0; v < vertexCount; ++v) {
+      if (!shell.pinned[v]) continue;
+      const Eigen::Vector3d y = shell.rest.positions.row(v).transpose() - p;
+      const Eigen::Vector3d expected =
+          p + Eigen::Vector3d(c * y.x() - s * y.y(), s * y.x() + c * y.y(), y.z());
+      const Eigen::Vector3d velocity =
+          omega * Eigen::Vector3d(-(expected.y() - p.y()), expected.x() - p.x(), 0.0);
+      worst = std::max(worst, (stepper.positions().row(v).transpose() - expected).norm());
+      worstVelocity =
+          std::max(worstVelocity, (stepper.velocities().row(v).transpose() - velocity).norm());
+    }
+  }
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_LT(worstVelocity, 1e-13);
+  // The plate turned 1.2 rad with its rim: the centre vertex (free) turned with it.
+  int centre = 0;
+  shell.rest.positions.rowwise().norm().minCoeff(&centre);
+  ASSERT_FALSE(shell.pinned[centre]);
+  EXPECT_GT(stepper.velocities().row(centre).norm(), 0.0);
+
+  DynamicsOptions t;
+  t.pinMotion = optimize::parsePinMotion("translate:0.5,0,-0.25");
+  TimeStepper moving(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, t);
+  moving.start(shell.rest.positions, still, Eigen::VectorXd());
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(moving.step(h).converged);
+  for (int v = 0; v < vertexCount; ++v) {
+    if (!shell.pinned[v]) continue;
+    const Eigen::Vector3d expected =
+        shell.rest.positions.row(v).transpose() + 0.2 * Eigen::Vector3d(0.5, 0.0, -0.25);
+    EXPECT_LT((moving.positions().row(v).transpose() - expected).norm(), 1e-14);
+  }
+  for (const char* bad : {"rotate:0,0,0,0,0,0,1", "rotate:0,0,1,0,0,0", "spin:1,2,3",
+                          "translate:1,2", "translate:1,2,inf"})
+    EXPECT_THROW(optimize::parsePinMotion(bad), InputError) << bad;
+}
+
 TEST(TimeStepping, RefusesUnusableOptions) {
   const Shell shell(4, Discretization::Hinge);
   DynamicsOptions o;
