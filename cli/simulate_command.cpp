@@ -1,9 +1,12 @@
 // flexure simulate: a plate or shell in time (optimize/time_stepping.h) — a bending energy and a
 // membrane, lumped masses, gravity, pins, damping — written as frame meshes, an energy history
 // and a report.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -41,13 +44,76 @@ struct SimulateOptions {
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
+  std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
 };
+
+// Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
+bool ffmpegAvailable() {
+  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
+
+std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// The frame images as an H.264 MP4 at `fps` frames per second, encoded by ffmpeg in a private
+// temporary folder (single-threaded, bit-exact flags and no metadata: the same frames give the
+// same bytes) and staged to `video` like every other output. InputError with ffmpeg's own message
+// when it fails.
+void writeVideo(const std::string& video, const std::vector<std::string>& pngs, double fps) {
+  namespace fs = std::filesystem;
+  std::string pattern = (fs::temp_directory_path() / "flexure-video.XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr)
+    throw InputError("--video " + video + ": cannot make a temporary folder for ffmpeg");
+  const fs::path scratch(pattern);
+  struct Cleanup {
+    fs::path path;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  } cleanup{scratch};
+  for (size_t k = 0; k < pngs.size(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame-%05zu.png", k);
+    std::ofstream((scratch / name).string(), std::ios::binary) << pngs[k];
+  }
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.17g", fps);
+  const std::string command =
+      "ffmpeg -nostdin -v error -y -framerate " + std::string(rate) + " -i '" +
+      (scratch / "frame-%05d.png").string() +
+      "' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -threads 1 "
+      "-map_metadata -1 -fflags +bitexact -flags:v +bitexact '" +
+      (scratch / "video.mp4").string() + "' 2>'" + (scratch / "ffmpeg.log").string() + "'";
+  const int status = std::system(command.c_str());
+  if (status != 0 || !fs::exists(scratch / "video.mp4"))
+    throw InputError("--video " + video + ": ffmpeg failed: " + readBytes(scratch / "ffmpeg.log"));
+  modeling::writeFileAtomically(video, readBytes(scratch / "video.mp4"));
+}
 
 bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
   return name.rfind("frame-", 0) == 0 && (obj || png);
+}
+
+// Schedules the removal (at the commit) of the frame images in `frameDir` this run did not write.
+void removeStaleFrames(const std::filesystem::path& frameDir,
+                       const std::vector<std::string>& kept) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(frameDir, ec)) return;
+  for (const auto& entry : std::filesystem::directory_iterator(frameDir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file(ec) || !isSimulationFile(name) ||
+        std::find(kept.begin(), kept.end(), name) != kept.end())
+      continue;
+    modeling::removeWhenCommitted(entry.path().string());
+  }
 }
 
 struct Run {
@@ -108,6 +174,18 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     look->width = look->height = o.renderSize;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
+  }
+  if (!o.video.empty()) {
+    if (!look)
+      throw InputError("--video " + o.video +
+                       ": the video is made of the frame images; not with --render-style none");
+    const fs::path ext = fs::path(o.video).extension();
+    if (ext != ".mp4") throw InputError("--video " + o.video + ": expected a .mp4 file name");
+    if (!ffmpegAvailable())
+      throw InputError(
+          "--video " + o.video +
+          ": ffmpeg is not installed (Debian package ffmpeg, which scripts/install-deps "
+          "installs); run without --video, or install it");
   }
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
@@ -296,10 +374,19 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     for (size_t f = 0; f < frames.size(); ++f)
       look->framingPoints.middleRows(f * restMesh.vertexCount(), restMesh.vertexCount()) =
           frames[f].second.positions;
+    // The images in DIR/frames/; the earlier runs' images there that this one did not write go.
+    const fs::path frameDir = dir / "frames";
+    modeling::createOutputDirectory(frameDir.string());
+    std::vector<std::string> pngs, names;
     for (const auto& [name, mesh] : frames) {
-      const std::string png = name.substr(0, name.size() - 4) + ".png";
-      render::writePng((dir / png).string(), render::renderMesh(*context, mesh, *look));
+      names.push_back(name.substr(0, name.size() - 4) + ".png");
+      pngs.push_back(render::encodePng(render::renderMesh(*context, mesh, *look)));
+      modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
     }
+    removeStaleFrames(frameDir, names);
+    if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
+  } else {
+    removeStaleFrames(dir / "frames", {});
   }
   modeling::writeFileAtomically((dir / "energies.csv").string(), csv.str());
   render::writeLinePlot(plot, (dir / "energies.png").string());
@@ -348,12 +435,14 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--render-style", o.renderStyle,
-                  "Each frame also as frame-NNNNN.png: reflection | shaded | isophote | "
+                  "Each frame also as frames/frame-NNNNN.png: reflection | shaded | isophote | "
                   "highlight | none")
       ->capture_default_str();
   sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
       ->capture_default_str()
       ->check(inRange(32, 4096));
+  files->output("--video", o.video,
+                "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
@@ -364,8 +453,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                OutputKind::Directory, isSimulationFile)
       ->required();
   sub->footer(
-      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time) and frame-NNNNN.png (rendered "
-      "with one camera for the whole run), DIR/energies.csv and "
+      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time) and DIR/frames/frame-NNNNN.png "
+      "(rendered with one camera for the whole run; with --video also an MP4 of them), "
+      "DIR/energies.csv and "
       "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
       "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "

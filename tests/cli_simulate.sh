@@ -16,9 +16,9 @@ run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 -
 stderr_has "flexure simulate: t = 0.2 / 0.2 s"; stderr_has "wrote 5 frames"
 for k in 0 1 2 3 4; do
   [ -s "sag/frame-0000$k.obj" ] || fail "sag/frame-0000$k.obj missing"
-  is_png "sag/frame-0000$k.png" || fail "sag/frame-0000$k.png is not a PNG"
+  is_png "sag/frames/frame-0000$k.png" || fail "sag/frames/frame-0000$k.png is not a PNG"
 done
-absent sag/frame-00005.obj
+absent sag/frame-00005.obj; absent sag/frame-00000.png; absent sag/frames/frame-00005.png
 [ "$(wc -l < sag/energies.csv)" -eq 22 ] || fail "energies.csv: a header and 21 samples"
 head -1 sag/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,total" \
   || fail "energies.csv header: $(head -1 sag/energies.csv)"
@@ -36,7 +36,7 @@ sys.exit(0 if min(z) < 0 else 1)" || fail "the plate did not sag"
 touch sag/notes.txt
 run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 --dt 0.01 \
   --duration 0.05 --fps 20 -o sag --quiet --integrator backward-euler --render-style none
-absent sag/frame-00002.obj; absent sag/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
+absent sag/frame-00002.obj; absent sag/frames/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
 report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
 
 # Bending damping with Rayleigh's: the run completes and the report names both.
@@ -63,6 +63,25 @@ run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --d
   --duration 0.1 --pin-motion rotate:0,0,0,0,0,0,1 -o bad; stderr_has "the axis is zero"; absent bad
 run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
   --duration 0.1 --pin-motion twist:1 -o bad; stderr_has "--pin-motion twist:1: expected"; absent bad
+
+# --video: an MP4 of the frames when ffmpeg is installed, else exit 2 saying so, nothing written.
+if command -v ffmpeg >/dev/null; then
+  run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+    --duration 0.1 --fps 20 --render-size 64 -o clip --video clip.mp4 --quiet
+  [ "$(head -c 8 clip.mp4 | tail -c 4)" = ftyp ] || fail "clip.mp4 is not an MP4"
+  cp clip.mp4 first.mp4
+  run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+    --duration 0.1 --fps 20 --render-size 64 -o clip --video clip.mp4 --quiet
+  cmp -s clip.mp4 first.mp4 || fail "the same run gave a different clip.mp4"
+else
+  run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+    -o clip --video clip.mp4; stderr_has "ffmpeg is not installed"; absent clip; absent clip.mp4
+fi
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --render-style none -o clip2 --video clip2.mp4; stderr_has "not with --render-style none"
+absent clip2; absent clip2.mp4
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  -o clip2 --video clip2.avi; stderr_has "expected a .mp4"; absent clip2
 
 # The static counterpart: minimize under gravity (Newton only).
 run 0 minimize --rest plate.obj --energy midedge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
