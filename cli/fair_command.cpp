@@ -42,6 +42,7 @@ struct FairCommandOptions {
   std::string membrane = "conformal";
   double membraneWeight = 1.0;
   std::string start = "best";
+  std::string metric = "input";
   int renderSize = 700;
   optimize::MinimizeOptions solver;
   SolverArguments solverArguments;
@@ -248,6 +249,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   applySolverArguments(o.solverArguments, solver);
   if (o.start != "best" && o.start != "biharmonic" && o.start != "input")
     throw InputError("--start " + o.start + ": expected best, biharmonic or input");
+  if (o.metric != "input" && o.metric != "current")
+    throw InputError("--metric " + o.metric + ": expected input or current");
   BendingArguments bendingArguments = o.bending;
   bendingArguments.flatRest = true;
   const curvature::BendingOptions bending = bendingOptions(bendingArguments);
@@ -291,6 +294,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     options.start = o.start == "input"        ? optimize::FairingStart::Input
                     : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                               : optimize::FairingStart::Best;
+    options.metric =
+        o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input;
     options.solver = solver;
     options.solver.progress = !global.quiet;
     fairing = optimize::fairNonlinear(patch, options);
@@ -330,6 +335,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["stiffness"] = bending.stiffness;
     report["membrane"] = {{"model", o.membrane}, {"weight", o.membraneWeight}};
     report["start"] = startUsed;
+    report["metric"] = {{"name", o.metric},
+                        {"solves", fairing->metricUpdates},
+                        {"stalled", fairing->metricStalled}};
     report["solver"] = {{"name", solve->solver},
                         {"factorizations", solve->factorizations},
                         {"converged", solve->converged},
@@ -442,6 +450,11 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--start", options->start,
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "
                   "bending energy) | biharmonic (the linear fair) | input")
+      ->capture_default_str();
+  sub->add_option("--metric", options->metric,
+                  "Whose metric the bending energy measures curvature in: input (one solve) | "
+                  "current (lagged to the surface, re-solved until it stops moving: fair shapes "
+                  "such as spheres come back; several solves)")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->solver, /*tolerances=*/false);
