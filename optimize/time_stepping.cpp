@@ -294,7 +294,17 @@ TimeStepper::Outcome TimeStepper::explicitStep(double h) {
   return {true, 0, ""};
 }
 
-TimeStepper::Outcome TimeStepper::implicitStep(double h) {
+TimeStepper::StepObjective TimeStepper::stepObjective(double h, const Positions& x,
+                                                      const Eigen::VectorXd& xi) {
+  if (!implicit_) throw InputError("the explicit scheme minimizes no step objective");
+  StepObjective objective;
+  objective.x = &x;
+  objective.xi = &xi;
+  implicitStep(h, &objective);
+  return objective;
+}
+
+TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   Implicit& im = *implicit_;
   const DynamicsOptions& o = options_;
   const bool euler = o.integrator == Integrator::BackwardEuler;
@@ -394,30 +404,48 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   Eigen::VectorXd y = values(x, xi);
   const Eigen::VectorXd toHat = (hat - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
   y += feasible(y, toHat) * toHat;
+  // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
+  // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
+  auto evaluate = [&](const Eigen::VectorXd& y, curvature::SecondDerivatives kind, double& energy,
+                      Eigen::VectorXd& gradient) {
+    place(y, x, xi);
+    HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, kind);
+    barrier_.add(im.assembly, x, at, kind != curvature::SecondDerivatives::Exact);
+    Eigen::VectorXd extraGradient;
+    energy = at.energy + extra(y, &extraGradient);
+    gradient = at.gradient + extraGradient;
+    for (int k = 0; k < n; ++k)
+      at.values[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
+    for (size_t e = 0; e < stiffnessDamping.size(); ++e)
+      at.values[e] += dampingWeight * stiffnessDamping[e];
+    return at;
+  };
+  if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
+    y = values(*probe->x, *probe->xi);
+    const HessianEvaluation at =
+        evaluate(y, curvature::SecondDerivatives::Exact, probe->value, probe->gradient);
+    probe->unknowns = unknowns;
+    probe->hessian = Eigen::MatrixXd::Zero(n, n);
+    for (int j = 0; j < n; ++j)
+      for (int e = im.assembly.columnStart()[j]; e < im.assembly.columnStart()[j + 1]; ++e) {
+        const int i = im.assembly.rowIndex()[e];
+        probe->hessian(i, j) = probe->hessian(j, i) = at.values[e];
+      }
+    return {};
+  }
+
   Outcome outcome;
   const double stepTolerance = o.tolerance * length_;
   for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
-    place(y, x, xi);
-    HessianEvaluation at =
-        im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, o.hessian);
-    barrier_.add(im.assembly, x, at, o.hessian != curvature::SecondDerivatives::Exact);
-    Eigen::VectorXd extraGradient;
-    const double energy = at.energy + extra(y, &extraGradient);
-    const Eigen::VectorXd gradient = at.gradient + extraGradient;
-    // M/(βh²) + γ C/(βh) on the pattern: the diagonal, and γβ_K/(βh) K̄ everywhere.
-    auto addInertia = [&](std::vector<double>& h2) {
-      for (int k = 0; k < n; ++k)
-        h2[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
-      for (size_t e = 0; e < stiffnessDamping.size(); ++e)
-        h2[e] += dampingWeight * stiffnessDamping[e];
-    };
-    addInertia(at.values);
+    double energy = 0.0;
+    Eigen::VectorXd gradient;
+    HessianEvaluation at = evaluate(y, o.hessian, energy, gradient);
     bool factored = im.factorization.factor(at.values);
     if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
-      HessianEvaluation gn = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr,
-                                                  curvature::SecondDerivatives::GaussNewton);
-      barrier_.add(im.assembly, x, gn, true);
-      addInertia(gn.values);
+      double unused = 0.0;
+      Eigen::VectorXd unusedGradient;
+      const HessianEvaluation gn =
+          evaluate(y, curvature::SecondDerivatives::GaussNewton, unused, unusedGradient);
       factored = im.factorization.factor(gn.values);
     }
     if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};

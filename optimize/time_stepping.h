@@ -130,6 +130,21 @@ class TimeStepper {
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
 
+  // The implicit step's objective Φ for a step of h from the current state, at (x, ξ) (#V by 3,
+  // #E or empty; the pinned rows are replaced by where the pins are at t + h): its value,
+  // gradient and Hessian (dense) over the free unknowns — vertex coordinates 3v + c of unpinned
+  // vertices, then 3 #V + e for free ξ_e (`unknowns`) — as each Newton iteration assembles them.
+  // For tests; the state is unchanged.
+  struct StepObjective {
+    const Positions* x = nullptr;
+    const Eigen::VectorXd* xi = nullptr;
+    double value = 0.0;
+    Eigen::VectorXd gradient;
+    Eigen::MatrixXd hessian;
+    std::vector<int> unknowns;
+  };
+  StepObjective stepObjective(double h, const Positions& x, const Eigen::VectorXd& xi);
+
   double time() const { return time_; }
   const Positions& positions() const { return x_; }
   const Positions& velocities() const { return v_; }
@@ -140,7 +155,8 @@ class TimeStepper {
 
  private:
   struct Implicit;
-  Outcome implicitStep(double h);
+  // One step; with `probe`, only Φ and its derivatives at the probe's point (stepObjective).
+  Outcome implicitStep(double h, StepObjective* probe = nullptr);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
   // Puts the pinned rows of x (and of v, when given) where the pin motion has them at time t.

@@ -312,6 +312,69 @@ TEST(TimeStepping, PinnedVerticesFollowTheirRigidMotion) {
     EXPECT_THROW(optimize::parsePinMotion(bad), InputError) << bad;
 }
 
+// The step's objective Φ (inertia, Rayleigh and bending damping, gravity, the energies, an
+// obstacle's barrier, midedge's ξ) against finite differences: its gradient against Φ's central
+// differences, its Hessian against the gradient's, at a point off the step's minimizer, for
+// Newmark and backward Euler.
+TEST(TimeStepping, StepObjectiveDerivativesMatchFiniteDifferences) {
+  const Shell shell(4, Discretization::Midedge);
+  const int vertexCount = shell.mesh.vertexCount();
+  for (const Integrator integrator : {Integrator::Newmark, Integrator::BackwardEuler}) {
+    DynamicsOptions o;
+    o.integrator = integrator;
+    o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+    o.rayleighMass = 0.5;
+    o.rayleighStiffness = 1e-3;
+    o.bendingDamping = 1e-3;
+    o.obstacles = {optimize::parseObstacle("--obstacle", "plane:0.1,0,1,-0.08")};
+    TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+    stepper.start(shell.rest.positions, modeling::Positions::Zero(vertexCount, 3),
+                  Eigen::VectorXd());
+    const double h = 0.01;
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(stepper.step(h).converged);
+    // A point near the state: free vertices moved by up to 5e-3, ξ by up to 1e-2.
+    modeling::Positions x = stepper.positions();
+    Eigen::VectorXd xi = stepper.xi();
+    for (int v = 0; v < vertexCount; ++v)
+      for (int c = 0; c < 3; ++c) x(v, c) += 5e-3 * std::sin(3.0 * v + c);
+    for (int e = 0; e < xi.size(); ++e) xi[e] += 1e-2 * std::cos(1.7 * e);
+    ASSERT_GT(stepper.barrier().smallestDistance(x), 0.0);
+    ASSERT_LT(stepper.barrier().smallestDistance(x), stepper.barrier().layer());
+    const auto at = stepper.stepObjective(h, x, xi);
+    const int n = static_cast<int>(at.unknowns.size());
+    ASSERT_GT(n, 3 * 9);
+    const double eps = 1e-6;
+    double gradientError = 0.0, gradientScale = 0.0, hessianError = 0.0, hessianScale = 0.0;
+    for (int k = 0; k < n; ++k) {
+      modeling::Positions xp = x, xm = x;
+      Eigen::VectorXd xip = xi, xim = xi;
+      const int u = at.unknowns[k];
+      if (u < 3 * vertexCount) {
+        xp.data()[u] += eps;
+        xm.data()[u] -= eps;
+      } else {
+        xip[u - 3 * vertexCount] += eps;
+        xim[u - 3 * vertexCount] -= eps;
+      }
+      const auto plus = stepper.stepObjective(h, xp, xip);
+      const auto minus = stepper.stepObjective(h, xm, xim);
+      gradientError = std::max(gradientError,
+                               std::abs(at.gradient[k] - (plus.value - minus.value) / (2 * eps)));
+      gradientScale = std::max(gradientScale, std::abs(at.gradient[k]));
+      const Eigen::VectorXd column = (plus.gradient - minus.gradient) / (2 * eps);
+      hessianError = std::max(hessianError, (at.hessian.col(k) - column).cwiseAbs().maxCoeff());
+      hessianScale = std::max(hessianScale, at.hessian.col(k).cwiseAbs().maxCoeff());
+    }
+    std::printf("%s step objective: gradient error %.2e of %.2e, Hessian error %.2e of %.2e\n",
+                optimize::integratorName(integrator), gradientError, gradientScale, hessianError,
+                hessianScale);
+    EXPECT_LT(gradientError, 1e-6 * gradientScale);
+    EXPECT_LT(hessianError, 1e-6 * hessianScale);
+    // The state is unchanged: the next step is the one it would have been.
+    EXPECT_TRUE(stepper.step(h).converged);
+  }
+}
+
 TEST(TimeStepping, RefusesUnusableOptions) {
   const Shell shell(4, Discretization::Hinge);
   DynamicsOptions o;
