@@ -461,6 +461,14 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
       break;
     }
     const double slope = gradient.dot(delta);
+    // Converged too when the decrease the Newton step predicts, −½ ∇Φᵀδ, is below Φ's roundoff
+    // (contact's stiff barrier can leave a step above the tolerance whose gain no line search
+    // can measure).
+    if (-0.5 * slope <= 1e-15 * std::abs(energy)) {
+      y += bound * delta;
+      outcome.converged = true;
+      break;
+    }
     double alpha = bound;
     Eigen::VectorXd trial = y + alpha * delta;
     for (double trialEnergy = phi(trial);
