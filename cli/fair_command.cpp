@@ -1,6 +1,7 @@
 // flexure fair: fairing a region of a real mesh — flexure's nonlinear bending-energy fairing, or
-// CGAL's linear fair on the same region — with a report of what changed and a before/after
-// reflection-line render.
+// CGAL's linear fair on the same region — with a report that sets the input, CGAL's fair and
+// flexure's result side by side, and a reflection-line render of the three with the region
+// outlined.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -20,9 +21,11 @@
 #include "modeling/fairing_region.h"
 #include "modeling/hole_filling.h"
 #include "modeling/mesh_io.h"
+#include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
 #include "optimize/fairing.h"
+#include "optimize/vibration_modes.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
@@ -34,6 +37,34 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kContextRings = 8;  // rings of unchanged mesh around the patch in the render
+// The smallest panel: the signed-distance panel keeps render::kLegendWidth of it for its legend.
+constexpr int kMinRenderSize = 200;
+
+// The smallest-angle rule (#15), beside optimize::checkFairing's gradient and triangle checks:
+// flexure's faired region (the faces touching a moving vertex) may not have a smallest angle more
+// than kSliverToleranceDegrees below min(the input's, CGAL's fair's) — a fair surface bought with
+// slivers is no better surface to work on, and CGAL's linear fair (the same held rings, the
+// input's cotangent weights) shows what fairing the region costs in angle. A result below the
+// limit exits 3 (the report, no mesh) unless --allow-slivers.
+constexpr double kSliverToleranceDegrees = 1.0;
+
+struct SliverCheck {
+  double inputDegrees = 0.0, cgalDegrees = 0.0, resultDegrees = 0.0;
+  double limitDegrees() const {
+    return std::min(inputDegrees, cgalDegrees) - kSliverToleranceDegrees;
+  }
+  bool passed() const { return resultDegrees >= limitDegrees(); }
+  // "smallest-angle check: …" with the three angles and the limit.
+  std::string failure() const {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "smallest-angle check: the faired region's smallest angle %.3g deg is more than "
+                  "%g deg below min(input %.3g deg, CGAL's fair %.3g deg) (limit %.3g deg)",
+                  resultDegrees, kSliverToleranceDegrees, inputDegrees, cgalDegrees,
+                  limitDegrees());
+    return text;
+  }
+};
 
 struct FairCommandOptions {
   std::string input, region, output, reportFile, renderFile;
@@ -43,6 +74,7 @@ struct FairCommandOptions {
   double membraneWeight = 1.0;
   std::string start = "best";
   std::string metric = "input";
+  bool allowSlivers = false;
   int renderSize = 700;
   optimize::MinimizeOptions solver;
   SolverArguments solverArguments;
@@ -126,7 +158,55 @@ nlohmann::json measuresJson(const optimize::FairingMeasures& m) {
           {"triangle_quality",
            {{"min_angle_degrees", m.quality.minAngleDegrees},
             {"mean_shape", m.quality.meanShape},
-            {"min_shape", m.quality.minShape}}}};
+            {"min_shape", m.quality.minShape}}},
+          {"max_displacement", m.maxDisplacement}};
+}
+
+// One column of the side-by-side comparison: the report's key, a heading, the measures.
+struct MeasureColumn {
+  std::string key, heading;
+  optimize::FairingMeasures measures;
+};
+
+// The comparison as a table on stderr: a row per energy (E_bend, flat rest, the input's metric),
+// then the triangle quality of the faces touching the region and the largest displacement.
+void printSideBySide(const std::vector<MeasureColumn>& columns) {
+  constexpr int kLabelWidth = 18, kColumnWidth = 17;
+  std::string text =
+      "flexure fair: side by side (E_bend flat rest, input metric; faces touching "
+      "the region)\n";
+  const auto pad = [](std::string cell, int width) {
+    cell.resize(std::max<std::size_t>(cell.size(), static_cast<std::size_t>(width)), ' ');
+    return cell;
+  };
+  text += pad("", kLabelWidth);
+  for (const MeasureColumn& c : columns) text += pad(c.heading, kColumnWidth);
+  text += '\n';
+  const auto row = [&](const std::string& label, const auto& value) {
+    text += pad(label, kLabelWidth);
+    for (const MeasureColumn& c : columns) text += pad(value(c.measures), kColumnWidth);
+    text += '\n';
+  };
+  const auto number = [](double x, const char* format) {
+    char cell[48];
+    std::snprintf(cell, sizeof cell, format, x);
+    return std::string(cell);
+  };
+  for (std::size_t e = 0; e < columns.front().measures.bending.size(); ++e) {
+    row("E_" + columns.front().measures.bending[e].energy, [&](const optimize::FairingMeasures& m) {
+      return m.bending[e].error.empty() ? number(m.bending[e].value, "%.5g") : std::string("-");
+    });
+  }
+  row("smallest angle", [&](const optimize::FairingMeasures& m) {
+    return number(m.quality.minAngleDegrees, "%.3g deg");
+  });
+  row("mean shape",
+      [&](const optimize::FairingMeasures& m) { return number(m.quality.meanShape, "%.4f"); });
+  row("smallest shape",
+      [&](const optimize::FairingMeasures& m) { return number(m.quality.minShape, "%.4f"); });
+  row("max displacement",
+      [&](const optimize::FairingMeasures& m) { return number(m.maxDisplacement, "%.4g"); });
+  std::cerr << text;
 }
 
 // The checks of optimize::FairingChecks, each with its verdict and threshold; at most
@@ -186,15 +266,62 @@ Eigen::Vector3d regionNormal(const modeling::FairingPatch& patch) {
   return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
 }
 
-// One panel of the before/after figure: the mesh's positions (all vertices), a column label and
-// a title.
+// One panel of the figure: the mesh's positions (all vertices), a column label and a title; with
+// `vertexScalars` (#V) it is a signed map of them (the renderer's curvature style, titled
+// `scalarLabel`) instead of reflection lines.
 struct FigurePanel {
   std::string label, title;
   modeling::Positions positions;
+  std::vector<double> vertexScalars;
+  std::string scalarLabel, scalarSymbol;
 };
 
-// The before/after figure: the patch and kContextRings more rings of the mesh, seen along the
-// region's mean normal, every panel framed alike.
+// The region's outline: the boundary of the region's faces (those with a vertex in the region,
+// i.e. every face that can change shape) — the edges with a region face on one side and a face
+// that is not on the other. It runs along the first held ring, which stays in place, so it is the
+// same line on every panel. #2S by 3, segment s from row 2s to row 2s + 1 (RenderOptions).
+modeling::Positions regionOutline(const modeling::Mesh& mesh, const modeling::Stencils& stencils,
+                                  const std::vector<bool>& region) {
+  const auto regionFace = [&](int f) {
+    if (f < 0) return false;
+    const auto t = mesh.triangles.row(f);
+    return region[t(0)] || region[t(1)] || region[t(2)];
+  };
+  std::vector<int> ends;
+  for (int e = 0; e < stencils.edgeCount(); ++e) {
+    if (regionFace(stencils.edgeFaces(e, 0)) != regionFace(stencils.edgeFaces(e, 1)))
+      ends.insert(ends.end(), {stencils.edges(e, 0), stencils.edges(e, 1)});
+  }
+  modeling::Positions segments(static_cast<Eigen::Index>(ends.size()), 3);
+  for (std::size_t i = 0; i < ends.size(); ++i)
+    segments.row(static_cast<Eigen::Index>(i)) = mesh.positions.row(ends[i]);
+  return segments;
+}
+
+// The signed distance of flexure's result from CGAL's fair at every mesh vertex,
+// d_v = (x_v − y_v) · n̄_v, x flexure's and y CGAL's positions, n̄_v the area-weighted vertex
+// normal of CGAL's patch (optimize::restVertexNormals): to first order in |x − y| the distance of
+// x_v from CGAL's surface, positive on the side the faces' normals point to; 0 off the region
+// (the held rings and the rest of the mesh do not move).
+std::vector<double> signedDistanceFromCgal(const modeling::Mesh& mesh,
+                                           const modeling::FairingPatch& patch,
+                                           const modeling::Positions& flexurePatch,
+                                           const modeling::Positions& cgalPatch) {
+  modeling::Mesh cgalMesh = patch.mesh;
+  cgalMesh.positions = cgalPatch;
+  const modeling::Stencils stencils = modeling::compileStencils(cgalMesh);
+  const Eigen::MatrixX3d normals =
+      optimize::restVertexNormals(stencils, modeling::precomputeRestState(stencils, cgalPatch));
+  std::vector<double> d(mesh.vertexCount(), 0.0);
+  for (std::size_t p = 0; p < patch.inputVertex.size(); ++p) {
+    const auto i = static_cast<Eigen::Index>(p);
+    d[patch.inputVertex[p]] = (flexurePatch.row(i) - cgalPatch.row(i)).dot(normals.row(i));
+  }
+  return d;
+}
+
+// The figure: the patch and kContextRings more rings of the mesh, seen along the region's mean
+// normal, every panel framed alike, the region's outline (regionOutline) drawn on each.
 render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mesh& mesh,
                                 const modeling::Stencils& stencils, const std::vector<bool>& region,
                                 const modeling::FairingPatch& patch,
@@ -205,15 +332,22 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
   for (int v = 0; v < mesh.vertexCount(); ++v) keep[v] = rings[v] >= 0;
   const modeling::Submesh shown = modeling::extractSubmesh(mesh, keep);
   std::vector<modeling::Mesh> meshes(panels.size(), shown.mesh);
-  for (std::size_t i = 0; i < panels.size(); ++i)
-    for (std::size_t p = 0; p < shown.inputVertex.size(); ++p)
+  std::vector<std::vector<double>> scalars(panels.size());
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    for (std::size_t p = 0; p < shown.inputVertex.size(); ++p) {
       meshes[i].positions.row(static_cast<Eigen::Index>(p)) =
           panels[i].positions.row(shown.inputVertex[p]);
+      if (!panels[i].vertexScalars.empty())
+        scalars[i].push_back(panels[i].vertexScalars[shown.inputVertex[p]]);
+    }
+  }
 
   const Eigen::Vector3d n = regionNormal(patch);
   render::RenderOptions look;
   look.style = render::RenderStyle::Reflection;
   look.width = look.height = o.renderSize;
+  look.outlineSegments = regionOutline(mesh, stencils, region);
+  look.outlineWidth = std::max(2.0, o.renderSize / 250.0);
   // The camera direction e = (cos E sin A, −cos E cos A, sin E) of mesh_renderer.h set to n.
   look.elevationDegrees = std::asin(std::clamp(n.z(), -1.0, 1.0)) * 180.0 / kPi;
   look.azimuthDegrees = std::atan2(n.x(), -n.y()) * 180.0 / kPi;
@@ -224,14 +358,21 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
 
   render::OffscreenContext context;
   render::FigureGrid grid;
-  grid.title = o.input + "  --region " + o.region + "  (reflection lines)";
+  grid.title = o.input + "  --region " + o.region + "  (reflection lines; region outlined)";
   grid.rowLabels = {""};
   grid.panels.emplace_back();
   grid.panelTitles.emplace_back();
   for (std::size_t i = 0; i < panels.size(); ++i) {
     grid.columnLabels.push_back(panels[i].label);
     grid.panelTitles.back().push_back(panels[i].title);
-    grid.panels.back().push_back(render::renderMesh(context, meshes[i], look));
+    render::RenderOptions panelLook = look;
+    if (!scalars[i].empty()) {
+      panelLook.style = render::RenderStyle::Curvature;
+      panelLook.vertexScalars = scalars[i];
+      panelLook.scalarLabel = panels[i].scalarLabel;
+      panelLook.scalarSymbol = panels[i].scalarSymbol;
+    }
+    grid.panels.back().push_back(render::renderMesh(context, meshes[i], panelLook));
   }
   return render::composeFigureGrid(grid);
 }
@@ -241,9 +382,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
   if (o.method != "flexure" && o.method != "cgal")
     throw InputError("--method " + o.method + ": expected flexure or cgal");
-  if (o.renderSize < 64 || o.renderSize > 4096)
-    throw InputError("--render-size must be in [64, 4096] (got " + std::to_string(o.renderSize) +
-                     ")");
+  if (o.renderSize < kMinRenderSize || o.renderSize > 4096)
+    throw InputError("--render-size must be in [" + std::to_string(kMinRenderSize) +
+                     ", 4096] (got " + std::to_string(o.renderSize) + ")");
   const bool cgal = o.method == "cgal";
   optimize::MinimizeOptions solver = o.solver;
   applySolverArguments(o.solverArguments, solver);
@@ -284,9 +425,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   std::optional<optimize::MinimizeReport> solve;
   std::optional<optimize::FairingResult> fairing;
   std::string startUsed;
-  if (cgal) {
-    patchAfter = optimize::fairCgal(patch);
-  } else {
+  if (!cgal) {
     optimize::FairingOptions options;
     options.bending = bending;
     options.membrane = membrane;
@@ -303,15 +442,41 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     solve = fairing->report;
     startUsed = fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
   }
-  const double solveSeconds = secondsSince(solveStart);
-  const optimize::FairingMeasures after = optimize::measureFairing(patch, patchAfter, bending);
+  const double flexureSeconds = secondsSince(solveStart);
+  // CGAL's fair always: the result with --method cgal, the baseline beside flexure's otherwise.
+  const auto cgalStart = Clock::now();
+  const modeling::Positions cgalPatch = optimize::fairCgal(patch);
+  const double cgalSeconds = secondsSince(cgalStart);
+  const double solveSeconds = cgal ? cgalSeconds : flexureSeconds;  // the method's own
+  if (cgal) patchAfter = cgalPatch;
+  const optimize::FairingMeasures cgalMeasures =
+      optimize::measureFairing(patch, cgalPatch, bending);
+  const optimize::FairingMeasures after =
+      cgal ? cgalMeasures : optimize::measureFairing(patch, patchAfter, bending);
   const optimize::FairingChecks checks =
       optimize::checkFairing(patch, patchAfter, fairing ? &*fairing : nullptr);
+  const SliverCheck slivers{checks.inputMinAngleDegrees, cgalMeasures.quality.minAngleDegrees,
+                            checks.resultMinAngleDegrees};
+  // The rule judges flexure's result (CGAL's own angle is one of the two it compares with).
+  const bool sliversPassed = cgal || slivers.passed();
   const bool solverConverged = !solve || solve->converged;
-  const bool converged = solverConverged && checks.passed();
+  const bool converged = solverConverged && checks.passed() && (sliversPassed || o.allowSlivers);
   const modeling::Positions faired =
       modeling::scatterPatchPositions(mesh.positions, patch, patchAfter);
 
+  std::vector<MeasureColumn> columns = {{"input", choice.filled ? "holes filled" : "input", before},
+                                        {"cgal", "CGAL fair", cgalMeasures}};
+  if (!cgal) columns.push_back({"flexure", "flexure " + energyName, after});
+  nlohmann::json measures = nlohmann::json::object();
+  for (const MeasureColumn& c : columns) measures[c.key] = measuresJson(c.measures);
+  nlohmann::json checksReport = checksJson(checks);
+  if (!cgal) {
+    checksReport["min_angle_degrees"] = {
+        {"input", slivers.inputDegrees},        {"cgal", slivers.cgalDegrees},
+        {"result", slivers.resultDegrees},      {"limit", slivers.limitDegrees()},
+        {"tolerance", kSliverToleranceDegrees}, {"passed", slivers.passed()},
+        {"allow_slivers", o.allowSlivers}};
+  }
   nlohmann::json report = {
       {"input", o.input},
       {"output", converged ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
@@ -322,13 +487,18 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
         {"held_rings", modeling::kHeldRings},
         {"patch_vertices", patch.mesh.vertexCount()},
         {"patch_faces", patch.mesh.faceCount()}}},
-      {"before", measuresJson(before)},
-      {"after", measuresJson(after)},
-      {"max_displacement", after.maxDisplacement},
+      // Side by side: the input (for holes, CGAL's fill), CGAL's fair and flexure's result (with
+      // --method flexure); "result" names the column that was written.
+      {"measures", measures},
+      {"result", cgal ? "cgal" : "flexure"},
       {"converged", converged},
-      {"checks", checksJson(checks)},
+      {"checks", checksReport},
   };
-  if (!checks.passed()) report["failed_check"] = checks.failure();
+  // The failed checks in words, each with its numbers and threshold ("" when all passed).
+  std::string failure = checks.failure();
+  if (!sliversPassed && !o.allowSlivers)
+    failure += (failure.empty() ? "" : "; ") + slivers.failure();
+  if (!failure.empty()) report["failed_check"] = failure;
   if (!cgal) {
     report["energy_name"] = energyName;
     report["poisson"] = curvature::effectivePoisson(bending);
@@ -368,24 +538,34 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   for (const optimize::EnergyMeasure& e : before.bending)
     if (!e.error.empty()) errors[e.energy] = e.error;
   if (!errors.empty()) report["energy_errors"] = errors;
+  if (!global.quiet) printSideBySide(columns);
 
+  const auto seconds = [&] {
+    return nlohmann::json{
+        {"solve", solveSeconds}, {"cgal", cgalSeconds}, {"total", secondsSince(start)}};
+  };
   if (!converged) {
-    report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
+    report["seconds"] = seconds();
     if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
   }
-  if (solverConverged && !checks.passed()) {
+  const std::string notWritten =
+      o.output + " not written" + (o.reportFile.empty() ? "" : ", see " + o.reportFile);
+  if (solverConverged && !converged) {
+    const bool onlySlivers = checks.passed();
     throw NumericalError(
         std::string(cgal ? "CGAL's fair" : "the fairing solve") +
-        " ended at a result that fails its checks: " + checks.failure() + "; " + o.output +
-        " not written" + (o.reportFile.empty() ? "" : ", see " + o.reportFile) +
-        (cgal ? "" : "; try a larger --membrane-weight, another --energy or a smaller region"));
+        " ended at a result that fails its checks: " + failure + "; " + notWritten +
+        (cgal          ? ""
+         : onlySlivers ? "; try a larger --membrane-weight, or pass --allow-slivers to accept it"
+                       : "; try a larger --membrane-weight, another --energy or a smaller region"));
   }
   if (!converged) {
     throw NumericalError("the fairing solve did not converge (" + solve->termination + "); " +
-                         o.output + " not written" +
-                         (o.reportFile.empty() ? "" : ", see " + o.reportFile) + "; " +
-                         solverAdvice(*solve, o.solver) + " (or lower --membrane-weight)");
+                         notWritten + "; " + solverAdvice(*solve, o.solver) +
+                         " (or lower --membrane-weight)");
   }
+  if (!sliversPassed && !global.quiet)
+    std::cerr << "flexure fair: --allow-slivers: accepting " << slivers.failure() << '\n';
   std::optional<render::Image> figure;
   if (!o.renderFile.empty()) {
     const auto title = [&](const optimize::FairingMeasures& m) {
@@ -394,21 +574,38 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
                     measuredEnergy(m, energyName));
       return std::string(text);
     };
-    std::vector<FigurePanel> panels = {
-        {choice.filled ? "holes filled (CGAL)" : "input", title(before), mesh.positions}};
-    if (!cgal) {  // the baseline beside flexure's result
-      const modeling::Positions linear = optimize::fairCgal(patch);
-      panels.push_back({"CGAL fair", title(optimize::measureFairing(patch, linear, bending)),
-                        modeling::scatterPatchPositions(mesh.positions, patch, linear)});
+    const modeling::Positions cgalFaired =
+        modeling::scatterPatchPositions(mesh.positions, patch, cgalPatch);
+    std::vector<FigurePanel> panels = {{choice.filled ? "holes filled (CGAL)" : "input",
+                                        title(before),
+                                        mesh.positions,
+                                        {},
+                                        {},
+                                        {}},
+                                       {"CGAL fair", title(cgalMeasures), cgalFaired, {}, {}, {}}};
+    if (!cgal) {
+      panels.push_back({"flexure " + energyName, title(after), faired, {}, {}, {}});
+      // The fourth panel: where and how far flexure's surface leaves CGAL's (the reflection
+      // lines of the two often look alike; this map shows the difference itself). CGAL's
+      // normals need its faces non-degenerate; without them the panel is left out.
+      try {
+        panels.push_back({"flexure - CGAL", "signed distance, flexure - CGAL", cgalFaired,
+                          signedDistanceFromCgal(mesh, patch, patchAfter, cgalPatch),
+                          "distance of flexure's result from CGAL's fair", "d"});
+      } catch (const InputError& e) {
+        if (!global.quiet)
+          std::cerr << "flexure fair: no signed-distance panel: CGAL's fair has a degenerate "
+                       "face ("
+                    << e.what() << ")\n";
+      }
     }
-    panels.push_back({cgal ? "CGAL fair" : "flexure " + energyName, title(after), faired});
     figure = beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
   }
   modeling::Mesh out = mesh;
   out.positions = faired;
   modeling::writeMesh(o.output, out);
   if (figure) render::writePng(o.renderFile, *figure);
-  report["seconds"] = {{"solve", solveSeconds}, {"total", secondsSince(start)}};
+  report["seconds"] = seconds();
   if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
   if (!global.quiet) {
     std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
@@ -429,9 +626,11 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   auto files = CommandFiles::of(*sub);
   files->input("mesh", options->input, "Input mesh (.obj, .off, .ply, .stl)")->required();
   sub->add_option("--region", options->region,
-                  "What moves: vertices:FILE (indices) | sphere:x,y,z,r | all-interior (all but "
-                  "the two boundary rings) | holes[:N] (fill every hole, or those of at most N "
-                  "edges, with CGAL and fair the new patches)")
+                  "What moves: vertices:FILE (indices) | sphere:x,y,z,r | around:VERTEX,R (the "
+                  "vertices within geodesic distance R mean edge lengths of VERTEX) | "
+                  "rings:VERTEX,K (VERTEX and its K rings) | all-interior (all but the two "
+                  "boundary rings) | holes[:N] (fill every hole, or those of at most N edges, "
+                  "with CGAL and fair the new patches)")
       ->required();
   sub->add_option(
          "--method", options->method,
@@ -459,19 +658,24 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->solver, /*tolerances=*/false);
   files->output("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
+  sub->add_flag("--allow-slivers", options->allowSlivers,
+                "Accept a result whose smallest angle falls more than 1 degree below the input's "
+                "and CGAL's fair's (otherwise exit 3)");
   files->output("--report", options->reportFile,
-                "JSON report: region, energies of all five before/after, triangle quality, "
-                "displacement, time (written even when the solve fails)");
+                "JSON report: region; input, CGAL's fair and the result side by side (all five "
+                "energies, triangle quality, displacement); checks; time (written even when the "
+                "solve fails)");
   files->output("--render", options->renderFile,
-                "Before/after reflection-line figure (PNG) of the region and its surroundings: "
-                "the input, CGAL's fair (with --method flexure) and the result");
+                "Reflection-line figure (PNG) of the region (outlined) and its surroundings: the "
+                "input, CGAL's fair, flexure's result and the signed distance flexure - CGAL "
+                "(with --method flexure)");
   sub->add_option("--render-size", options->renderSize, "Render panel size in pixels")
       ->capture_default_str()
-      ->check(inRange(64, 4096));
+      ->check(inRange(kMinRenderSize, 4096));
   sub->footer(
       "The two vertex rings around the region stay fixed (positions and normals).\n"
       "Exit 2 for bad input (empty region, region at the boundary, ...), 3 when the solve does "
-      "not converge (the report says why; no mesh is written).\n"
+      "not converge or its result fails a check (the report says why; no mesh is written).\n"
       "Example: flexure fair elephant-with-holes.off --region holes -o filled.off --report "
       "filled.json --render filled.png");
   files->onRun(global, [options, &global] { runFairCommand(*options, global); });

@@ -22,6 +22,16 @@
 // q_T = 0 exactly when the triangle is similar to its rest shape (F a rotation times a scale) and
 // → 1 as it collapses. Dimensionless and unchanged by scaling the mesh: a surface may shrink or
 // grow under it, as fairing needs, while its triangles keep their angles.
+//
+// mips — the same change of shape measured as a barrier: with λ₁, λ₂ the eigenvalues of C,
+//
+//   p_T = ((C₁₁ − C₂₂)² + 4 C₁₂²) / (4 det C) = (λ₁ − λ₂)² / (4 λ₁ λ₂) = q_T / (1 − q_T),
+//   E = k_S Σ_T p_T,
+//
+// = ¼ (σ₁/σ₂ − σ₂/σ₁)² = ¼ (M² − 4), M = σ₁/σ₂ + σ₂/σ₁ the MIPS energy of Hormann & Greiner
+// (2000), σᵢ = √λᵢ the singular values of F. Equal to q_T to second order at rest, but → ∞ as the
+// triangle collapses (det C → 0): no solve that decreases E can make a triangle degenerate, so its
+// angles stay away from 0 — the angle barrier fairing uses to keep triangle quality.
 #pragma once
 
 #include <array>
@@ -56,18 +66,21 @@ struct StvkMembraneResidual {
   }
 };
 
+// conformal and mips: r = √(2 k_S) (C₁₁ − C₂₂, 2 C₁₂) / d with d = tr C (q_T) or 2 √det C (p_T).
 struct ConformalMembraneResidual {
   static constexpr int kResiduals = 2;
   std::array<int, 3> vertices;
   std::array<double, 4> restEdgeInverse;  // D̄⁻¹ row-major, as for stvk
-  double sqrtWeight;                      // √(2 k_S): ½ |r|² = k_S q_T
+  double sqrtWeight;                      // √(2 k_S): ½ |r|² = k_S q_T (or k_S p_T)
+  bool barrier = false;                   // mips: p_T
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
     const Sym2<T> g = rightCauchyGreen(x, restEdgeInverse);  // (C₁₁, C₁₂, C₂₂)
-    const T trace = g.a + g.c;
-    r[0] = sqrtWeight * (g.a - g.c) / trace;
-    r[1] = sqrtWeight * T(2.0) * g.b / trace;
+    using std::sqrt;
+    const T d = barrier ? T(2.0) * sqrt(g.a * g.c - g.b * g.b) : g.a + g.c;
+    r[0] = sqrtWeight * (g.a - g.c) / d;
+    r[1] = sqrtWeight * T(2.0) * g.b / d;
     return isFiniteScalar(r[0]) && isFiniteScalar(r[1]);
   }
 };

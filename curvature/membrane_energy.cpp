@@ -59,16 +59,19 @@ std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
 
 std::unique_ptr<EnergyTerm> makeConformal(const Stencils& s, const RestState& rest,
                                           const MembraneOptions& o) {
-  requirePositive(o.shapeStiffness, "conformal membrane stiffness k_S");
+  const bool barrier = o.model == MembraneModel::Mips;
+  requirePositive(o.shapeStiffness,
+                  barrier ? "mips membrane stiffness k_S" : "conformal membrane stiffness k_S");
   std::vector<ConformalMembraneResidual> elements;
   std::vector<int> ids;
   for (int f = 0; f < s.faceCount(); ++f) {
-    elements.push_back(
-        {faceVertices(s, f), restEdgeInverse(s, rest, f), std::sqrt(2.0 * o.shapeStiffness)});
+    elements.push_back({faceVertices(s, f), restEdgeInverse(s, rest, f),
+                        std::sqrt(2.0 * o.shapeStiffness), barrier});
     ids.push_back(f);
   }
   return std::make_unique<ElementTerm<ConformalMembraneResidual>>(
-      "conformal", "face", std::move(elements), std::move(ids), rest.faceAreas.sum(), false);
+      barrier ? "mips" : "conformal", "face", std::move(elements), std::move(ids),
+      rest.faceAreas.sum(), false);
 }
 
 std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const RestState& rest,
@@ -105,8 +108,9 @@ MembraneModel parseMembraneModel(std::string_view name) {
   if (name == "stvk") return MembraneModel::Stvk;
   if (name == "springs") return MembraneModel::Springs;
   if (name == "conformal") return MembraneModel::Conformal;
+  if (name == "mips") return MembraneModel::Mips;
   throw InputError("unknown membrane '" + std::string(name) +
-                   "' (expected stvk, springs or conformal)");
+                   "' (expected stvk, springs, conformal or mips)");
 }
 
 std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const Stencils& s,

@@ -11,7 +11,7 @@
 
 namespace flexure::curvature {
 
-enum class MembraneModel { Stvk, Springs, Conformal };
+enum class MembraneModel { Stvk, Springs, Conformal, Mips };
 
 struct MembraneOptions {
   MembraneModel model = MembraneModel::Stvk;
@@ -19,12 +19,13 @@ struct MembraneOptions {
   double poisson = 0.3;          // stvk: ν, in (−1, 1/2]
   double lengthStiffness = 1.0;  // springs: k_L
   double areaStiffness = 1.0;    // springs: k_A
-  double shapeStiffness = 1.0;   // conformal: k_S
+  double shapeStiffness = 1.0;   // conformal and mips: k_S
 };
 
-MembraneModel parseMembraneModel(std::string_view name);  // "stvk" | "springs" | "conformal"
+// "stvk" | "springs" | "conformal" | "mips"
+MembraneModel parseMembraneModel(std::string_view name);
 
-// stvk and conformal give one term (faces); springs two (edge springs, area springs).
+// stvk, conformal and mips give one term (faces); springs two (edge springs, area springs).
 std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const modeling::Stencils& stencils,
                                                             const modeling::RestState& rest,
                                                             const MembraneOptions& options);

@@ -1,6 +1,11 @@
 #include "modeling/fairing_region.h"
 
+#include <Eigen/Geometry>
 #include <charconv>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
 #include <sstream>
 
 #include "modeling/boundary_rings.h"
@@ -22,6 +27,62 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& spe
     numbers.push_back(value);
   }
   return numbers;
+}
+
+// The comma-separated fields of `text`, empty ones kept ("1," is {"1", ""}).
+std::vector<std::string> splitFields(const std::string& text) {
+  std::vector<std::string> fields(1);
+  for (const char c : text) {
+    if (c == ',')
+      fields.emplace_back();
+    else
+      fields.back().push_back(c);
+  }
+  return fields;
+}
+
+// "around:VERTEX,R" or "rings:VERTEX,K": the vertex (an index in [0, #V)) and the second field
+// parsed by `parseSecond`, which throws for a bad value. InputError quoting `spec` otherwise.
+template <typename Second>
+std::pair<int, Second> parseVertexAnd(
+    const std::string& spec, const std::string& value, int vertexCount, const std::string& form,
+    const std::function<Second(const std::string&)>& parseSecond) {
+  const std::vector<std::string> fields = splitFields(value);
+  if (fields.size() != 2 || fields[0].empty() || fields[1].empty())
+    throw InputError("--region " + spec + ": expected " + form);
+  int vertex = 0;
+  const std::string& v = fields[0];
+  const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), vertex);
+  if (error != std::errc() || end != v.data() + v.size())
+    throw InputError("--region " + spec + ": '" + v + "' is not a vertex index (expected " + form +
+                     ")");
+  if (vertex < 0 || vertex >= vertexCount) {
+    throw InputError("--region " + spec + ": vertex " + v + " is out of range: the mesh has " +
+                     std::to_string(vertexCount) + " vertices (0 .. " +
+                     std::to_string(vertexCount - 1) + ")");
+  }
+  return {vertex, parseSecond(fields[1])};
+}
+
+// The planar update of geodesicDistances: d_c through face (a, b, c) from d_a and d_b, or +∞ when
+// the straight path from the unfolded source does not enter the face through ab.
+double faceUpdate(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                  double da, double db) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d e = b - a;
+  const double length = e.norm();
+  if (!(length > 0.0)) return kInfinity;
+  const Eigen::Vector3d u = e / length;
+  // The face in the plane: a = (0, 0), b = (L, 0), c = (cx, cy) with cy ≥ 0; the source
+  // s = (sx, −sy) below ab, |s − a| = d_a, |s − b| = d_b.
+  const double cx = (c - a).dot(u), cy = ((c - a) - cx * u).norm();
+  const double sx = (da * da - db * db + length * length) / (2.0 * length);
+  const double sy2 = da * da - sx * sx;
+  if (!(sy2 >= 0.0) || !(cy > 0.0)) return kInfinity;  // d_a, d_b and L violate the triangle rule
+  const double sy = std::sqrt(sy2);
+  const double crossing = sx + sy / (sy + cy) * (cx - sx);  // where segment s c meets y = 0
+  if (crossing < 0.0 || crossing > length) return kInfinity;
+  return std::hypot(cx - sx, cy + sy);
 }
 
 // #V: the connected component of every vertex (through edges).
@@ -63,9 +124,105 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
       throw InputError("--region " + spec + ": expected sphere:x,y,z,r with r > 0");
     return verticesInSphere(mesh.positions, Eigen::Vector3d(n[0], n[1], n[2]), n[3]);
   }
+  if (kind == "around") {
+    const std::string form = "around:VERTEX,R (R > 0 mean edge lengths)";
+    const auto [vertex, radius] =
+        parseVertexAnd<double>(spec, value, mesh.vertexCount(), form, [&](const std::string& r) {
+          double x = 0.0;
+          const auto [end, error] = std::from_chars(r.data(), r.data() + r.size(), x);
+          if (error != std::errc() || end != r.data() + r.size())
+            throw InputError("--region " + spec + ": R '" + r + "' is not a number (expected " +
+                             form + ")");
+          if (!(x > 0.0) || !std::isfinite(x))
+            throw InputError("--region " + spec + ": R = " + r + " must be a finite number > 0");
+          return x;
+        });
+    const double reach = radius * meanEdgeLength(mesh, stencils);
+    const std::vector<double> d = geodesicDistances(mesh, stencils, vertex, reach);
+    std::vector<bool> region(mesh.vertexCount());
+    for (int v = 0; v < mesh.vertexCount(); ++v) region[v] = d[v] <= reach;
+    return region;
+  }
+  if (kind == "rings") {
+    const std::string form = "rings:VERTEX,K (K >= 0 rings)";
+    const auto [vertex, rings] =
+        parseVertexAnd<int>(spec, value, mesh.vertexCount(), form, [&](const std::string& k) {
+          int x = 0;
+          const auto [end, error] = std::from_chars(k.data(), k.data() + k.size(), x);
+          if (error != std::errc() || end != k.data() + k.size())
+            throw InputError("--region " + spec + ": K '" + k +
+                             "' is not a whole number (expected " + form + ")");
+          if (x < 0) throw InputError("--region " + spec + ": K = " + k + " must be >= 0");
+          return x;
+        });
+    std::vector<bool> seed(mesh.vertexCount(), false);
+    seed[vertex] = true;
+    const Eigen::VectorXi ring = ringDistances(stencils, seed, rings);
+    std::vector<bool> region(mesh.vertexCount());
+    for (int v = 0; v < mesh.vertexCount(); ++v) region[v] = ring[v] >= 0;
+    return region;
+  }
   if (spec == "all-interior") return interiorRegion(stencils);
   throw InputError("--region " + spec +
-                   ": expected vertices:FILE, sphere:x,y,z,r, all-interior or holes[:N]");
+                   ": expected vertices:FILE, sphere:x,y,z,r, around:VERTEX,R, rings:VERTEX,K, "
+                   "all-interior or holes[:N]");
+}
+
+double meanEdgeLength(const Mesh& mesh, const Stencils& stencils) {
+  double sum = 0.0;
+  for (int e = 0; e < stencils.edgeCount(); ++e)
+    sum += (mesh.positions.row(stencils.edges(e, 0)) - mesh.positions.row(stencils.edges(e, 1)))
+               .norm();
+  return stencils.edgeCount() > 0 ? sum / stencils.edgeCount() : 0.0;
+}
+
+std::vector<double> geodesicDistances(const Mesh& mesh, const Stencils& stencils, int source,
+                                      double maxDistance) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const int n = mesh.vertexCount();
+  // The faces around each vertex, CSR.
+  std::vector<int> faceOffsets(n + 1, 0),
+      vertexFaces(3 * static_cast<std::size_t>(mesh.faceCount()));
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    for (int k = 0; k < 3; ++k) ++faceOffsets[mesh.triangles(f, k) + 1];
+  for (int v = 0; v < n; ++v) faceOffsets[v + 1] += faceOffsets[v];
+  std::vector<int> fill(faceOffsets.begin(), faceOffsets.end() - 1);
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    for (int k = 0; k < 3; ++k) vertexFaces[fill[mesh.triangles(f, k)]++] = f;
+
+  const auto x = [&](int v) { return Eigen::Vector3d(mesh.positions.row(v).transpose()); };
+  std::vector<double> d(n, kInfinity);
+  std::vector<char> accepted(n, 0);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  const auto relax = [&](int v, double value) {
+    if (value < d[v]) {
+      d[v] = value;
+      queue.push({value, v});
+    }
+  };
+  relax(source, 0.0);
+  while (!queue.empty()) {
+    const auto [dv, v] = queue.top();
+    queue.pop();
+    if (accepted[v] || dv > d[v]) continue;
+    if (dv > maxDistance) break;
+    accepted[v] = 1;
+    for (int r = stencils.oneRingOffsets[v]; r < stencils.oneRingOffsets[v + 1]; ++r) {
+      const int w = stencils.oneRingVertices[r];
+      if (!accepted[w]) relax(w, dv + (x(w) - x(v)).norm());
+    }
+    for (int i = faceOffsets[v]; i < faceOffsets[v + 1]; ++i) {
+      const auto t = mesh.triangles.row(vertexFaces[i]);
+      const int k = t(0) == v ? 0 : t(1) == v ? 1 : 2;
+      const int p = t((k + 1) % 3), q = t((k + 2) % 3);
+      if (accepted[p] && !accepted[q]) relax(q, faceUpdate(x(v), x(p), x(q), dv, d[p]));
+      if (accepted[q] && !accepted[p]) relax(p, faceUpdate(x(v), x(q), x(p), dv, d[q]));
+    }
+  }
+  for (int v = 0; v < n; ++v)
+    if (!accepted[v]) d[v] = kInfinity;
+  return d;
 }
 
 std::vector<bool> interiorRegion(const Stencils& stencils, int heldRings) {

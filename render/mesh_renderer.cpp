@@ -362,9 +362,16 @@ void checkOptions(const RenderOptions& o) {
   if (o.style == RenderStyle::Curvature && o.vertexScalars.empty()) {
     fail("the curvature style needs a value per vertex (RenderOptions::vertexScalars)");
   }
-  for (const Rgb& c : {o.background}) {
+  if (o.outlineSegments.rows() % 2 != 0 || !o.outlineSegments.allFinite()) {
+    fail("the outline needs finite segment ends in pairs (" +
+         std::to_string(o.outlineSegments.rows()) + " rows)");
+  }
+  if (!(o.outlineWidth > 0.0 && o.outlineWidth <= 100.0)) {
+    fail("the outline width must lie in (0, 100] pixels");
+  }
+  for (const Rgb& c : {o.background, o.outlineColour}) {
     if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1)) {
-      fail("the background colour components must lie in [0, 1]");
+      fail("the background and outline colour components must lie in [0, 1]");
     }
   }
 }
@@ -581,6 +588,35 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
   return imageFromSurface(surface.get());
 }
 
+// The outline segments of `o` drawn over `meshImage` (the part of the render the mesh is framed
+// in): each end x maps to the frame, p = (x − c) · worldToFrame, to clip coordinates
+// q = frameToClip (p, 1), and to the pixel ((q_x / q_w + 1) w / 2, (1 − q_y / q_w) h / 2), image
+// rows top to bottom as GL's viewport maps them, flipped.
+Image withOutline(const Image& meshImage, const modeling::Mesh& mesh, const RenderOptions& o) {
+  if (o.outlineSegments.rows() == 0) return meshImage;
+  const Camera camera = frameCamera(mesh, o, meshImage.width, meshImage.height);
+  const CairoSurface surface = surfaceFromImage(meshImage);
+  CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
+  cairo_set_source_rgb(cr.get(), o.outlineColour.r, o.outlineColour.g, o.outlineColour.b);
+  cairo_set_line_width(cr.get(), o.outlineWidth);
+  cairo_set_line_cap(cr.get(), CAIRO_LINE_CAP_ROUND);
+  const auto pixel = [&](Eigen::Index row) {
+    const Eigen::Vector3d p =
+        camera.worldToFrame * (o.outlineSegments.row(row).transpose() - camera.centre);
+    const Eigen::Vector4d q = camera.frameToClip * p.homogeneous();
+    return Eigen::Vector2d((q(0) / q(3) + 1.0) * 0.5 * meshImage.width,
+                           (1.0 - q(1) / q(3)) * 0.5 * meshImage.height);
+  };
+  for (Eigen::Index s = 0; s + 1 < o.outlineSegments.rows(); s += 2) {
+    const Eigen::Vector2d a = pixel(s), b = pixel(s + 1);
+    cairo_move_to(cr.get(), a.x(), a.y());
+    cairo_line_to(cr.get(), b.x(), b.y());
+  }
+  cairo_stroke(cr.get());
+  cairo_surface_flush(surface.get());
+  return imageFromSurface(surface.get());
+}
+
 cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned int length) {
   static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
   return CAIRO_STATUS_SUCCESS;
@@ -695,8 +731,9 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
   checkOptions(options);
   if (mesh.faceCount() == 0) throw InputError("render: the mesh has no faces");
   if (!hasLegend(options.style)) {
-    return rasterize(context, mesh, options, options.width, options.height, {}, 0.0, 1.0,
-                     sequentialColourMap(), timings);
+    return withOutline(rasterize(context, mesh, options, options.width, options.height, {}, 0.0,
+                                 1.0, sequentialColourMap(), timings),
+                       mesh, options);
   }
   const int meshWidth = options.width - kLegendWidth;
   if (options.style == RenderStyle::Curvature) {
@@ -712,8 +749,10 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
     char range[96];
     std::snprintf(range, sizeof range, "|%s| ≤ %.3g (%s)", options.scalarSymbol.c_str(), bound,
                   options.curvatureMax ? "given" : curvatureRangeRule(values).c_str());
-    const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, values,
-                                      -bound, bound, divergingColourMap(), timings);
+    const Image meshImage =
+        withOutline(rasterize(context, mesh, options, meshWidth, options.height, values, -bound,
+                              bound, divergingColourMap(), timings),
+                    mesh, options);
     return withLegend(meshImage, options, -bound, bound, divergingColourMap(), options.scalarLabel,
                       range);
   }
@@ -721,8 +760,10 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
   const double largest = *std::max_element(errors.begin(), errors.end());
   // An all-zero field still needs a non-empty range: it then shows the colour of 0.
   const double maximum = options.errorMax ? *options.errorMax : std::max(largest, 1e-12);
-  const Image meshImage = rasterize(context, mesh, options, meshWidth, options.height, errors, 0.0,
-                                    maximum, sequentialColourMap(), timings);
+  const Image meshImage =
+      withOutline(rasterize(context, mesh, options, meshWidth, options.height, errors, 0.0, maximum,
+                            sequentialColourMap(), timings),
+                  mesh, options);
   char range[64];
   std::snprintf(range, sizeof range, "0 to %.3g (%s)", maximum,
                 options.errorMax ? "given" : "largest");

@@ -83,6 +83,14 @@ struct RenderOptions {
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
   std::string scalarLabel = "H", scalarSymbol = "H";
+  // Line segments drawn over the render (#2S by 3: rows 2s and 2s + 1 are the ends of segment s,
+  // in the mesh's coordinates), e.g. the outline of a region: projected with the render's camera
+  // and stroked with Cairo on top of the surface (never hidden by it), `outlineWidth` pixels wide
+  // (round caps), in `outlineColour` (a green, apart from the grey stripes and the diverging
+  // map's blue–white–red, so that it reads on every style but `error`'s viridis).
+  modeling::Positions outlineSegments;
+  Rgb outlineColour{0.0, 0.8, 0.2};
+  double outlineWidth = 2.5;
 };
 
 // Legend ticks over [minimum, maximum]: the multiples in the range of the largest step 1, 2 or

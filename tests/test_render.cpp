@@ -277,6 +277,50 @@ TEST(Render, EveryStyleRendersAndOptionsChangeThePicture) {
   EXPECT_EQ(render::renderMesh(mesh, options).rgba, shaded.rgba);
 }
 
+// The outline colour (RenderOptions::outlineColour, 0, 0.8, 0.2), to within the anti-aliasing of
+// the stroke's edge: the pixels a stroke covers fully.
+bool isOutline(const Image& image, int x, int y) {
+  const auto p = image.pixel(x, y);
+  return p[0] <= 8 && std::abs(p[1] - 204) <= 8 && std::abs(p[2] - 51) <= 8;
+}
+
+int countOutline(const Image& image, int x0, int x1) {
+  int count = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = x0; x < x1; ++x) count += isOutline(image, x, y);
+  return count;
+}
+
+// An outline segment lands where the camera projects it, over every style, legend or not: the
+// unit square seen head-on fills [−½, ½]² × 1.06 of the (square) frame, so the segment from
+// (−¼, 0) to (¼, 0) crosses the image's middle row over about half of the framed width.
+TEST(Render, OutlineIsDrawnWhereTheCameraProjectsIt) {
+  const modeling::Mesh plane = squareMesh(8);
+  for (const RenderStyle style : {RenderStyle::Reflection, RenderStyle::Curvature}) {
+    RenderOptions options = headOn(style, 256 + (style == RenderStyle::Curvature ? 130 : 0), 256);
+    options.vertexScalars.assign(plane.vertexCount(), 0.0);
+    const Image plain = render::renderMesh(plane, options);
+    EXPECT_EQ(countOutline(plain, 0, plain.width), 0) << renderStyleName(style);
+    options.outlineSegments.resize(2, 3);
+    options.outlineSegments << -0.25, 0.0, 0.0, 0.25, 0.0, 0.0;
+    const Image outlined = render::renderMesh(plane, options);
+    const int framed = 256;  // the mesh's part of the image (the legend is to its right)
+    const double length = 0.5 / 1.06 * framed;  // pixels
+    const int count = countOutline(outlined, 0, framed);
+    EXPECT_GT(count, 1.5 * length) << renderStyleName(style);
+    EXPECT_LT(count, 3.5 * length) << renderStyleName(style);
+    EXPECT_TRUE(isOutline(outlined, framed / 2, framed / 2)) << renderStyleName(style);
+    EXPECT_TRUE(isOutline(outlined, framed / 2 + static_cast<int>(0.45 * length), framed / 2));
+    EXPECT_FALSE(isOutline(outlined, framed / 2 + static_cast<int>(0.55 * length), framed / 2));
+    EXPECT_FALSE(isOutline(outlined, framed / 2, framed / 2 + 8)) << renderStyleName(style);
+    EXPECT_EQ(countOutline(outlined, framed, outlined.width), 0) << "the legend stays clean";
+  }
+  RenderOptions bad = headOn(RenderStyle::Reflection);
+  bad.outlineSegments.resize(3, 3);
+  bad.outlineSegments.setZero();
+  EXPECT_THROW(render::renderMesh(plane, bad), InputError);
+}
+
 TEST(Render, PngReadsBackAtTheRequestedSize) {
   const modeling::Mesh mesh = heightFieldMesh(8, "quadratic:1,0,1");
   const Image image = render::renderMesh(mesh, headOn(RenderStyle::Reflection, 200, 120));
