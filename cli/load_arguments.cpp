@@ -15,6 +15,9 @@ void addLoadArguments(CLI::App& sub, LoadArguments& a) {
       ->capture_default_str()
       ->check(positive());
   sub.add_option("--mass", a.mass, "Lumped mass: barycentric | voronoi")->capture_default_str();
+  sub.add_option("--obstacle", a.obstacles,
+                 "An obstacle the vertices stay outside of (repeatable): plane:nx,ny,nz,d (the "
+                 "plane n.x = d, free on the side n points to) | sphere:x,y,z,r");
 }
 
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, size_t count) {
@@ -37,6 +40,13 @@ Eigen::Vector3d gravityVector(const LoadArguments& a) {
   if (a.gravity.empty()) return Eigen::Vector3d::Zero();
   const std::vector<double> g = parseNumbers("--gravity", a.gravity, 3);
   return {g[0], g[1], g[2]};
+}
+
+std::vector<optimize::Obstacle> obstacleList(const LoadArguments& a) {
+  std::vector<optimize::Obstacle> list;
+  for (const std::string& spec : a.obstacles)
+    list.push_back(optimize::parseObstacle("--obstacle", spec));
+  return list;
 }
 
 optimize::MassLumping massLumping(const LoadArguments& a) {

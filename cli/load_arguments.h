@@ -1,5 +1,6 @@
-// The command-line options of a gravity load, shared by minimize (static) and simulate (dynamic):
-// --gravity gx,gy,gz, --density ρ (mass per unit rest area) and --mass (the lumping).
+// The command-line options of a gravity load and of obstacles, shared by minimize (static) and
+// simulate (dynamic): --gravity gx,gy,gz, --density ρ (mass per unit rest area), --mass (the
+// lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable; optimize/obstacles.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "modeling/rest_state.h"
+#include "optimize/obstacles.h"
 #include "optimize/vibration_modes.h"
 
 namespace flexure::cli {
@@ -16,6 +18,7 @@ struct LoadArguments {
   std::string gravity;  // empty: none
   double density = 1.0;
   std::string mass = "barycentric";
+  std::vector<std::string> obstacles;
 };
 
 void addLoadArguments(CLI::App& sub, LoadArguments& arguments);
@@ -26,6 +29,8 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
 // g (zero when --gravity is not given).
 Eigen::Vector3d gravityVector(const LoadArguments& arguments);
 optimize::MassLumping massLumping(const LoadArguments& arguments);
+// The parsed --obstacle specs (InputError on a malformed one).
+std::vector<optimize::Obstacle> obstacleList(const LoadArguments& arguments);
 
 // #V by 3: the weights m_v g of the lumped masses (empty when --gravity is not given).
 modeling::Positions gravityLoad(const LoadArguments& arguments, const modeling::RestState& rest);

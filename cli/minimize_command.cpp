@@ -121,6 +121,7 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
   if (!o.load.gravity.empty())
     report["load"] = {
         {"gravity", o.load.gravity}, {"density", o.load.density}, {"mass", o.load.mass}};
+  if (!o.load.obstacles.empty()) report["obstacles"] = o.load.obstacles;
   if (!o.initFile.empty()) report["init"] = o.initFile;
   if (result.xi.size() > 0) {
     report["xi"] = std::vector<double>(result.xi.data(), result.xi.data() + result.xi.size());
@@ -156,6 +157,8 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   if (o.initFile.empty() && o.boundary.empty())
     throw InputError(
         "the fixed vertices need values: give --boundary quadratic:a,b,c or --init FILE");
+
+  std::vector<optimize::Obstacle> obstacles = obstacleList(o.load);
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   const modeling::Stencils stencils = modeling::compileStencils(restMesh);
@@ -219,9 +222,18 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
     }
   }
   solver.externalForce = gravityLoad(o.load, rest);
+  if (!obstacles.empty())
+    solver.obstacles = optimize::makeObstacleBarrier(
+        std::move(obstacles), rest,
+        optimize::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
+        gravityVector(o.load));
   const optimize::MinimizeResult result =
       optimize::minimize(terms, bc, rest.positions, restXi, solver);
-  const nlohmann::json report = reportJson(o, b, result, result.report.converged);
+  nlohmann::json report = reportJson(o, b, result, result.report.converged);
+  if (!solver.obstacles.empty()) {
+    report["obstacle_layer"] = solver.obstacles.layer();
+    report["smallest_obstacle_distance"] = solver.obstacles.smallestDistance(result.positions);
+  }
   if (!result.report.converged) {
     if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
     throw NumericalError("the solve did not converge (" + result.report.termination + "); " +

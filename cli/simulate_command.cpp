@@ -1,10 +1,14 @@
 // flexure simulate: a plate or shell in time (optimize/time_stepping.h) — a bending energy and a
 // membrane, lumped masses, gravity, pins, damping — written as frame meshes, an energy history
 // and a report.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -35,17 +39,81 @@ struct SimulateOptions {
   BendingArguments bending;
   MembraneArguments membrane;
   LoadArguments load;
-  std::string pin = "none", integrator = "newmark", damping;
+  std::string pin = "none", integrator = "newmark", pinMotion;
+  std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
+  std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
 };
+
+// Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
+bool ffmpegAvailable() {
+  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
+
+std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// The frame images as an H.264 MP4 at `fps` frames per second, encoded by ffmpeg in a private
+// temporary folder (single-threaded, bit-exact flags and no metadata: the same frames give the
+// same bytes) and staged to `video` like every other output. InputError with ffmpeg's own message
+// when it fails.
+void writeVideo(const std::string& video, const std::vector<std::string>& pngs, double fps) {
+  namespace fs = std::filesystem;
+  std::string pattern = (fs::temp_directory_path() / "flexure-video.XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr)
+    throw InputError("--video " + video + ": cannot make a temporary folder for ffmpeg");
+  const fs::path scratch(pattern);
+  struct Cleanup {
+    fs::path path;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  } cleanup{scratch};
+  for (size_t k = 0; k < pngs.size(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame-%05zu.png", k);
+    std::ofstream((scratch / name).string(), std::ios::binary) << pngs[k];
+  }
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.17g", fps);
+  const std::string command =
+      "ffmpeg -nostdin -v error -y -framerate " + std::string(rate) + " -i '" +
+      (scratch / "frame-%05d.png").string() +
+      "' -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -threads 1 "
+      "-map_metadata -1 -fflags +bitexact -flags:v +bitexact '" +
+      (scratch / "video.mp4").string() + "' 2>'" + (scratch / "ffmpeg.log").string() + "'";
+  const int status = std::system(command.c_str());
+  if (status != 0 || !fs::exists(scratch / "video.mp4"))
+    throw InputError("--video " + video + ": ffmpeg failed: " + readBytes(scratch / "ffmpeg.log"));
+  modeling::writeFileAtomically(video, readBytes(scratch / "video.mp4"));
+}
 
 bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
   return name.rfind("frame-", 0) == 0 && (obj || png);
+}
+
+// Schedules the removal (at the commit) of the frame images in `frameDir` this run did not write.
+void removeStaleFrames(const std::filesystem::path& frameDir,
+                       const std::vector<std::string>& kept) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(frameDir, ec)) return;
+  for (const auto& entry : std::filesystem::directory_iterator(frameDir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file(ec) || !isSimulationFile(name) ||
+        std::find(kept.begin(), kept.end(), name) != kept.end())
+      continue;
+    modeling::removeWhenCommitted(entry.path().string());
+  }
 }
 
 struct Run {
@@ -73,12 +141,27 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   dynamics.density = o.load.density;
   dynamics.mass = massLumping(o.load);
   dynamics.gravity = gravityVector(o.load);
-  if (!o.damping.empty()) {
-    if (o.damping.rfind("rayleigh:", 0) != 0)
-      throw InputError("--damping " + o.damping + ": expected rayleigh:alpha,beta");
-    const std::vector<double> ab = parseNumbers("--damping", o.damping.substr(9), 2);
-    dynamics.rayleighMass = ab[0];
-    dynamics.rayleighStiffness = ab[1];
+  dynamics.obstacles = obstacleList(o.load);
+  if (!o.pinMotion.empty()) {
+    if (o.pin == "none")
+      throw InputError("--pin-motion " + o.pinMotion +
+                       ": moves the pinned vertices; give them with --pin");
+    dynamics.pinMotion = optimize::parsePinMotion(o.pinMotion);
+  }
+  bool rayleigh = false, bend = false;
+  for (const std::string& damping : o.damping) {
+    if (damping.rfind("rayleigh:", 0) == 0 && !rayleigh) {
+      const std::vector<double> ab = parseNumbers("--damping", damping.substr(9), 2);
+      dynamics.rayleighMass = ab[0];
+      dynamics.rayleighStiffness = ab[1];
+      rayleigh = true;
+    } else if (damping.rfind("bend:", 0) == 0 && !bend) {
+      dynamics.bendingDamping = parseNumbers("--damping", damping.substr(5), 1)[0];
+      bend = true;
+    } else {
+      throw InputError("--damping " + damping +
+                       ": expected rayleigh:alpha,beta or bend:c (each at most once)");
+    }
   }
   const curvature::BendingOptions b = bendingOptions(o.bending);
   std::optional<render::RenderOptions> look;
@@ -91,6 +174,18 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     look->width = look->height = o.renderSize;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
+  }
+  if (!o.video.empty()) {
+    if (!look)
+      throw InputError("--video " + o.video +
+                       ": the video is made of the frame images; not with --render-style none");
+    const fs::path ext = fs::path(o.video).extension();
+    if (ext != ".mp4") throw InputError("--video " + o.video + ": expected a .mp4 file name");
+    if (!ffmpegAvailable())
+      throw InputError(
+          "--video " + o.video +
+          ": ffmpeg is not installed (Debian package ffmpeg, which scripts/install-deps "
+          "installs); run without --video, or install it");
   }
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
@@ -132,13 +227,21 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   std::ostringstream csv;
   csv << "time,kinetic";
   for (const std::string& name : termNames) csv << ',' << name;
-  csv << ",gravity,total\n";
-  std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity, total
+  const bool contact = !dynamics.obstacles.empty();
+  csv << ",gravity" << (contact ? ",contact" : "") << ",total\n";
+  // per sample: time, kinetic, terms…, gravity, (contact,) total
+  std::vector<std::vector<double>> history;
+  double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle, any step
   auto sample = [&] {
     const optimize::EnergySample e = stepper.energies();
     std::vector<double> row = {e.time, e.kinetic};
     row.insert(row.end(), e.terms.begin(), e.terms.end());
     row.push_back(e.gravity);
+    if (contact) {
+      row.push_back(e.contact);
+      smallestDistance =
+          std::min(smallestDistance, stepper.barrier().smallestDistance(stepper.positions()));
+    }
     row.push_back(e.total());
     char text[40];
     for (size_t k = 0; k < row.size(); ++k) {
@@ -225,10 +328,17 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       {"steps_per_second", run.steps / std::max(seconds, 1e-9)},
       {"vertices", restMesh.vertexCount()},
       {"pinned", o.pin},
+      {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
       {"density", o.load.density},
+      {"damping", o.damping},
       {"frames", frames.size()},
+      {"obstacles", o.load.obstacles},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
+  if (contact) {
+    report["obstacle_layer"] = stepper.barrier().layer();
+    report["smallest_obstacle_distance"] = smallestDistance;
+  }
   if (!failure.empty()) {
     fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
     writeFailureReport((dir / "report.json").string(), report);
@@ -245,6 +355,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   std::vector<std::string> labels = {"kinetic"};
   labels.insert(labels.end(), termNames.begin(), termNames.end());
   labels.push_back("gravity");
+  if (contact) labels.push_back("contact");
   labels.push_back("total");
   for (size_t c = 0; c < labels.size(); ++c) {
     render::PlotSeries series{labels[c], {}, {}};
@@ -263,10 +374,19 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     for (size_t f = 0; f < frames.size(); ++f)
       look->framingPoints.middleRows(f * restMesh.vertexCount(), restMesh.vertexCount()) =
           frames[f].second.positions;
+    // The images in DIR/frames/; the earlier runs' images there that this one did not write go.
+    const fs::path frameDir = dir / "frames";
+    modeling::createOutputDirectory(frameDir.string());
+    std::vector<std::string> pngs, names;
     for (const auto& [name, mesh] : frames) {
-      const std::string png = name.substr(0, name.size() - 4) + ".png";
-      render::writePng((dir / png).string(), render::renderMesh(*context, mesh, *look));
+      names.push_back(name.substr(0, name.size() - 4) + ".png");
+      pngs.push_back(render::encodePng(render::renderMesh(*context, mesh, *look)));
+      modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
     }
+    removeStaleFrames(frameDir, names);
+    if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
+  } else {
+    removeStaleFrames(dir / "frames", {});
   }
   modeling::writeFileAtomically((dir / "energies.csv").string(), csv.str());
   render::writeLinePlot(plot, (dir / "energies.png").string());
@@ -296,6 +416,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--pin", o.pin,
                   "Vertices held in place: none | rings:K (2 clamps) | vertices:FILE")
       ->capture_default_str();
+  sub->add_option("--pin-motion", o.pinMotion,
+                  "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
+                  "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");
   addLoadArguments(*sub, o.load);
   sub->add_option("--integrator", o.integrator,
                   "newmark (average acceleration: conserves energy) | backward-euler "
@@ -304,19 +427,22 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--beta", o.beta, "newmark: β")->capture_default_str();
   sub->add_option("--gamma", o.gamma, "newmark: γ")->capture_default_str();
   sub->add_option("--damping", o.damping,
-                  "rayleigh:alpha,beta: C = alpha M + beta K (K the Hessian at rest)");
+                  "rayleigh:alpha,beta (C = alpha M + beta K, K the Hessian at rest) and/or "
+                  "bend:c (force -c K_bend(x) v: the rate of bending only; repeatable)");
   sub->add_option("--dt", o.dt, "Time step (s)")->required()->check(positive());
   sub->add_option("--duration", o.duration, "Simulated time (s)")->required()->check(positive());
   sub->add_option("--fps", o.fps, "Frames per simulated second")
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--render-style", o.renderStyle,
-                  "Each frame also as frame-NNNNN.png: reflection | shaded | isophote | "
+                  "Each frame also as frames/frame-NNNNN.png: reflection | shaded | isophote | "
                   "highlight | none")
       ->capture_default_str();
   sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
       ->capture_default_str()
       ->check(inRange(32, 4096));
+  files->output("--video", o.video,
+                "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
@@ -327,8 +453,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                OutputKind::Directory, isSimulationFile)
       ->required();
   sub->footer(
-      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time) and frame-NNNNN.png (rendered "
-      "with one camera for the whole run), DIR/energies.csv and "
+      "Writes DIR/frame-NNNNN.obj (every 1/fps of simulated time) and DIR/frames/frame-NNNNN.png "
+      "(rendered with one camera for the whole run; with --video also an MP4 of them), "
+      "DIR/energies.csv and "
       "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
       "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "

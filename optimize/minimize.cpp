@@ -212,6 +212,9 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
     throw InputError(
         "an external load (--gravity) needs the nonlinear Newton solve: not "
         "--linearized, not --solver ceres");
+  if (!options.obstacles.empty() && (options.linearized || options.solver != Solver::Newton))
+    throw InputError(
+        "--obstacle needs the nonlinear Newton solve: not --linearized, not --solver ceres");
   if (options.externalForce.rows() > 0 && options.externalForce.rows() != rest.rows())
     throw InputError("external load: expected one force per vertex");
   MinimizeResult result;

@@ -14,6 +14,7 @@
 
 #include "curvature/energy_term.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/obstacles.h"
 
 namespace flexure::optimize {
 
@@ -57,6 +58,11 @@ struct MinimizeOptions {
   // E − Σ_v f_v · x_v. Newton only (a linear term is no least-squares residual): the linearized
   // and Ceres solves refuse it.
   Positions externalForce;
+  // Obstacles the free vertices stay outside of (obstacles.h): their barrier joins E, and every
+  // step of the line search is capped so that no vertex reaches one. Newton only; the start
+  // (with Start::Linearized: the fixed vertices at their values, the free ones at rest) must have
+  // every vertex outside (InputError otherwise).
+  ObstacleBarrier obstacles;
   // Benchmarks only: Newton as a plain Newton solver does it (libshell's, say) — Eigen's
   // SimplicialLLT refactored in every iteration, no chord steps. The baseline of scripts/bench
   // shell.

@@ -62,8 +62,26 @@ class NewtonSolver {
     MinimizeResult result;
     result.positions = bc_.start;
     if (withXi_) result.xi = bc_.xi;
+    MinimizeResult base;  // where the solve starts, feasible
+    base.positions = bc_.start;
+    base.xi = result.xi;
+    if (options_.start == Start::Linearized) {
+      for (Eigen::Index v = 0; v < rest_.rows(); ++v)
+        if (!bc_.fixedVertex[v]) base.positions.row(v) = rest_.row(v);
+      for (Eigen::Index e = 0; withXi_ && e < restXi_.size(); ++e)
+        if (!bc_.fixedEdge[e]) base.xi[e] = restXi_[e];
+    }
+    if (!options_.obstacles.empty()) options_.obstacles.requireOutside(base.positions, "the start");
     if (options_.start == Start::Linearized) {
       if (!predict(result)) return finish(std::move(result), start);
+      if (!options_.obstacles.empty()) {
+        // The predictor ignores the obstacles: go from the feasible start towards it only as far
+        // as the obstacles allow.
+        const double alpha = options_.obstacles.stepBound(
+            base.positions, Positions(result.positions - base.positions));
+        result.positions = base.positions + alpha * (result.positions - base.positions);
+        if (withXi_) result.xi = base.xi + alpha * (result.xi - base.xi);
+      }
     }
     iterate(result);
     return finish(std::move(result), start);
@@ -95,8 +113,27 @@ class NewtonSolver {
         if (unknowns[k] < x.size())
           e.gradient[static_cast<Eigen::Index>(k)] -= options_.externalForce.data()[unknowns[k]];
     }
+    options_.obstacles.add(assembly_, x, e,
+                           kind != curvature::SecondDerivatives::Exact ||
+                               projection == HessianProjection::PositiveSemidefinite);
     report_.evaluationSeconds += secondsSince(t);
     return e;
+  }
+
+  // The displacement (#V by 3) of the step δ over the free unknowns.
+  Positions displacement(const Eigen::VectorXd& delta) const {
+    Positions dx = Positions::Zero(rest_.rows(), 3);
+    const std::vector<int>& unknowns = assembly_.freeUnknowns();
+    for (size_t k = 0; k < unknowns.size(); ++k)
+      if (unknowns[k] < dx.size()) dx.data()[unknowns[k]] = delta[static_cast<Eigen::Index>(k)];
+    return dx;
+  }
+
+  // The longest fraction of δ from x that keeps every vertex outside the obstacles (1 without).
+  double feasibleStep(const MinimizeResult& x, const Eigen::VectorXd& delta) const {
+    return options_.obstacles.empty()
+               ? 1.0
+               : options_.obstacles.stepBound(x.positions, displacement(delta));
   }
 
   // fᵀx of the external load (0 without one).
@@ -183,6 +220,7 @@ class NewtonSolver {
       return std::numeric_limits<double>::infinity();
     }
     sum -= loadEnergy(at.positions);
+    sum += options_.obstacles.energy(at.positions);  // +∞ inside an obstacle
     return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
   }
 
@@ -301,7 +339,7 @@ class NewtonSolver {
           return;
         }
       }
-      double alpha = 1.0, trialEnergy = 0.0;
+      double alpha = feasibleStep(x, delta), trialEnergy = 0.0;
       bool decreased = true;
       for (;; alpha *= 0.5) {
         step(x, delta, alpha, trial);

@@ -1,7 +1,9 @@
 #include "optimize/time_stepping.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "modeling/errors.h"
 #include "optimize/energy_evaluation.h"
@@ -29,40 +31,121 @@ const char* integratorName(Integrator integrator) {
   return "";
 }
 
+Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
+  switch (kind) {
+    case Kind::None:
+      return start;
+    case Kind::Translate:
+      return start + t * velocity;
+    case Kind::Rotate: {
+      const Eigen::Vector3d y = start - point;
+      const double phi = omega * t, c = std::cos(phi), s = std::sin(phi);
+      return point + c * y + s * axis.cross(y) + (1.0 - c) * axis.dot(y) * axis;
+    }
+  }
+  return start;
+}
+
+Eigen::Vector3d PinMotion::velocityAt(const Eigen::Vector3d& start, double t) const {
+  switch (kind) {
+    case Kind::None:
+      return Eigen::Vector3d::Zero();
+    case Kind::Translate:
+      return velocity;
+    case Kind::Rotate:
+      return omega * axis.cross(position(start, t) - point);
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+PinMotion parsePinMotion(const std::string& spec) {
+  const auto colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string expected = ": expected rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz";
+  const int count = kind == "rotate" ? 7 : kind == "translate" ? 3 : 0;
+  if (colon == std::string::npos || count == 0) throw InputError("--pin-motion " + spec + expected);
+  std::vector<double> value;
+  const std::string numbers = spec.substr(colon + 1);
+  const char* cursor = numbers.c_str();
+  for (int k = 0; k < count; ++k) {
+    char* end = nullptr;
+    value.push_back(std::strtod(cursor, &end));
+    if (end == cursor || (k < count - 1 && *end != ',') || (k == count - 1 && *end != '\0') ||
+        !std::isfinite(value.back()))
+      throw InputError("--pin-motion " + spec + expected + " (" + std::to_string(count) +
+                       " finite numbers)");
+    cursor = end + 1;
+  }
+  PinMotion m;
+  if (kind == "translate") {
+    m.kind = PinMotion::Kind::Translate;
+    m.velocity = Eigen::Vector3d(value[0], value[1], value[2]);
+    return m;
+  }
+  const Eigen::Vector3d axis(value[0], value[1], value[2]);
+  if (!(axis.norm() > 0.0)) throw InputError("--pin-motion " + spec + ": the axis is zero");
+  m.kind = PinMotion::Kind::Rotate;
+  m.axis = axis.normalized();
+  m.point = Eigen::Vector3d(value[3], value[4], value[5]);
+  m.omega = value[6];
+  return m;
+}
+
 double EnergySample::total() const {
-  double sum = kinetic + gravity;
+  double sum = kinetic + gravity + contact;
   for (double e : terms) sum += e;
   return sum;
 }
 
 // The implicit step's Newton machinery, built once per run: the Hessian pattern over the free
 // unknowns (unpinned vertex coordinates, then ξ), its CHOLMOD analysis, and the free unknowns'
-// masses and rest stiffness K̄ (for Rayleigh damping) in the pattern's order.
+// masses and rest stiffness K̄ (for Rayleigh damping) in the pattern's order; with bending
+// damping, the bending term's own pattern and where its entries sit in the full one.
 struct TimeStepper::Implicit {
   HessianAssembly assembly;
   HessianFactorization factorization;
   Eigen::VectorXd mass;            // per free unknown: m_v, or 0 for ξ
   std::vector<double> restValues;  // K̄ on the vertex unknowns, in the pattern; empty: β = 0
   std::vector<int> diagonal;       // per free unknown: its diagonal entry in the pattern
+  std::unique_ptr<HessianAssembly> bending;  // the first term alone; null without bend damping
+  std::vector<int> bendingEntry;             // per entry of its pattern: the full pattern's entry
 
   Implicit(const std::vector<const curvature::EnergyTerm*>& terms, const std::vector<bool>& free,
            int vertexCount, const Positions& rest)
       : assembly(terms, free, vertexCount, curvature::Derivatives::All),
         factorization(assembly, hessianOrder(assembly, rest)) {}
 
-  // C y over the free unknowns (C = α M + β K̄; ξ rows 0).
-  Eigen::VectorXd damping(const Eigen::VectorXd& y, double alpha, double beta) const {
-    Eigen::VectorXd out = alpha * mass.cwiseProduct(y);
-    if (restValues.empty() || beta == 0.0) return out;
+  // The matrix K (stiffness-proportional damping, on the pattern) times y over the free unknowns.
+  Eigen::VectorXd multiply(const std::vector<double>& values, const Eigen::VectorXd& y) const {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(y.size());
+    if (values.empty()) return out;
     const std::vector<int>& start = assembly.columnStart();
     const std::vector<int>& row = assembly.rowIndex();
     for (int j = 0; j < assembly.size(); ++j)
       for (int p = start[j]; p < start[j + 1]; ++p) {
         const int i = row[p];
-        out[i] += beta * restValues[p] * y[j];
-        if (i != j) out[j] += beta * restValues[p] * y[i];
+        out[i] += values[p] * y[j];
+        if (i != j) out[j] += values[p] * y[i];
       }
     return out;
+  }
+
+  // K_B(x) = J_Bᵀ J_B of the bending term at (x, ξ) on the full pattern, vertex unknowns only.
+  std::vector<double> bendingStiffness(const Positions& x, const Eigen::VectorXd& xi) const {
+    const HessianEvaluation e = bending->evaluate(x, xi, HessianProjection::Exact, nullptr,
+                                                  curvature::SecondDerivatives::GaussNewton);
+    std::vector<double> values(assembly.rowIndex().size(), 0.0);
+    for (size_t p = 0; p < e.values.size(); ++p) values[bendingEntry[p]] = e.values[p];
+    keepVertexEntries(values);
+    return values;
+  }
+
+  // Zeroes the entries of a ξ row or column (ξ carry no mass and no damping).
+  void keepVertexEntries(std::vector<double>& values) const {
+    const std::vector<int>& start = assembly.columnStart();
+    for (int j = 0; j < assembly.size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p)
+        if (mass[j] == 0.0 || mass[assembly.rowIndex()[p]] == 0.0) values[p] = 0.0;
   }
 };
 
@@ -81,15 +164,25 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
     throw InputError(
         "--damping: the explicit central-difference scheme takes no damping; use "
         "newmark or backward-euler");
+  if (o.integrator == Integrator::CentralDifference && !o.obstacles.empty())
+    throw InputError(
+        "--obstacle: the explicit central-difference scheme cannot keep vertices outside; use "
+        "newmark or backward-euler");
   if (!(o.density > 0.0)) throw InputError("--density: expected a value > 0");
   if (o.rayleighMass < 0.0 || o.rayleighStiffness < 0.0)
     throw InputError("--damping rayleigh:α,β: expected α, β ≥ 0");
+  if (o.bendingDamping < 0.0) throw InputError("--damping bend:c: expected c ≥ 0");
+  if (o.integrator == Integrator::CentralDifference && o.bendingDamping != 0.0)
+    throw InputError(
+        "--damping: the explicit central-difference scheme takes no damping; use "
+        "newmark or backward-euler");
   const int vertexCount = stencils.vertexCount();
   if (static_cast<int>(pinned_.size()) != vertexCount)
     throw InputError("pinned vertices: expected one flag per vertex");
   if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
     throw InputError("every vertex is pinned: nothing can move");
   mass_ = lumpedVertexMasses(rest, o.mass, o.density);
+  barrier_ = makeObstacleBarrier(o.obstacles, rest, mass_, o.gravity);
   length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
   xi_ = restXi;
   freeEdge_.assign(restXi.size(), true);
@@ -119,10 +212,24 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
                         .evaluate(rest.positions, restXi, HessianProjection::Exact, nullptr,
                                   curvature::SecondDerivatives::GaussNewton)
                         .values;
-    const std::vector<int>& start = im.assembly.columnStart();
-    for (int j = 0; j < im.assembly.size(); ++j)
-      for (int p = start[j]; p < start[j + 1]; ++p)
-        if (im.mass[j] == 0.0 || im.mass[im.assembly.rowIndex()[p]] == 0.0) im.restValues[p] = 0.0;
+    im.keepVertexEntries(im.restValues);
+  }
+  if (o.bendingDamping > 0.0) {
+    im.bending =
+        std::make_unique<HessianAssembly>(std::vector<const curvature::EnergyTerm*>{terms_.front()},
+                                          free, vertexCount, curvature::Derivatives::All);
+    const std::vector<int>& start = im.bending->columnStart();
+    const std::vector<int>& row = im.bending->rowIndex();
+    const std::vector<int>& fullStart = im.assembly.columnStart();
+    const std::vector<int>& fullRow = im.assembly.rowIndex();
+    im.bendingEntry.resize(row.size());
+    for (int j = 0; j < im.bending->size(); ++j)
+      for (int p = start[j]; p < start[j + 1]; ++p) {
+        // The same free unknowns, numbered alike: the entry (row[p], j) of the full pattern.
+        const auto begin = fullRow.begin() + fullStart[j], end = fullRow.begin() + fullStart[j + 1];
+        im.bendingEntry[p] =
+            static_cast<int>(std::lower_bound(begin, end, row[p]) - fullRow.begin());
+      }
   }
 }
 
@@ -130,19 +237,32 @@ TimeStepper::~TimeStepper() = default;
 
 Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const {
   const EnergyGradient e = energyGradient(terms_, x, xi);
+  Positions contact = Positions::Zero(x.rows(), 3);
+  barrier_.addGradient(x, contact);
   Positions a = Positions::Zero(x.rows(), 3);
   for (int v = 0; v < x.rows(); ++v) {
     if (pinned_[v]) continue;
-    for (int c = 0; c < 3; ++c) a(v, c) = options_.gravity[c] - e.gradient[3 * v + c] / mass_[v];
+    for (int c = 0; c < 3; ++c)
+      a(v, c) = options_.gravity[c] - (e.gradient[3 * v + c] + contact(v, c)) / mass_[v];
   }
   return a;
 }
 
+void TimeStepper::movePins(Positions& x, Positions* v, double t) const {
+  for (int k = 0; k < x.rows(); ++k) {
+    if (!pinned_[k]) continue;
+    const Eigen::Vector3d start = pinnedStart_.row(k).transpose();
+    x.row(k) = options_.pinMotion.position(start, t).transpose();
+    if (v != nullptr) v->row(k) = options_.pinMotion.velocityAt(start, t).transpose();
+  }
+}
+
 void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
+  barrier_.requireOutside(x, "the start");
   x_ = x;
   v_ = v;
-  for (int k = 0; k < v_.rows(); ++k)
-    if (pinned_[k]) v_.row(k).setZero();
+  pinnedStart_ = x;
+  movePins(x_, &v_, 0.0);
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
   time_ = 0.0;
@@ -160,7 +280,8 @@ TimeStepper::Outcome TimeStepper::step(double h) {
 }
 
 TimeStepper::Outcome TimeStepper::explicitStep(double h) {
-  const Positions x = x_ + h * v_ + 0.5 * h * h * a_;
+  Positions x = x_ + h * v_ + 0.5 * h * h * a_;
+  movePins(x, nullptr, time_ + h);
   const Eigen::VectorXd xi = xi_.size() > 0 ? minimizeEdgeUnknowns(terms_, x, xi_, freeEdge_) : xi_;
   const Positions a = accelerationFromForces(x, xi);
   if (!a.allFinite()) return {false, 0, "the forces are not finite (the step is unstable)"};
@@ -169,10 +290,21 @@ TimeStepper::Outcome TimeStepper::explicitStep(double h) {
   xi_ = xi;
   a_ = a;
   time_ += h;
+  movePins(x_, &v_, time_);
   return {true, 0, ""};
 }
 
-TimeStepper::Outcome TimeStepper::implicitStep(double h) {
+TimeStepper::StepObjective TimeStepper::stepObjective(double h, const Positions& x,
+                                                      const Eigen::VectorXd& xi) {
+  if (!implicit_) throw InputError("the explicit scheme minimizes no step objective");
+  StepObjective objective;
+  objective.x = &x;
+  objective.xi = &xi;
+  implicitStep(h, &objective);
+  return objective;
+}
+
+TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   Implicit& im = *implicit_;
   const DynamicsOptions& o = options_;
   const bool euler = o.integrator == Integrator::BackwardEuler;
@@ -194,7 +326,32 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
     vHatFree[k] = vertex ? vHat.data()[u] : 0.0;
     gravityForce[k] = vertex ? im.mass[k] * o.gravity[u % 3] : 0.0;
   }
-  const Eigen::VectorXd dampingOfVHat = im.damping(vHatFree, o.rayleighMass, o.rayleighStiffness);
+  // The stiffness-proportional damping of this step, β K̄ + c K_B(x_n), on the pattern (empty:
+  // none); C = α M + that.
+  std::vector<double> stiffnessDamping;
+  if (!im.restValues.empty() && o.rayleighStiffness > 0.0) {
+    stiffnessDamping = im.restValues;
+    for (double& value : stiffnessDamping) value *= o.rayleighStiffness;
+  }
+  if (im.bending) {
+    const std::vector<double> kb = im.bendingStiffness(x_, xi_);
+    if (stiffnessDamping.empty()) stiffnessDamping.assign(kb.size(), 0.0);
+    for (size_t e = 0; e < kb.size(); ++e) stiffnessDamping[e] += o.bendingDamping * kb[e];
+  }
+  auto damping = [&](const Eigen::VectorXd& y) {  // C y, ξ rows 0
+    return Eigen::VectorXd(o.rayleighMass * im.mass.cwiseProduct(y) +
+                           im.multiply(stiffnessDamping, y));
+  };
+  const Eigen::VectorXd dampingOfVHat = damping(vHatFree);
+
+  // x_n with the pinned vertices where they are at t + h: the fixed part of every iterate.
+  Positions moved = x_;
+  movePins(moved, nullptr, time_ + h);
+  if (!barrier_.empty() && options_.pinMotion.kind != PinMotion::Kind::None) {
+    int vertex = -1;
+    if (barrier_.smallestDistance(moved, &vertex) <= 0.0 && pinned_[vertex])
+      return {false, 0, "pinned vertex " + std::to_string(vertex) + " is moved into an obstacle"};
+  }
 
   // (x, ξ) from the free unknowns and back.
   auto values = [&](const Positions& x, const Eigen::VectorXd& xi) {
@@ -214,7 +371,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   // Φ's inertial, damping and gravity parts at y (the ξ entries of `hat` and `mass` are 0).
   auto extra = [&](const Eigen::VectorXd& y, Eigen::VectorXd* gradient) {
     const Eigen::VectorXd d = (y - hat).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
-    const Eigen::VectorXd cd = im.damping(d, o.rayleighMass, o.rayleighStiffness);
+    const Eigen::VectorXd cd = damping(d);
     if (gradient != nullptr)
       *gradient =
           massWeight * im.mass.cwiseProduct(d) + dampingWeight * cd + dampingOfVHat - gravityForce;
@@ -222,56 +379,98 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
            dampingOfVHat.dot(d) - gravityForce.dot(y);
   };
   auto phi = [&](const Eigen::VectorXd& y) {
-    Positions x = x_;
+    Positions x = moved;
     Eigen::VectorXd xi = xi_;
     place(y, x, xi);
     double e = 0.0;
     for (const curvature::EnergyTerm* term : terms_) e += term->energy(x, xi);
-    return e + extra(y, nullptr);
+    return e + extra(y, nullptr) + barrier_.energy(x);  // +∞ inside an obstacle
+  };
+  // The largest fraction of the step δ from y that keeps every vertex outside the obstacles.
+  auto feasible = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& delta) {
+    if (barrier_.empty()) return 1.0;
+    Positions from = moved, dx = Positions::Zero(x_.rows(), 3);
+    Eigen::VectorXd unusedXi = xi_;
+    place(y, from, unusedXi);
+    for (int k = 0; k < n; ++k)
+      if (unknowns[k] < positionCount) dx.data()[unknowns[k]] = delta[k];
+    return barrier_.stepBound(from, dx);
   };
 
-  Positions x = x_;
+  // Newton starts at the predictor x̂ — with obstacles, from x_n towards x̂ as far as they allow
+  // (x_n is outside every obstacle; x̂ need not be).
+  Positions x = moved;
   Eigen::VectorXd xi = xi_;
-  for (int k = 0; k < n; ++k)
-    if (unknowns[k] < positionCount) x.data()[unknowns[k]] = hat[k];
   Eigen::VectorXd y = values(x, xi);
+  const Eigen::VectorXd toHat = (hat - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
+  y += feasible(y, toHat) * toHat;
+  // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
+  // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
+  auto evaluate = [&](const Eigen::VectorXd& y, curvature::SecondDerivatives kind, double& energy,
+                      Eigen::VectorXd& gradient) {
+    place(y, x, xi);
+    HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, kind);
+    barrier_.add(im.assembly, x, at, kind != curvature::SecondDerivatives::Exact);
+    Eigen::VectorXd extraGradient;
+    energy = at.energy + extra(y, &extraGradient);
+    gradient = at.gradient + extraGradient;
+    for (int k = 0; k < n; ++k)
+      at.values[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
+    for (size_t e = 0; e < stiffnessDamping.size(); ++e)
+      at.values[e] += dampingWeight * stiffnessDamping[e];
+    return at;
+  };
+  if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
+    y = values(*probe->x, *probe->xi);
+    const HessianEvaluation at =
+        evaluate(y, curvature::SecondDerivatives::Exact, probe->value, probe->gradient);
+    probe->unknowns = unknowns;
+    probe->hessian = Eigen::MatrixXd::Zero(n, n);
+    for (int j = 0; j < n; ++j)
+      for (int e = im.assembly.columnStart()[j]; e < im.assembly.columnStart()[j + 1]; ++e) {
+        const int i = im.assembly.rowIndex()[e];
+        probe->hessian(i, j) = probe->hessian(j, i) = at.values[e];
+      }
+    return {};
+  }
+
   Outcome outcome;
   const double stepTolerance = o.tolerance * length_;
   for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
-    place(y, x, xi);
-    HessianEvaluation at =
-        im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, o.hessian);
-    Eigen::VectorXd extraGradient;
-    const double energy = at.energy + extra(y, &extraGradient);
-    const Eigen::VectorXd gradient = at.gradient + extraGradient;
-    // M/(βh²) + γ C/(βh) on the pattern: the diagonal, and γβ_K/(βh) K̄ everywhere.
-    auto addInertia = [&](std::vector<double>& h2) {
-      for (int k = 0; k < n; ++k)
-        h2[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
-      for (size_t e = 0; e < im.restValues.size(); ++e)
-        h2[e] += dampingWeight * o.rayleighStiffness * im.restValues[e];
-    };
-    addInertia(at.values);
+    double energy = 0.0;
+    Eigen::VectorXd gradient;
+    HessianEvaluation at = evaluate(y, o.hessian, energy, gradient);
     bool factored = im.factorization.factor(at.values);
     if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
-      HessianEvaluation gn = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr,
-                                                  curvature::SecondDerivatives::GaussNewton);
-      addInertia(gn.values);
+      double unused = 0.0;
+      Eigen::VectorXd unusedGradient;
+      const HessianEvaluation gn =
+          evaluate(y, curvature::SecondDerivatives::GaussNewton, unused, unusedGradient);
       factored = im.factorization.factor(gn.values);
     }
     if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};
     const Eigen::VectorXd delta = -im.factorization.solve(gradient);
     outcome.newtonIterations = iteration;
-    // Converged: the Newton step itself is below the tolerance (taken whole: near the minimizer
-    // Φ's change is at its roundoff, where a line search cannot judge).
+    const double bound = feasible(y, delta);
+    // Converged: the Newton step itself is below the tolerance (taken whole, or as far as the
+    // obstacles allow: near the minimizer Φ's change is at its roundoff, where a line search
+    // cannot judge).
     if (delta.cwiseAbs().maxCoeff() <= stepTolerance) {
-      y += delta;
+      y += bound * delta;
       outcome.converged = true;
       break;
     }
     const double slope = gradient.dot(delta);
-    double alpha = 1.0;
-    Eigen::VectorXd trial = y + delta;
+    // Converged too when the decrease the Newton step predicts, −½ ∇Φᵀδ, is below Φ's roundoff
+    // (contact's stiff barrier can leave a step above the tolerance whose gain no line search
+    // can measure).
+    if (-0.5 * slope <= 1e-15 * std::abs(energy)) {
+      y += bound * delta;
+      outcome.converged = true;
+      break;
+    }
+    double alpha = bound;
+    Eigen::VectorXd trial = y + alpha * delta;
     for (double trialEnergy = phi(trial);
          trialEnergy > energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy);
          trialEnergy = phi(trial)) {
@@ -291,12 +490,11 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h) {
   for (int v = 0; v < x.rows(); ++v)
     if (pinned_[v]) a.row(v).setZero();
   v_ = vHat + gamma * h * a;
-  for (int v = 0; v < x.rows(); ++v)
-    if (pinned_[v]) v_.row(v).setZero();
   x_ = x;
   xi_ = xi;
   a_ = a;
   time_ += h;
+  movePins(x_, &v_, time_);
   return outcome;
 }
 
@@ -308,6 +506,7 @@ EnergySample TimeStepper::energies() const {
     s.gravity -= mass_[v] * options_.gravity.dot(x_.row(v).transpose());
   }
   for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x_, xi_));
+  s.contact = barrier_.energy(x_);
   return s;
 }
 

@@ -3,7 +3,8 @@
 // unknowns solved with each step.
 //
 // Equations of motion, lumped mass M (m_v = ρ × the vertex's rest area, vibration_modes.h),
-// Rayleigh damping C = α M + β K̄ (K̄ the Hessian at rest, on the vertex unknowns), gravity g:
+// damping C = α M + β K̄ + c K_B(x_n) (Rayleigh's α, β with K̄ the Hessian at rest; c the bending
+// damping below; all on the vertex unknowns), gravity g:
 //
 //   M a + C v + ∇E(x, ξ) − M g = 0,   ∇_ξ E(x, ξ) = 0.
 //
@@ -11,7 +12,10 @@
 // v̂ = v_n + h (1 − γ) a_n:  a = (x − x̂) / (β h²),  v = v̂ + γ h a. With β > 0 the step is the
 // minimizer over (x, ξ) of the incremental potential
 //
-//   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x,
+//   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x
+//       + B(x),
+//
+// (B the obstacles' barrier, obstacles.h; its force −∇B joins ∇E in the equation of motion)
 //
 // whose gradient is the equation above; Newton on its exact Hessian M/(βh²) + γC/(βh) + ∇²E
 // (pattern and CHOLMOD analysis once per run). β = ¼, γ = ½ (average acceleration, the default)
@@ -28,6 +32,7 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/obstacles.h"
 #include "optimize/vibration_modes.h"
 
 namespace flexure::optimize {
@@ -37,6 +42,26 @@ Integrator parseIntegrator(
     const std::string& name);  // newmark | backward-euler | central-difference
 const char* integratorName(Integrator integrator);
 
+// A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
+//   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
+//              (Rodrigues; a the unit axis, p a point on it, ω the angular speed in rad/s,
+//              counter-clockwise about a by the right-hand rule),
+//   translate: x₀ + u t (u the velocity),
+// with velocity ω a × (x − p) or u. None: the pinned vertices stay where they start.
+struct PinMotion {
+  enum class Kind { None, Rotate, Translate };
+  Kind kind = Kind::None;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero();
+  double omega = 0.0;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+
+  Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
+  Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
+};
+// rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz (InputError naming --pin-motion
+// otherwise: a zero axis, a number that is not finite).
+PinMotion parsePinMotion(const std::string& spec);
+
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
   double beta = 0.25, gamma = 0.5;  // Newmark's
@@ -44,9 +69,25 @@ struct DynamicsOptions {
   double density = 1.0;  // ρ, mass per unit rest area
   MassLumping mass = MassLumping::Barycentric;
   double rayleighMass = 0.0, rayleighStiffness = 0.0;  // α, β of C = α M + β K̄
+  // c of the bending damping force −c K_B(x_n) v: K_B = J_Bᵀ J_B is the Gauss–Newton Hessian of
+  // the first term (the bending energy, as flexure simulate orders the terms) at the step's start,
+  // J_B the Jacobian of its residuals r_B (E_B = ½ |r_B|²). The force is −c J_Bᵀ ṙ_B: it opposes
+  // the rate of the bending strain only. For hinge r_B ∝ (θ − θ̄) per hinge, so this is seed
+  // 003's Discrete Shells damping −c Σ w (θ̇ − θ̄̇) ∇θ (θ̄̇ = 0); for the shape-operator energies
+  // the rate of the shape-operator difference S − S̄, and likewise for every energy — the analogue
+  // of Rayleigh's β K with the bending term's own Hessian. Positive semidefinite, so it only
+  // dissipates; membrane stretching is not damped. Midedge's ξ rows are left out (massless,
+  // solved with each step).
+  double bendingDamping = 0.0;
+  // How the pinned vertices move (from where start() puts them). Damping acts on the free
+  // vertices' velocities only: a moving pin drags its neighbours through the elastic forces.
+  PinMotion pinMotion;
   // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
   // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
   std::vector<bool> heldEdges;
+  // Obstacles (obstacles.h): their barrier B(x) joins Φ, and each Newton step is capped so that no
+  // vertex reaches one; the implicit integrators only.
+  std::vector<Obstacle> obstacles;
   int maxNewtonIterations = 30;
   // The Hessian of E in each Newton iteration: exact, or its Gauss–Newton part JᵀJ (first
   // derivatives only; the step's inertia M/(βh²) keeps it positive definite).
@@ -56,18 +97,19 @@ struct DynamicsOptions {
   double tolerance = 1e-10;
 };
 
-// The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x.
+// The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x, the
+// obstacles' barrier B(x).
 struct EnergySample {
-  double time = 0.0, kinetic = 0.0, gravity = 0.0;
+  double time = 0.0, kinetic = 0.0, gravity = 0.0, contact = 0.0;
   std::vector<double> terms;
   double total() const;
 };
 
 class TimeStepper {
  public:
-  // `pinned` vertices keep their start positions. Throws InputError for a bad option (β outside
-  // [0, ½] for Newmark, γ ≠ ½ with β = 0, damping with the explicit scheme, density ≤ 0, nothing
-  // free).
+  // `pinned` vertices keep their start positions, or follow options.pinMotion from them. Throws
+  // InputError for a bad option (β outside [0, ½] for Newmark, γ ≠ ½ with β = 0, damping or
+  // obstacles with the explicit scheme, density ≤ 0, nothing free).
   TimeStepper(std::vector<const curvature::EnergyTerm*> terms, const modeling::Stencils& stencils,
               const modeling::RestState& rest, const Eigen::VectorXd& restXi,
               std::vector<bool> pinned, const DynamicsOptions& options);
@@ -76,7 +118,8 @@ class TimeStepper {
   TimeStepper& operator=(const TimeStepper&) = delete;
 
   // The state at time 0: positions, velocities (#V by 3; pinned rows of v are ignored), ξ (#E or
-  // empty: minimized for x). The acceleration comes from the forces.
+  // empty: minimized for x). The acceleration comes from the forces. InputError when a vertex is
+  // inside or on an obstacle.
   void start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi);
 
   struct Outcome {
@@ -87,18 +130,37 @@ class TimeStepper {
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
 
+  // The implicit step's objective Φ for a step of h from the current state, at (x, ξ) (#V by 3,
+  // #E or empty; the pinned rows are replaced by where the pins are at t + h): its value,
+  // gradient and Hessian (dense) over the free unknowns — vertex coordinates 3v + c of unpinned
+  // vertices, then 3 #V + e for free ξ_e (`unknowns`) — as each Newton iteration assembles them.
+  // For tests; the state is unchanged.
+  struct StepObjective {
+    const Positions* x = nullptr;
+    const Eigen::VectorXd* xi = nullptr;
+    double value = 0.0;
+    Eigen::VectorXd gradient;
+    Eigen::MatrixXd hessian;
+    std::vector<int> unknowns;
+  };
+  StepObjective stepObjective(double h, const Positions& x, const Eigen::VectorXd& xi);
+
   double time() const { return time_; }
   const Positions& positions() const { return x_; }
   const Positions& velocities() const { return v_; }
   const Eigen::VectorXd& xi() const { return xi_; }
   const Eigen::VectorXd& masses() const { return mass_; }
+  const ObstacleBarrier& barrier() const { return barrier_; }
   EnergySample energies() const;
 
  private:
   struct Implicit;
-  Outcome implicitStep(double h);
+  // One step; with `probe`, only Φ and its derivatives at the probe's point (stepObjective).
+  Outcome implicitStep(double h, StepObjective* probe = nullptr);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
+  // Puts the pinned rows of x (and of v, when given) where the pin motion has them at time t.
+  void movePins(Positions& x, Positions* v, double t) const;
 
   std::vector<const curvature::EnergyTerm*> terms_;
   std::vector<bool> pinned_;
@@ -106,9 +168,11 @@ class TimeStepper {
   Eigen::VectorXd mass_;
   double length_ = 1.0;
   std::vector<bool> freeEdge_;
+  ObstacleBarrier barrier_;
   std::unique_ptr<Implicit> implicit_;
   double time_ = 0.0;
   Positions x_, v_, a_;
+  Positions pinnedStart_;  // the positions at time 0 (the pinned rows are read)
   Eigen::VectorXd xi_;
 };
 

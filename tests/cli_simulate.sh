@@ -16,9 +16,9 @@ run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 -
 stderr_has "flexure simulate: t = 0.2 / 0.2 s"; stderr_has "wrote 5 frames"
 for k in 0 1 2 3 4; do
   [ -s "sag/frame-0000$k.obj" ] || fail "sag/frame-0000$k.obj missing"
-  is_png "sag/frame-0000$k.png" || fail "sag/frame-0000$k.png is not a PNG"
+  is_png "sag/frames/frame-0000$k.png" || fail "sag/frames/frame-0000$k.png is not a PNG"
 done
-absent sag/frame-00005.obj
+absent sag/frame-00005.obj; absent sag/frame-00000.png; absent sag/frames/frame-00005.png
 [ "$(wc -l < sag/energies.csv)" -eq 22 ] || fail "energies.csv: a header and 21 samples"
 head -1 sag/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,total" \
   || fail "energies.csv header: $(head -1 sag/energies.csv)"
@@ -36,8 +36,52 @@ sys.exit(0 if min(z) < 0 else 1)" || fail "the plate did not sag"
 touch sag/notes.txt
 run 0 simulate --rest plate.obj --energy hinge --membrane springs --pin rings:1 --dt 0.01 \
   --duration 0.05 --fps 20 -o sag --quiet --integrator backward-euler --render-style none
-absent sag/frame-00002.obj; absent sag/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
+absent sag/frame-00002.obj; absent sag/frames/frame-00000.png; [ -e sag/notes.txt ] || fail "simulate removed a file it did not write"
 report_check sag "d['integrator'] == 'backward-euler'" "the integrator"
+
+# Bending damping with Rayleigh's: the run completes and the report names both.
+run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
+  --damping rayleigh:2,0 --damping bend:0.01 --dt 0.01 --duration 0.05 --render-style none \
+  -o bent --quiet
+report_check bent "d['completed'] and d['damping'] == ['rayleigh:2,0', 'bend:0.01']" "both dampings"
+
+# Moving pins: the rim turns a quarter about z (0.25 s at 2 pi rad/s); the last frame's pinned
+# corner (0.5, 0.5) is at (-0.5, 0.5).
+run 0 mesh --family patch48 --n 6 -o sheet.obj --quiet
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 \
+  --pin-motion rotate:0,0,1,0,0,0,6.283185307179586 --dt 0.01 --duration 0.25 --fps 4 \
+  --render-style none -o turn --quiet
+report_check turn "d['completed'] and d['pin_motion'].startswith('rotate:')" "the pin motion"
+python3 -c "
+import sys
+v = [[float(x) for x in l.split()[1:]] for l in open('turn/frame-00001.obj') if l.startswith('v ')]
+sys.exit(0 if any(abs(x + 0.5) < 1e-9 and abs(y - 0.5) < 1e-9 for x, y, z in v) else 1)" \
+  || fail "the pinned corner did not turn to (-0.5, 0.5)"
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --pin-motion translate:1,0,0 -o bad; stderr_has "give them with --pin"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+  --duration 0.1 --pin-motion rotate:0,0,0,0,0,0,1 -o bad; stderr_has "the axis is zero"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+  --duration 0.1 --pin-motion twist:1 -o bad; stderr_has "--pin-motion twist:1: expected"; absent bad
+
+# --video: an MP4 of the frames when ffmpeg is installed, else exit 2 saying so, nothing written.
+if command -v ffmpeg >/dev/null; then
+  run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+    --duration 0.1 --fps 20 --render-size 64 -o clip --video clip.mp4 --quiet
+  [ "$(head -c 8 clip.mp4 | tail -c 4)" = ftyp ] || fail "clip.mp4 is not an MP4"
+  cp clip.mp4 first.mp4
+  run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+    --duration 0.1 --fps 20 --render-size 64 -o clip --video clip.mp4 --quiet
+  cmp -s clip.mp4 first.mp4 || fail "the same run gave a different clip.mp4"
+else
+  run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+    -o clip --video clip.mp4; stderr_has "ffmpeg is not installed"; absent clip; absent clip.mp4
+fi
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --render-style none -o clip2 --video clip2.mp4; stderr_has "not with --render-style none"
+absent clip2; absent clip2.mp4
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  -o clip2 --video clip2.avi; stderr_has "expected a .mp4"; absent clip2
 
 # The static counterpart: minimize under gravity (Newton only).
 run 0 minimize --rest plate.obj --energy midedge --dof xyz --membrane stvk --boundary quadratic:0,0,0 \
@@ -64,6 +108,10 @@ stderr_has "--duration"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --damping viscous:1 -o bad; stderr_has "rayleigh:alpha,beta"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --damping bend:-1 -o bad; stderr_has "bend:c"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --damping bend:1 --damping bend:2 -o bad; stderr_has "each at most once"; absent bad
+run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --gravity 0,-9.81 -o bad; stderr_has "--gravity 0,-9.81"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --integrator central-difference --damping rayleigh:1,0 -o bad; stderr_has "central-difference"
@@ -78,6 +126,40 @@ run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --durat
 run 0 mesh --family patch48 --n 4 -o other.obj --quiet
 run 2 simulate --rest plate.obj --init other.obj --energy hinge --membrane stvk --dt 0.01 \
   --duration 0.1 -o bad; stderr_has "connectivity"; absent bad
+
+# Obstacles: a sheet falls onto a plane 0.02 below it and onto a sphere; the contact energy is a
+# column, the report's smallest distance stays positive (no vertex ever inside).
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 \
+  --obstacle plane:0,0,1,-0.02 --obstacle sphere:0.3,0.3,-0.5,0.47 --damping rayleigh:2,0 \
+  --dt 0.01 --duration 0.3 --render-style none -o drop --quiet
+head -1 drop/energies.csv | grep -qx "time,kinetic,hinge,stvk,gravity,contact,total" \
+  || fail "energies.csv header with contact: $(head -1 drop/energies.csv)"
+report_check drop "d['completed'] and 0 < d['smallest_obstacle_distance'] < d['obstacle_layer'] \
+  and len(d['obstacles']) == 2" "contact without penetration"
+# minimize under gravity held up by a plane: converged, every vertex above it.
+run 0 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --gravity 0,0,-200 \
+  --obstacle plane:0,0,1,-0.02 -o held.obj --report held.json --quiet
+python3 -c "
+import json, sys
+d = json.load(open('held.json')); z = [float(l.split()[3]) for l in open('held.obj') if l.startswith('v ')]
+sys.exit(0 if d['converged'] and min(z) > -0.02 and 0 < d['smallest_obstacle_distance'] < d['obstacle_layer'] else 1)" \
+  || fail "minimize --obstacle: not held above the plane"
+# Refusals: a malformed obstacle, a start inside one (the vertex named), the explicit scheme.
+for spec in plane:0,0,1 plane:0,0,0,1 sphere:0,0,0,-1 box:0,0,0,1; do
+  run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+    --obstacle "$spec" -o bad; stderr_has "--obstacle $spec"; absent bad
+done
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle sphere:0.5,0.5,0,0.1 -o bad; stderr_has "vertex 48 of the start is inside"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle plane:0,0,1,0 -o bad; stderr_has "is inside or on the obstacle"; absent bad
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --obstacle plane:0,0,1,-1 --integrator central-difference -o bad; stderr_has "central-difference"
+absent bad
+run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --obstacle plane:0,0,1,0.1 \
+  -o bad.obj; stderr_has "of the start is inside"; absent bad.obj
+run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --linearized \
+  --obstacle plane:0,0,1,-0.1 -o bad.obj; stderr_has "needs the nonlinear Newton"; absent bad.obj
 
 # The explicit scheme far above its stability limit blows up: exit 3, the report says where and
 # no frame is left.

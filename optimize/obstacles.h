@@ -1,0 +1,104 @@
+// Obstacles a shell cannot pass: planes and spheres, felt by the vertices through a smooth log
+// barrier (incremental potential contact, Li et al. 2020, "Incremental Potential Contact",
+// ACM TOG 39(4)), used by the static solve (newton_solver.cpp) and the time steps
+// (time_stepping.cpp) alike.
+//
+// Signed distance of a point x to an obstacle (positive outside, the free side):
+//   plane:nx,ny,nz,d   the plane n·x = d, n normalized (d scaled with it); d(x) = n̂·x − d/|n|,
+//                      the free side the one n points to (plane:0,0,1,0 is a floor at z = 0);
+//   sphere:x,y,z,r     d(x) = |x − c| − r, the free side outside.
+//
+// Barrier on the distance d of vertex v inside a layer of thickness d̂:
+//   b_v(d) = −κ_v (d − d̂)² log(d / d̂)   for 0 < d < d̂,   0 for d ≥ d̂,   +∞ for d ≤ 0,
+// C² at d̂, convex and decreasing on (0, d̂), with
+//   b'(d)  = −κ_v [2 (d − d̂) log(d/d̂) + (d − d̂)² / d],
+//   b''(d) = −κ_v [2 log(d/d̂) + 4 (d − d̂) / d − (d − d̂)² / d²].
+// The vertex energy is Σ_v Σ_o b_v(d_o(x_v)); its gradient b' ∇d and Hessian b'' ∇d ∇dᵀ + b' ∇²d
+// (∇d = n̂ and ∇²d = 0 for a plane; ∇d = u = (x − c)/|x − c|, ∇²d = (I − u uᵀ)/|x − c| for a
+// sphere, where b' ∇²d is negative semidefinite: the positive semidefinite variant drops it).
+//
+// Layer and stiffness (the stated rule): d̂ = ¼ of the rest mesh's mean edge length, and
+// κ_v = m_v a / d̂ with m_v the vertex's lumped mass and a = max(|g|, 1) (g the gravity, in the
+// mesh's units per s²): the barrier's force −b'(d̂/2) = 1.19 m_v a holds a vertex's weight at
+// about half the layer, so a sheet at rest on an obstacle lies within d̂ of it.
+//
+// Feasibility: a step x + α δ of the solvers is capped by stepBound (continuous collision
+// detection in closed form: the first α at which a vertex moving on a straight line reaches the
+// plane or the sphere), so that no iterate ever has a vertex at d ≤ 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "modeling/rest_state.h"
+#include "optimize/hessian_assembly.h"
+
+namespace flexure::optimize {
+
+struct Obstacle {
+  enum class Kind { Plane, Sphere };
+  Kind kind = Kind::Plane;
+  Eigen::Vector3d vector = Eigen::Vector3d::UnitZ();  // plane: unit normal n̂; sphere: centre c
+  double scalar = 0.0;                                // plane: offset d/|n|; sphere: radius r
+  std::string spec;                                   // as given, for messages
+
+  // d(x), and when asked ∇d and ∇²d.
+  double signedDistance(const Eigen::Vector3d& x, Eigen::Vector3d* gradient = nullptr,
+                        Eigen::Matrix3d* hessian = nullptr) const;
+  // The first t in [0, ∞) at which x + t δ reaches d = 0 (∞ when it never does); x outside.
+  double contactTime(const Eigen::Vector3d& x, const Eigen::Vector3d& delta) const;
+};
+
+// plane:nx,ny,nz,d or sphere:x,y,z,r; InputError quoting `option` and the text otherwise (a zero
+// normal, a radius ≤ 0, a number that is not finite).
+Obstacle parseObstacle(const std::string& option, const std::string& spec);
+
+// b(d) / κ and its first two derivatives (d1, d2 may be null); +∞ for d ≤ 0, 0 for d ≥ d̂.
+double barrierPotential(double d, double layer, double* d1 = nullptr, double* d2 = nullptr);
+
+class ObstacleBarrier {
+ public:
+  ObstacleBarrier() = default;
+  // stiffness: κ_v per vertex (#V).
+  ObstacleBarrier(std::vector<Obstacle> obstacles, double layer, Eigen::VectorXd stiffness);
+
+  bool empty() const { return obstacles_.empty(); }
+  double layer() const { return layer_; }
+  const std::vector<Obstacle>& obstacles() const { return obstacles_; }
+
+  // Σ_v Σ_o b_v(d_o(x_v)) (#V by 3 positions); +∞ when a vertex is inside or on an obstacle.
+  double energy(const Positions& x) const;
+  // Adds the barrier at x to `e`, an evaluation over `assembly`'s free unknowns: its value, its
+  // gradient and, when e.values is filled, its Hessian (each vertex's 3 × 3 block, on the entries
+  // of the pattern's free coordinates; `semidefinite` drops the sphere's b' ∇²d).
+  void add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
+           bool semidefinite) const;
+  // The largest α ≤ 1 such that x + α' dx stays outside every obstacle for α' ≤ α, with margin:
+  // min(1, 0.9 × the first contact time over the vertices).
+  double stepBound(const Positions& x, const Positions& dx) const;
+  // Adds the barrier's gradient at x to `gradient` (#V by 3), every vertex.
+  void addGradient(const Positions& x, Positions& gradient) const;
+  // InputError naming the first vertex of `what` (e.g. "the start") inside or on an obstacle.
+  void requireOutside(const Positions& x, const std::string& what) const;
+  // The smallest signed distance over vertices and obstacles, and where.
+  double smallestDistance(const Positions& x, int* vertex = nullptr) const;
+
+ private:
+  // b_v(d_o(x_v)), its gradient and (when asked) its Hessian in x_v.
+  double vertexBarrier(const Obstacle& o, Eigen::Index v, const Positions& x,
+                       Eigen::Vector3d& gradient, Eigen::Matrix3d* hessian,
+                       bool semidefinite) const;
+
+  std::vector<Obstacle> obstacles_;
+  double layer_ = 0.0;
+  Eigen::VectorXd stiffness_;
+};
+
+// The barrier of the stated rule for `obstacles` on a mesh with rest state `rest`: d̂ = ¼ the mean
+// rest edge length, κ_v = m_v max(|g|, 1) / d̂ with the lumped masses `mass` (#V).
+ObstacleBarrier makeObstacleBarrier(std::vector<Obstacle> obstacles,
+                                    const modeling::RestState& rest, const Eigen::VectorXd& mass,
+                                    const Eigen::Vector3d& gravity);
+
+}  // namespace flexure::optimize

@@ -1,0 +1,213 @@
+// Obstacles (optimize/obstacles.h): the barrier's derivatives against finite differences, the
+// closed-form contact times, a sheet dropped on a plane that comes to rest on it without a vertex
+// ever inside, and a static minimizer under gravity held up by a sphere.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "modeling/errors.h"
+#include "optimize/hessian_assembly.h"
+#include "optimize/minimize.h"
+#include "optimize/obstacles.h"
+#include "optimize/time_stepping.h"
+#include "support/plate.h"
+
+namespace flexure {
+namespace {
+
+using curvature::Discretization;
+using modeling::Positions;
+using optimize::Obstacle;
+using optimize::ObstacleBarrier;
+
+TEST(Obstacles, BarrierPotentialDerivativesMatchFiniteDifferences) {
+  const double layer = 0.3;
+  for (const double t : {0.01, 0.1, 0.4, 0.7, 0.95}) {
+    const double d = t * layer, eps = 1e-6 * layer;
+    double d1 = 0.0, d2 = 0.0;
+    const double b = optimize::barrierPotential(d, layer, &d1, &d2);
+    double p1 = 0.0, m1 = 0.0;
+    const double bp = optimize::barrierPotential(d + eps, layer, &p1);
+    const double bm = optimize::barrierPotential(d - eps, layer, &m1);
+    EXPECT_GT(b, 0.0);
+    EXPECT_LT(d1, 0.0);  // repels: decreasing in d
+    EXPECT_GT(d2, 0.0);  // convex
+    EXPECT_NEAR(d1, (bp - bm) / (2 * eps), 1e-6 * std::abs(d1)) << "d = " << d;
+    EXPECT_NEAR(d2, (p1 - m1) / (2 * eps), 1e-6 * std::abs(d2)) << "d = " << d;
+  }
+  // Zero beyond the layer, C¹ at its edge, infinite on and inside the obstacle.
+  double d1 = 1.0;
+  EXPECT_EQ(optimize::barrierPotential(layer, layer, &d1), 0.0);
+  EXPECT_EQ(d1, 0.0);
+  EXPECT_LT(std::abs(optimize::barrierPotential(0.999 * layer, layer)), 1e-8);
+  EXPECT_TRUE(std::isinf(optimize::barrierPotential(0.0, layer)));
+  EXPECT_TRUE(std::isinf(optimize::barrierPotential(-0.1, layer)));
+}
+
+// The assembled barrier gradient and Hessian (on the free unknowns of a shell's pattern) against
+// central differences of the energy and of the gradient, with a tilted plane and a sphere both
+// within the layer of many vertices.
+TEST(Obstacles, AssembledGradientAndHessianMatchFiniteDifferences) {
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 4, Discretization::Hinge, 1e3);
+  const int vertexCount = plate.mesh.vertexCount();
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  Positions x = plate.rest.positions;
+  for (int v = 0; v < vertexCount; ++v)
+    for (int c = 0; c < 3; ++c) x(v, c) += jitter(random);
+  const double layer = 0.3;
+  std::vector<Obstacle> obstacles = {optimize::parseObstacle("--obstacle", "plane:0.2,0.1,1,-0.25"),
+                                     optimize::parseObstacle("--obstacle", "sphere:0.2,0,0.6,0.5")};
+  Eigen::VectorXd stiffness(vertexCount);
+  for (int v = 0; v < vertexCount; ++v) stiffness[v] = 1.0 + 0.1 * v;
+  const ObstacleBarrier barrier(obstacles, layer, stiffness);
+  ASSERT_GT(barrier.smallestDistance(x), 0.0);
+  ASSERT_LT(barrier.smallestDistance(x), 0.5 * layer);
+
+  const std::vector<bool> free(3 * vertexCount, true);
+  const optimize::HessianAssembly assembly(plate.terms(), free, vertexCount,
+                                           curvature::Derivatives::All);
+  optimize::HessianEvaluation e;
+  e.gradient = Eigen::VectorXd::Zero(assembly.size());
+  e.values.assign(assembly.rowIndex().size(), 0.0);
+  barrier.add(assembly, x, e, false);
+  EXPECT_NEAR(e.energy, barrier.energy(x), 1e-14 * std::abs(e.energy));
+  ASSERT_GT(e.energy, 0.0);
+
+  const double eps = 1e-6;
+  int active = 0;
+  for (int k = 0; k < assembly.size(); ++k) {
+    const int u = assembly.freeUnknowns()[k];
+    Positions plus = x, minus = x;
+    plus.data()[u] += eps;
+    minus.data()[u] -= eps;
+    const double fd = (barrier.energy(plus) - barrier.energy(minus)) / (2 * eps);
+    EXPECT_NEAR(e.gradient[k], fd, 1e-6 * (1.0 + std::abs(fd))) << "unknown " << u;
+    active += e.gradient[k] != 0.0;
+    // Column k of the Hessian from the gradient's differences.
+    Positions gPlus = Positions::Zero(vertexCount, 3), gMinus = gPlus;
+    barrier.addGradient(plus, gPlus);
+    barrier.addGradient(minus, gMinus);
+    for (int p = assembly.columnStart()[k]; p < assembly.columnStart()[k + 1]; ++p) {
+      const int row = assembly.freeUnknowns()[assembly.rowIndex()[p]];
+      const double fdh = (gPlus.data()[row] - gMinus.data()[row]) / (2 * eps);
+      EXPECT_NEAR(e.values[p], fdh, 1e-5 * (1.0 + std::abs(fdh))) << row << ", " << u;
+    }
+  }
+  EXPECT_GT(active, 10);
+}
+
+TEST(Obstacles, ContactTimesAreExact) {
+  const Obstacle floor = optimize::parseObstacle("--obstacle", "plane:0,0,2,-1");  // z = −½
+  EXPECT_DOUBLE_EQ(floor.signedDistance(Eigen::Vector3d(3, 1, 1)), 1.5);
+  EXPECT_DOUBLE_EQ(floor.contactTime(Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, -3)), 0.5);
+  EXPECT_TRUE(std::isinf(floor.contactTime(Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 1))));
+  const Obstacle ball = optimize::parseObstacle("--obstacle", "sphere:0,0,0,1");
+  EXPECT_DOUBLE_EQ(ball.contactTime(Eigen::Vector3d(0, 0, 3), Eigen::Vector3d(0, 0, -4)), 0.5);
+  // A long step that would jump over the sphere: the first contact, at x = −1.
+  EXPECT_NEAR(ball.contactTime(Eigen::Vector3d(-3, 0, 0), Eigen::Vector3d(6, 0, 0)), 1.0 / 3.0,
+              1e-15);
+  // A line that misses it.
+  EXPECT_TRUE(std::isinf(ball.contactTime(Eigen::Vector3d(-3, 0, 1.5), Eigen::Vector3d(6, 0, 0))));
+  // The step bound keeps 10 % of the way to the first contact.
+  const ObstacleBarrier barrier({floor, ball}, 0.1, Eigen::VectorXd::Ones(2));
+  Positions x(2, 3), dx(2, 3);
+  x << 0, 0, 3, -3, 0, 0;
+  dx << 0, 0, -4, 6, 0, 0;
+  EXPECT_NEAR(barrier.stepBound(x, dx), 0.9 / 3.0, 1e-15);
+  EXPECT_EQ(barrier.stepBound(x, 0.01 * dx), 1.0);
+}
+
+TEST(Obstacles, MalformedSpecsAreRefused) {
+  for (const char* spec : {"plane:0,0,1", "plane:0,0,0,1", "sphere:0,0,0,-1", "sphere:0,0,0,0",
+                           "cube:0,0,0,1", "plane:0,0,1,nan", "plane:0,0,1,1,", "plane"})
+    EXPECT_THROW(optimize::parseObstacle("--obstacle", spec), InputError) << spec;
+}
+
+// A flat sheet (hinge + StVK, nothing pinned) falls 0.1 onto the plane z = −0.1 under gravity,
+// with backward Euler and mass damping: no vertex is ever inside (checked after every step),
+// it comes to rest (kinetic energy below 1e-12 of its peak), lying within the layer d̂ of the
+// plane.
+TEST(Obstacles, SheetDroppedOnAPlaneComesToRestOnIt) {
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 6, Discretization::Hinge, 1e3);
+  optimize::DynamicsOptions o;
+  o.integrator = optimize::Integrator::BackwardEuler;
+  o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  o.rayleighMass = 10.0;
+  o.obstacles = {optimize::parseObstacle("--obstacle", "plane:0,0,1,-0.1")};
+  const std::vector<bool> pinned(plate.mesh.vertexCount(), false);
+  optimize::TimeStepper stepper(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, o);
+  stepper.start(plate.rest.positions, Positions::Zero(plate.mesh.vertexCount(), 3),
+                Eigen::VectorXd());
+  const double layer = stepper.barrier().layer();
+  double peak = 0.0, kinetic = 0.0, closest = 1.0;
+  int iterations = 0;
+  const int steps = 400;
+  for (int k = 0; k < steps; ++k) {
+    const auto outcome = stepper.step(0.005);
+    ASSERT_TRUE(outcome.converged) << "step " << k << ": " << outcome.failure;
+    iterations += outcome.newtonIterations;
+    const double d = stepper.barrier().smallestDistance(stepper.positions());
+    ASSERT_GT(d, 0.0) << "step " << k;
+    closest = std::min(closest, d);
+    kinetic = stepper.energies().kinetic;
+    peak = std::max(peak, kinetic);
+  }
+  const double highest = stepper.positions().col(2).maxCoeff() + 0.1;
+  const double lowest = stepper.positions().col(2).minCoeff() + 0.1;
+  std::printf(
+      "dropped sheet: closest %.3e, at rest %.3e .. %.3e above the plane (layer %.3e), kinetic "
+      "%.2e of the peak, %.2f Newton iterations per step\n",
+      closest, lowest, highest, layer, kinetic / peak, double(iterations) / steps);
+  EXPECT_LT(kinetic, 1e-12 * peak);
+  EXPECT_GT(lowest, 0.0);
+  EXPECT_LT(highest, layer);
+  // κ_v ∝ m_v: every vertex rests at the same height, b'(d) κ_v = m_v |g|.
+  EXPECT_LT(highest - lowest, 1e-6 * layer);
+}
+
+// minimize --gravity --obstacle: a clamped plate sagging under a load that would take its centre
+// to −0.06 rests on a sphere whose top is at −0.03 — no vertex inside, the centre within the layer.
+TEST(Obstacles, StaticMinimizerUnderGravityStaysOutsideASphere) {
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 8, Discretization::Cotan);
+  optimize::BoundaryConditions bc;
+  bc.fixedVertex = optimize::fixedRings(plate.stencils, 2);
+  bc.start = plate.rest.positions;
+  const Eigen::Vector3d g(0.0, 0.0, -300.0);
+  const Eigen::VectorXd mass =
+      optimize::lumpedVertexMasses(plate.rest, optimize::MassLumping::Barycentric, 1.0);
+  optimize::MinimizeOptions o;
+  o.externalForce = mass * g.transpose();
+  const optimize::MinimizeResult sagging =
+      optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o);
+  ASSERT_TRUE(sagging.report.converged) << sagging.report.termination;
+  const double freeSag = -sagging.positions.col(2).minCoeff();
+  ASSERT_GT(freeSag, 0.05);
+
+  o.obstacles = optimize::makeObstacleBarrier(
+      {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.53,0.5")}, plate.rest, mass, g);
+  const optimize::MinimizeResult held =
+      optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o);
+  ASSERT_TRUE(held.report.converged) << held.report.termination;
+  int vertex = -1;
+  const double closest = o.obstacles.smallestDistance(held.positions, &vertex);
+  std::printf("plate on a sphere: free sag %.4f, held sag %.4f, closest %.3e (layer %.3e)\n",
+              freeSag, -held.positions.col(2).minCoeff(), closest, o.obstacles.layer());
+  EXPECT_GT(closest, 0.0);
+  EXPECT_LT(closest, o.obstacles.layer());  // in contact
+  EXPECT_LT(-held.positions.col(2).minCoeff(), 0.03);
+  // The Ceres and linearized solves refuse obstacles, and a start inside one is refused.
+  o.solver = optimize::Solver::Ceres;
+  EXPECT_THROW(optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o),
+               InputError);
+  o.solver = optimize::Solver::Newton;
+  o.obstacles = optimize::makeObstacleBarrier(
+      {optimize::parseObstacle("--obstacle", "plane:0,0,1,0.01")}, plate.rest, mass, g);
+  EXPECT_THROW(optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o),
+               InputError);
+}
+
+}  // namespace
+}  // namespace flexure
