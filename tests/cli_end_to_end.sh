@@ -2,7 +2,8 @@
 # End-to-end runs of the flexure executable ($FLEXURE): exit codes, messages that name the file
 # and the element, outputs written whole or not at all, byte-identical reruns.
 set -uo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
+support="$(cd "$(dirname "${BASH_SOURCE[0]}")/support" && pwd)"
+source "$support/cli_harness.sh"
 
 # --- usage ---------------------------------------------------------------------------------
 run 0 --version; stdout_has "flexure 0."
@@ -318,34 +319,11 @@ is_png cmp/patch48-exact.png || fail "compare: no reference panel patch48-exact.
 # png_size_and_border_ink FILE: "WIDTH HEIGHT INK", INK the pixels on the image's border that are
 # not white (8-bit RGB or RGBA PNGs, as Cairo writes them).
 png_size_and_border_ink() {
-  python3 - "$1" <<'PY'
-import struct, sys, zlib
-data = open(sys.argv[1], "rb").read()
-pos, idat = 8, b""
-while pos < len(data):
-    length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + length]
-    if kind == b"IHDR":
-        w, h, depth, colour = struct.unpack(">IIBB", body[:10])
-    elif kind == b"IDAT":
-        idat += body
-    pos += 12 + length
-assert depth == 8 and colour in (2, 6), (depth, colour)
-bpp = 3 if colour == 2 else 4
-raw, stride, rows, prev = zlib.decompress(idat), w * bpp, [], bytearray(w * bpp)
-for y in range(h):
-    f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for i in range(stride):
-        a = line[i - bpp] if i >= bpp else 0
-        b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-        if f == 1: line[i] = (line[i] + a) & 255
-        elif f == 2: line[i] = (line[i] + b) & 255
-        elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    rows.append(line); prev = line
-ink = lambda x, y: rows[y][x * bpp:x * bpp + 3] != b"\xff\xff\xff"
+  PYTHONPATH="$support" python3 - "$1" <<'PY'
+import sys
+from png_pixels import read_png
+w, h, rows = read_png(sys.argv[1])
+ink = lambda x, y: rows[y][x] != (255, 255, 255)
 border = [(x, 0) for x in range(w)] + [(x, h - 1) for x in range(w)] + [(0, y) for y in range(h)] + [(w - 1, y) for y in range(h)]
 print(w, h, sum(ink(x, y) for x, y in border))
 PY
@@ -389,37 +367,10 @@ stderr_has "CGAL fair"; stderr_has "flexure midedge"; stderr_has "E_quadfit"; st
 # The figure: four panels (input, CGAL's fair, flexure's result, the signed distance), the
 # region's outline (green, RenderOptions::outlineColour) drawn on every one. Panel c spans
 # x in [110 + c (w + 10), 110 + c (w + 10) + w) (render/figure_grid.h), w = --render-size.
-python3 - shark.png 200 <<'PY' || fail "fair: shark.png lacks the outline on a panel"
-import struct, sys, zlib
-def png(path):  # 8-bit RGB or RGBA, not interlaced: the rows as lists of (r, g, b)
-    data = open(path, "rb").read()
-    pos, idat = 8, b""
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR": w, h, depth, colour = struct.unpack(">IIBB", body[:10])
-        if kind == b"IDAT": idat += body
-        pos += 12 + n
-    assert depth == 8 and colour in (2, 6), (depth, colour)
-    bpp, raw, rows, prev = (3 if colour == 2 else 4), zlib.decompress(idat), [], None
-    stride = w * bpp
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        prev = prev or bytearray(stride)
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append([tuple(line[x * bpp:x * bpp + 3]) for x in range(w)])
-        prev = line
-    return w, h, rows
-w, h, rows = png(sys.argv[1])
+PYTHONPATH="$support" python3 - shark.png 200 <<'PY' || fail "fair: shark.png lacks the outline on a panel"
+import sys
+from png_pixels import read_png
+w, h, rows = read_png(sys.argv[1])
 size = int(sys.argv[2])
 assert w == 110 + 4 * (size + 10), (w, "four panels")
 green = lambda p: p[0] <= 8 and abs(p[1] - 204) <= 8 and abs(p[2] - 51) <= 8

@@ -18,6 +18,7 @@
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
 #include "optimize/fairing.h"
+#include "support/input_error.h"
 
 namespace flexure {
 namespace {
@@ -46,14 +47,7 @@ double energyOf(const optimize::FairingMeasures& m, const std::string& name) {
   return 0.0;
 }
 
-std::string inputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
+using testing::inputErrorOf;
 
 TEST(FairingRegion, PatchIsRegionAndTwoHeldRings) {
   const Mesh lion = cgalMesh("lion-head.off");

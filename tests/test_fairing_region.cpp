@@ -17,21 +17,15 @@
 #include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
+#include "support/input_error.h"
 
 namespace flexure {
 namespace {
 
 using modeling::Mesh;
-using testing::HasSubstr;
+using ::testing::HasSubstr;
 
-std::string inputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
+using testing::inputErrorOf;
 
 Mesh flatMesh(modeling::MeshFamily family, int n) {
   modeling::GeneratorOptions generator;
