@@ -9,6 +9,7 @@
 // Cases (--cases): noise<D> — a geodesic cap of D degrees (sphere) or D/180·π tube radii (torus),
 // 5 % radial noise (--noise); flat<D> — the cap pressed flat onto the plane through its rim.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -85,7 +86,20 @@ int main(int argc, char** argv) {
                                                 : modeling::WillmoreSurface::Sphere;
     for (const std::string& spec : cases) {
       const bool flat = spec.rfind("flat", 0) == 0;
-      const double degrees = std::stod(spec.substr(flat ? 4 : 5));
+      std::size_t used = 0;
+      double degrees = 0.0;
+      const std::string number = spec.substr(flat ? 4 : std::min<std::size_t>(5, spec.size()));
+      try {
+        degrees = std::stod(number, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if ((!flat && spec.rfind("noise", 0) != 0) || used == 0 || used != number.size() ||
+          !(degrees > 0.0 && degrees < 180.0)) {
+        std::cerr << "fair_sphere_bench: --cases " << spec
+                  << ": expected noise<degrees> or flat<degrees>, degrees in (0, 180)\n";
+        return 2;
+      }
       for (int level : levels) {
         const modeling::Mesh exact = surface == modeling::WillmoreSurface::Sphere
                                          ? modeling::irregularSphere(level, jitter, 7)

@@ -509,7 +509,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["start"] = startUsed;
     report["metric"] = {{"name", o.metric},
                         {"solves", fairing->metricUpdates},
-                        {"stalled", fairing->metricStalled}};
+                        {"stalled", fairing->metricStalled},
+                        {"settled", fairing->metricSettled}};
     report["solver"] = {{"name", solve->solver},
                         {"factorizations", solve->factorizations},
                         {"converged", solve->converged},
@@ -609,6 +610,11 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (figure) render::writePng(o.renderFile, *figure);
   report["seconds"] = seconds();
   if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+  if (!global.quiet && fairing && !fairing->metricSettled) {
+    std::cerr << "flexure fair: --metric current stopped after " << fairing->metricUpdates
+              << " solves" << (fairing->metricStalled ? " (the next solve did not converge)" : "")
+              << " before the surface stopped moving; the result is the last converged solve\n";
+  }
   if (!global.quiet) {
     std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
               << measuredEnergy(before, energyName) << " -> " << measuredEnergy(after, energyName)

@@ -41,6 +41,13 @@ inline T norm(const Vec3<T>& a) {
   return sqrt(dot(a, a));
 }
 
+// The angle in [0, π] between a and b: atan2(|a × b|, a · b), accurate near 0 and π (acos is not).
+template <class T>
+inline T angleBetween(const Vec3<T>& a, const Vec3<T>& b) {
+  using std::atan2;
+  return atan2(norm(cross(a, b)), dot(a, b));
+}
+
 // A symmetric 2×2 tensor [[a, b], [b, c]] in a face's rest frame (u, v).
 template <class T>
 struct Sym2 {

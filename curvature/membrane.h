@@ -103,13 +103,12 @@ struct AngleBarrierResidual {
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    using std::atan2;
     using std::log;
     using std::sqrt;
     const Vec3<T> p[3] = {load(x[0]), load(x[1]), load(x[2])};
     for (int i = 0; i < 3; ++i) {
       const Vec3<T> a = p[(i + 1) % 3] - p[i], b = p[(i + 2) % 3] - p[i];
-      const T d = atan2(norm(cross(a, b)), dot(a, b)) - T(minAngle);
+      const T d = angleBetween(a, b) - T(minAngle);
       if (!(scalarPart(d) > 0.0)) return false;
       r[i] = scalarPart(d) < band ? sqrtWeight * (T(band) - d) * sqrt(-log(d / T(band))) : T(0.0);
     }

@@ -655,7 +655,7 @@ StudyResults runConvergenceStudy(const StudyOptions& options,
       }
       std::lock_guard<std::mutex> lock(progressMutex);
       ++done;
-      if (progress) progress({done, cases, caseName(c)});
+      if (progress) progress({done, cases, caseName(c), "", ""});
     }
   };
   std::vector<std::thread> pool;

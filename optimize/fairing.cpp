@@ -11,6 +11,7 @@
 #include <sstream>
 #include <utility>
 
+#include "curvature/kernel_math.h"
 #include "modeling/cgal_fair.h"
 #include "modeling/errors.h"
 #include "modeling/rest_state.h"
@@ -22,6 +23,13 @@ namespace flexure::optimize {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// The angle between m and n in degrees (curvature/kernel_math.h's formula, the angle barrier's).
+double angleDegrees(const Eigen::Vector3d& m, const Eigen::Vector3d& n) {
+  return curvature::angleBetween(curvature::Vec3<double>{m.x(), m.y(), m.z()},
+                                 curvature::Vec3<double>{n.x(), n.y(), n.z()}) *
+         180.0 / kPi;
+}
 
 // The patch compiled once: its stencils and its rest state (the input's metric).
 struct CompiledPatch {
@@ -68,7 +76,7 @@ TriangleQuality triangleQuality(const CompiledPatch& c, const Positions& x) {
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d a = p[(i + 1) % 3] - p[i], b = p[(i + 2) % 3] - p[i];
       squares += a.squaredNorm();
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+      const double angle = angleDegrees(a, b);
       q.minAngleDegrees = std::min(q.minAngleDegrees, angle);
     }
     const double shape = squares > 0.0 ? 4.0 * std::sqrt(3.0) * area / squares : 0.0;
@@ -222,13 +230,16 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   const double startGradientNorm = freeGradientNorm(bc.start, bc.xi);
   MinimizeResult result = minimize(terms, bc, c.rest.positions, restXi, solver);
   int outer = 1;
-  bool stalled = false;
+  bool stalled = false, settled = !lagged;
   while (lagged && result.report.converged && outer < options.maxMetricUpdates) {
     const double change = normalMove(c, patch, bc.start, result.positions) / meanEdge;
     if (options.solver.progress)
       std::cerr << "fair: metric update " << outer << ", largest move across the surface " << change
                 << " mean edges\n";
-    if (change <= options.metricTolerance) break;
+    if (change <= options.metricTolerance) {
+      settled = true;
+      break;
+    }
     const Positions previousStart = bc.start;
     const Eigen::VectorXd previousXi = bc.xi;
     bc.start = result.positions;
@@ -251,6 +262,7 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   FairingResult fairing{std::move(result.positions), result.report, start};
   fairing.metricUpdates = outer;
   fairing.metricStalled = stalled;
+  fairing.metricSettled = settled;
   fairing.startGradientNorm = startGradientNorm;
   fairing.finalGradientNorm = freeGradientNorm(fairing.positions, result.xi);
   return fairing;
@@ -307,9 +319,6 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
   const auto areaNormal = [](const Positions& x, int i, int j, int k) {
     const Eigen::Vector3d x0 = x.row(i), x1 = x.row(j), x2 = x.row(k);
     return Eigen::Vector3d((x1 - x0).cross(x2 - x0));
-  };
-  const auto angleDegrees = [](const Eigen::Vector3d& m, const Eigen::Vector3d& n) {
-    return std::atan2(m.cross(n).norm(), m.dot(n)) * 180.0 / kPi;
   };
   const Positions& input = patch.mesh.positions;
   // The faces at each face's edges: for face f, edge i (from corner i to i + 1) the face across.

@@ -91,6 +91,10 @@ struct FairingResult {
   int metricUpdates = 1;  // converged solves (1 on the input's metric)
   // A later solve on an updated metric did not converge: the result is the last converged one.
   bool metricStalled = false;
+  // The last solve moved no vertex across the surface by more than metricTolerance (true for
+  // FairingMetric::Input); false: stopped by maxMetricUpdates or a stall, short of the lag's
+  // fixed point (each solve still a checked minimizer on its own metric).
+  bool metricSettled = true;
   // |∇E| (2-norm over the free unknowns: the moving vertices' x, y, z and, for midedge, every ξ)
   // of E = E_bend + E_membrane at the start and at the result.
   double startGradientNorm = 0.0, finalGradientNorm = 0.0;

@@ -406,13 +406,13 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   y += feasible(y, toHat) * toHat;
   // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
   // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
-  auto evaluate = [&](const Eigen::VectorXd& y, curvature::SecondDerivatives kind, double& energy,
+  auto evaluate = [&](const Eigen::VectorXd& point, curvature::SecondDerivatives kind, double& energy,
                       Eigen::VectorXd& gradient) {
-    place(y, x, xi);
+    place(point, x, xi);
     HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, kind);
     barrier_.add(im.assembly, x, at, kind != curvature::SecondDerivatives::Exact);
     Eigen::VectorXd extraGradient;
-    energy = at.energy + extra(y, &extraGradient);
+    energy = at.energy + extra(point, &extraGradient);
     gradient = at.gradient + extraGradient;
     for (int k = 0; k < n; ++k)
       at.values[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];

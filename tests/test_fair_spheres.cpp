@@ -61,7 +61,7 @@ TEST(WillmoreSurfaces, MeshesLieOnTheirSurfacesFacingOut) {
   EXPECT_LT(largestDistance(WillmoreSurface::CliffordTorus, torus.positions), 1e-14);
   const double volume = 2.0 * kPi * kPi * std::sqrt(2.0);  // 2π² R r², R = √2, r = 1
   EXPECT_NEAR(enclosedVolume(torus), volume, 0.03 * volume);
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(2.0, 0.3, 0.1), Eigen::Vector3d(0.1, -1.5, 0.9)})
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(2.0, 0.3, 0.1), Eigen::Vector3d(0.1, -1.5, 0.9)})
     EXPECT_NEAR((modeling::closestPoint(WillmoreSurface::CliffordTorus, p) - p).norm(),
                 modeling::relativeDistance(WillmoreSurface::CliffordTorus, p), 1e-12);
   EXPECT_THROW(modeling::irregularSphere(-1, 0.3, 7), InputError);
