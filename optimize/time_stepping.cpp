@@ -406,8 +406,8 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   y += feasible(y, toHat) * toHat;
   // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
   // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
-  auto evaluate = [&](const Eigen::VectorXd& point, curvature::SecondDerivatives kind, double& energy,
-                      Eigen::VectorXd& gradient) {
+  auto evaluate = [&](const Eigen::VectorXd& point, curvature::SecondDerivatives kind,
+                      double& energy, Eigen::VectorXd& gradient) {
     place(point, x, xi);
     HessianEvaluation at = im.assembly.evaluate(x, xi, HessianProjection::Exact, nullptr, kind);
     barrier_.add(im.assembly, x, at, kind != curvature::SecondDerivatives::Exact);
