@@ -38,7 +38,7 @@ double secondsSince(Clock::time_point start) {
 }
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
-               bool gaussNewton, bool drape) {
+               bool gaussNewton, bool drape, bool chordSteps, bool predict) {
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
   curvature::BendingOptions bending;
@@ -61,6 +61,8 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   options.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   if (drape) options.obstacles = {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.35,0.3")};
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
+  options.chordSteps = chordSteps;
+  options.predictAcceleration = predict;
 
   auto start = Clock::now();
   optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, options);
@@ -69,16 +71,23 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   start = Clock::now();
   const auto first = stepper.step(dt);
   const double firstSeconds = secondsSince(start);
-  int iterations = 0, halvings = 0;
+  int iterations = 0, factorizations = 0, halvings = 0;
   double closest =
       stepper.barrier().empty() ? 0.0 : stepper.barrier().smallestDistance(stepper.positions());
   start = Clock::now();
   for (int k = 1; k < steps; ++k) {
     auto outcome = stepper.step(dt);
+    factorizations += outcome.factorizations;
     if (!outcome.converged) {  // as flexure simulate does: two half steps
       ++halvings;
+      iterations += outcome.newtonIterations;
       outcome = stepper.step(dt / 2);
-      if (outcome.converged) outcome = stepper.step(dt / 2);
+      factorizations += outcome.factorizations;
+      if (outcome.converged) {
+        iterations += outcome.newtonIterations;
+        outcome = stepper.step(dt / 2);
+        factorizations += outcome.factorizations;
+      }
       if (!outcome.converged) return {{"energy", energy}, {"error", outcome.failure}};
     }
     iterations += outcome.newtonIterations;
@@ -98,6 +107,9 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
           {"seconds", seconds},
           {"steps_per_second", (steps - 1) / seconds},
           {"newton_iterations_per_step", double(iterations) / (steps - 1)},
+          {"factorizations_per_step", double(factorizations) / (steps - 1)},
+          {"chord_steps", chordSteps},
+          {"predict_acceleration", predict},
           {"halvings", halvings},
           {"smallest_sphere_distance", drape ? json(closest) : json(nullptr)},
           {"contact_layer", drape ? json(stepper.barrier().layer()) : json(nullptr)},
@@ -126,6 +138,12 @@ int main(int argc, char** argv) {
   app.add_option("--energies", energies)->capture_default_str();
   app.add_option("--hessians", hessians, "exact and/or gauss-newton (the step's Hessian of E)")
       ->capture_default_str();
+  bool chordSteps = true, predict = true;
+  app.add_option("--chord-steps", chordSteps,
+                 "Reuse the step Hessian's factor while it contracts (false: plain Newton)")
+      ->capture_default_str();
+  app.add_option("--predict", predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (scene != "drape" && scene != "hang") {
     std::cerr << "--scene " << scene << ": expected drape or hang\n";
@@ -139,7 +157,7 @@ int main(int argc, char** argv) {
     for (const char* hessian : {"exact", "gauss-newton"}) {
       if (hessians.find(hessian) == std::string::npos) continue;
       json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton",
-                              scene == "drape");
+                              scene == "drape", chordSteps, predict);
       std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
       records.push_back(record);
     }

@@ -28,14 +28,14 @@ struct SecondOrderJet {
   using PackedHessian = std::array<double, kPacked>;
 
   double a = 0.0;  // the value; named as ceres::Jet's, so scalarPart() reads both
-  Gradient v = Gradient::Zero();
-  PackedHessian h{};
+  Gradient v;      // zero unless set (the constructors below)
+  PackedHessian h;
   // A constant (the kernels' T(0.5), rest data): its derivatives are zero, and an operation with
   // it is done as one with a double.
   bool constant = true;
 
-  SecondOrderJet() = default;
-  explicit SecondOrderJet(double value) : a(value) {}
+  SecondOrderJet() : v(Gradient::Zero()), h{} {}
+  explicit SecondOrderJet(double value) : a(value), v(Gradient::Zero()), h{} {}
   // The independent variable k at `value`: ∇ = e_k, ∇² = 0.
   static SecondOrderJet variable(double value, int k) {
     SecondOrderJet x(value);
@@ -59,22 +59,27 @@ struct SecondOrderJet {
   friend SecondOrderJet operator+(const SecondOrderJet& f, const SecondOrderJet& g) {
     if (g.constant) return shifted(f, g.a);
     if (f.constant) return shifted(g, f.a);
-    SecondOrderJet r;
-    r.constant = false;
+    SecondOrderJet r(Uninitialized{});
     r.a = f.a + g.a;
     r.v = f.v + g.v;
     for (int k = 0; k < kPacked; ++k) r.h[k] = f.h[k] + g.h[k];
     return r;
   }
+  // f + (−g), written out (negation is exact, so the same bits).
   friend SecondOrderJet operator-(const SecondOrderJet& f, const SecondOrderJet& g) {
-    return f + scaled(g, -1.0);
+    if (g.constant) return shifted(f, -g.a);
+    if (f.constant) return shifted(scaled(g, -1.0), f.a);
+    SecondOrderJet r(Uninitialized{});
+    r.a = f.a + -g.a;
+    r.v = f.v - g.v;
+    for (int k = 0; k < kPacked; ++k) r.h[k] = f.h[k] - g.h[k];
+    return r;
   }
   // ∇²(fg) = f ∇²g + g ∇²f + ∇f ∇gᵀ + ∇g ∇fᵀ.
   friend SecondOrderJet operator*(const SecondOrderJet& f, const SecondOrderJet& g) {
     if (g.constant) return scaled(f, g.a);
     if (f.constant) return scaled(g, f.a);
-    SecondOrderJet r;
-    r.constant = false;
+    SecondOrderJet r(Uninitialized{});
     r.a = f.a * g.a;
     r.v = f.a * g.v + g.a * f.v;
     for (int i = 0, k = 0; i < N; ++i) {
@@ -103,10 +108,9 @@ struct SecondOrderJet {
 
   // g(f) for a unary g with g(f.a) = value, g′(f.a) = first, g″(f.a) = second.
   friend SecondOrderJet chain(const SecondOrderJet& f, double value, double first, double second) {
-    SecondOrderJet r;
-    r.constant = f.constant;
+    if (f.constant) return SecondOrderJet(value);
+    SecondOrderJet r(Uninitialized{});
     r.a = value;
-    if (f.constant) return r;
     r.v = first * f.v;
     for (int i = 0, k = 0; i < N; ++i) {
       const double fi = second * f.v[i];
@@ -140,10 +144,9 @@ struct SecondOrderJet {
     const double rho = x.a * x.a + y.a * y.a, rho2 = rho * rho;
     const double dy = x.a / rho, dx = -y.a / rho;
     const double dyy = -2.0 * x.a * y.a / rho2, dxx = -dyy, dxy = (y.a * y.a - x.a * x.a) / rho2;
-    SecondOrderJet r;
-    r.constant = x.constant && y.constant;
+    if (x.constant && y.constant) return SecondOrderJet(std::atan2(y.a, x.a));
+    SecondOrderJet r(Uninitialized{});
     r.a = std::atan2(y.a, x.a);
-    if (r.constant) return r;
     r.v = dy * y.v + dx * x.v;
     for (int i = 0, k = 0; i < N; ++i) {
       const double yi = y.v[i], xi = x.v[i];
@@ -156,6 +159,10 @@ struct SecondOrderJet {
   }
 
  private:
+  // A variable whose value, gradient and Hessian the caller fills in full (no zeroing first).
+  struct Uninitialized {};
+  explicit SecondOrderJet(Uninitialized) : constant(false) {}
+
   static SecondOrderJet shifted(SecondOrderJet f, double s) {
     f.a += s;
     return f;

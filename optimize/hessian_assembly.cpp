@@ -1,6 +1,7 @@
 #include "optimize/hessian_assembly.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -224,6 +225,57 @@ cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>
   return view;
 }
 
+// Debian's CHOLMOD runs parts of its supernodal factorization in OpenMP teams of
+// CHOLMOD_OMP_NUM_THREADS = 4 threads (fixed when it was built), which on flexure's 2-core
+// machines spin and wait on futexes for more time than they save: measured with
+// OMP_THREAD_LIMIT=1, the drape benchmark (scripts/bench simulate, hinge, 961 vertices) ran
+// 1.3–1.4× faster. The heavy part, the dense BLAS of the supernodes, does not use these threads.
+// While it factors, this limits the team to one thread through OpenMP's dynamic adjustment
+// (omp_set_dynamic(1) bounds a team by the caller's omp_set_num_threads, even when the
+// parallel region asks for more), and restores the caller's settings after. The functions are
+// looked up at run time: a CHOLMOD built without OpenMP loads no OpenMP runtime, and then
+// there is nothing to limit.
+class SingleThreadedOpenMp {
+ public:
+  SingleThreadedOpenMp() {
+    if (functions().setDynamic == nullptr) return;
+    dynamic_ = functions().getDynamic();
+    threads_ = functions().getMaxThreads();
+    functions().setDynamic(1);
+    functions().setNumThreads(1);
+  }
+  ~SingleThreadedOpenMp() {
+    if (functions().setDynamic == nullptr) return;
+    functions().setDynamic(dynamic_);
+    functions().setNumThreads(threads_);
+  }
+  SingleThreadedOpenMp(const SingleThreadedOpenMp&) = delete;
+  SingleThreadedOpenMp& operator=(const SingleThreadedOpenMp&) = delete;
+
+ private:
+  struct Functions {
+    void (*setDynamic)(int) = nullptr;
+    int (*getDynamic)() = nullptr;
+    void (*setNumThreads)(int) = nullptr;
+    int (*getMaxThreads)() = nullptr;
+  };
+  static const Functions& functions() {
+    static const Functions f = [] {
+      Functions found;
+      found.getDynamic = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
+      found.getMaxThreads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_threads"));
+      found.setNumThreads =
+          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
+      found.setDynamic = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
+      if (!found.getDynamic || !found.getMaxThreads || !found.setNumThreads)
+        found.setDynamic = nullptr;
+      return found;
+    }();
+    return f;
+  }
+  int dynamic_ = 0, threads_ = 1;
+};
+
 }  // namespace
 
 struct HessianFactorization::Simplicial {
@@ -281,6 +333,7 @@ bool HessianFactorization::factor(const std::vector<double>& values, double shif
   cholmod_sparse matrix =
       upperTriangleView(c.columnStart, c.rowIndex, const_cast<double*>(values.data()));
   double beta[2] = {shift, 0.0};
+  const SingleThreadedOpenMp oneThread;
   const int ok = cholmod_factorize_p(&matrix, beta, nullptr, 0, c.factor, &c.common);
   return ok && c.common.status == CHOLMOD_OK && c.factor->minor == c.factor->n;
 }

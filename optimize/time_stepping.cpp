@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "modeling/errors.h"
 #include "optimize/energy_evaluation.h"
@@ -109,6 +110,10 @@ struct TimeStepper::Implicit {
   std::vector<int> diagonal;       // per free unknown: its diagonal entry in the pattern
   std::unique_ptr<HessianAssembly> bending;  // the first term alone; null without bend damping
   std::vector<int> bendingEntry;             // per entry of its pattern: the full pattern's entry
+  // Whether `factorization` holds a factor of ∇²Φ, and the step h it was made for (Φ's inertia
+  // M/(βh²) depends on h): chord steps reuse it across time steps of the same h.
+  bool haveFactor = false;
+  double factorStep = 0.0;
 
   Implicit(const std::vector<const curvature::EnergyTerm*>& terms, const std::vector<bool>& free,
            int vertexCount, const Positions& rest)
@@ -266,6 +271,7 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
   time_ = 0.0;
+  if (implicit_) implicit_->haveFactor = false;
   // With damping the initial acceleration also carries −M⁻¹ C v₀; a start at rest (v₀ = 0, the
   // usual case) has none, and a moving start takes the undamped one.
   a_ = accelerationFromForces(x_, xi_);
@@ -378,6 +384,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     return 0.5 * massWeight * d.dot(im.mass.cwiseProduct(d)) + 0.5 * dampingWeight * d.dot(cd) +
            dampingOfVHat.dot(d) - gravityForce.dot(y);
   };
+  // Φ at y alone (no derivatives: the line search's later trials).
   auto phi = [&](const Eigen::VectorXd& y) {
     Positions x = moved;
     Eigen::VectorXd xi = xi_;
@@ -397,15 +404,31 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     return barrier_.stepBound(from, dx);
   };
 
-  // Newton starts at the predictor x̂ — with obstacles, from x_n towards x̂ as far as they allow
-  // (x_n is outside every obstacle; x̂ need not be).
+  // Newton starts at x̂ + β h² a_n, the solution if the acceleration stayed a_n (x_n + h v_n +
+  // ½ h² a_n for Newmark: Taylor to second order; x̂ itself assumes a = 0), except at vertices
+  // within two barrier layers of an obstacle, whose acceleration flips from step to step with
+  // the contact (there x̂; measured on the drape benchmark, a_n there cost more Newton steps than
+  // it saved) — and with obstacles, from x_n towards the guess as far as they allow (x_n is
+  // outside every obstacle; the guess need not be).
   Positions x = moved;
   Eigen::VectorXd xi = xi_;
   Eigen::VectorXd y = values(x, xi);
-  const Eigen::VectorXd toHat = (hat - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
-  y += feasible(y, toHat) * toHat;
+  Eigen::VectorXd guess = hat;
+  if (o.predictAcceleration) {
+    for (int k = 0; k < n; ++k) {
+      if (unknowns[k] >= positionCount) continue;
+      const int v = unknowns[k] / 3;
+      bool near = false;
+      for (const Obstacle& obstacle : barrier_.obstacles())
+        near = near || obstacle.signedDistance(x_.row(v).transpose()) < 2.0 * barrier_.layer();
+      if (!near) guess[k] += beta * h * h * a_.data()[unknowns[k]];
+    }
+  }
+  const Eigen::VectorXd toGuess = (guess - y).cwiseProduct(im.mass.cwiseSign());  // 0 on ξ
+  y += feasible(y, toGuess) * toGuess;
   // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
   // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
+  // SecondDerivatives::None: Φ and ∇Φ only (first derivatives, much cheaper), `values` empty.
   auto evaluate = [&](const Eigen::VectorXd& point, curvature::SecondDerivatives kind,
                       double& energy, Eigen::VectorXd& gradient) {
     place(point, x, xi);
@@ -414,6 +437,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     Eigen::VectorXd extraGradient;
     energy = at.energy + extra(point, &extraGradient);
     gradient = at.gradient + extraGradient;
+    if (kind == curvature::SecondDerivatives::None) return at;
     for (int k = 0; k < n; ++k)
       at.values[im.diagonal[k]] += (massWeight + dampingWeight * o.rayleighMass) * im.mass[k];
     for (size_t e = 0; e < stiffnessDamping.size(); ++e)
@@ -434,51 +458,104 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     return {};
   }
 
+  // Newton with chord steps (as newton_solver.h, and across time steps): every iteration
+  // evaluates Φ and ∇Φ (first derivatives) and, with the last factor F of ∇²Φ — from an earlier
+  // iterate of this step or, with the same h, of an earlier step — the step δ = −F⁻¹∇Φ and its
+  // decrement λ² = −∇Φᵀδ. δ is taken as a chord step while λ² shrinks at least
+  // kChordContraction-fold per iteration (the first iteration of a step has nothing to compare
+  // with and tries the factor it has); otherwise ∇²Φ at the iterate is assembled and factored for
+  // a Newton step. Converged when the step moves no unknown more than `tolerance` × the rest
+  // diagonal and F is known to describe Φ near the iterate: factored at an iterate of this step,
+  // or its chord steps in this step contracted. A factor from an earlier step is never trusted
+  // alone (it may be stiffer than Φ is now, e.g. from a contact since released, which would make
+  // δ small without the iterate being close).
+  constexpr double kChordContraction = 0.1;
+  if (im.factorStep != h) im.haveFactor = false;
   Outcome outcome;
   const double stepTolerance = o.tolerance * length_;
+  double energy = 0.0, previousDecrement = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd gradient;
+  evaluate(y, curvature::SecondDerivatives::None, energy, gradient);
+  bool freshFactor = false;  // F was factored at an iterate of this step
   for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
-    double energy = 0.0;
-    Eigen::VectorXd gradient;
-    HessianEvaluation at = evaluate(y, o.hessian, energy, gradient);
-    bool factored = im.factorization.factor(at.values);
-    if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
-      double unused = 0.0;
-      Eigen::VectorXd unusedGradient;
-      const HessianEvaluation gn =
-          evaluate(y, curvature::SecondDerivatives::GaussNewton, unused, unusedGradient);
-      factored = im.factorization.factor(gn.values);
-    }
-    if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};
-    const Eigen::VectorXd delta = -im.factorization.solve(gradient);
     outcome.newtonIterations = iteration;
+    Eigen::VectorXd delta;
+    double decrement = 0.0;
+    bool chord = false;
+    if (o.chordSteps && im.haveFactor) {
+      delta = -im.factorization.solve(gradient);
+      decrement = -gradient.dot(delta);
+      chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
+    }
+    bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
+    if (!chord) {
+      HessianEvaluation at = evaluate(y, o.hessian, energy, gradient);
+      bool factored = im.factorization.factor(at.values);
+      ++outcome.factorizations;
+      if (!factored) {  // indefinite ∇²E (buckling, a compressed membrane): its JᵀJ part instead
+        double unused = 0.0;
+        Eigen::VectorXd unusedGradient;
+        const HessianEvaluation gn =
+            evaluate(y, curvature::SecondDerivatives::GaussNewton, unused, unusedGradient);
+        factored = im.factorization.factor(gn.values);
+        ++outcome.factorizations;
+      }
+      im.haveFactor = factored;
+      im.factorStep = h;
+      if (!factored) return {false, iteration, "the step's Hessian is not positive definite"};
+      freshFactor = trusted = true;
+      delta = -im.factorization.solve(gradient);
+      decrement = -gradient.dot(delta);
+    }
     const double bound = feasible(y, delta);
-    // Converged: the Newton step itself is below the tolerance (taken whole, or as far as the
-    // obstacles allow: near the minimizer Φ's change is at its roundoff, where a line search
-    // cannot judge).
-    if (delta.cwiseAbs().maxCoeff() <= stepTolerance) {
+    // Converged: the step itself is below the tolerance (taken whole, or as far as the obstacles
+    // allow: near the minimizer Φ's change is at its roundoff, where a line search cannot judge);
+    // or the decrease it predicts, ½ λ², is below Φ's roundoff (contact's stiff barrier can leave
+    // a step above the tolerance whose gain no line search can measure).
+    if (trusted && (delta.cwiseAbs().maxCoeff() <= stepTolerance ||
+                    0.5 * decrement <= 1e-15 * std::abs(energy))) {
       y += bound * delta;
       outcome.converged = true;
       break;
     }
-    const double slope = gradient.dot(delta);
-    // Converged too when the decrease the Newton step predicts, −½ ∇Φᵀδ, is below Φ's roundoff
-    // (contact's stiff barrier can leave a step above the tolerance whose gain no line search
-    // can measure).
-    if (-0.5 * slope <= 1e-15 * std::abs(energy)) {
-      y += bound * delta;
-      outcome.converged = true;
-      break;
-    }
-    double alpha = bound;
-    Eigen::VectorXd trial = y + alpha * delta;
-    for (double trialEnergy = phi(trial);
-         trialEnergy > energy + 1e-4 * alpha * slope + 1e-14 * std::abs(energy);
-         trialEnergy = phi(trial)) {
-      alpha *= 0.5;
-      if (alpha < 1e-10) return {false, iteration, "the line search found no decrease of Φ"};
+    // Φ's roundoff: 1e-14 of the sum of its parts' magnitudes (E, B and the inertia are ≥ 0;
+    // the linear gravity and damping parts can cancel them, leaving |Φ| far below the parts).
+    const Eigen::VectorXd d = (y - hat).cwiseProduct(im.mass.cwiseSign());
+    const double roundoff = 1e-14 * (std::abs(energy) + 2.0 * std::abs(gravityForce.dot(y)) +
+                                     2.0 * std::abs(dampingOfVHat.dot(d)));
+    // Armijo on Φ, α halved. The first trial evaluates ∇Φ too, which the next iteration uses
+    // when it passes (it usually does); later ones Φ alone, and ∇Φ where one passes. A chord step
+    // gets two trials: one that fails them asks for a Newton step rather than a short step.
+    double alpha = bound, trialEnergy = 0.0;
+    Eigen::VectorXd trial, trialGradient;
+    bool decreased = true;
+    for (int trials = 1;; ++trials, alpha *= 0.5) {
       trial = y + alpha * delta;
+      if (trials == 1)
+        evaluate(trial, curvature::SecondDerivatives::None, trialEnergy, trialGradient);
+      else
+        trialEnergy = phi(trial);
+      // +∞ inside an obstacle; NaN never passes. A decrease at Φ's roundoff passes: the
+      // comparison cannot judge it, and the step is a descent direction of a positive definite
+      // model.
+      if (trialEnergy <= energy - 1e-4 * alpha * decrement + roundoff ||
+          (std::isfinite(trialEnergy) && 0.5 * alpha * decrement <= roundoff)) {
+        if (trials > 1)
+          evaluate(trial, curvature::SecondDerivatives::None, trialEnergy, trialGradient);
+        break;
+      }
+      if (chord ? trials == 2 : alpha < 1e-10) {
+        decreased = false;
+        break;
+      }
     }
-    y = trial;
+    if (!decreased && !chord) return {false, iteration, "the line search found no decrease of Φ"};
+    // A chord step that needed damping (or failed) asks for a new factor next time.
+    previousDecrement = chord && alpha < 1.0 ? 0.0 : decrement;
+    if (!decreased) continue;
+    y = std::move(trial);
+    energy = trialEnergy;
+    gradient = std::move(trialGradient);
   }
   if (!outcome.converged) {
     outcome.failure =

@@ -95,6 +95,13 @@ struct DynamicsOptions {
   // A step has converged when the Newton step moves no unknown more than `tolerance` × the rest
   // mesh's bounding-box diagonal.
   double tolerance = 1e-10;
+  // Chord steps (time_stepping.cpp): the last factor of the step's Hessian, from an earlier
+  // iteration or an earlier step of the same h, serves while its steps contract; false: every
+  // iteration factors the Hessian at its iterate (plain Newton, the reference the tests compare
+  // with).
+  bool chordSteps = true;
+  // Newton starts from x̂ + β h² a_n (the acceleration kept) rather than from x̂ (a = 0).
+  bool predictAcceleration = true;
 };
 
 // The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x, the
@@ -124,8 +131,9 @@ class TimeStepper {
 
   struct Outcome {
     bool converged = false;
-    int newtonIterations = 0;
-    std::string failure;  // why it did not converge
+    int newtonIterations = 0;  // chord and Newton steps, and the last, converged, iteration
+    std::string failure;       // why it did not converge
+    int factorizations = 0;    // Hessians assembled and factored
   };
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
