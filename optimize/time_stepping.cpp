@@ -477,7 +477,10 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   Eigen::VectorXd gradient;
   evaluate(y, curvature::SecondDerivatives::None, energy, gradient);
   bool freshFactor = false;  // F was factored at an iterate of this step
-  for (int iteration = 1; iteration <= o.maxNewtonIterations; ++iteration) {
+  // At most maxNewtonIterations Newton steps (factorizations) and 4 × as many iterations in all.
+  for (int iteration = 1;
+       iteration <= 4 * o.maxNewtonIterations && outcome.factorizations < o.maxNewtonIterations;
+       ++iteration) {
     outcome.newtonIterations = iteration;
     Eigen::VectorXd delta;
     double decrement = 0.0;
@@ -558,8 +561,8 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     gradient = std::move(trialGradient);
   }
   if (!outcome.converged) {
-    outcome.failure =
-        "Newton did not converge in " + std::to_string(o.maxNewtonIterations) + " iterations";
+    outcome.failure = "Newton did not converge in " + std::to_string(outcome.newtonIterations) +
+                      " iterations (" + std::to_string(outcome.factorizations) + " factorizations)";
     return outcome;
   }
   place(y, x, xi);
