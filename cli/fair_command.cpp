@@ -72,9 +72,9 @@ struct FairCommandOptions {
   std::string method = "flexure";
   BendingArguments bending;
   std::string membrane = "mips";
-  double membraneWeight = 0.1;
+  std::optional<double> membraneWeight;  // default: 1 on the input's metric, 0.1 on the current
   std::string start = "best";
-  std::string metric = "current";
+  std::string metric = "input";
   bool allowSlivers = false;
   int renderSize = 700;
   optimize::MinimizeOptions solver;
@@ -398,7 +398,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const curvature::BendingOptions bending = bendingOptions(bendingArguments);
   const std::string energyName(curvature::discretizationName(bending.discretization));
   const curvature::MembraneModel membrane = curvature::parseMembraneModel(o.membrane);
-  if (!cgal) optimize::fairingMembrane(membrane, o.membraneWeight, 1.0, 1.0);  // checks w
+  const double membraneWeight = o.membraneWeight.value_or(
+      o.metric == "current" ? optimize::kCurrentMetricMembraneWeight : 1.0);
+  if (!cgal) optimize::fairingMembrane(membrane, membraneWeight, 1.0, 1.0);  // checks w
   if (!o.renderFile.empty()) render::OffscreenContext();  // a missing OSMesa fails before any solve
 
   std::vector<std::string> notices;
@@ -430,7 +432,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     optimize::FairingOptions options;
     options.bending = bending;
     options.membrane = membrane;
-    options.membraneWeight = o.membraneWeight;
+    options.membraneWeight = membraneWeight;
     options.start = o.start == "input"        ? optimize::FairingStart::Input
                     : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                               : optimize::FairingStart::Best;
@@ -510,7 +512,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["energy_name"] = energyName;
     report["poisson"] = curvature::effectivePoisson(bending);
     report["stiffness"] = bending.stiffness;
-    report["membrane"] = {{"model", o.membrane}, {"weight", o.membraneWeight}};
+    report["membrane"] = {{"model", o.membrane}, {"weight", membraneWeight}};
     report["start"] = startUsed;
     report["metric"] = o.metric;
     report["solver"] = {{"name", solve->solver},
@@ -649,8 +651,8 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--membrane-weight", options->membraneWeight,
                   "w: how firmly the triangles keep their shapes against bending (mips, "
-                  "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
-      ->capture_default_str()
+                  "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length); "
+                  "default 1 on the input's metric, 0.1 on the current one")
       ->check(positive());
   sub->add_option("--start", options->start,
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "

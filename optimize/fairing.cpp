@@ -120,7 +120,10 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch) {
 
 FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOptions& options) {
   const CompiledPatch c = compilePatch(patch);
-  const curvature::BendingOptions b = flatRest(options.bending);
+  // E_bend as minimized: flat rest, on the input's or the current metric.
+  curvature::BendingOptions b = flatRest(options.bending);
+  b.metric = options.metric == FairingMetric::Current ? curvature::CurvatureMetric::Current
+                                                      : curvature::CurvatureMetric::Rest;
   BoundaryConditions bc;
   FairingStart start = options.start;
   if (start == FairingStart::Input) {
@@ -162,12 +165,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
                                                floorDegrees * kPi / 180.0,
                                                kAngleBarrierBandDegrees * kPi / 180.0);
   }
-  curvature::BendingOptions bendingMetric = b;
-  bendingMetric.metric = options.metric == FairingMetric::Current
-                             ? curvature::CurvatureMetric::Current
-                             : curvature::CurvatureMetric::Rest;
   const std::unique_ptr<curvature::EnergyTerm> bending =
-      curvature::makeBendingEnergy(c.stencils, c.rest, bendingMetric);
+      curvature::makeBendingEnergy(c.stencils, c.rest, b);
   const std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane =
       curvature::makeMembraneEnergy(
           c.stencils,

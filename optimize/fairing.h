@@ -6,11 +6,12 @@
 //
 //   E = E_bend(x) + E_membrane(x),
 //
-// E_bend one of the five energies of docs/energies.md with a flat rest curvature and the input's
-// metric (a fair surface has no preferred curvature), E_membrane a membrane on the input's metric
-// (curvature/membrane.h; by default `mips`, the conformal shape change as a barrier) so that the
-// triangles keep their shapes and the vertices do not slide. The held rings keep their positions
-// bit for bit; for midedge every ξ is free (the held rings carry the normals).
+// E_bend one of the five energies of docs/energies.md with a flat rest curvature (a fair surface
+// has no preferred curvature) on the current surface's metric (FairingMetric below), E_membrane a
+// membrane on the start's triangles (curvature/membrane.h; by default `mips`, the conformal shape
+// change as a barrier) so that the triangles keep their shapes and the vertices do not slide. The
+// held rings keep their positions bit for bit; for midedge every ξ is free (the held rings carry
+// the normals).
 #pragma once
 
 #include <string>
@@ -43,6 +44,11 @@ enum class FairingStart { Best, Biharmonic, Input };
 //           approximate Willmore surfaces — spheres and the Clifford torus among them. Measured by
 //           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp).
 enum class FairingMetric { Input, Current };
+// `flexure fair`'s membrane weight on the current metric (1 on the input's): the membrane pulls the
+// result towards the start's triangle shapes, which on the current metric is the error that
+// remains on a sphere (scripts/bench fair-sphere: midedge's error on a flattened cap at w = 1 is
+// twice w = 0.1's); the angle barrier, not the membrane, keeps the triangles from collapsing.
+inline constexpr double kCurrentMetricMembraneWeight = 0.1;
 // The membrane's rest triangle shapes: the start's (the default: the membrane costs nothing at
 // the start and holds the triangles against sliding) or the input's (noisy or flattened shapes
 // included).
@@ -51,9 +57,10 @@ enum class FairingShape { Input, Start };
 struct FairingOptions {
   curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
   curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
-  double membraneWeight = 0.1;  // w below
+  double membraneWeight =
+      1.0;  // w below (kCurrentMetricMembraneWeight advised on the current metric)
   FairingStart start = FairingStart::Best;
-  FairingMetric metric = FairingMetric::Current;
+  FairingMetric metric = FairingMetric::Input;
   FairingShape membraneShape = FairingShape::Start;
   // The angle barrier (curvature/membrane.h) on the faces touching a moving vertex, its floor
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the

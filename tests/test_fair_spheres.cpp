@@ -99,8 +99,8 @@ struct CapFairing {
 };
 
 // A cap of `degrees` on `mesh` (of `surface`, centred at `centre`), spoiled, faired by CGAL and by
-// flexure with `energy` (the default w = 0.1; cotan with the barycentric area, as `flexure fair`
-// takes it on the current metric) on both metrics; each the largest relative distance from the
+// flexure with `energy` (w = 0.1, cotan with the barycentric area: `flexure fair --metric
+// current`'s defaults) on both metrics; each the largest relative distance from the
 // exact surface over the cap.
 CapFairing fairCap(WillmoreSurface surface, const Mesh& mesh, const Eigen::Vector3d& centre,
                    double degrees, modeling::Perturbation perturbation,
@@ -116,6 +116,7 @@ CapFairing fairCap(WillmoreSurface surface, const Mesh& mesh, const Eigen::Vecto
   optimize::FairingOptions options;
   options.bending.discretization = energy;
   options.bending.vertexArea = curvature::VertexArea::Barycentric;
+  options.membraneWeight = optimize::kCurrentMetricMembraneWeight;
   CapFairing r{distance(patch.mesh.positions), distance(optimize::fairCgal(patch)), 0.0, 0.0};
   for (auto metric : {optimize::FairingMetric::Input, optimize::FairingMetric::Current}) {
     options.metric = metric;
