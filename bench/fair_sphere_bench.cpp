@@ -60,10 +60,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> surfaces = {"sphere", "torus"};
   std::vector<std::string> cases = {"noise40", "flat60"};
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
-  double noise = 0.05, jitter = 0.3, weight = 1.0;
-  std::string metric = "current", shape = "first";
-  int threads = 2, maxUpdates = 50;
-  double metricTolerance = 1e-3;
+  double noise = 0.05, jitter = 0.3, weight = 0.1;
+  std::string metric = "current", shape = "start", vertexArea = "barycentric";
+  int threads = 2;
   bool progress = false;
   app.add_option("--levels", levels, "Sphere levels (torus n = 20 · 2^(level − 3))");
   app.add_option("--surfaces", surfaces, "sphere and/or torus");
@@ -71,12 +70,13 @@ int main(int argc, char** argv) {
   app.add_option("--energies", energies, "Bending energies of flexure's fairing");
   app.add_option("--noise", noise, "Radial noise amplitude / radius");
   app.add_option("--jitter", jitter, "Vertex jitter / edge length");
-  app.add_option("--metric", metric, "current | input");
-  app.add_option("--shape", shape, "Membrane rest shape: start | input");
+  app.add_option("--metric", metric, "current | input")->check(CLI::IsMember({"current", "input"}));
+  app.add_option("--shape", shape, "Membrane rest shape: start | input")
+      ->check(CLI::IsMember({"start", "input"}));
   app.add_option("--membrane-weight", weight, "Membrane weight w");
+  app.add_option("--vertex-area", vertexArea, "cotan's vertex area: barycentric | voronoi")
+      ->check(CLI::IsMember({"barycentric", "voronoi"}));
   app.add_option("--threads", threads);
-  app.add_option("--max-updates", maxUpdates);
-  app.add_option("--metric-tolerance", metricTolerance);
   app.add_flag("--progress", progress);
   CLI11_PARSE(app, argc, argv);
 
@@ -143,23 +143,19 @@ int main(int argc, char** argv) {
           optimize::FairingOptions options;
           options.bending.discretization = curvature::parseDiscretization(energy);
           options.bending.restCurvature = curvature::RestCurvature::Flat;
+          options.bending.vertexArea = curvature::parseVertexArea(vertexArea);
           options.metric =
               metric == "input" ? optimize::FairingMetric::Input : optimize::FairingMetric::Current;
-          options.membraneShape = shape == "input"   ? optimize::FairingShape::Input
-                                  : shape == "first" ? optimize::FairingShape::FirstStart
-                                                     : optimize::FairingShape::Start;
+          options.membraneShape =
+              shape == "input" ? optimize::FairingShape::Input : optimize::FairingShape::Start;
           options.membraneWeight = weight;
-          options.maxMetricUpdates = maxUpdates;
-          options.metricTolerance = metricTolerance;
           options.solver.threads = threads;
           options.solver.progress = progress;
           t0 = Clock::now();
           try {
             const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
             record(energy, r.positions, std::chrono::duration<double>(Clock::now() - t0).count(),
-                   {{"converged", r.report.converged},
-                    {"iterations", r.report.iterations},
-                    {"metric_updates", r.metricUpdates}});
+                   {{"converged", r.report.converged}, {"iterations", r.report.iterations}});
           } catch (const std::exception& e) {
             row[energy] = {{"error", e.what()}};
             std::fprintf(stderr, "%s: %s\n", energy.c_str(), e.what());

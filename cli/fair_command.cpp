@@ -72,7 +72,7 @@ struct FairCommandOptions {
   std::string method = "flexure";
   BendingArguments bending;
   std::string membrane = "mips";
-  double membraneWeight = 1.0;
+  std::optional<double> membraneWeight;  // default: 1 on the input's metric, 0.1 on the current
   std::string start = "best";
   std::string metric = "input";
   bool allowSlivers = false;
@@ -398,7 +398,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const curvature::BendingOptions bending = bendingOptions(bendingArguments);
   const std::string energyName(curvature::discretizationName(bending.discretization));
   const curvature::MembraneModel membrane = curvature::parseMembraneModel(o.membrane);
-  if (!cgal) optimize::fairingMembrane(membrane, o.membraneWeight, 1.0, 1.0);  // checks w
+  const double membraneWeight = o.membraneWeight.value_or(
+      o.metric == "current" ? optimize::kCurrentMetricMembraneWeight : 1.0);
+  if (!cgal) optimize::fairingMembrane(membrane, membraneWeight, 1.0, 1.0);  // checks w
   if (!o.renderFile.empty()) render::OffscreenContext();  // a missing OSMesa fails before any solve
 
   std::vector<std::string> notices;
@@ -430,12 +432,17 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     optimize::FairingOptions options;
     options.bending = bending;
     options.membrane = membrane;
-    options.membraneWeight = o.membraneWeight;
+    options.membraneWeight = membraneWeight;
     options.start = o.start == "input"        ? optimize::FairingStart::Input
                     : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                               : optimize::FairingStart::Best;
     options.metric =
         o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input;
+    // cotan's mixed Voronoi area switches formula where a current angle crosses 90 degrees: on
+    // the current metric that kink stalls Newton (the shark's holes: 200 iterations), so there
+    // the smooth barycentric area is the default.
+    if (options.metric == optimize::FairingMetric::Current && o.bending.vertexArea.empty())
+      options.bending.vertexArea = curvature::VertexArea::Barycentric;
     options.angleBarrier = !o.allowSlivers;
     options.solver = solver;
     options.solver.progress = !global.quiet;
@@ -505,12 +512,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     report["energy_name"] = energyName;
     report["poisson"] = curvature::effectivePoisson(bending);
     report["stiffness"] = bending.stiffness;
-    report["membrane"] = {{"model", o.membrane}, {"weight", o.membraneWeight}};
+    report["membrane"] = {{"model", o.membrane}, {"weight", membraneWeight}};
     report["start"] = startUsed;
-    report["metric"] = {{"name", o.metric},
-                        {"solves", fairing->metricUpdates},
-                        {"stalled", fairing->metricStalled},
-                        {"settled", fairing->metricSettled}};
+    report["metric"] = o.metric;
     report["solver"] = {{"name", solve->solver},
                         {"factorizations", solve->factorizations},
                         {"converged", solve->converged},
@@ -610,11 +614,6 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (figure) render::writePng(o.renderFile, *figure);
   report["seconds"] = seconds();
   if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
-  if (!global.quiet && fairing && !fairing->metricSettled) {
-    std::cerr << "flexure fair: --metric current stopped after " << fairing->metricUpdates
-              << " solves" << (fairing->metricStalled ? " (the next solve did not converge)" : "")
-              << " before the surface stopped moving; the result is the last converged solve\n";
-  }
   if (!global.quiet) {
     std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
               << measuredEnergy(before, energyName) << " -> " << measuredEnergy(after, energyName)
@@ -652,17 +651,17 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--membrane-weight", options->membraneWeight,
                   "w: how firmly the triangles keep their shapes against bending (mips, "
-                  "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length)")
-      ->capture_default_str()
+                  "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length); "
+                  "default 1 on the input's metric, 0.1 on the current one")
       ->check(positive());
   sub->add_option("--start", options->start,
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "
                   "bending energy) | biharmonic (the linear fair) | input")
       ->capture_default_str();
   sub->add_option("--metric", options->metric,
-                  "Whose metric the bending energy measures curvature in: input (one solve) | "
-                  "current (lagged to the surface, re-solved until it stops moving: fair shapes "
-                  "such as spheres come back; several solves)")
+                  "Whose metric the bending energy measures curvature in: input (an elastic "
+                  "energy of the displacement from the input) | current (the surface's own: a "
+                  "geometric, Willmore-type energy whose minimizers approach spheres)")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->solver, /*tolerances=*/false);

@@ -41,6 +41,13 @@ Sym2<double> edgeTensor(const RestState& rest, const FaceFrame& frame, int f, in
   return scaledOuterProduct(n2.x(), n2.y(), scale);
 }
 
+// The face energies' Koiter weights: make(ν, 2 k_B Ā_T), or per unit area on the current metric
+// (the kernel multiplies by the current √A_T).
+KoiterWeights koiterWeights(const BendingOptions& o, double poisson, double restArea) {
+  const double area = o.metric == CurvatureMetric::Current ? 1.0 : restArea;
+  return KoiterWeights::make(poisson, 2.0 * o.stiffness * area);
+}
+
 std::string hingeElement(const Stencils& s, int h) {
   return "edge " + std::to_string(s.hingeEdges[h]) + " (vertices " +
          std::to_string(s.hinges(h, 0)) + ", " + std::to_string(s.hinges(h, 1)) + ")";
@@ -58,7 +65,9 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
     const double length = rest.edgeLengths[e];
     HingeBendingResidual r;
     for (int k = 0; k < 4; ++k) r.vertices[k] = s.hinges(h, k);
-    r.sqrtWeight = std::sqrt(2.0 * o.stiffness * 3.0 * length * length / areas);
+    r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.sqrtWeight =
+        std::sqrt(2.0 * o.stiffness * (r.currentMetric ? 1.0 : 3.0 * length * length / areas));
     r.measure = o.hingeAngle;
     r.restMeasure = 0.0;
     if (o.restCurvature == RestCurvature::FromRest) {
@@ -94,7 +103,8 @@ std::unique_ptr<EnergyTerm> makeTriangleAveraged(const Stencils& s, const RestSt
       r.vertices[3 + i] = s.faceFlaps(f, i);
       r.edgeTensors[i] = edgeTensor(rest, frame, f, i, rest.faceEdgeLengths(f, i) / (2.0 * area));
     }
-    r.weights = KoiterWeights::make(poisson, 2.0 * o.stiffness * area);
+    r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.weights = koiterWeights(o, poisson, area);
     r.restShapeOperator = {0.0, 0.0, 0.0};
     if (o.restCurvature == RestCurvature::FromRest) {
       const auto blocks = restBlocks(rest, r.vertices.data(), 6);
@@ -126,7 +136,9 @@ std::unique_ptr<EnergyTerm> makeCotan(const Stencils& s, const RestState& rest,
     r.vertices.push_back(v);
     for (int k = s.oneRingOffsets[v]; k < s.oneRingOffsets[v + 1]; ++k)
       r.vertices.push_back(s.oneRingVertices[k]);
-    r.sqrtWeight = std::sqrt(2.0 * o.stiffness / areas[v]);
+    r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.voronoiArea = o.vertexArea == VertexArea::Voronoi;
+    r.sqrtWeight = std::sqrt(2.0 * o.stiffness / (r.currentMetric ? 1.0 : areas[v]));
     r.restValue = 0.0;
     if (o.restCurvature == RestCurvature::FromRest) {
       const auto blocks = restBlocks(rest, r.vertices.data(), static_cast<int>(r.vertices.size()));
@@ -167,7 +179,8 @@ std::unique_ptr<EnergyTerm> makeMidedge(const Stencils& s, const RestState& rest
   std::vector<const double*> blocks;
   for (int f = 0; f < s.faceCount(); ++f) {
     MidedgeResidual r = midedgeStencil(s, rest, f);
-    r.weights = KoiterWeights::make(poisson, 2.0 * o.stiffness * rest.faceAreas[f]);
+    r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.weights = koiterWeights(o, poisson, rest.faceAreas[f]);
     r.restShapeOperator = {0.0, 0.0, 0.0};
     if (o.restCurvature == RestCurvature::FromRest) {
       parameterBlocks(r, rest.positions.data(), restXi.data(), blocks);
@@ -215,7 +228,8 @@ std::unique_ptr<EnergyTerm> makeQuadraticFit(const Stencils& s, const RestState&
     const Eigen::Matrix<double, 6, 6> inverse = lu.inverse();
     for (int row = 0; row < 3; ++row)
       for (int k = 0; k < 6; ++k) r.fitRows[row][k] = inverse(3 + row, k) / area;
-    r.weights = KoiterWeights::make(poisson, 2.0 * o.stiffness * area);
+    r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.weights = koiterWeights(o, poisson, area);
     r.restShapeOperator = {0.0, 0.0, 0.0};
     if (o.restCurvature == RestCurvature::FromRest) {
       const auto blocks = restBlocks(rest, r.vertices.data(), 6);
@@ -308,6 +322,11 @@ std::unique_ptr<EnergyTerm> makeBendingEnergy(const Stencils& s, const RestState
   if (!(o.stiffness > 0.0) || !std::isfinite(o.stiffness)) {
     throw InputError("bending stiffness k_B must be positive (got " + std::to_string(o.stiffness) +
                      ")");
+  }
+  if (o.metric == CurvatureMetric::Current && o.restCurvature != RestCurvature::Flat) {
+    throw InputError(
+        "the current metric measures curvature against a flat rest only (a rest curvature "
+        "would be measured in the rest mesh's frames)");
   }
   switch (o.discretization) {
     case Discretization::Hinge:

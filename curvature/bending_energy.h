@@ -24,6 +24,12 @@ enum class VertexArea { Voronoi, Barycentric };
 // FromRest: a shell, whose rest angles, shape operators and ξ̄ come from the rest mesh.
 // Flat: the rest mesh gives only the metric (areas, lengths); rest curvature is zero (fairing).
 enum class RestCurvature { FromRest, Flat };
+// Whose metric (areas, lengths, in-plane normals, fit matrices) curvature is measured in.
+// Rest: the rest mesh's, an elastic energy of the displacement (Discrete Shells, Koiter shells).
+// Current: the current surface's (curvature/current_metric.h), a geometric functional of the
+// surface alone whose gradient includes the metric's: fairing's Willmore-type energy. Only with
+// flat rest curvature.
+enum class CurvatureMetric { Rest, Current };
 
 struct BendingOptions {
   Discretization discretization = Discretization::Hinge;
@@ -34,6 +40,7 @@ struct BendingOptions {
   VertexArea vertexArea = VertexArea::Voronoi;
   HingeAngle hingeAngle = HingeAngle::Theta;
   RestCurvature restCurvature = RestCurvature::FromRest;
+  CurvatureMetric metric = CurvatureMetric::Rest;
 };
 
 // "hinge" | "triavg" | "cotan" | "midedge" | "quadfit"; throws InputError listing them.
@@ -47,7 +54,7 @@ double effectivePoisson(const BendingOptions& options);
 
 // Throws InputError naming the element for a degenerate rest element: a quadratic-fit stencil
 // whose six rest points admit no unique quadratic, a rest hinge angle at ±π under the tan
-// measure, a rest ξ̄ that cannot be determined.
+// measure, a rest ξ̄ that cannot be determined; and for the current metric with a rest curvature.
 std::unique_ptr<EnergyTerm> makeBendingEnergy(const modeling::Stencils& stencils,
                                               const modeling::RestState& rest,
                                               const BendingOptions& options);

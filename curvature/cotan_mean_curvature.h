@@ -7,10 +7,12 @@
 //
 // Face (v, a, b) adds ½ cot∠b (x_a − x_v) + ½ cot∠a (x_b − x_v): the angle at b is opposite the
 // edge (v, a). One residual r = √(2 k_B / Ā_v) (K_v·n_v − K̄_v·n̄_v). Blocks: x_v, x_1, …, x_k.
+// On the current metric (current_metric.h) the vertex area A_v is the current ring's.
 #pragma once
 
 #include <vector>
 
+#include "curvature/current_metric.h"
 #include "curvature/kernel_math.h"
 
 namespace flexure::curvature {
@@ -35,14 +37,18 @@ T cotanMeanCurvatureNormal(T const* const* x, int k) {
 
 struct CotanMeanCurvatureResidual {
   static constexpr int kResiduals = 1;
-  std::vector<int> vertices;  // v, then its ring counter-clockwise
-  double sqrtWeight;          // √(2 k_B / Ā_v)
-  double restValue;           // K̄_v · n̄_v
+  std::vector<int> vertices;   // v, then its ring counter-clockwise
+  double sqrtWeight;           // √(2 k_B / Ā_v); on the current metric √(2 k_B)
+  double restValue;            // K̄_v · n̄_v
+  bool currentMetric = false;  // A_v from x
+  bool voronoiArea = true;     // the current A_v mixed Voronoi (else barycentric)
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    r[0] = sqrtWeight *
-           (cotanMeanCurvatureNormal(x, static_cast<int>(vertices.size()) - 1) - T(restValue));
+    using std::sqrt;
+    const int ring = static_cast<int>(vertices.size()) - 1;
+    r[0] = sqrtWeight * (cotanMeanCurvatureNormal(x, ring) - T(restValue));
+    if (currentMetric) r[0] = r[0] / sqrt(currentVertexArea(x, ring, voronoiArea));
     return isFiniteScalar(r[0]);
   }
 };

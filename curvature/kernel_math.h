@@ -54,6 +54,14 @@ struct Sym2 {
   T a, b, c;
 };
 
+// s += c t.
+template <class T, class U>
+inline void addScaled(Sym2<T>& s, const T& c, const Sym2<U>& t) {
+  s.a += c * t.a;
+  s.b += c * t.b;
+  s.c += c * t.c;
+}
+
 }  // namespace flexure::curvature
 
 namespace flexure::curvature {

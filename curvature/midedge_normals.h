@@ -10,13 +10,15 @@
 // is seen from both faces, since σ flips with ê.
 //
 // Blocks: ξ0, ξ1, ξ2 (one double each), x0, x1, x2, then the flap vertices of the interior edges
-// in edge order (0 to 3 of them).
+// in edge order (0 to 3 of them). On the current metric (current_metric.h) ℓ_i, A_T and n̂_i are
+// the current face's.
 #pragma once
 
 #include <array>
 #include <cmath>
 
 #include "curvature/bending_angle.h"
+#include "curvature/current_metric.h"
 #include "curvature/koiter_density.h"
 
 namespace flexure::curvature {
@@ -30,11 +32,12 @@ struct MidedgeResidual {
   std::array<bool, 3> hasFlap;              // edge i interior
   std::array<Sym2<double>, 3> edgeTensors;  // ℓ̄_i / Ā_T · n̂_i n̂_iᵀ in the rest frame
   Sym2<double> restShapeOperator;           // S̄_T
-  KoiterWeights weights;                    // make(ν, 2 k_B Ā_T)
+  KoiterWeights weights;       // make(ν, 2 k_B Ā_T); on the current metric make(ν, 2 k_B)
+  bool currentMetric = false;  // ℓ_i / A_T n̂_i n̂_iᵀ and A_T from x
 
   template <class T>
   Sym2<T> shapeOperator(T const* const* b) const {
-    Sym2<T> s{T(0.0), T(0.0), T(0.0)};
+    std::array<T, 3> gamma;
     int flap = 6;
     for (int i = 0; i < 3; ++i) {
       T theta(0.0);
@@ -42,17 +45,24 @@ struct MidedgeResidual {
         theta = bendingAngle(load(b[3 + (i + 1) % 3]), load(b[3 + (i + 2) % 3]), load(b[3 + i]),
                              load(b[flap++]));
       }
-      const T gamma = theta / T(2.0) + signs[i] * b[i][0];
-      s.a += gamma * edgeTensors[i].a;
-      s.b += gamma * edgeTensors[i].b;
-      s.c += gamma * edgeTensors[i].c;
+      gamma[i] = theta / T(2.0) + signs[i] * b[i][0];
     }
+    Sym2<T> s{T(0.0), T(0.0), T(0.0)};
+    if (currentMetric) {
+      const Vec3<T> face[3] = {load(b[3]), load(b[4]), load(b[5])};
+      const CurrentFrame<T> frame = currentFrame(face[0], face[1], face[2]);
+      const std::array<Sym2<T>, 3> tensors = currentEdgeTensors(face, frame);
+      for (int i = 0; i < 3; ++i) addScaled(s, gamma[i] / frame.area, tensors[i]);
+      return s;
+    }
+    for (int i = 0; i < 3; ++i) addScaled(s, gamma[i], edgeTensors[i]);
     return s;
   }
 
   template <class T>
   bool operator()(T const* const* b, T* r) const {
     koiterResiduals(shapeOperator(b), restShapeOperator, weights, r);
+    if (currentMetric) scaleByCurrentArea(b + 3, r);
     return isFiniteScalar(r[0]) && isFiniteScalar(r[1]) && isFiniteScalar(r[2]);
   }
 };

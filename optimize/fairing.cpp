@@ -96,27 +96,6 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch, const CompiledPatc
   return x;
 }
 
-// The largest move from x to y across the surface: max over the moving vertices of |n_v · (y_v −
-// x_v)|, n_v the area-weighted unit vertex normal at y. Sliding along the surface changes its
-// shape only at second order.
-double normalMove(const CompiledPatch& c, const modeling::FairingPatch& patch, const Positions& x,
-                  const Positions& y) {
-  Positions normals = Positions::Zero(y.rows(), 3);
-  for (int f = 0; f < c.stencils.faceCount(); ++f) {
-    const auto t = c.stencils.faces.row(f);
-    const Eigen::Vector3d y0 = y.row(t(0)), y1 = y.row(t(1)), y2 = y.row(t(2));
-    const Eigen::RowVector3d n = (y1 - y0).cross(y2 - y0).transpose();
-    for (int i = 0; i < 3; ++i) normals.row(t(i)) += n;
-  }
-  double largest = 0.0;
-  for (Eigen::Index v = 0; v < y.rows(); ++v) {
-    if (!patch.moves[static_cast<std::size_t>(v)]) continue;
-    const Eigen::RowVector3d n = normals.row(v).normalized();
-    largest = std::max(largest, std::abs(n.dot(y.row(v) - x.row(v))));
-  }
-  return largest;
-}
-
 }  // namespace
 
 curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, double weight,
@@ -141,7 +120,10 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch) {
 
 FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOptions& options) {
   const CompiledPatch c = compilePatch(patch);
-  const curvature::BendingOptions b = flatRest(options.bending);
+  // E_bend as minimized: flat rest, on the input's or the current metric.
+  curvature::BendingOptions b = flatRest(options.bending);
+  b.metric = options.metric == FairingMetric::Current ? curvature::CurvatureMetric::Current
+                                                      : curvature::CurvatureMetric::Rest;
   BoundaryConditions bc;
   FairingStart start = options.start;
   if (start == FairingStart::Input) {
@@ -169,11 +151,6 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   solver.dof = DofMode::Xyz;
   solver.linearized = false;
   solver.start = Start::AsGiven;
-  // One solve on a given metric (the bending energy's rest state) and membrane rest shape.
-  std::unique_ptr<curvature::EnergyTerm> bending;
-  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  std::vector<const curvature::EnergyTerm*> terms;
-  Eigen::VectorXd restXi;
   // The angle floor: the smallest-angle rule's limit (kSliverToleranceDegrees below the smaller of
   // the input's and the linear fair's smallest angle — the linear fair is CGAL's) raised by
   // kAngleFloorMarginDegrees, kept by the barrier. Both starts are above it.
@@ -188,37 +165,25 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
                                                floorDegrees * kPi / 180.0,
                                                kAngleBarrierBandDegrees * kPi / 180.0);
   }
-  const auto buildTerms = [&](const modeling::RestState& metric, const Positions& shape) {
-    bending = curvature::makeBendingEnergy(c.stencils, metric, b);
-    membrane = curvature::makeMembraneEnergy(
-        c.stencils, modeling::precomputeRestState(c.stencils, shape),
-        fairingMembrane(options.membrane, options.membraneWeight, b.stiffness, meanEdge));
-    terms = {bending.get()};
-    for (const auto& term : membrane) terms.push_back(term.get());
-    if (angleBarrier) terms.push_back(angleBarrier.get());
-    if (bending->usesEdgeUnknowns()) {
-      restXi = Eigen::VectorXd::Zero(c.stencils.edgeCount());
-      bc.fixedEdge.assign(c.stencils.edgeCount(), false);
-    }
-  };
-  const bool lagged = options.metric == FairingMetric::Current;
-  const Positions firstStart = bc.start;
-  // The membrane's rest shape for a solve starting at x.
-  const auto membraneShape = [&](const Positions& x) -> const Positions& {
-    switch (options.membraneShape) {
-      case FairingShape::Input:
-        return patch.mesh.positions;
-      case FairingShape::FirstStart:
-        return firstStart;
-      default:
-        return x;
-    }
-  };
-  buildTerms(lagged ? modeling::precomputeRestState(c.stencils, bc.start) : c.rest,
-             membraneShape(bc.start));
-  if (bending->usesEdgeUnknowns())
+  const std::unique_ptr<curvature::EnergyTerm> bending =
+      curvature::makeBendingEnergy(c.stencils, c.rest, b);
+  const std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane =
+      curvature::makeMembraneEnergy(
+          c.stencils,
+          options.membraneShape == FairingShape::Input
+              ? c.rest
+              : modeling::precomputeRestState(c.stencils, bc.start),
+          fairingMembrane(options.membrane, options.membraneWeight, b.stiffness, meanEdge));
+  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
+  for (const auto& term : membrane) terms.push_back(term.get());
+  if (angleBarrier) terms.push_back(angleBarrier.get());
+  Eigen::VectorXd restXi;
+  if (bending->usesEdgeUnknowns()) {
+    restXi = Eigen::VectorXd::Zero(c.stencils.edgeCount());
+    bc.fixedEdge.assign(c.stencils.edgeCount(), false);
     bc.xi = minimizeEdgeUnknowns(terms, bc.start, restXi,
                                  std::vector<bool>(c.stencils.edgeCount(), true));
+  }
   // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
   const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
     const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
@@ -229,40 +194,7 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   };
   const double startGradientNorm = freeGradientNorm(bc.start, bc.xi);
   MinimizeResult result = minimize(terms, bc, c.rest.positions, restXi, solver);
-  int outer = 1;
-  bool stalled = false, settled = !lagged;
-  while (lagged && result.report.converged && outer < options.maxMetricUpdates) {
-    const double change = normalMove(c, patch, bc.start, result.positions) / meanEdge;
-    if (options.solver.progress)
-      std::cerr << "fair: metric update " << outer << ", largest move across the surface " << change
-                << " mean edges\n";
-    if (change <= options.metricTolerance) {
-      settled = true;
-      break;
-    }
-    const Positions previousStart = bc.start;
-    const Eigen::VectorXd previousXi = bc.xi;
-    bc.start = result.positions;
-    bc.xi = result.xi;
-    buildTerms(modeling::precomputeRestState(c.stencils, bc.start), membraneShape(bc.start));
-    MinimizeResult next = minimize(terms, bc, c.rest.positions, restXi, solver);
-    if (!next.report.converged) {
-      // Keep the last converged solve (a minimizer on its own metric) and its terms.
-      stalled = true;
-      bc.start = previousStart;
-      bc.xi = previousXi;
-      buildTerms(modeling::precomputeRestState(c.stencils, bc.start), membraneShape(bc.start));
-      break;
-    }
-    next.report.iterations += result.report.iterations;
-    next.report.factorizations += result.report.factorizations;
-    result = std::move(next);
-    ++outer;
-  }
   FairingResult fairing{std::move(result.positions), result.report, start};
-  fairing.metricUpdates = outer;
-  fairing.metricStalled = stalled;
-  fairing.metricSettled = settled;
   fairing.startGradientNorm = startGradientNorm;
   fairing.finalGradientNorm = freeGradientNorm(fairing.positions, result.xi);
   return fairing;

@@ -6,11 +6,12 @@
 //
 //   E = E_bend(x) + E_membrane(x),
 //
-// E_bend one of the five energies of docs/energies.md with a flat rest curvature and the input's
-// metric (a fair surface has no preferred curvature), E_membrane a membrane on the input's metric
-// (curvature/membrane.h; by default `mips`, the conformal shape change as a barrier) so that the
-// triangles keep their shapes and the vertices do not slide. The held rings keep their positions
-// bit for bit; for midedge every ξ is free (the held rings carry the normals).
+// E_bend one of the five energies of docs/energies.md with a flat rest curvature (a fair surface
+// has no preferred curvature) on the current surface's metric (FairingMetric below), E_membrane a
+// membrane on the start's triangles (curvature/membrane.h; by default `mips`, the conformal shape
+// change as a barrier) so that the triangles keep their shapes and the vertices do not slide. The
+// held rings keep their positions bit for bit; for midedge every ξ is free (the held rings carry
+// the normals).
 #pragma once
 
 #include <string>
@@ -32,41 +33,40 @@ namespace flexure::optimize {
 // input's or the linear fair's.
 enum class FairingStart { Best, Biharmonic, Input };
 
-// Whose metric the bending energy measures curvature in.
-//  Input:   the input's (areas, lengths, cotangents of the input region): one solve. The minimized
-//           functional remembers the input's defect — a cap pressed flat keeps a flat cap's
-//           metric — so its minimizers do not approach a sphere under refinement (issue #15).
-//  Current: the metric lagged to the current surface: solve, take the result's metric (and
-//           membrane rest shape) as the next solve's, until no region vertex moves across the
-//           surface by more than `metricTolerance` mean edges (sliding along it is not counted:
-//           it changes the surface only at second order) or `maxMetricUpdates` solves. A fixed
-//           point x* solves ∂₁E(x*; metric(x*)) = 0 — the derivative through the metric is not
-//           taken. For hinge and triavg, whose curvature is a dihedral angle (invariant under
-//           scaling), that fixed point is a sphere's to leading order; for cotan, midedge and
-//           quadfit, whose curvature scales with the current lengths over the rest metric, it is
-//           not exactly (a slow flattening drift remains, which the tolerance stops). Measured by
-//           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp); the exact geometric
-//           gradient (the rest state as a function of x in the kernels) is the next step.
+// Whose metric the bending energy measures curvature in (curvature::CurvatureMetric).
+//  Input:   the input's (areas, lengths, cotangents of the input region): an elastic energy of the
+//           displacement from the input. Its minimizers remember the input's defect — a cap
+//           pressed flat keeps a flat cap's metric — so they do not approach a sphere under
+//           refinement (issue #15).
+//  Current: the current surface's (curvature/current_metric.h): a geometric functional of the
+//           surface alone, a discretization of ∫ (4H² − 2(1 − ν)K) dA with the derivatives
+//           through the metric taken exactly (autodiff, as every kernel's), so its critical points
+//           approximate Willmore surfaces — spheres and the Clifford torus among them. Measured by
+//           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp).
 enum class FairingMetric { Input, Current };
-// The membrane's rest triangle shapes: the input's, or the start of each solve (the default: the
-// membrane costs nothing at a fixed point, so it holds triangles in a solve without biasing the
-// fixed point; with Input it keeps the input's shapes, noisy or flattened ones included).
-enum class FairingShape { Input, FirstStart, Start };
+// `flexure fair`'s membrane weight on the current metric (1 on the input's): the membrane pulls the
+// result towards the start's triangle shapes, which on the current metric is the error that
+// remains on a sphere (scripts/bench fair-sphere: midedge's error on a flattened cap at w = 1 is
+// twice w = 0.1's); the angle barrier, not the membrane, keeps the triangles from collapsing.
+inline constexpr double kCurrentMetricMembraneWeight = 0.1;
+// The membrane's rest triangle shapes: the start's (the default: the membrane costs nothing at
+// the start and holds the triangles against sliding) or the input's (noisy or flattened shapes
+// included).
+enum class FairingShape { Input, Start };
 
 struct FairingOptions {
   curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
   curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
-  double membraneWeight = 1.0;  // w below
+  double membraneWeight =
+      1.0;  // w below (kCurrentMetricMembraneWeight advised on the current metric)
   FairingStart start = FairingStart::Best;
   FairingMetric metric = FairingMetric::Input;
-  FairingShape membraneShape = FairingShape::FirstStart;
+  FairingShape membraneShape = FairingShape::Start;
   // The angle barrier (curvature/membrane.h) on the faces touching a moving vertex, its floor
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
   // rule (see kSliverToleranceDegrees). Stiffness k_B, band kAngleBarrierBandDegrees.
   bool angleBarrier = true;
-  int maxMetricUpdates = 50;
-  double metricTolerance = 1e-3;  // largest move across the surface / mean edge length
-  MinimizeOptions solver;         // dof and start are fairing's own: xyz, from `start`
+  MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
 };
 
 // The membrane of weight w, bending stiffness k_B, mean rest edge length ℓ̄ of the region:
@@ -87,14 +87,7 @@ curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, doubl
 struct FairingResult {
   Positions positions;  // the patch's vertices, #patch vertices by 3
   MinimizeReport report;
-  FairingStart start;     // Biharmonic or Input: where the solve started
-  int metricUpdates = 1;  // converged solves (1 on the input's metric)
-  // A later solve on an updated metric did not converge: the result is the last converged one.
-  bool metricStalled = false;
-  // The last solve moved no vertex across the surface by more than metricTolerance (true for
-  // FairingMetric::Input); false: stopped by maxMetricUpdates or a stall, short of the lag's
-  // fixed point (each solve still a checked minimizer on its own metric).
-  bool metricSettled = true;
+  FairingStart start;  // Biharmonic or Input: where the solve started
   // |∇E| (2-norm over the free unknowns: the moving vertices' x, y, z and, for midedge, every ξ)
   // of E = E_bend + E_membrane at the start and at the result.
   double startGradientNorm = 0.0, finalGradientNorm = 0.0;

@@ -282,6 +282,20 @@ TEST(Hessians, EveryEnergyOnACurvedIrregularShell) {
   }
 }
 
+// The current metric (curvature/current_metric.h: areas, frames and fits as functions of x) adds
+// second derivatives through the metric; flat rest curvature, as fairing uses it.
+TEST(Hessians, EveryEnergyOnTheCurrentMetric) {
+  const Mesh rest = curvedRest(delaunayPatch(), 4);
+  unsigned seed = 300;
+  for (Energy energy : allEnergies()) {
+    if (!energy.bending) continue;
+    energy.name += ", current metric";
+    energy.bending->restCurvature = curvature::RestCurvature::Flat;
+    energy.bending->metric = curvature::CurvatureMetric::Current;
+    expectExact(rest, energy, Derivatives::All, seed++);
+  }
+}
+
 TEST(Hessians, RepeatedFlapVertex) {
   const Mesh rest = curvedRest(testing::withValenceThreeVertex(delaunayPatch()), 5);
   unsigned seed = 200;

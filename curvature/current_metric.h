@@ -1,0 +1,126 @@
+// The current surface's metric, for bending energies that measure curvature in it
+// (CurvatureMetric::Current in bending_energy.h) rather than in the rest mesh's: areas, lengths,
+// in-plane edge normals and fit matrices become functions of x inside the templated kernels, so
+// the energy is a geometric functional of the surface alone and its derivatives (autodiff) include
+// the metric's. With flat rest curvature each energy then discretizes ∫ (4H² − 2(1 − ν)K), whose
+// critical points are Willmore surfaces (spheres, the Clifford torus): what fairing wants.
+//
+// Frames: a face's current frame is (u, v, n) with u along x1 − x0, n = (x1 − x0) × (x2 − x0)
+// normalized, v = n × u (face_frame.h's convention on the current face). The energies use only
+// the invariants of their shape operators, so the frame's choice does not matter.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+#include "curvature/kernel_math.h"
+
+namespace flexure::curvature {
+
+// A face's current frame: the unit normal and the in-plane axes u, v.
+template <class T>
+struct CurrentFrame {
+  Vec3<T> u, v, normal;
+  T area;
+};
+
+template <class T>
+CurrentFrame<T> currentFrame(const Vec3<T>& x0, const Vec3<T>& x1, const Vec3<T>& x2) {
+  const Vec3<T> areaVector = cross(x1 - x0, x2 - x0);
+  const T twiceArea = norm(areaVector);
+  const Vec3<T> normal = (T(1.0) / twiceArea) * areaVector;
+  const Vec3<T> u = (T(1.0) / norm(x1 - x0)) * (x1 - x0);
+  return {u, cross(normal, u), normal, T(0.5) * twiceArea};
+}
+
+// r_k ← √A_T r_k for the three Koiter residuals (koiter_density.h) of the face x[0], x[1], x[2]:
+// on the current metric their weights are made per unit area, and A_T is the current face's.
+template <class T>
+void scaleByCurrentArea(T const* const* x, T* r) {
+  using std::sqrt;
+  const T root = sqrt(T(0.5) * norm(cross(load(x[1]) - load(x[0]), load(x[2]) - load(x[0]))));
+  for (int k = 0; k < 3; ++k) r[k] = root * r[k];
+}
+
+// ℓ_i n̂_i n̂_iᵀ for the edges i = 0, 1, 2 of (x0, x1, x2) (edge i runs x_{i+1} → x_{i+2}), n̂_i its
+// outward unit normal in the face's plane, in the current frame. With e_i = (e_u, e_v) in the
+// frame, ℓ_i n̂_i = e_i × n = (e_v, −e_u), so ℓ_i n̂_i n̂_iᵀ = (e_v², −e_u e_v, e_u²) / ℓ_i.
+template <class T>
+std::array<Sym2<T>, 3> currentEdgeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame) {
+  std::array<Sym2<T>, 3> tensors;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3<T> e = x[(i + 2) % 3] - x[(i + 1) % 3];
+    const T eu = dot(e, frame.u), ev = dot(e, frame.v);
+    const T length = norm(e);
+    tensors[i] = {ev * ev / length, T(-1.0) * eu * ev / length, eu * eu / length};
+  }
+  return tensors;
+}
+
+// The hinge's metric factor 3 ℓ_e² / (A_f + A_g) at (x_i, x_j, x_k, x_l) (hinge_bending.h).
+template <class T>
+T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, const Vec3<T>& xl) {
+  const Vec3<T> e = xj - xi;
+  // A_f + A_g = (|e × (x_k − x_i)| + |(x_l − x_i) × e|) / 2.
+  return T(6.0) * dot(e, e) / (norm(cross(e, xk - xi)) + norm(cross(xl - xi, e)));
+}
+
+// The area of vertex x[0] with the closed ring x[1..k]: mixed Voronoi (Meyer et al. 2003, as
+// modeling/rest_state.h: a non-obtuse face gives v its Voronoi region, an obtuse one A/2 at an
+// obtuse v and A/4 otherwise) or barycentric (a third of each face).
+template <class T>
+T currentVertexArea(T const* const* x, int k, bool voronoi) {
+  const Vec3<T> center = load(x[0]);
+  T area(0.0);
+  for (int j = 0; j < k; ++j) {
+    const Vec3<T> a = load(x[1 + j]) - center, b = load(x[1 + (j + 1) % k]) - center;
+    const T twiceArea = norm(cross(a, b));
+    if (!voronoi) {
+      area += twiceArea / T(6.0);
+      continue;
+    }
+    // Signs of the cosines at v, at a and at b.
+    const double atV = scalarPart(dot(a, b)), atA = scalarPart(dot(T(-1.0) * a, b - a)),
+                 atB = scalarPart(dot(T(-1.0) * b, a - b));
+    if (atV < 0.0) {
+      area += twiceArea / T(4.0);
+    } else if (atA < 0.0 || atB < 0.0) {
+      area += twiceArea / T(8.0);
+    } else {
+      // (|a|² cot∠b + |b|² cot∠a) / 8, cot∠b = (−b)·(a − b) / 2A, cot∠a = (−a)·(b − a) / 2A.
+      const T cotB = dot(T(-1.0) * b, a - b) / twiceArea,
+              cotA = dot(T(-1.0) * a, b - a) / twiceArea;
+      area += (dot(a, a) * cotB + dot(b, b) * cotA) / T(8.0);
+    }
+  }
+  return area;
+}
+
+// Solves the n × n system m y = rhs (m row-major, both overwritten) by Gaussian elimination
+// with partial pivoting on the values; false when a pivot is zero.
+template <class T, std::size_t n>
+bool solveSmallSystem(std::array<std::array<T, n>, n>& m, std::array<T, n>& rhs) {
+  const int size = static_cast<int>(n);
+  for (int col = 0; col < size; ++col) {
+    int pivot = col;
+    for (int row = col + 1; row < size; ++row)
+      if (std::abs(scalarPart(m[row][col])) > std::abs(scalarPart(m[pivot][col]))) pivot = row;
+    if (scalarPart(m[pivot][col]) == 0.0) return false;
+    std::swap(m[col], m[pivot]);
+    std::swap(rhs[col], rhs[pivot]);
+    for (int row = col + 1; row < size; ++row) {
+      const T factor = m[row][col] / m[col][col];
+      for (int k = col + 1; k < size; ++k) m[row][k] -= factor * m[col][k];
+      rhs[row] -= factor * rhs[col];
+    }
+  }
+  for (int row = size - 1; row >= 0; --row) {
+    for (int k = row + 1; k < size; ++k) rhs[row] -= m[row][k] * rhs[k];
+    rhs[row] = rhs[row] / m[row][row];
+  }
+  return true;
+}
+
+}  // namespace flexure::curvature
