@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "curvature/bending_energy.h"
 #include "modeling/fairing_region.h"
+#include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
 #include "modeling/willmore_surfaces.h"
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
   std::string metric = "current", shape = "start", vertexArea = "barycentric";
   int threads = 2;
   bool progress = false;
+  std::string writeDirectory;
   app.add_option("--levels", levels, "Sphere levels (torus n = 20 · 2^(level − 3))");
   app.add_option("--surfaces", surfaces,
                  "sphere (a jittered icosphere), remeshed (CGAL's isotropic remeshing of the "
@@ -80,6 +83,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"barycentric", "voronoi"}));
   app.add_option("--threads", threads);
   app.add_flag("--progress", progress);
+  app.add_option("--write", writeDirectory,
+                 "Also write each spoiled mesh and its region, DIR/SURFACE-CASE-LEVEL.off and "
+                 ".txt (for flexure fair --region vertices:FILE)")
+      ->check(CLI::ExistingDirectory);
   CLI11_PARSE(app, argc, argv);
 
   json out = json::array();
@@ -122,6 +129,14 @@ int main(int argc, char** argv) {
         spoiled.positions = modeling::perturbRegion(
             surface, exact, region, centre,
             flat ? modeling::Perturbation::Flatten : modeling::Perturbation::Noise, noise, 11);
+        if (!writeDirectory.empty()) {
+          const std::string stem =
+              writeDirectory + "/" + surfaceName + "-" + spec + "-" + std::to_string(level);
+          modeling::writeMesh(stem + ".off", spoiled);
+          std::ofstream indices(stem + ".txt");
+          for (int v = 0; v < spoiled.vertexCount(); ++v)
+            if (region[v]) indices << v << '\n';
+        }
         const modeling::Stencils stencils = modeling::compileStencils(spoiled);
         const modeling::FairingPatch patch =
             modeling::extractFairingPatch(spoiled, stencils, region);
