@@ -1,10 +1,10 @@
 // Fairing accuracy on surfaces with a known fair answer (issue #15): a region of an irregular
-// sphere or of the Clifford torus (modeling/willmore_surfaces.h) is spoiled — radial noise, or
-// pressed flat — and faired back by CGAL's linear fair and by flexure with each energy. Each
-// result's distance from the exact surface over the region, max and RMS of |dist| / scale, at
-// several resolutions, and the order of the error under refinement (log2 of successive ratios:
-// each level halves the edge length). Smallest angle and seconds beside. JSON on stdout, a table
-// on stderr.
+// sphere (jittered icosphere or CGAL-remeshed) or of the Clifford torus
+// (modeling/willmore_surfaces.h) is spoiled — radial noise, or pressed flat — and faired back by
+// CGAL's linear fair and by flexure with each energy. Each result's distance from the exact surface
+// over the region, max and RMS of |dist| / scale, at several resolutions, and the order of the
+// error under refinement (log2 of successive ratios: each level halves the edge length). Smallest
+// angle and seconds beside. JSON on stdout, a table on stderr.
 //
 // Cases (--cases): noise<D> — a geodesic cap of D degrees (sphere) or D/180·π tube radii (torus),
 // 5 % radial noise (--noise); flat<D> — the cap pressed flat onto the plane through its rim.
@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "curvature/bending_energy.h"
 #include "modeling/fairing_region.h"
+#include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
 #include "modeling/willmore_surfaces.h"
@@ -57,15 +59,18 @@ Distance regionDistance(modeling::WillmoreSurface surface, const modeling::Fairi
 int main(int argc, char** argv) {
   CLI::App app("fair_sphere_bench: fairing accuracy on spheres and Clifford tori");
   std::vector<int> levels = {3, 4, 5};
-  std::vector<std::string> surfaces = {"sphere", "torus"};
+  std::vector<std::string> surfaces = {"sphere", "remeshed", "torus"};
   std::vector<std::string> cases = {"noise40", "flat60"};
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
   double noise = 0.05, jitter = 0.3, weight = 0.1;
   std::string metric = "current", shape = "start", vertexArea = "barycentric";
   int threads = 2;
   bool progress = false;
+  std::string writeDirectory;
   app.add_option("--levels", levels, "Sphere levels (torus n = 20 · 2^(level − 3))");
-  app.add_option("--surfaces", surfaces, "sphere and/or torus");
+  app.add_option("--surfaces", surfaces,
+                 "sphere (a jittered icosphere), remeshed (CGAL's isotropic remeshing of the "
+                 "sphere) and/or torus");
   app.add_option("--cases", cases, "noise<degrees> | flat<degrees>");
   app.add_option("--energies", energies, "Bending energies of flexure's fairing");
   app.add_option("--noise", noise, "Radial noise amplitude / radius");
@@ -78,10 +83,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"barycentric", "voronoi"}));
   app.add_option("--threads", threads);
   app.add_flag("--progress", progress);
+  app.add_option("--write", writeDirectory,
+                 "Also write each spoiled mesh and its region, DIR/SURFACE-CASE-LEVEL.off and "
+                 ".txt (for flexure fair --region vertices:FILE)")
+      ->check(CLI::ExistingDirectory);
   CLI11_PARSE(app, argc, argv);
 
   json out = json::array();
   for (const std::string& surfaceName : surfaces) {
+    if (surfaceName != "sphere" && surfaceName != "remeshed" && surfaceName != "torus") {
+      std::cerr << "fair_sphere_bench: --surfaces " << surfaceName
+                << ": expected sphere, remeshed or torus\n";
+      return 2;
+    }
     const auto surface = surfaceName == "torus" ? modeling::WillmoreSurface::CliffordTorus
                                                 : modeling::WillmoreSurface::Sphere;
     for (const std::string& spec : cases) {
@@ -101,9 +115,11 @@ int main(int argc, char** argv) {
         return 2;
       }
       for (int level : levels) {
-        const modeling::Mesh exact = surface == modeling::WillmoreSurface::Sphere
-                                         ? modeling::irregularSphere(level, jitter, 7)
-                                         : modeling::cliffordTorus(20 << (level - 3), jitter, 7);
+        // The icosphere's edge at `level` is the remeshed sphere's target edge.
+        const modeling::Mesh exact =
+            surfaceName == "torus"      ? modeling::cliffordTorus(20 << (level - 3), jitter, 7)
+            : surfaceName == "remeshed" ? modeling::remeshedSphere(1.1071 / std::pow(2.0, level))
+                                        : modeling::irregularSphere(level, jitter, 7);
         const Eigen::Vector3d centre = surface == modeling::WillmoreSurface::Sphere
                                            ? Eigen::Vector3d(0.0, 0.0, 1.0)
                                            : Eigen::Vector3d(std::sqrt(2.0) + 1.0, 0.0, 0.0);
@@ -113,6 +129,14 @@ int main(int argc, char** argv) {
         spoiled.positions = modeling::perturbRegion(
             surface, exact, region, centre,
             flat ? modeling::Perturbation::Flatten : modeling::Perturbation::Noise, noise, 11);
+        if (!writeDirectory.empty()) {
+          const std::string stem =
+              writeDirectory + "/" + surfaceName + "-" + spec + "-" + std::to_string(level);
+          modeling::writeMesh(stem + ".off", spoiled);
+          std::ofstream indices(stem + ".txt");
+          for (int v = 0; v < spoiled.vertexCount(); ++v)
+            if (region[v]) indices << v << '\n';
+        }
         const modeling::Stencils stencils = modeling::compileStencils(spoiled);
         const modeling::FairingPatch patch =
             modeling::extractFairingPatch(spoiled, stencils, region);

@@ -150,12 +150,16 @@ RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
   return choice;
 }
 
-nlohmann::json measuresJson(const optimize::FairingMeasures& m) {
+nlohmann::json energiesJson(const std::vector<optimize::EnergyMeasure>& measures) {
   nlohmann::json energies = nlohmann::json::object();
-  for (const optimize::EnergyMeasure& e : m.bending) {
+  for (const optimize::EnergyMeasure& e : measures)
     energies[e.energy] = e.error.empty() ? nlohmann::json(e.value) : nlohmann::json(nullptr);
-  }
-  return {{"bending_energy", energies},
+  return energies;
+}
+
+nlohmann::json measuresJson(const optimize::FairingMeasures& m) {
+  return {{"bending_energy", energiesJson(m.bending)},
+          {"bending_energy_current_metric", energiesJson(m.bendingCurrent)},
           {"triangle_quality",
            {{"min_angle_degrees", m.quality.minAngleDegrees},
             {"mean_shape", m.quality.meanShape},

@@ -1,5 +1,7 @@
 #include "modeling/willmore_surfaces.h"
 
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -10,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "modeling/cgal_surface_mesh.h"
 #include "modeling/errors.h"
 
 namespace flexure::modeling {
@@ -92,6 +95,19 @@ Mesh irregularSphere(int levels, double jitter, std::uint64_t seed) {
     p = (p + d.x() * a + d.y() * b).normalized();
   }
   return meshOf(points, faces);
+}
+
+Mesh remeshedSphere(double edge) {
+  if (!(edge >= 0.02 && edge <= 1.0))
+    throw InputError("remeshed sphere: the target edge length must be in [0.02, 1] (got " +
+                     std::to_string(edge) + ")");
+  CgalSurfaceMesh sm = toCgalSurfaceMesh(irregularSphere(6, 0.0, 0), "remeshed sphere");
+  CGAL::Polygon_mesh_processing::isotropic_remeshing(faces(sm), edge, sm,
+                                                     CGAL::parameters::number_of_iterations(5));
+  sm.collect_garbage();
+  Mesh mesh = fromCgalSurfaceMesh(sm);
+  mesh.positions.rowwise().normalize();
+  return mesh;
 }
 
 Mesh cliffordTorus(int n, double jitter, std::uint64_t seed) {

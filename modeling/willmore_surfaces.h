@@ -24,6 +24,12 @@ enum class WillmoreSurface { Sphere, CliffordTorus };
 // seeded) and projected back.
 Mesh irregularSphere(int levels, double jitter, std::uint64_t seed);
 
+// The unit sphere remeshed by CGAL (Polygon_mesh_processing::isotropic_remeshing, 5 iterations, on
+// a level-6 icosphere, target edge length `edge`; then every vertex projected onto the sphere):
+// CGAL's connectivity, valences 4 to 8 spread over the surface, instead of the icosphere's
+// semi-regular one. edge in [0.02, 1].
+Mesh remeshedSphere(double edge);
+
 // The Clifford torus of radii √2 : 1, x(u, v) = ((√2 + cos v) cos u, (√2 + cos v) sin u, sin v):
 // an n·√2-by-n grid in (u, v) (rounded; square cells on the surface's mean scale), each cell split
 // along alternating diagonals, the parameters jittered by up to `jitter` cells (seeded).

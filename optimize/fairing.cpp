@@ -314,14 +314,17 @@ FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positi
     b.hingeAngle = material.hingeAngle;
     if (d == curvature::Discretization::Hinge || d == curvature::Discretization::Cotan)
       b.poisson.reset();
-    EnergyMeasure e{std::string(curvature::discretizationName(d)), 0.0, ""};
-    try {
-      e.value = bendingEnergy(c, b, positions);
-    } catch (const std::exception& error) {
-      e.value = std::numeric_limits<double>::quiet_NaN();
-      e.error = error.what();
+    for (auto metric : {curvature::CurvatureMetric::Rest, curvature::CurvatureMetric::Current}) {
+      b.metric = metric;
+      EnergyMeasure e{std::string(curvature::discretizationName(d)), 0.0, ""};
+      try {
+        e.value = bendingEnergy(c, b, positions);
+      } catch (const std::exception& error) {
+        e.value = std::numeric_limits<double>::quiet_NaN();
+        e.error = error.what();
+      }
+      (metric == curvature::CurvatureMetric::Rest ? m.bending : m.bendingCurrent).push_back(e);
     }
-    m.bending.push_back(e);
   }
   m.quality = triangleQuality(c, positions);
   m.maxDisplacement = (positions - patch.mesh.positions).rowwise().norm().maxCoeff();
