@@ -477,10 +477,11 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   Eigen::VectorXd gradient;
   evaluate(y, curvature::SecondDerivatives::None, energy, gradient);
   bool freshFactor = false;  // F was factored at an iterate of this step
-  // At most maxNewtonIterations Newton steps (factorizations) and 4 × as many iterations in all.
+  // At most maxNewtonIterations Newton steps (each factoring once, or twice when the exact
+  // Hessian is indefinite) and 4 × as many iterations in all.
+  int newtonSteps = 0;
   for (int iteration = 1;
-       iteration <= 4 * o.maxNewtonIterations && outcome.factorizations < o.maxNewtonIterations;
-       ++iteration) {
+       iteration <= 4 * o.maxNewtonIterations && newtonSteps < o.maxNewtonIterations; ++iteration) {
     outcome.newtonIterations = iteration;
     Eigen::VectorXd delta;
     double decrement = 0.0;
@@ -492,6 +493,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     }
     bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
     if (!chord) {
+      ++newtonSteps;
       HessianEvaluation at = evaluate(y, o.hessian, energy, gradient);
       bool factored = im.factorization.factor(at.values);
       ++outcome.factorizations;
@@ -562,7 +564,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   }
   if (!outcome.converged) {
     outcome.failure = "Newton did not converge in " + std::to_string(outcome.newtonIterations) +
-                      " iterations (" + std::to_string(outcome.factorizations) + " factorizations)";
+                      " iterations (" + std::to_string(newtonSteps) + " Newton steps)";
     return outcome;
   }
   place(y, x, xi);

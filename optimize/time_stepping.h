@@ -88,8 +88,8 @@ struct DynamicsOptions {
   // Obstacles (obstacles.h): their barrier B(x) joins Φ, and each Newton step is capped so that no
   // vertex reaches one; the implicit integrators only.
   std::vector<Obstacle> obstacles;
-  // At most this many Newton steps (Hessians factored) per step, and 4 × as many iterations
-  // with the chord steps.
+  // At most this many Newton steps (iterations that factor the Hessian) per step, and 4 × as many
+  // iterations with the chord steps.
   int maxNewtonIterations = 30;
   // The Hessian of E in each Newton iteration: exact, or its Gauss–Newton part JᵀJ (first
   // derivatives only; the step's inertia M/(βh²) keeps it positive definite).
