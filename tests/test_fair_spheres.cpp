@@ -183,10 +183,12 @@ TEST(FairingSpheres, FlattenedCapComesBackOnTheCurrentMetric) {
       EXPECT_LT(r.currentMetric, 0.1 * r.cgal);
       EXPECT_LT(r.currentMetric, 0.6 * r.inputMetric);
     }
-    if (energy == curvature::Discretization::Midedge)
+    if (energy == curvature::Discretization::Midedge) {
       EXPECT_LT(fine.currentMetric, 0.7 * coarse.currentMetric);  // measured ratio 0.59
-    if (energy == curvature::Discretization::Cotan)
+    }
+    if (energy == curvature::Discretization::Cotan) {
       EXPECT_LT(fine.currentMetric, 0.4 * coarse.currentMetric);  // measured ratio 0.21
+    }
   }
   const CapFairing hinge =
       fairSphereCap(4, 60.0, modeling::Perturbation::Flatten, curvature::Discretization::Hinge);
@@ -202,7 +204,9 @@ TEST(FairingSpheres, NoisyCapIsSmoothedCloserThanCgalFair) {
     const CapFairing r = fairSphereCap(4, 40.0, modeling::Perturbation::Noise, energy);
     EXPECT_NEAR(r.input, 0.05, 0.001);
     EXPECT_LT(r.currentMetric, 0.25 * r.cgal);
-    if (energy == curvature::Discretization::Cotan) EXPECT_LT(r.currentMetric, 0.05 * r.cgal);
+    if (energy == curvature::Discretization::Cotan) {
+      EXPECT_LT(r.currentMetric, 0.05 * r.cgal);
+    }
   }
 }
 
@@ -215,7 +219,9 @@ TEST(FairingSpheres, SmallFlattenedCapEveryEnergyBelowCgal) {
     const CapFairing r = fairSphereCap(4, 20.0, modeling::Perturbation::Flatten, energy);
     EXPECT_GT(r.input, 0.05);
     EXPECT_LT(r.currentMetric, 0.85 * r.cgal);
-    if (energy == curvature::Discretization::Cotan) EXPECT_LT(r.currentMetric, 0.25 * r.cgal);
+    if (energy == curvature::Discretization::Cotan) {
+      EXPECT_LT(r.currentMetric, 0.25 * r.cgal);
+    }
   }
 }
 
