@@ -34,11 +34,18 @@ FaceFrame restFrame(const Stencils& s, const RestState& rest, int f) {
                        rest.positions.row(s.faces(f, 2)).transpose());
 }
 
-// scale · n̂_i n̂_iᵀ in the face's rest frame.
-Sym2<double> edgeTensor(const RestState& rest, const FaceFrame& frame, int f, int i, double scale) {
-  const Eigen::Vector3d n = rest.faceEdgeNormals.block<1, 3>(f, 3 * i).transpose();
-  const Eigen::Vector2d n2 = frame.components(n);
-  return scaledOuterProduct(n2.x(), n2.y(), scale);
+Vec3<double> restPoint(const RestState& rest, int v) {
+  return {rest.positions(v, 0), rest.positions(v, 1), rest.positions(v, 2)};
+}
+
+// scale · n̂_i n̂_iᵀ of face f's edge i in the face's rest frame: current_metric.h's ℓ_i n̂_i n̂_iᵀ
+// at the rest positions (the same formula the current metric evaluates at x), times scale / ℓ̄_i.
+Sym2<double> edgeTensor(const Stencils& s, const RestState& rest, int f, int i, double scale) {
+  const Vec3<double> x[3] = {restPoint(rest, s.faces(f, 0)), restPoint(rest, s.faces(f, 1)),
+                             restPoint(rest, s.faces(f, 2))};
+  const Sym2<double> t = currentEdgeTensors(x, currentFrame(x[0], x[1], x[2]))[i];
+  const double c = scale / rest.faceEdgeLengths(f, i);
+  return {c * t.a, c * t.b, c * t.c};
 }
 
 // The face energies' Koiter weights: make(ν, 2 k_B Ā_T), or per unit area on the current metric
@@ -62,12 +69,14 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
   for (int h = 0; h < s.hingeCount(); ++h) {
     const int e = s.hingeEdges[h];
     const double areas = rest.faceAreas[s.edgeFaces(e, 0)] + rest.faceAreas[s.edgeFaces(e, 1)];
-    const double length = rest.edgeLengths[e];
     HingeBendingResidual r;
     for (int k = 0; k < 4; ++k) r.vertices[k] = s.hinges(h, k);
     r.currentMetric = o.metric == CurvatureMetric::Current;
-    r.sqrtWeight =
-        std::sqrt(2.0 * o.stiffness * (r.currentMetric ? 1.0 : 3.0 * length * length / areas));
+    // 3 ℓ̄² / (Ā_f + Ā_g): the current metric's factor at the rest positions.
+    const double restFactor =
+        hingeMetricFactor(restPoint(rest, r.vertices[0]), restPoint(rest, r.vertices[1]),
+                          restPoint(rest, r.vertices[2]), restPoint(rest, r.vertices[3]));
+    r.sqrtWeight = std::sqrt(2.0 * o.stiffness * (r.currentMetric ? 1.0 : restFactor));
     r.measure = o.hingeAngle;
     r.restMeasure = 0.0;
     if (o.restCurvature == RestCurvature::FromRest) {
@@ -96,12 +105,11 @@ std::unique_ptr<EnergyTerm> makeTriangleAveraged(const Stencils& s, const RestSt
   for (int f = 0; f < s.faceCount(); ++f) {
     if (!s.faceIsInterior(f)) continue;
     const double area = rest.faceAreas[f];
-    const FaceFrame frame = restFrame(s, rest, f);
     TriangleAveragedResidual r;
     for (int i = 0; i < 3; ++i) {
       r.vertices[i] = s.faces(f, i);
       r.vertices[3 + i] = s.faceFlaps(f, i);
-      r.edgeTensors[i] = edgeTensor(rest, frame, f, i, rest.faceEdgeLengths(f, i) / (2.0 * area));
+      r.edgeTensors[i] = edgeTensor(s, rest, f, i, rest.faceEdgeLengths(f, i) / (2.0 * area));
     }
     r.currentMetric = o.metric == CurvatureMetric::Current;
     r.weights = koiterWeights(o, poisson, area);
@@ -156,7 +164,6 @@ std::unique_ptr<EnergyTerm> makeCotan(const Stencils& s, const RestState& rest,
 // The midedge residual of face f, without its rest shape operator.
 MidedgeResidual midedgeStencil(const Stencils& s, const RestState& rest, int f) {
   const double area = rest.faceAreas[f];
-  const FaceFrame frame = restFrame(s, rest, f);
   MidedgeResidual r;
   r.flapCount = 0;
   for (int i = 0; i < 3; ++i) r.vertices[i] = s.faces(f, i);
@@ -165,7 +172,7 @@ MidedgeResidual midedgeStencil(const Stencils& s, const RestState& rest, int f) 
     r.signs[i] = s.faceEdgeSigns(f, i);
     r.hasFlap[i] = s.faceFlaps(f, i) >= 0;
     if (r.hasFlap[i]) r.vertices[3 + r.flapCount++] = s.faceFlaps(f, i);
-    r.edgeTensors[i] = edgeTensor(rest, frame, f, i, rest.faceEdgeLengths(f, i) / area);
+    r.edgeTensors[i] = edgeTensor(s, rest, f, i, rest.faceEdgeLengths(f, i) / area);
   }
   return r;
 }
