@@ -41,7 +41,8 @@ double secondsSince(Clock::time_point start) {
 }
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
-               bool gaussNewton, bool drape, bool chordSteps, bool predict) {
+               bool gaussNewton, bool drape, bool chordSteps, bool predict, bool trace,
+               double tolerance) {
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
   curvature::BendingOptions bending;
@@ -65,6 +66,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   if (drape) options.obstacles = {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.35,0.3")};
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
+  if (tolerance > 0.0) options.tolerance = tolerance;
   options.predictAcceleration = predict;
 
   auto start = Clock::now();
@@ -79,6 +81,8 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
       stepper.barrier().empty() ? 0.0 : stepper.barrier().smallestDistance(stepper.positions());
   start = Clock::now();
   for (int k = 1; k < steps; ++k) {
+    const auto stepStart = Clock::now();
+    const int iterationsBefore = iterations, factorizationsBefore = factorizations;
     auto outcome = stepper.step(dt);
     factorizations += outcome.factorizations;
     if (!outcome.converged) {  // as flexure simulate does: two half steps
@@ -94,6 +98,10 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
       if (!outcome.converged) return {{"energy", energy}, {"error", outcome.failure}};
     }
     iterations += outcome.newtonIterations;
+    if (trace)
+      std::fprintf(stderr, "  step %4d t %.4f  %.3f s  iterations %d  factorizations %d\n", k,
+                   stepper.time(), secondsSince(stepStart), iterations - iterationsBefore,
+                   factorizations - factorizationsBefore);
     if (!stepper.barrier().empty())
       closest = std::min(closest, stepper.barrier().smallestDistance(stepper.positions()));
   }
@@ -147,6 +155,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--predict", predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
       ->capture_default_str();
+  bool trace = false;
+  double tolerance = 0.0;
+  app.add_option("--tolerance", tolerance, "DynamicsOptions::tolerance (default: its default)");
+  app.add_flag("--trace", trace, "Each step's seconds, iterations and factorizations on stderr");
   CLI11_PARSE(app, argc, argv);
   if (scene != "drape" && scene != "hang") {
     std::cerr << "--scene " << scene << ": expected drape or hang\n";
@@ -160,7 +172,7 @@ int main(int argc, char** argv) {
     for (const char* hessian : {"exact", "gauss-newton"}) {
       if (hessians.find(hessian) == std::string::npos) continue;
       json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton",
-                              scene == "drape", chordSteps, predict);
+                              scene == "drape", chordSteps, predict, trace, tolerance);
       std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
       records.push_back(record);
     }

@@ -245,10 +245,15 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
   common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
   cholmod_factor* factor =
       cholmod_analyze_p(&transposed, order.empty() ? nullptr : order.data(), nullptr, 0, &common);
-  double ridge[2] = {1e-13 * squaredSum / freeCount, 0.0};  // β (real, imaginary)
-  const bool solved = factor != nullptr &&
-                      cholmod_factorize_p(&transposed, ridge, nullptr, 0, factor, &common) &&
-                      common.status == CHOLMOD_OK;
+  // β = 1e-13 of the mean diagonal; when rounding still leaves a pivot ≤ 0 (a null space of J, a
+  // system near singular; how near depends on the BLAS's order of operations), β × 1000, twice.
+  bool solved = false;
+  for (double relativeRidge = 1e-13; factor != nullptr && !solved && relativeRidge <= 1e-7;
+       relativeRidge *= 1e3) {
+    double ridge[2] = {relativeRidge * squaredSum / freeCount, 0.0};  // β (real, imaginary)
+    solved = cholmod_factorize_p(&transposed, ridge, nullptr, 0, factor, &common) &&
+             common.status == CHOLMOD_OK;
+  }
   Eigen::VectorXd step;
   if (solved) {
     gradient = -gradient;

@@ -172,12 +172,17 @@ void ObstacleBarrier::add(const HessianAssembly& assembly, const Positions& x, H
     }
 }
 
-double ObstacleBarrier::stepBound(const Positions& x, const Positions& dx) const {
-  double first = std::numeric_limits<double>::infinity();
+Eigen::VectorXd ObstacleBarrier::vertexStepBounds(const Positions& x, const Positions& dx) const {
+  Eigen::VectorXd bound = Eigen::VectorXd::Ones(x.rows());
   for (const Obstacle& o : obstacles_)
     for (Eigen::Index v = 0; v < x.rows(); ++v)
-      first = std::min(first, o.contactTime(x.row(v).transpose(), dx.row(v).transpose()));
-  return std::min(1.0, 0.9 * first);
+      bound[v] =
+          std::min(bound[v], 0.9 * o.contactTime(x.row(v).transpose(), dx.row(v).transpose()));
+  return bound;
+}
+
+double ObstacleBarrier::stepBound(const Positions& x, const Positions& dx) const {
+  return x.rows() == 0 ? 1.0 : vertexStepBounds(x, dx).minCoeff();
 }
 
 double ObstacleBarrier::smallestDistance(const Positions& x, int* vertex) const {

@@ -77,6 +77,9 @@ class ObstacleBarrier {
   // The largest α ≤ 1 such that x + α' dx stays outside every obstacle for α' ≤ α, with margin:
   // min(1, 0.9 × the first contact time over the vertices).
   double stepBound(const Positions& x, const Positions& dx) const;
+  // Per vertex v (#V): the largest α_v ≤ 1 such that x_v + α' dx_v stays outside every obstacle
+  // for α' ≤ α_v, with the same margin (stepBound is their minimum).
+  Eigen::VectorXd vertexStepBounds(const Positions& x, const Positions& dx) const;
   // Adds the barrier's gradient at x to `gradient` (#V by 3), every vertex.
   void addGradient(const Positions& x, Positions& gradient) const;
   // InputError naming the first vertex of `what` (e.g. "the start") inside or on an obstacle.

@@ -102,7 +102,8 @@ struct DynamicsOptions {
   // iteration factors the Hessian at its iterate (plain Newton, the reference the tests compare
   // with).
   bool chordSteps = true;
-  // Newton starts from x̂ + β h² a_n (the acceleration kept) rather than from x̂ (a = 0).
+  // Newton starts from x̂ + β h² a_n (the acceleration kept), and vertices within two barrier
+  // layers of an obstacle from x_n, rather than everything from x̂ (a = 0).
   bool predictAcceleration = true;
 };
 

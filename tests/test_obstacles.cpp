@@ -118,6 +118,12 @@ TEST(Obstacles, ContactTimesAreExact) {
   dx << 0, 0, -4, 6, 0, 0;
   EXPECT_NEAR(barrier.stepBound(x, dx), 0.9 / 3.0, 1e-15);
   EXPECT_EQ(barrier.stepBound(x, 0.01 * dx), 1.0);
+  // Per vertex: the first reaches the sphere at ½ (0.45 with the margin), the second at ⅓.
+  const Eigen::VectorXd each = barrier.vertexStepBounds(x, dx);
+  EXPECT_NEAR(each[0], 0.9 / 2.0, 1e-15);
+  EXPECT_NEAR(each[1], 0.9 / 3.0, 1e-15);
+  x.row(0) << 5, 5, 5;  // moving away from both: unbounded, capped at 1
+  EXPECT_EQ(barrier.vertexStepBounds(x, dx)[0], 1.0);
 }
 
 TEST(Obstacles, MalformedSpecsAreRefused) {

@@ -413,8 +413,10 @@ TEST(TimeStepping, ChordStepsFollowThePlainNewtonTrajectory) {
         std::string(curvature::discretizationName(d)).c_str(), worst, fastFactorizations,
         referenceFactorizations, contact);
     EXPECT_LT(contact, fast.barrier().layer());  // in contact at the end
-    EXPECT_LT(worst, 1e-9);  // measured 1.2e-10 and 1.4e-10 (the tolerance: 1e-10 of √2)
-    EXPECT_LT(fastFactorizations, referenceFactorizations / 2);  // measured 56/184 and 51/180
+    EXPECT_LT(worst, 1e-9);  // measured 1.7e-10 and 1.1e-10 (the tolerance: 1e-10 of √2)
+    // Measured 22/184 and 17/180 (56 and 51 before contact vertices started at x_n, capped steps
+    // were scaled per vertex and an indefinite Hessian switched the step to Gauss–Newton).
+    EXPECT_LT(fastFactorizations, referenceFactorizations / 4);
   }
 }
 
