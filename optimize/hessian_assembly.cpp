@@ -230,50 +230,45 @@ cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>
 // machines spin and wait on futexes for more time than they save: measured with
 // OMP_THREAD_LIMIT=1, the drape benchmark (scripts/bench simulate, hinge, 961 vertices) ran
 // 1.3–1.4× faster. The heavy part, the dense BLAS of the supernodes, does not use these threads.
-// While it factors, this limits the team to one thread through OpenMP's dynamic adjustment
-// (omp_set_dynamic(1) bounds a team by the caller's omp_set_num_threads, even when the
-// parallel region asks for more), and restores the caller's settings after. The functions are
-// looked up at run time: a CHOLMOD built without OpenMP loads no OpenMP runtime, and then
-// there is nothing to limit.
+// While it factors and solves, this makes every parallel region inactive (a team of one thread)
+// by OpenMP's max-active-levels = 0, and restores the caller's setting after. (An earlier
+// version bounded the teams through dynamic adjustment, omp_set_dynamic(1): libgomp then asks
+// the kernel for the processor count and the load average at every parallel region, CHOLMOD's
+// many small ones included — strace counted 130 000 such pairs of system calls and 890 000 futex
+// calls in 28 steps of the 10 000-vertex drape.) The functions are looked up at run time: a
+// CHOLMOD built without OpenMP loads no OpenMP runtime, and then there is nothing to limit.
 class SingleThreadedOpenMp {
  public:
   SingleThreadedOpenMp() {
-    if (functions().setDynamic == nullptr) return;
-    dynamic_ = functions().getDynamic();
-    threads_ = functions().getMaxThreads();
-    functions().setDynamic(1);
-    functions().setNumThreads(1);
+    if (functions().setMaxActiveLevels == nullptr) return;
+    levels_ = functions().getMaxActiveLevels();
+    functions().setMaxActiveLevels(0);
   }
   ~SingleThreadedOpenMp() {
-    if (functions().setDynamic == nullptr) return;
-    functions().setDynamic(dynamic_);
-    functions().setNumThreads(threads_);
+    if (functions().setMaxActiveLevels == nullptr) return;
+    functions().setMaxActiveLevels(levels_);
   }
   SingleThreadedOpenMp(const SingleThreadedOpenMp&) = delete;
   SingleThreadedOpenMp& operator=(const SingleThreadedOpenMp&) = delete;
 
  private:
   struct Functions {
-    void (*setDynamic)(int) = nullptr;
-    int (*getDynamic)() = nullptr;
-    void (*setNumThreads)(int) = nullptr;
-    int (*getMaxThreads)() = nullptr;
+    void (*setMaxActiveLevels)(int) = nullptr;
+    int (*getMaxActiveLevels)() = nullptr;
   };
   static const Functions& functions() {
     static const Functions f = [] {
       Functions found;
-      found.getDynamic = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
-      found.getMaxThreads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_threads"));
-      found.setNumThreads =
-          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
-      found.setDynamic = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
-      if (!found.getDynamic || !found.getMaxThreads || !found.setNumThreads)
-        found.setDynamic = nullptr;
+      found.getMaxActiveLevels =
+          reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+      found.setMaxActiveLevels =
+          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+      if (!found.getMaxActiveLevels) found.setMaxActiveLevels = nullptr;
       return found;
     }();
     return f;
   }
-  int dynamic_ = 0, threads_ = 1;
+  int levels_ = 1;
 };
 
 }  // namespace
@@ -348,7 +343,11 @@ Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
   view.x = rhs.data();
   view.xtype = CHOLMOD_REAL;
   view.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* x = cholmod_solve(CHOLMOD_A, c.factor, &view, &c.common);
+  cholmod_dense* x = nullptr;
+  {
+    const SingleThreadedOpenMp oneThread;
+    x = cholmod_solve(CHOLMOD_A, c.factor, &view, &c.common);
+  }
   if (x == nullptr) throw NumericalError("the sparse Cholesky solve failed (out of memory?)");
   Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), rhs.size());
   cholmod_free_dense(&x, &c.common);
