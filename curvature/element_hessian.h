@@ -8,6 +8,7 @@
 // Hessian is the Gauss–Newton matrix JᵀJ exactly.
 #pragma once
 
+#include <ceres/jet.h>
 #include <Eigen/Core>
 #include <array>
 #include <type_traits>
@@ -117,6 +118,70 @@ inline void elementUnknowns(const std::vector<int>& sizes, const std::vector<lon
 // first global unknown is firstUnknown[b]). Returns false where the element is degenerate (a
 // residual is not finite) or has more unknowns than kMaxHessianUnknowns (out.unknowns then holds
 // them all, so the caller can tell the two apart).
+// The independent variable `slot` at `value` (∂/∂slot = 1) as each kind of jet spells it.
+template <int N>
+ceres::Jet<double, N> variableJet(const ceres::Jet<double, N>*, double value, int slot) {
+  return ceres::Jet<double, N>(value, slot);
+}
+template <int N>
+SecondOrderJet<N> variableJet(const SecondOrderJet<N>*, double value, int slot) {
+  return SecondOrderJet<N>::variable(value, slot);
+}
+
+// The element's jets: block b's values, unknowns seeded slot by slot, the rest constants; in
+// per-thread scratch, reused from element to element without allocating.
+template <class Jet>
+const Jet* const* seededBlocks(const std::vector<const double*>& blocks,
+                               const std::vector<int>& sizes, Derivatives derivatives) {
+  thread_local std::vector<std::array<Jet, 3>> values;
+  thread_local std::vector<const Jet*> pointers;
+  values.resize(blocks.size());
+  pointers.resize(blocks.size());
+  int slot = 0;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    for (int c = 0; c < sizes[b]; ++c)
+      values[b][c] = isElementUnknown(derivatives, c, sizes[b])
+                         ? variableJet(static_cast<const Jet*>(nullptr), blocks[b][c], slot++)
+                         : Jet(blocks[b][c]);
+    pointers[b] = values[b].data();
+  }
+  return pointers.data();
+}
+
+// First derivatives only, by forward-mode jets (ceres::Jet, as Ceres' autodiff): E_e, ∇E_e and,
+// with `gaussNewton`, J_eᵀJ_e (= Σ_i ∇r_i ∇r_iᵀ); out.hessian empty otherwise. Returns false
+// where the residual functor refuses the element (degenerate), and when it has more unknowns
+// than any jet size here (the caller then uses Ceres' own cost function). Values are not checked
+// for being finite: a line search rejects a trial point whose energy is not.
+template <class Residual>
+bool elementFirstDerivatives(const Residual& residual, const std::vector<const double*>& blocks,
+                             const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                             Derivatives derivatives, bool gaussNewton, ElementHessian& out) {
+  elementUnknowns(sizes, firstUnknown, derivatives, out.unknowns);
+  const int count = static_cast<int>(out.unknowns.size());
+  return withJetSize<kMaxElementUnknowns<Residual>>(count, [&](auto size) {
+    constexpr int N = decltype(size)::value;
+    using Jet = ceres::Jet<double, N>;
+    std::array<Jet, Residual::kResiduals> r;
+    if (!residual(seededBlocks<Jet>(blocks, sizes, derivatives), r.data())) return false;
+    Eigen::Matrix<double, N, 1> gradient = Eigen::Matrix<double, N, 1>::Zero();
+    out.energy = 0.0;
+    for (const Jet& ri : r) {
+      out.energy += 0.5 * ri.a * ri.a;
+      gradient += ri.a * ri.v;
+    }
+    out.gradient = gradient.head(count);
+    if (!gaussNewton) {
+      out.hessian.resize(0, 0);
+      return true;
+    }
+    Eigen::Matrix<double, N, N> normal = Eigen::Matrix<double, N, N>::Zero();
+    for (const Jet& ri : r) normal.noalias() += ri.v * ri.v.transpose();
+    out.hessian = normal.topLeftCorner(count, count);
+    return true;
+  });
+}
+
 template <class Residual>
 bool elementHessian(const Residual& residual, const std::vector<const double*>& blocks,
                     const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
@@ -126,18 +191,8 @@ bool elementHessian(const Residual& residual, const std::vector<const double*>& 
   return withJetSize<kMaxElementUnknowns<Residual>>(count, [&](auto size) {
     constexpr int N = decltype(size)::value;
     using Jet = SecondOrderJet<N>;
-    std::vector<std::array<Jet, 3>> values(blocks.size());
-    std::vector<const Jet*> pointers(blocks.size());
-    int slot = 0;
-    for (size_t b = 0; b < blocks.size(); ++b) {
-      for (int c = 0; c < sizes[b]; ++c)
-        values[b][c] = isElementUnknown(derivatives, c, sizes[b])
-                           ? Jet::variable(blocks[b][c], slot++)
-                           : Jet(blocks[b][c]);
-      pointers[b] = values[b].data();
-    }
     std::array<Jet, Residual::kResiduals> r;
-    if (!residual(pointers.data(), r.data())) return false;
+    if (!residual(seededBlocks<Jet>(blocks, sizes, derivatives), r.data())) return false;
     Eigen::Matrix<double, N, 1> gradient = Eigen::Matrix<double, N, 1>::Zero();
     Eigen::Matrix<double, N, N> hessian = Eigen::Matrix<double, N, N>::Zero();
     out.energy = 0.0;

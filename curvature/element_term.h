@@ -344,12 +344,17 @@ class ElementTerm : public EnergyTerm {
     out.residuals.reserve(out.residuals.size() + elements * Residual::kResiduals);
   }
 
-  // ½|r_e|², J_eᵀr_e and (gaussNewton) J_eᵀJ_e of element e from its Ceres cost function (first
-  // derivatives), over the unknowns of elementUnknowns (a slot's columns; in height mode its last
-  // one).
+  // ½|r_e|², J_eᵀr_e and (gaussNewton) J_eᵀJ_e of element e (first derivatives: forward-mode
+  // jets of the element's size, element_hessian.h; Ceres' cost function where those refuse it),
+  // over the unknowns of elementUnknowns (a slot's columns; in height mode its last one).
   void firstDerivatives(int e, const std::vector<const double*>& blocks,
                         const std::vector<int>& sizes, const std::vector<long>& firstColumn,
                         Derivatives derivatives, bool gaussNewton, ElementHessian& out) const {
+    if (elementFirstDerivatives(elements_[e], blocks, sizes, firstColumn, derivatives, gaussNewton,
+                                out))
+      return;
+    // Refused: degenerate, or more unknowns than the jets hold (a cotan vertex of valence 16 or
+    // more), which Ceres' cost function (dynamic for cotan rings) evaluates.
     curvature::elementUnknowns(sizes, firstColumn, derivatives, out.unknowns);
     const std::unique_ptr<ceres::CostFunction> cost(costFunction(elements_[e], derivatives));
     const int count = static_cast<int>(out.unknowns.size());
