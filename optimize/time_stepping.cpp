@@ -393,7 +393,6 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     for (const curvature::EnergyTerm* term : terms_) e += term->energy(x, xi);
     return e + extra(y, nullptr) + barrier_.energy(x);  // +∞ inside an obstacle
   };
-  // The largest fraction of the step δ from y that keeps every vertex outside the obstacles.
   // Per vertex v, the largest fraction α_v ≤ 1 of the step δ from y that keeps it outside the
   // obstacles (obstacles.h, with its margin); empty without obstacles.
   auto vertexBounds = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& delta) {
