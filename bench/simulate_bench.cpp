@@ -165,6 +165,10 @@ int main(int argc, char** argv) {
     std::cerr << "--scene " << scene << ": expected drape or hang\n";
     return 2;
   }
+  if (app.count("--tolerance") > 0 && !(tolerance > 0.0)) {
+    std::cerr << "--tolerance " << tolerance << ": expected a value > 0\n";
+    return 2;
+  }
   if (duration > 0.0) steps = static_cast<int>(std::lround(duration / dt)) + 1;
   const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
   json records = json::array();

@@ -248,8 +248,9 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
   // β = 1e-13 of the mean diagonal; when rounding still leaves a pivot ≤ 0 (a null space of J, a
   // system near singular; how near depends on the BLAS's order of operations), β × 1000, twice.
   bool solved = false;
-  for (double relativeRidge = 1e-13; factor != nullptr && !solved && relativeRidge <= 1e-7;
-       relativeRidge *= 1e3) {
+  double relativeRidge = 1e-13;
+  for (int attempt = 0; factor != nullptr && !solved && attempt < 3;
+       ++attempt, relativeRidge *= 1e3) {
     double ridge[2] = {relativeRidge * squaredSum / freeCount, 0.0};  // β (real, imaginary)
     solved = cholmod_factorize_p(&transposed, ridge, nullptr, 0, factor, &common) &&
              common.status == CHOLMOD_OK;
