@@ -3,6 +3,7 @@
 #include <Eigen/CholmodSupport>
 
 #include "modeling/errors.h"
+#include "optimize/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 
@@ -59,6 +60,7 @@ Eigen::VectorXd solveBiharmonic(const modeling::Stencils& s, const modeling::Res
                                 const std::vector<bool>& fixedVertex,
                                 const Eigen::VectorXd& values) {
   const BiharmonicSystem system = assembleBiharmonic(s, rest, fixedVertex, values);
+  const SingleThreadedLinearAlgebra oneThread;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> cholesky(system.matrix);
   const Eigen::VectorXd freeValues = cholesky.solve(system.rhs);
   if (cholesky.info() != Eigen::Success)

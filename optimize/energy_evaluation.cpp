@@ -10,6 +10,7 @@
 #include "modeling/errors.h"
 #include "optimize/cholmod_view.h"
 #include "optimize/elimination_order.h"
+#include "optimize/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 namespace {
@@ -237,6 +238,7 @@ Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::
   cholmod_sparse transposed =
       cholmodView(static_cast<size_t>(freeCount), columnStart, rowIndex, values.data(), false);
   std::vector<int> order = eliminationOrder(jacobian, freeColumns, newIndex, at);
+  const SingleThreadedLinearAlgebra oneThread;
   cholmod_common common;
   cholmod_start(&common);
   // One ordering, not CHOLMOD's default of AMD and then METIS when AMD's fill is high: METIS on

@@ -1,7 +1,6 @@
 #include "optimize/hessian_assembly.h"
 
 #include <cholmod.h>
-#include <dlfcn.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -11,6 +10,7 @@
 #include <thread>
 
 #include "modeling/errors.h"
+#include "optimize/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 namespace {
@@ -225,52 +225,6 @@ cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>
   return view;
 }
 
-// Debian's CHOLMOD runs parts of its supernodal factorization in OpenMP teams of
-// CHOLMOD_OMP_NUM_THREADS = 4 threads (fixed when it was built), which on flexure's 2-core
-// machines spin and wait on futexes for more time than they save: measured with
-// OMP_THREAD_LIMIT=1, the drape benchmark (scripts/bench simulate, hinge, 961 vertices) ran
-// 1.3–1.4× faster. The heavy part, the dense BLAS of the supernodes, does not use these threads.
-// While it factors and solves, this makes every parallel region inactive (a team of one thread)
-// by OpenMP's max-active-levels = 0, and restores the caller's setting after. (An earlier
-// version bounded the teams through dynamic adjustment, omp_set_dynamic(1): libgomp then asks
-// the kernel for the processor count and the load average at every parallel region, CHOLMOD's
-// many small ones included — strace counted 130 000 such pairs of system calls and 890 000 futex
-// calls in 28 steps of the 10 000-vertex drape.) The functions are looked up at run time: a
-// CHOLMOD built without OpenMP loads no OpenMP runtime, and then there is nothing to limit.
-class SingleThreadedOpenMp {
- public:
-  SingleThreadedOpenMp() {
-    if (functions().setMaxActiveLevels == nullptr) return;
-    levels_ = functions().getMaxActiveLevels();
-    functions().setMaxActiveLevels(0);
-  }
-  ~SingleThreadedOpenMp() {
-    if (functions().setMaxActiveLevels == nullptr) return;
-    functions().setMaxActiveLevels(levels_);
-  }
-  SingleThreadedOpenMp(const SingleThreadedOpenMp&) = delete;
-  SingleThreadedOpenMp& operator=(const SingleThreadedOpenMp&) = delete;
-
- private:
-  struct Functions {
-    void (*setMaxActiveLevels)(int) = nullptr;
-    int (*getMaxActiveLevels)() = nullptr;
-  };
-  static const Functions& functions() {
-    static const Functions f = [] {
-      Functions found;
-      found.getMaxActiveLevels =
-          reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
-      found.setMaxActiveLevels =
-          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
-      if (!found.getMaxActiveLevels) found.setMaxActiveLevels = nullptr;
-      return found;
-    }();
-    return f;
-  }
-  int levels_ = 1;
-};
-
 }  // namespace
 
 struct HessianFactorization::Simplicial {
@@ -328,7 +282,7 @@ bool HessianFactorization::factor(const std::vector<double>& values, double shif
   cholmod_sparse matrix =
       upperTriangleView(c.columnStart, c.rowIndex, const_cast<double*>(values.data()));
   double beta[2] = {shift, 0.0};
-  const SingleThreadedOpenMp oneThread;
+  const SingleThreadedLinearAlgebra oneThread;
   const int ok = cholmod_factorize_p(&matrix, beta, nullptr, 0, c.factor, &c.common);
   return ok && c.common.status == CHOLMOD_OK && c.factor->minor == c.factor->n;
 }
@@ -345,7 +299,7 @@ Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
   view.dtype = CHOLMOD_DOUBLE;
   cholmod_dense* x = nullptr;
   {
-    const SingleThreadedOpenMp oneThread;
+    const SingleThreadedLinearAlgebra oneThread;
     x = cholmod_solve(CHOLMOD_A, c.factor, &view, &c.common);
   }
   if (x == nullptr) throw NumericalError("the sparse Cholesky solve failed (out of memory?)");

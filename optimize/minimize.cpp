@@ -8,6 +8,7 @@
 #include "modeling/errors.h"
 #include "optimize/elimination_order.h"
 #include "optimize/energy_evaluation.h"
+#include "optimize/linear_algebra_threads.h"
 #include "optimize/newton_solver.h"
 
 namespace flexure::optimize {
@@ -176,7 +177,10 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   if (options.progress) solver.callbacks.push_back(&printer);
 
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
+  {
+    const SingleThreadedLinearAlgebra oneThread;  // Ceres' CHOLMOD runs on this thread
+    ceres::Solve(solver, &problem, &summary);
+  }
 
   MinimizeReport& r = result.report;
   r.converged = summary.termination_type == ceres::CONVERGENCE;

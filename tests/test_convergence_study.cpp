@@ -242,6 +242,8 @@ TEST(Study, ResultsDoNotDependOnTheThreadCount) {
   ASSERT_EQ(one.records.size(), two.records.size());
   for (size_t k = 0; k < one.records.size(); ++k) {
     const optimize::StudyRecord &a = one.records[k], &b = two.records[k];
+    SCOPED_TRACE("record " + std::to_string(k) + ", energy " + std::to_string(a.energy) + ", " +
+                 a.family + " n " + std::to_string(a.n.value_or(0)));
     EXPECT_EQ(a.kind, b.kind);
     EXPECT_EQ(a.energy, b.energy);
     EXPECT_EQ(a.family, b.family);
