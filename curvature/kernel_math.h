@@ -79,10 +79,4 @@ inline bool isFiniteScalar(const T& v) {
   return std::isfinite(scalarPart(v));
 }
 
-// The components of a unit vector n̂ in a face's 2D rest frame as the tensor n̂ n̂ᵀ, scaled:
-// scale · (n_u², n_u n_v, n_v²).
-inline Sym2<double> scaledOuterProduct(double nu, double nv, double scale) {
-  return {scale * nu * nu, scale * nu * nv, scale * nv * nv};
-}
-
 }  // namespace flexure::curvature
