@@ -6,6 +6,7 @@
 
 #include "modeling/errors.h"
 #include "optimize/cholmod_view.h"
+#include "optimize/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 namespace {
@@ -13,6 +14,7 @@ namespace {
 // METIS nested dissection of A Aᵀ, A the n-row incidence pattern: Perm[k] = the k-th row.
 std::vector<int> nestedDissection(Incidence& a, int n) {
   cholmod_sparse view = cholmodView(static_cast<size_t>(n), a.start, a.nodes, nullptr, true);
+  const SingleThreadedLinearAlgebra oneThread;  // METIS' random generator is a global
   cholmod_common common;
   cholmod_start(&common);
   std::vector<int> order(n);

@@ -6,7 +6,9 @@
 
 namespace flexure::optimize {
 
-// Every CHOLMOD (and so BLAS) call of flexure is made under one of these. While it is alive:
+// flexure's CHOLMOD factorizations and solves (the calls that reach the BLAS), and its METIS
+// orderings (METIS keeps its random generator's state in globals: GKlib's random.c), are made
+// under one of these. While it is alive:
 // - No other thread of the process is in such a section (a process-wide lock; nested sections
 //   of one thread are fine). The BLAS that install-deps selects, OpenBLAS's serial build
 //   (libopenblas0-serial, 0.3.21), takes no lock in its buffer allocation: two threads calling
