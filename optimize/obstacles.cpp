@@ -98,7 +98,31 @@ double barrierPotential(double d, double layer, double* d1, double* d2) {
 
 ObstacleBarrier::ObstacleBarrier(std::vector<Obstacle> obstacles, double layer,
                                  Eigen::VectorXd stiffness)
-    : obstacles_(std::move(obstacles)), layer_(layer), stiffness_(std::move(stiffness)) {}
+    : obstacles_(std::move(obstacles)),
+      layer_(layer),
+      stiffness_(std::move(stiffness)),
+      ruleStiffness_(stiffness_) {}
+
+void ObstacleBarrier::adapt(const Positions& x, const Positions& velocity,
+                            const Eigen::VectorXd& mass) {
+  const double absorb = 2.0 / (layer_ * layer_ * std::log(2.0));  // κ per m w²
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    double closest = std::numeric_limits<double>::infinity(), approach = 0.0;
+    for (const Obstacle& o : obstacles_) {
+      Eigen::Vector3d n;
+      const double d = o.signedDistance(x.row(v).transpose(), &n);
+      closest = std::min(closest, d);
+      if (d < 2.0 * layer_) approach = std::max(approach, -velocity.row(v).dot(n));
+    }
+    const double impact = absorb * mass[v] * approach * approach;
+    if (closest >= layer_) {
+      stiffness_[v] = std::max(ruleStiffness_[v], impact);
+      continue;
+    }
+    stiffness_[v] = std::max(stiffness_[v], impact);
+    if (closest < 0.1 * layer_) stiffness_[v] *= std::min(2.0, 0.1 * layer_ / closest);
+  }
+}
 
 double ObstacleBarrier::energy(const Positions& x) const {
   double sum = 0.0;

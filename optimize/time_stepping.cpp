@@ -272,6 +272,8 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
   time_ = 0.0;
   if (implicit_) implicit_->haveFactor = false;
+  barrier_.resetStiffness();
+  barrier_.adapt(x_, v_, mass_);  // the next step's contact stiffness (obstacles.h)
   // With damping the initial acceleration also carries −M⁻¹ C v₀; a start at rest (v₀ = 0, the
   // usual case) has none, and a moving start takes the undamped one.
   a_ = accelerationFromForces(x_, xi_);
@@ -625,6 +627,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   a_ = a;
   time_ += h;
   movePins(x_, &v_, time_);
+  barrier_.adapt(x_, v_, mass_);
   return outcome;
 }
 
