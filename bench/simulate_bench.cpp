@@ -12,6 +12,9 @@
 // (README, "flexure simulate"; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.8
 // steps/s, cotan 2.5, midedge 2.5; at 10 000 (45 steps, 24 in contact) hinge 1.65, cotan 0.49,
 // midedge 0.31. --trace prints every step; --tolerance sets DynamicsOptions::tolerance.
+// Each record also has `iteration_costs`, what one Newton iteration of a step costs part by part
+// on the same machine in the same run (the floor a contact step cannot go below: one Hessian, one
+// factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -27,6 +30,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/heap_reuse.h"
+#include "optimize/hessian_assembly.h"
 #include "optimize/time_stepping.h"
 
 namespace {
@@ -39,6 +43,48 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The cost of one Newton iteration of a step, part by part, on the step's own pattern and order
+// (every vertex coordinate and ξ free), at the rest state with the inertia M/(βh²) of Newmark's
+// β = ¼ on the diagonal: first derivatives (Φ, ∇Φ: a chord step or line-search trial), the exact
+// Hessian, its factorization and one solve; the fastest of three runs each. A contact step needs
+// at least one Hessian and factorization and a few first-derivative evaluations and solves, so
+// hessian + factor bounds what a step costs from below (`newton_iteration_seconds` adds the rest).
+json iterationCosts(const std::vector<const curvature::EnergyTerm*>& terms,
+                    const modeling::RestState& rest, const Eigen::VectorXd& restXi,
+                    const Eigen::VectorXd& mass, double dt) {
+  const int vertexCount = static_cast<int>(rest.positions.rows());
+  const std::vector<bool> free(3 * vertexCount + restXi.size(), true);
+  const optimize::HessianAssembly assembly(terms, free, vertexCount, curvature::Derivatives::All);
+  optimize::HessianFactorization factorization(assembly,
+                                               optimize::hessianOrder(assembly, rest.positions));
+  double gradient = 1e30, hessian = 1e30, factor = 1e30, solve = 1e30;
+  for (int run = 0; run < 3; ++run) {
+    auto start = Clock::now();
+    assembly.evaluate(rest.positions, restXi, optimize::HessianProjection::Exact, nullptr,
+                      curvature::SecondDerivatives::None);
+    gradient = std::min(gradient, secondsSince(start));
+    start = Clock::now();
+    optimize::HessianEvaluation e =
+        assembly.evaluate(rest.positions, restXi, optimize::HessianProjection::Exact);
+    hessian = std::min(hessian, secondsSince(start));
+    const std::vector<int>& unknowns = assembly.freeUnknowns();
+    for (int k = 0; k < assembly.size(); ++k)
+      if (unknowns[k] < 3 * vertexCount)
+        e.values[assembly.columnStart()[k + 1] - 1] += 4.0 * mass[unknowns[k] / 3] / (dt * dt);
+    start = Clock::now();
+    if (!factorization.factor(e.values)) return {{"error", "the step Hessian at rest is singular"}};
+    factor = std::min(factor, secondsSince(start));
+    start = Clock::now();  // the solve right after a factorization, as a Newton step's
+    factorization.solve(e.gradient);
+    solve = std::min(solve, secondsSince(start));
+  }
+  return {{"gradient_seconds", gradient},
+          {"hessian_seconds", hessian},
+          {"factor_seconds", factor},
+          {"solve_seconds", solve},
+          {"newton_iteration_seconds", gradient + hessian + factor + solve}};
 }
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
@@ -108,6 +154,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   }
   const double seconds = secondsSince(start);
   const optimize::EnergySample e = stepper.energies();
+  const json floor = iterationCosts(terms, rest, restXi, stepper.masses(), dt);
   return {{"energy", energy},
           {"scene", drape ? "drape" : "hang"},
           {"hessian", gaussNewton ? "gauss-newton" : "exact"},
@@ -125,6 +172,12 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
           {"halvings", halvings},
           {"smallest_sphere_distance", drape ? json(closest) : json(nullptr)},
           {"contact_layer", drape ? json(stepper.barrier().layer()) : json(nullptr)},
+          {"iteration_costs", floor},
+          // A step's time in Newton iterations at their floor (one Hessian, factor and solve).
+          {"step_over_newton_iteration",
+           floor.contains("newton_iteration_seconds")
+               ? json(seconds / (steps - 1) / floor["newton_iteration_seconds"].get<double>())
+               : json(nullptr)},
           {"final_kinetic", e.kinetic},
           {"final_total", e.total()}};
 }
