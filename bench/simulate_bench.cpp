@@ -9,11 +9,11 @@
 // distance to it over the run. --chord-steps false --predict false runs the plain Newton of
 // DynamicsOptions (a fresh factor every iteration, Newton from x̂) for comparison. The issue's
 // targets: ≥ 10 steps/s for hinge and cotan, ≥ 3 for midedge, on these 2-core machines; measured
-// (README, "flexure simulate"; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.8
-// steps/s, cotan 2.5, midedge 2.5; at 10 000 (45 steps, 24 in contact) hinge 1.65, cotan 0.49,
-// midedge 0.31. --trace prints every step; --tolerance sets DynamicsOptions::tolerance.
-// Each record also has `iteration_costs`, what one Newton iteration of a step costs part by part
-// on the same machine in the same run (the floor a contact step cannot go below: one Hessian, one
+// (README, "flexure simulate"; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
+// steps/s, cotan 2.3, midedge 5.0; at 10 000 (45 steps, about 26 in contact) hinge 1.74, cotan
+// 0.44, midedge 0.49. --trace prints every step; --tolerance sets DynamicsOptions::tolerance. Each
+// record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the
+// same machine in the same run (the floor a contact step cannot go below: one Hessian, one
 // factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
 #include <CLI/CLI.hpp>
 #include <chrono>
