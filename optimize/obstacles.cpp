@@ -107,19 +107,21 @@ void ObstacleBarrier::adapt(const Positions& x, const Positions& velocity,
                             const Eigen::VectorXd& mass) {
   const double absorb = 2.0 / (layer_ * layer_ * std::log(2.0));  // κ per m w²
   for (Eigen::Index v = 0; v < x.rows(); ++v) {
-    double closest = std::numeric_limits<double>::infinity(), approach = 0.0;
+    // w over every obstacle, and over those within 2 d̂.
+    double closest = std::numeric_limits<double>::infinity(), approach = 0.0, nearApproach = 0.0;
     for (const Obstacle& o : obstacles_) {
       Eigen::Vector3d n;
       const double d = o.signedDistance(x.row(v).transpose(), &n);
       closest = std::min(closest, d);
-      if (d < 2.0 * layer_) approach = std::max(approach, -velocity.row(v).dot(n));
+      const double w = -velocity.row(v).dot(n);
+      approach = std::max(approach, w);
+      if (d < 2.0 * layer_) nearApproach = std::max(nearApproach, w);
     }
-    const double impact = absorb * mass[v] * approach * approach;
     if (closest >= layer_) {
-      stiffness_[v] = std::max(ruleStiffness_[v], impact);
+      stiffness_[v] = std::max(ruleStiffness_[v], absorb * mass[v] * approach * approach);
       continue;
     }
-    stiffness_[v] = std::max(stiffness_[v], impact);
+    stiffness_[v] = std::max(stiffness_[v], absorb * mass[v] * nearApproach * nearApproach);
     if (closest < 0.1 * layer_) stiffness_[v] *= std::min(2.0, 0.1 * layer_ / closest);
   }
 }

@@ -24,17 +24,19 @@
 //
 // Adaptive stiffness (time steps only; after Li et al. 2020, §4.3, which raise κ where distances
 // get small): the rule's κ_v holds a vertex's weight but not its momentum — a sheet falling at
-// 1 m/s onto a sphere drove vertices to d ≈ 1e-7 d̂-fold inside the layer, where b'' ∝ 1/d² and
-// every contact step took 4–11 factorizations. Before each step, `adapt` sets per vertex v
+// 1 m/s onto a sphere drove vertices to d ≈ 2e-5 d̂, where b'' ∝ 1/d², and contact steps took
+// 4–11 factorizations. Before each step, `adapt` sets per vertex v
 //   outside the layer (d ≥ d̂ for every obstacle, where b_v = 0 and κ_v can change freely):
 //     κ_v = max(κ̄_v, 2 m_v w_v² / (d̂² log 2)),
 //   inside it: κ_v = max(κ_v, 2 m_v w_v² / (d̂² log 2)) · min(2, d̂ / (10 d_v)) when d_v < d̂/10,
-// with κ̄_v the rule's stiffness above and w_v the vertex's approach speed (the largest −v·∇d over
-// the obstacles within 2 d̂, 0 when receding). The first term lets the barrier absorb the normal
-// kinetic energy ½ m_v w² by d = d̂/2 (b(d̂/2) = κ d̂² log 2 / 4); the second grows κ_v, at most
-// twofold per step, while a vertex is pressed deeper than d̂/10 (its equilibrium distance under a
-// given load grows about in proportion to κ_v there). κ never falls inside the layer: raising it
-// there adds energy (the `contact` energy is reported with the current κ), lowering it too.
+// with κ̄_v the rule's stiffness above and w_v the vertex's approach speed, the largest −v·∇d (0
+// when receding) — outside the layer over every obstacle (κ_v costs nothing there, and a fast
+// vertex can cross more than a layer in one step), inside it over the obstacles within 2 d̂ (a far
+// obstacle's approach would stiffen the near one's barrier). The first term lets the barrier absorb
+// the normal kinetic energy ½ m_v w² by d = d̂/2 (b(d̂/2) = κ d̂² log 2 / 4); the second grows κ_v, at
+// most twofold per step, while a vertex is pressed deeper than d̂/10 (its equilibrium distance under
+// a given load grows about in proportion to κ_v there). κ never falls inside the layer; raising it
+// there adds energy (the `contact` energy is reported with the current κ).
 //
 // Feasibility: a step x + α δ of the solvers is capped by stepBound (continuous collision
 // detection in closed form: the first α at which a vertex moving on a straight line reaches the

@@ -127,29 +127,32 @@ TEST(Obstacles, ContactTimesAreExact) {
 }
 
 // The adaptive stiffness (obstacles.h) on single vertices above the floor z = 0, layer d̂ = 0.1,
-// rule stiffness κ̄ = 1, masses 2: an approaching vertex outside the layer gets the κ whose
-// barrier holds its normal kinetic energy at d̂/2; a receding one, or one too far to matter, keeps
-// κ̄; one pressed deeper than d̂/10 grows min(2, d̂/(10 d))-fold per call; none falls inside.
+// with a sphere of radius 1 at x = 10 too, rule stiffness κ̄ = 1, masses 2: an approaching vertex
+// outside the layer gets the κ whose barrier holds its normal kinetic energy at d̂/2, however far
+// it is; a receding one keeps κ̄; one pressed deeper than d̂/10 grows min(2, d̂/(10 d))-fold per
+// call, whatever its approach to the far sphere; none falls inside the layer.
 TEST(Obstacles, AdaptiveStiffnessAbsorbsTheApproachAndGrowsWhenPressedDeep) {
   const double layer = 0.1;
-  ObstacleBarrier barrier({optimize::parseObstacle("--obstacle", "plane:0,0,1,0")}, layer,
-                          Eigen::VectorXd::Ones(5));
+  ObstacleBarrier barrier({optimize::parseObstacle("--obstacle", "plane:0,0,1,0"),
+                           optimize::parseObstacle("--obstacle", "sphere:10,0,0,1")},
+                          layer, Eigen::VectorXd::Ones(5));
   const Eigen::VectorXd mass = Eigen::VectorXd::Constant(5, 2.0);
   Positions x(5, 3), v = Positions::Zero(5, 3);
-  x << 0, 0, 0.15,  // outside the layer, approaching at 3
-      1, 0, 0.15,   // outside, receding
-      2, 0, 0.5,    // approaching, but more than 2 d̂ away
-      3, 0, 0.005,  // inside, d = d̂/20: doubled
+  x << 0, 0, 0.15,  // outside the layer, falling at 3
+      1, 0, 0.15,   // outside, rising
+      2, 0, 0.5,    // falling at 3, 5 d̂ above the floor
+      3, 0, 0.005,  // inside, d = d̂/20: doubled; moving towards the sphere, 6 away
       4, 0, 0.008;  // inside, d = d̂/12.5: 1.25-fold
   v(0, 2) = -3.0;
   v(1, 2) = 3.0;
   v(2, 2) = -3.0;
+  v(3, 0) = 3.0;
   barrier.adapt(x, v, mass);
   const double absorbing = barrier.stiffness(0);
   // The barrier at d̂/2 holds ½ m w² = 9.
   EXPECT_NEAR(absorbing * optimize::barrierPotential(0.5 * layer, layer), 9.0, 1e-12);
   EXPECT_EQ(barrier.stiffness(1), 1.0);
-  EXPECT_EQ(barrier.stiffness(2), 1.0);
+  EXPECT_EQ(barrier.stiffness(2), absorbing);
   EXPECT_DOUBLE_EQ(barrier.stiffness(3), 2.0);
   EXPECT_DOUBLE_EQ(barrier.stiffness(4), 1.25);
   // Inside the layer κ never falls; outside it returns to κ̄ once the vertex stops approaching.
