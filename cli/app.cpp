@@ -5,6 +5,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "cli/option_names.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 
@@ -144,10 +145,10 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
               << "--help' for usage)\n";
     return kExitInputError;
   } catch (const InputError& e) {
-    std::cerr << "flexure: error: " << e.what() << '\n';
+    std::cerr << "flexure: error: " << withFlagNames(e.what()) << '\n';
     return kExitInputError;
   } catch (const NumericalError& e) {
-    std::cerr << "flexure: numerical failure: " << e.what() << '\n';
+    std::cerr << "flexure: numerical failure: " << withFlagNames(e.what()) << '\n';
     return kExitNumericalError;
   } catch (const std::bad_alloc&) {
     // Caught here too so that the staged outputs are removed (the batch unwinds first).

@@ -1,0 +1,48 @@
+#include "cli/option_names.h"
+
+#include <cctype>
+#include <string_view>
+#include <vector>
+
+namespace flexure::cli {
+namespace {
+
+struct FieldFlag {
+  std::string_view field;  // as the library's messages name it: "Struct.field"
+  std::string_view flag;   // as the user types it: "--flag"
+};
+
+// One row per option field that a library message may name, grouped by subsystem.
+const std::vector<FieldFlag>& fieldFlags() {
+  static const std::vector<FieldFlag> rows = {
+      // minimize, energies, membranes
+      // dynamics, modes, spectra, obstacles
+      // studies, fairing, meshes, regions
+      // solvers, linear algebra
+  };
+  return rows;
+}
+
+bool continuesName(const std::string& text, size_t at) {
+  return at < text.size() &&
+         (std::isalnum(static_cast<unsigned char>(text[at])) || text[at] == '_');
+}
+
+}  // namespace
+
+std::string withFlagNames(std::string message) {
+  for (const FieldFlag& row : fieldFlags()) {
+    for (size_t at = message.find(row.field); at != std::string::npos;
+         at = message.find(row.field, at)) {
+      if (continuesName(message, at + row.field.size())) {
+        at += row.field.size();  // a longer field that starts with this one
+        continue;
+      }
+      message.replace(at, row.field.size(), row.flag);
+      at += row.flag.size();
+    }
+  }
+  return message;
+}
+
+}  // namespace flexure::cli
