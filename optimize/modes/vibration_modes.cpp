@@ -1,4 +1,4 @@
-#include "optimize/vibration_modes.h"
+#include "optimize/modes/vibration_modes.h"
 
 #include <Spectra/SymEigsShiftSolver.h>
 #include <Eigen/CholmodSupport>
@@ -12,8 +12,8 @@
 
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
-#include "optimize/hessian_assembly.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 
