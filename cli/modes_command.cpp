@@ -23,6 +23,7 @@
 #include "modeling/generators.h"
 #include "modeling/mesh_io.h"
 #include "modeling/rest_state.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/modes/vibration_modes.h"
 #include "optimize/studies/convergence_study.h"
@@ -194,7 +195,7 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   if (!reference.empty()) std::printf(" %12s", "reference");
   std::printf("\n");
   std::vector<std::vector<double>> table(o.count);
-  const Eigen::MatrixX3d normals = optimize::restVertexNormals(stencils, rest);
+  const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
   for (const EnergyRun& run : runs) {
     const optimize::ModesResult& r = run.result;
     nlohmann::json modes = nlohmann::json::array();
