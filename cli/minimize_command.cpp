@@ -225,7 +225,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   if (!obstacles.empty())
     solver.obstacles = optimize::makeObstacleBarrier(
         std::move(obstacles), rest,
-        optimize::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
+        modeling::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
         gravityVector(o.load));
   const optimize::MinimizeResult result =
       optimize::minimize(terms, bc, rest.positions, restXi, solver);

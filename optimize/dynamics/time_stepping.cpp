@@ -186,7 +186,7 @@ TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
     throw InputError("pinned vertices: expected one flag per vertex");
   if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
     throw InputError("every vertex is pinned: nothing can move");
-  mass_ = lumpedVertexMasses(rest, o.mass, o.density);
+  mass_ = modeling::lumpedVertexMasses(rest, o.mass, o.density);
   barrier_ = makeObstacleBarrier(o.obstacles, rest, mass_, o.gravity);
   length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
   xi_ = restXi;

@@ -270,7 +270,7 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   }
 
   // Masses on the reduced unknowns: m_v on each free vertex coordinate, 0 on ξ.
-  const Eigen::VectorXd vertexMass = lumpedVertexMasses(rest, o.mass, o.density);
+  const Eigen::VectorXd vertexMass = modeling::lumpedVertexMasses(rest, o.mass, o.density);
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(reduced);
   std::vector<int> massive;
   std::vector<int> unknownOfReduced(reduced);
