@@ -167,7 +167,9 @@ int main(int argc, char** argv) {
           optimize::FairingOptions options;
           options.bending.discretization = curvature::parseDiscretization(energy);
           options.bending.restCurvature = curvature::RestCurvature::Flat;
-          options.bending.vertexArea = curvature::parseVertexArea(vertexArea);
+          options.bending.vertexArea = vertexArea == "barycentric"
+                                           ? curvature::VertexArea::Barycentric
+                                           : curvature::VertexArea::Voronoi;
           options.metric =
               metric == "input" ? optimize::FairingMetric::Input : optimize::FairingMetric::Current;
           options.membraneShape =

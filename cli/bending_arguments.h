@@ -3,10 +3,13 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "curvature/bending_energy.h"
+#include "curvature/energy_registry.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
@@ -27,6 +30,15 @@ struct BendingArgumentChoices {
 };
 void addBendingArguments(CLI::App& sub, BendingArguments& arguments,
                          const BendingArgumentChoices& choices = {});
+
+// The registered energies for which `selects` holds, in registry order, joined by `separator`
+// (the last two by `lastSeparator`): what help texts and messages list.
+std::string energyNames(const std::function<bool(const curvature::EnergyEntry&)>& selects,
+                        std::string_view separator, std::string_view lastSeparator);
+
+// "voronoi" | "barycentric" and "theta" | "tan" (case-insensitive); InputError listing them.
+curvature::VertexArea parseVertexArea(std::string_view name);
+curvature::HingeAngle parseHingeAngle(std::string_view name);
 
 // Checked options: an option that does not apply to the chosen energy is an InputError.
 curvature::BendingOptions bendingOptions(const BendingArguments& arguments);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/compare_command.h"
 #include "cli/mesh_json.h"
@@ -196,7 +197,8 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
       ->delimiter(',')
       ->capture_default_str();
   sub->add_option("--energies", o.energies,
-                  "Energies (columns): hinge, triavg, cotan, midedge, quadfit, ...")
+                  "Energies (columns): " +
+                      energyNames([](const auto&) { return true; }, ", ", ", ") + ", ...")
       ->delimiter(',')
       ->capture_default_str();
   sub->add_option("--boundary", o.boundary,

@@ -7,13 +7,14 @@
 
 #include "cli/commands.h"
 #include "cli/solver_arguments.h"
+#include "curvature/energy_registry.h"
 
 namespace flexure::cli {
 
 struct CompareOptions {
   std::string outputDir = "compare";
   std::vector<std::string> families = {"patch48", "stripe", "delaunay"};  // rows
-  std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
+  std::vector<std::string> energies = curvature::energyNameList();        // the registered energies
   std::string boundary = "quadratic:0.3,-0.7,0.5";
   int n = 16;
   std::string solve = "linearized";  // or "nonlinear"

@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/solver_arguments.h"
@@ -153,13 +154,19 @@ void runConvergeCommand(const ConvergeCommandOptions& o, bool familiesGiven,
 
 void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<ConvergeCommandOptions>();
+  const auto takesPoisson = [](const curvature::EnergyEntry& e) {
+    return e.poissonRule == curvature::PoissonRule::Koiter;
+  };
+  const auto meanCurvatureOnly = [](const curvature::EnergyEntry& e) {
+    return e.poissonRule == curvature::PoissonRule::MeanCurvatureOnly;
+  };
   CLI::App* sub = app.add_subcommand(
       "converge",
       "Convergence study: C1/C2 quadratic reproduction, nonlinear C2 and refinement against an "
       "exact plate solution, with tables and plots");
   sub->add_option("--energies", options->energies,
-                  "Comma-separated: hinge, hinge:tan, triavg, cotan, cotan:barycentric, midedge, "
-                  "midedge:free, quadfit (default: the spec's seven rows)")
+                  "Comma-separated: " + optimize::energyVariantSpecs(true, ", ") +
+                      " (default: the spec's seven rows)")
       ->delimiter(',');
   CLI::Option* families =
       sub->add_option("--families", options->families,
@@ -193,8 +200,9 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                       "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
           ->capture_default_str();
   sub->add_option("--poisson", options->poisson,
-                  "Poisson's ratio nu for triavg, midedge and quadfit (default 0.3; hinge and "
-                  "cotan are nu = 1 models)");
+                  "Poisson's ratio nu for " + energyNames(takesPoisson, ", ", " and ") +
+                      " (default 0.3; " + energyNames(meanCurvatureOnly, ", ", " and ") +
+                      " are nu = 1 models)");
   sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
       ->capture_default_str()
       ->check(inRange(1, maxThreads()));

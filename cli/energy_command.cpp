@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "curvature/bending_energy.h"
+#include "curvature/energy_registry.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
@@ -94,7 +95,7 @@ EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& s
 
 void runEnergyCommand(const EnergyCommandOptions& o) {
   const curvature::BendingOptions b = bendingOptions(o.bending);
-  if (!o.boundarySurface.empty() && b.discretization != curvature::Discretization::Midedge)
+  if (!o.boundarySurface.empty() && !curvature::energyEntry(b.discretization).takesBoundarySurface)
     throw InputError("--boundary-surface applies to --energy midedge only");
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   const modeling::Mesh current = modeling::readMesh(o.currentFile);
@@ -120,10 +121,10 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
       {"rest", o.restFile},
       {"current", o.currentFile},
   };
-  if (b.discretization == curvature::Discretization::Cotan)
+  if (curvature::energyEntry(b.discretization).readsVertexArea)
     report["vertex_area"] =
         b.vertexArea == curvature::VertexArea::Voronoi ? "voronoi" : "barycentric";
-  if (b.discretization == curvature::Discretization::Hinge)
+  if (curvature::energyEntry(b.discretization).readsHingeAngle)
     report["hinge_angle"] = b.hingeAngle == curvature::HingeAngle::Theta ? "theta" : "tan";
   if (!result.boundary.empty()) report["boundary_xi"] = result.boundary;
 

@@ -14,6 +14,7 @@
 
 #include "cli/modes_command.h"
 
+#include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
@@ -335,11 +336,17 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(inRange(2, 2048));
   sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")->capture_default_str();
   sub->add_option("--energy", o.energies,
-                  "Energies, comma-separated: hinge, hinge:tan, triavg, cotan, cotan:barycentric, "
-                  "midedge, quadfit")
+                  "Energies, comma-separated: " + optimize::energyVariantSpecs(false, ", "))
       ->delimiter(',')
       ->required();
-  sub->add_option("--poisson", o.poisson, "ν for triavg, midedge and quadfit (0.3)");
+  sub->add_option("--poisson", o.poisson,
+                  "ν for " +
+                      energyNames(
+                          [](const curvature::EnergyEntry& e) {
+                            return e.poissonRule == curvature::PoissonRule::Koiter;
+                          },
+                          ", ", " and ") +
+                      " (0.3)");
   sub->add_option("--stiffness", o.stiffness, "Bending stiffness k_B (D = 2 k_B)")
       ->capture_default_str()
       ->check(positive());

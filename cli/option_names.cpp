@@ -16,6 +16,10 @@ struct FieldFlag {
 const std::vector<FieldFlag>& fieldFlags() {
   static const std::vector<FieldFlag> rows = {
       // minimize, energies, membranes
+      {"BendingOptions.poisson", "--poisson"},
+      {"BendingOptions.hingeAngle", "--hinge-angle"},
+      {"MinimizeOptions.dof", "--dof"},
+      {"MinimizeOptions.solver", "--solver"},
       // dynamics, modes, spectra, obstacles
       // studies, fairing, meshes, regions
       // solvers, linear algebra

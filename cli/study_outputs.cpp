@@ -13,6 +13,7 @@
 
 #include "cli/available_memory.h"
 #include "cli/mesh_json.h"
+#include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "render/plot.h"
@@ -54,20 +55,19 @@ std::string normalsName(optimize::BoundaryNormals normals) {
 }
 
 nlohmann::json energyJson(const optimize::EnergyVariant& v) {
-  using curvature::Discretization;
+  const curvature::EnergyEntry& entry = curvature::energyEntry(v.bending.discretization);
   nlohmann::json j = {
       {"label", v.label},
       {"energy", std::string(curvature::discretizationName(v.bending.discretization))},
       {"poisson", curvature::effectivePoisson(v.bending)},
       {"stiffness", v.bending.stiffness}};
-  if (v.bending.discretization == Discretization::Cotan) {
+  if (entry.readsVertexArea) {
     j["vertex_area"] =
         v.bending.vertexArea == curvature::VertexArea::Barycentric ? "barycentric" : "voronoi";
   }
-  if (v.bending.discretization == Discretization::Hinge)
+  if (entry.readsHingeAngle)
     j["hinge_angle"] = v.bending.hingeAngle == curvature::HingeAngle::Tan ? "tan" : "theta";
-  if (v.bending.discretization == Discretization::Midedge)
-    j["boundary_normals"] = normalsName(v.normals);
+  if (entry.restEdgeUnknowns) j["boundary_normals"] = normalsName(v.normals);
   return j;
 }
 

@@ -15,8 +15,32 @@
 
 namespace flexure::curvature {
 
-enum class Discretization { Hinge, TriangleAveraged, Cotan, Midedge, QuadraticFit };
-// All five, in docs/energies.md's order.
+// One discretization: an index into the energy registry (curvature/energy_registry.h), whose
+// entry holds its name, kernel factory, ν rule, element kind and edge unknowns. The built-ins
+// have fixed indices, in docs/energies.md's order; `registerEnergy` adds more at run time.
+class Discretization {
+ public:
+  static const Discretization Hinge, TriangleAveraged, Cotan, Midedge, QuadraticFit;
+  constexpr Discretization() = default;  // Hinge
+  constexpr explicit Discretization(int registryIndex) : index_(registryIndex) {}
+  constexpr int index() const { return index_; }
+  friend constexpr bool operator==(Discretization a, Discretization b) {
+    return a.index_ == b.index_;
+  }
+  friend constexpr bool operator!=(Discretization a, Discretization b) { return !(a == b); }
+  friend constexpr bool operator<(Discretization a, Discretization b) {
+    return a.index_ < b.index_;
+  }
+
+ private:
+  int index_ = 0;
+};
+inline constexpr Discretization Discretization::Hinge{0};
+inline constexpr Discretization Discretization::TriangleAveraged{1};
+inline constexpr Discretization Discretization::Cotan{2};
+inline constexpr Discretization Discretization::Midedge{3};
+inline constexpr Discretization Discretization::QuadraticFit{4};
+// The five built-ins, in docs/energies.md's order (the registry's first five entries).
 inline constexpr std::array<Discretization, 5> kDiscretizations = {
     Discretization::Hinge, Discretization::TriangleAveraged, Discretization::Cotan,
     Discretization::Midedge, Discretization::QuadraticFit};
@@ -33,8 +57,8 @@ enum class CurvatureMetric { Rest, Current };
 
 struct BendingOptions {
   Discretization discretization = Discretization::Hinge;
-  // ν. Empty: 0.3 for triavg, midedge and quadfit. hinge and cotan are ν = 1 models: they accept
-  // only 1 (or nothing).
+  // ν. Empty: the registry entry's rule (0.3 for the Koiter energies triavg, midedge and quadfit;
+  // hinge and cotan are ν = 1 models: they accept only 1, or nothing).
   std::optional<double> poisson;
   double stiffness = 1.0;  // k_B
   VertexArea vertexArea = VertexArea::Voronoi;
@@ -43,11 +67,10 @@ struct BendingOptions {
   CurvatureMetric metric = CurvatureMetric::Rest;
 };
 
-// "hinge" | "triavg" | "cotan" | "midedge" | "quadfit"; throws InputError listing them.
+// The registered energy of that name, case-insensitive ("hinge" | "triavg" | "cotan" | "midedge" |
+// "quadfit" | any registered later); throws InputError listing the registered names.
 Discretization parseDiscretization(std::string_view name);
 std::string_view discretizationName(Discretization d);
-VertexArea parseVertexArea(std::string_view name);  // "voronoi" | "barycentric"
-HingeAngle parseHingeAngle(std::string_view name);  // "theta" | "tan"
 
 // ν the discretization uses, after the checks above (InputError on a rejected value).
 double effectivePoisson(const BendingOptions& options);

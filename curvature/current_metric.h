@@ -92,29 +92,4 @@ T currentVertexArea(T const* const* x, int k, bool voronoi) {
   return area;
 }
 
-// Solves the n × n system m y = rhs (m row-major, both overwritten) by Gaussian elimination
-// with partial pivoting on the values; false when a pivot is zero.
-template <class T, std::size_t n>
-bool solveSmallSystem(std::array<std::array<T, n>, n>& m, std::array<T, n>& rhs) {
-  const int size = static_cast<int>(n);
-  for (int col = 0; col < size; ++col) {
-    int pivot = col;
-    for (int row = col + 1; row < size; ++row)
-      if (std::abs(scalarPart(m[row][col])) > std::abs(scalarPart(m[pivot][col]))) pivot = row;
-    if (scalarPart(m[pivot][col]) == 0.0) return false;
-    std::swap(m[col], m[pivot]);
-    std::swap(rhs[col], rhs[pivot]);
-    for (int row = col + 1; row < size; ++row) {
-      const T factor = m[row][col] / m[col][col];
-      for (int k = col + 1; k < size; ++k) m[row][k] -= factor * m[col][k];
-      rhs[row] -= factor * rhs[col];
-    }
-  }
-  for (int row = size - 1; row >= 0; --row) {
-    for (int k = row + 1; k < size; ++k) rhs[row] -= m[row][k] * rhs[k];
-    rhs[row] = rhs[row] / m[row][row];
-  }
-  return true;
-}
-
 }  // namespace flexure::curvature

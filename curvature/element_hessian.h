@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "curvature/cotan_mean_curvature.h"
@@ -49,9 +50,22 @@ class ElementHessianSink {
 };
 
 // The most unknowns an element of each type has (Derivatives::All); cotan rings have as many as
-// their valence allows: 3 (k + 1) for valence k.
+// their valence allows: 3 (k + 1) for valence k. A residual type that declares its blocks' sizes
+// (`using BlockSizes = std::integer_sequence<int, 3, 3, 3>;`) has their sum.
+template <int... Sizes>
+constexpr int sumOfBlockSizes(std::integer_sequence<int, Sizes...>) {
+  return (0 + ... + Sizes);
+}
+template <class Residual, class = void>
+struct DeclaredElementUnknowns {
+  static constexpr int value = 48;
+};
 template <class Residual>
-constexpr int kMaxElementUnknowns = 48;
+struct DeclaredElementUnknowns<Residual, std::void_t<typename Residual::BlockSizes>> {
+  static constexpr int value = sumOfBlockSizes(typename Residual::BlockSizes());
+};
+template <class Residual>
+constexpr int kMaxElementUnknowns = DeclaredElementUnknowns<Residual>::value;
 template <>
 constexpr int kMaxElementUnknowns<HingeBendingResidual> = 12;
 template <>

@@ -45,6 +45,18 @@ ceres::CostFunction* fixedArityCost(const Residual& r) {
       new FixedArity<Residual>{r});
 }
 
+// A residual type that declares its blocks' sizes (`using BlockSizes =
+// std::integer_sequence<int, 3, 3, 3>;`) needs no overload below: a new energy's kernel file
+// stays self-contained.
+template <class Residual, int... Sizes>
+ceres::CostFunction* fixedArityCost(const Residual& r, std::integer_sequence<int, Sizes...>) {
+  return fixedArityCost<Residual, Sizes...>(r);
+}
+template <class Residual, class Sizes = typename Residual::BlockSizes>
+ceres::CostFunction* costFunction(const Residual& r) {
+  return fixedArityCost(r, Sizes());
+}
+
 // The cost function and parameter blocks of each residual type.
 inline ceres::CostFunction* costFunction(const HingeBendingResidual& r) {
   return fixedArityCost<HingeBendingResidual, 3, 3, 3, 3>(r);
@@ -317,7 +329,8 @@ class ElementTerm : public EnergyTerm {
                            " has " + std::to_string(hessian.unknowns.size()) +
                            " unknowns, more than the exact Hessian supports (" +
                            std::to_string(kMaxHessianUnknowns) +
-                           ": a vertex of valence 16 or more in --dof xyz); use --solver ceres");
+                           ": a vertex of valence 16 or more in MinimizeOptions.dof xyz); use "
+                           "MinimizeOptions.solver ceres");
         }
         throw degenerate(static_cast<size_t>(e));
       }

@@ -347,7 +347,7 @@ TEST(BendingEnergies, MeanCurvatureModelsTakeNoPoisson) {
     const std::string message = inputErrorOf(o);
     EXPECT_THAT(message, ::testing::HasSubstr(nameOf(d)));
     EXPECT_THAT(message, ::testing::HasSubstr("mean curvature"));
-    EXPECT_THAT(message, ::testing::HasSubstr("--poisson"));
+    EXPECT_THAT(message, ::testing::HasSubstr("BendingOptions.poisson"));
     const Mesh mesh = modeling::generateMesh({MeshFamily::Patch48, 2, 1, {}});
     const modeling::Stencils s = modeling::compileStencils(mesh);
     EXPECT_THROW(

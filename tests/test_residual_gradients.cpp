@@ -416,7 +416,7 @@ double energyAt(const curvature::EnergyTerm& term, const Eigen::VectorXd& u, Eig
 std::array<double, 3> differenceErrors(Discretization d, RestCurvature restCurvature,
                                        bool valenceThree = false,
                                        CurvatureMetric metric = CurvatureMetric::Rest) {
-  std::mt19937 rng(100 + static_cast<unsigned>(d));
+  std::mt19937 rng(100 + static_cast<unsigned>(d.index()));
   const Mesh delaunay = modeling::generateMesh({modeling::MeshFamily::Delaunay, 4, 3, {}});
   const Mesh flat = valenceThree ? testing::withValenceThreeVertex(delaunay) : delaunay;
   const Mesh restMesh = testing::lifted(flat, testing::randomCubic(rng, 1.0));

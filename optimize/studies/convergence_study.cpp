@@ -10,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "curvature/energy_registry.h"
 #include "curvature/koiter_density.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
@@ -438,54 +439,68 @@ std::string_view refinementName(Refinement r) {
 
 // ---------------------------------------------------------------------------------------------
 
+std::string energyVariantSpecs(bool withBoundaryNormals, std::string_view lastSeparator) {
+  std::vector<std::string> specs;
+  for (const curvature::EnergyEntry& e : curvature::registeredEnergies()) {
+    specs.push_back(e.name);
+    if (e.readsHingeAngle) specs.push_back(e.name + ":tan");
+    if (e.readsVertexArea) specs.push_back(e.name + ":barycentric");
+    if (e.restEdgeUnknowns && withBoundaryNormals) specs.push_back(e.name + ":free");
+  }
+  std::string joined;
+  for (size_t k = 0; k < specs.size(); ++k)
+    joined += std::string(k == 0 ? "" : k + 1 == specs.size() ? lastSeparator : ", ") + specs[k];
+  return joined;
+}
+
 EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> poisson) {
-  using curvature::Discretization;
   const std::string text(spec);
   const auto colon = text.find(':');
   const std::string name = text.substr(0, colon);
   const std::string option = colon == std::string::npos ? "" : text.substr(colon + 1);
-  EnergyVariant v;
   const auto unknown = [&]() -> InputError {
-    return InputError("unknown energy '" + text +
-                      "' (expected hinge, hinge:tan, triavg, cotan, cotan:barycentric, midedge, "
-                      "midedge:free or quadfit)");
+    return InputError("unknown energy '" + text + "' (expected " +
+                      energyVariantSpecs(true, " or ") + ")");
   };
-  if (name == "hinge" && (option.empty() || option == "theta" || option == "tan")) {
-    v.bending.discretization = Discretization::Hinge;
+  const auto& energies = curvature::registeredEnergies();
+  const auto found = std::find_if(energies.begin(), energies.end(),
+                                  [&](const curvature::EnergyEntry& e) { return e.name == name; });
+  if (found == energies.end()) throw unknown();
+  const curvature::EnergyEntry& e = *found;
+  EnergyVariant v;
+  v.bending.discretization = curvature::Discretization(static_cast<int>(found - energies.begin()));
+  v.label = e.name;
+  const auto either = [&](const char* first, const char* second) {
+    return option.empty() || option == first || option == second;
+  };
+  if (e.readsHingeAngle && either("theta", "tan")) {
     v.bending.hingeAngle =
         option == "tan" ? curvature::HingeAngle::Tan : curvature::HingeAngle::Theta;
-    v.label = option == "tan" ? "hinge(tan)" : "hinge";
-  } else if (name == "triavg" && option.empty()) {
-    v.bending.discretization = Discretization::TriangleAveraged;
-    v.label = "triavg";
-  } else if (name == "cotan" &&
-             (option.empty() || option == "voronoi" || option == "barycentric")) {
-    v.bending.discretization = Discretization::Cotan;
+    if (option == "tan") v.label += "(tan)";
+  } else if (e.readsVertexArea && either("voronoi", "barycentric")) {
     v.bending.vertexArea = option == "barycentric" ? curvature::VertexArea::Barycentric
                                                    : curvature::VertexArea::Voronoi;
-    v.label = option == "barycentric" ? "cotan(barycentric)" : "cotan(voronoi)";
-  } else if (name == "midedge" && (option.empty() || option == "clamped" || option == "free")) {
-    v.bending.discretization = Discretization::Midedge;
+    v.label += option == "barycentric" ? "(barycentric)" : "(voronoi)";
+  } else if (e.restEdgeUnknowns && either("clamped", "free")) {
     v.normals = option == "free" ? BoundaryNormals::Free : BoundaryNormals::Clamped;
-    v.label = option == "free" ? "midedge(free)" : "midedge(clamped)";
-  } else if (name == "quadfit" && option.empty()) {
-    v.bending.discretization = Discretization::QuadraticFit;
-    v.label = "quadfit";
-  } else {
+    v.label += option == "free" ? "(free)" : "(clamped)";
+  } else if (!option.empty()) {
     throw unknown();
   }
-  const bool takesPoisson = v.bending.discretization != Discretization::Hinge &&
-                            v.bending.discretization != Discretization::Cotan;
-  if (takesPoisson) v.bending.poisson = poisson;
+  if (e.poissonRule == curvature::PoissonRule::Koiter) v.bending.poisson = poisson;
   curvature::effectivePoisson(v.bending);  // rejects a ν outside [−1, 1]
   return v;
 }
 
 std::vector<EnergyVariant> defaultEnergyVariants(std::optional<double> poisson) {
+  std::vector<const curvature::EnergyEntry*> entries;
+  for (const curvature::EnergyEntry& e : curvature::registeredEnergies()) entries.push_back(&e);
+  std::stable_sort(entries.begin(), entries.end(),
+                   [](const auto* a, const auto* b) { return a->studyRank < b->studyRank; });
   std::vector<EnergyVariant> variants;
-  for (const char* spec :
-       {"hinge", "triavg", "cotan", "cotan:barycentric", "quadfit", "midedge", "midedge:free"})
-    variants.push_back(parseEnergyVariant(spec, poisson));
+  for (const curvature::EnergyEntry* e : entries)
+    for (const std::string& spec : e->studyVariants)
+      variants.push_back(parseEnergyVariant(spec, poisson));
   return variants;
 }
 
@@ -557,21 +572,7 @@ void checkStudyOptions(const StudyOptions& o) {
 }
 
 double studyBytesPerVertex(curvature::Discretization discretization) {
-  // Peak resident memory per vertex of one case (five quadratics' linearized solves), measured
-  // with /usr/bin/time -v on patch48 between n = 128 and 256 (16 641 and 66 049 vertices), one
-  // run each: midedge 9.9 kB (the ξ per edge: four times the unknowns), triavg and quadfit
-  // 5.7 kB, hinge and cotan 2.9 kB; rounded up.
-  switch (discretization) {
-    case curvature::Discretization::Midedge:
-      return 11e3;
-    case curvature::Discretization::TriangleAveraged:
-    case curvature::Discretization::QuadraticFit:
-      return 6.5e3;
-    case curvature::Discretization::Hinge:
-    case curvature::Discretization::Cotan:
-      return 3.5e3;
-  }
-  return 11e3;
+  return curvature::energyEntry(discretization).studyBytesPerVertex;
 }
 
 StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {

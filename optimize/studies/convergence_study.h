@@ -144,7 +144,11 @@ struct EnergyVariant {
 // (triavg, midedge, quadfit; hinge and cotan are ν = 1 models). Throws InputError listing the
 // names.
 EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> poisson = {});
-// The seven rows of the spec's table, in its order.
+// The spellings parseEnergyVariant takes, in registry order: each energy's name, and name:option
+// for each option it reads (hinge:tan, cotan:barycentric and, withBoundaryNormals, midedge:free);
+// the last two joined by `lastSeparator`.
+std::string energyVariantSpecs(bool withBoundaryNormals, std::string_view lastSeparator);
+// The seven rows of the spec's table, in its order (the registry entries' studyVariants).
 std::vector<EnergyVariant> defaultEnergyVariants(std::optional<double> poisson = {});
 
 // p = a x² + b xy + c y².

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "curvature/bending_energy.h"
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/rest_state.h"
 
@@ -65,7 +66,9 @@ std::vector<SpectrumSeries> runSpectrumStudy(
   std::vector<SpectrumSeries> all;
   for (int e = 0; e < static_cast<int>(o.energies.size()); ++e) {
     const EnergyVariant& variant = o.energies[e];
-    const bool midedge = variant.bending.discretization == curvature::Discretization::Midedge;
+    // An energy with edge unknowns (midedge's ξ) clamps by its boundary normals.
+    const bool midedge =
+        static_cast<bool>(curvature::energyEntry(variant.bending.discretization).restEdgeUnknowns);
     for (const modeling::MeshFamily family : o.families) {
       std::vector<std::optional<std::uint64_t>> seeds = {std::nullopt};
       if (family == modeling::MeshFamily::Delaunay) seeds.assign(o.seeds.begin(), o.seeds.end());
@@ -83,7 +86,7 @@ std::vector<SpectrumSeries> runSpectrumStudy(
               modeling::precomputeRestState(stencils, meshes[level].positions);
           const auto term = curvature::makeBendingEnergy(stencils, rest, variant.bending);
           const Eigen::VectorXd restXi =
-              midedge ? curvature::midedgeRestXi(stencils, rest, variant.bending.restCurvature)
+              midedge ? curvature::restEdgeUnknowns(stencils, rest, variant.bending)
                       : Eigen::VectorXd();
           ModesOptions modes;
           modes.count = o.count;

@@ -1,0 +1,253 @@
+// The energy registry: lookups, the built-ins' order, and a test-only energy — registered here
+// and defined nowhere else — run through energy, gradient, Hessian and minimize.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "curvature/element_term.h"
+#include "curvature/energy_registry.h"
+#include "modeling/errors.h"
+#include "modeling/generators.h"
+#include "modeling/polynomial_surface.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
+#include "optimize/boundary_conditions.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/minimize.h"
+
+namespace flexure {
+namespace {
+
+using curvature::Discretization;
+using curvature::EnergyEntry;
+using modeling::Positions;
+
+// The test-only energy: the Dirichlet energy of the height over the flat rest metric,
+//   E = k_B Σ_T Ā_T |∇z|²,   ∇z = Σ_i z_i ∇φ_i,   ∇φ_i = J n̄-rotated edge i / (2 Ā_T),
+// with φ_i the rest hat functions (∇φ_i = (ȳ_{i+1} − ȳ_{i+2}, x̄_{i+2} − x̄_{i+1}) / (2 Ā_T) on a
+// counter-clockwise face). Residuals r = √(2 k_B Ā_T) ∇z, so ½ |r|² is the face's energy. On
+// z = a x + b y, E = k_B (a² + b²) Σ Ā_T; its minimizer with the boundary on a plane is the plane.
+struct HeightDirichletResidual {
+  static constexpr int kResiduals = 2;
+  using BlockSizes = std::integer_sequence<int, 3, 3, 3>;
+  std::array<int, 3> vertices;
+  std::array<std::array<double, 2>, 3> hatGradients;  // √(2 k_B Ā_T) ∇φ_i
+
+  template <class T>
+  bool operator()(T const* const* x, T* r) const {
+    r[0] = T(0.0);
+    r[1] = T(0.0);
+    for (int i = 0; i < 3; ++i) {
+      r[0] += T(hatGradients[i][0]) * x[i][2];
+      r[1] += T(hatGradients[i][1]) * x[i][2];
+    }
+    return true;
+  }
+};
+
+std::unique_ptr<curvature::EnergyTerm> makeHeightDirichlet(const modeling::Stencils& s,
+                                                           const modeling::RestState& rest,
+                                                           const curvature::BendingOptions& o,
+                                                           double /*poisson*/) {
+  std::vector<HeightDirichletResidual> elements;
+  std::vector<int> ids;
+  for (int f = 0; f < s.faceCount(); ++f) {
+    HeightDirichletResidual r;
+    const double area = rest.faceAreas[f];
+    const double scale = std::sqrt(2.0 * o.stiffness * area) / (2.0 * area);
+    for (int i = 0; i < 3; ++i) r.vertices[i] = s.faces(f, i);
+    for (int i = 0; i < 3; ++i) {
+      const int next = r.vertices[(i + 1) % 3], last = r.vertices[(i + 2) % 3];
+      r.hatGradients[i] = {scale * (rest.positions(next, 1) - rest.positions(last, 1)),
+                           scale * (rest.positions(last, 0) - rest.positions(next, 0))};
+    }
+    elements.push_back(r);
+    ids.push_back(f);
+  }
+  return std::make_unique<curvature::ElementTerm<HeightDirichletResidual>>(
+      "dirichlet", "face", std::move(elements), std::move(ids), rest.faceAreas.sum(), false);
+}
+
+EnergyEntry heightDirichletEntry(std::string name) {
+  EnergyEntry e;
+  e.name = std::move(name);
+  e.description = "Dirichlet energy of the height (test only)";
+  e.poissonRule = curvature::PoissonRule::MeanCurvatureOnly;
+  e.elementKind = curvature::ElementKind::Face;
+  e.make = makeHeightDirichlet;
+  return e;
+}
+
+// Registered once per test binary, by the one registration line an energy needs.
+Discretization heightDirichlet() {
+  static const Discretization d = curvature::registerEnergy(heightDirichletEntry("dirichlet"));
+  return d;
+}
+
+struct PlateSetup {
+  modeling::Stencils stencils;
+  modeling::RestState rest;
+  std::unique_ptr<curvature::EnergyTerm> term;
+
+  explicit PlateSetup(double stiffness) {
+    modeling::GeneratorOptions g;
+    g.n = 6;
+    const modeling::Mesh mesh = modeling::generateMesh(g);
+    stencils = modeling::compileStencils(mesh);
+    rest = modeling::precomputeRestState(stencils, mesh.positions);
+    curvature::BendingOptions o;
+    o.discretization = heightDirichlet();
+    o.stiffness = stiffness;
+    term = curvature::makeBendingEnergy(stencils, rest, o);
+  }
+};
+
+// z = a x + b y, and a curved z for the derivative checks.
+constexpr double kA = 0.7, kB = -0.4;
+Positions onPlane(const Positions& rest) {
+  Positions x = rest;
+  for (int v = 0; v < x.rows(); ++v) x(v, 2) = kA * rest(v, 0) + kB * rest(v, 1);
+  return x;
+}
+Positions curved(const Positions& rest) {
+  Positions x = rest;
+  for (int v = 0; v < x.rows(); ++v)
+    x(v, 2) = std::sin(2.0 * rest(v, 0)) * rest(v, 1) + 0.3 * rest(v, 0) * rest(v, 0);
+  return x;
+}
+
+TEST(EnergyRegistry, BuiltinsAreInDocsOrder) {
+  const auto& entries = curvature::registeredEnergies();
+  ASSERT_GE(entries.size(), 5u);
+  const std::vector<std::string> docsOrder = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
+  for (size_t k = 0; k < docsOrder.size(); ++k) {
+    EXPECT_EQ(entries[k].name, docsOrder[k]);
+    EXPECT_EQ(curvature::discretizationName(curvature::kDiscretizations[k]), docsOrder[k]);
+  }
+  EXPECT_EQ(curvature::parseDiscretization("MidEdge"), Discretization::Midedge);
+  EXPECT_TRUE(curvature::energyEntry(Discretization::Midedge).restEdgeUnknowns);
+  EXPECT_FALSE(curvature::energyEntry(Discretization::Cotan).restEdgeUnknowns);
+  EXPECT_EQ(curvature::energyEntry(Discretization::Hinge).poissonRule,
+            curvature::PoissonRule::MeanCurvatureOnly);
+  EXPECT_EQ(curvature::energyEntry(Discretization::QuadraticFit).poissonRule,
+            curvature::PoissonRule::Koiter);
+}
+
+TEST(EnergyRegistry, UnknownNameListsTheRegisteredNames) {
+  heightDirichlet();
+  try {
+    curvature::parseDiscretization("membrane");
+    ADD_FAILURE() << "an unknown energy was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("'membrane'"));
+    EXPECT_THAT(e.what(),
+                ::testing::HasSubstr("hinge, triavg, cotan, midedge, quadfit or dirichlet"));
+  }
+  EXPECT_THROW(curvature::registerEnergy(heightDirichletEntry("Hinge")), InputError);
+}
+
+TEST(EnergyRegistry, TestEnergyHasItsKnownValueAndRule) {
+  const Discretization d = heightDirichlet();
+  EXPECT_EQ(curvature::parseDiscretization("Dirichlet"), d);
+  curvature::BendingOptions o;
+  o.discretization = d;
+  EXPECT_EQ(curvature::effectivePoisson(o), 1.0);
+  o.poisson = 0.3;
+  EXPECT_THROW(curvature::effectivePoisson(o), InputError);  // a ν = 1 rule, from its entry
+
+  const PlateSetup setup(1.5);
+  EXPECT_EQ(setup.term->elementCount(), setup.stencils.faceCount());
+  const double area = setup.rest.faceAreas.sum();
+  const Eigen::VectorXd noXi;
+  EXPECT_NEAR(setup.term->energy(onPlane(setup.rest.positions), noXi),
+              1.5 * (kA * kA + kB * kB) * area, 1e-13);
+  EXPECT_EQ(setup.term->energy(setup.rest.positions, noXi), 0.0);
+}
+
+// ∇E against central differences of E, and the exact Hessian against central differences of
+// ∇E (E is quadratic: both agree to rounding).
+TEST(EnergyRegistry, TestEnergyGradientAndHessianMatchFiniteDifferences) {
+  const PlateSetup setup(1.0);
+  const std::vector<const curvature::EnergyTerm*> terms = {setup.term.get()};
+  const Positions x = curved(setup.rest.positions);
+  const Eigen::VectorXd noXi;
+  const optimize::EnergyGradient g = optimize::energyGradient(terms, x, noXi);
+  const double h = 1e-5;
+  double gradientError = 0.0, gradientScale = 0.0;
+  for (int v = 0; v < x.rows(); ++v) {
+    for (int c = 0; c < 3; ++c) {
+      Positions plus = x, minus = x;
+      plus(v, c) += h;
+      minus(v, c) -= h;
+      const double fd =
+          (setup.term->energy(plus, noXi) - setup.term->energy(minus, noXi)) / (2.0 * h);
+      gradientError = std::max(gradientError, std::abs(fd - g.gradient[3 * v + c]));
+      gradientScale = std::max(gradientScale, std::abs(fd));
+    }
+  }
+  EXPECT_GT(gradientScale, 0.1);
+  EXPECT_LT(gradientError, 1e-8 * gradientScale);
+
+  // Element Hessians summed into a dense matrix (147 unknowns on the 6 × 6 patch's 49 vertices),
+  // then compared column by column with differences of the gradient.
+  struct DenseSink : curvature::ElementHessianSink {
+    Eigen::MatrixXd hessian;
+    void add(const curvature::ElementHessian& e) override {
+      for (size_t i = 0; i < e.unknowns.size(); ++i)
+        for (size_t j = 0; j < e.unknowns.size(); ++j)
+          hessian(e.unknowns[i], e.unknowns[j]) += e.hessian(i, j);
+    }
+  } sink;
+  const long n = 3 * x.rows();
+  sink.hessian = Eigen::MatrixXd::Zero(n, n);
+  setup.term->elementHessians(x, noXi, 0, setup.term->elementCount(), curvature::Derivatives::All,
+                              curvature::SecondDerivatives::Exact, sink);
+  double hessianError = 0.0;
+  for (long k = 0; k < n; ++k) {
+    Positions plus = x, minus = x;
+    plus(k / 3, k % 3) += h;
+    minus(k / 3, k % 3) -= h;
+    const Eigen::VectorXd column = (optimize::energyGradient(terms, plus, noXi).gradient -
+                                    optimize::energyGradient(terms, minus, noXi).gradient) /
+                                   (2.0 * h);
+    hessianError = std::max(hessianError, (column - sink.hessian.col(k)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_GT(sink.hessian.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT(hessianError, 1e-7);
+  EXPECT_LT((sink.hessian - sink.hessian.transpose()).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+// With the boundary on the plane z = a x + b y, the minimizer is the plane (linear functions are
+// discrete-harmonic) and E = k_B (a² + b²) Σ Ā_T: Newton and the linearized solve both find it.
+TEST(EnergyRegistry, TestEnergyMinimizesToThePlane) {
+  const PlateSetup setup(2.0);
+  const std::vector<const curvature::EnergyTerm*> terms = {setup.term.get()};
+  const modeling::PolynomialSurface plane(std::vector<modeling::Monomial>{{kA, 1, 0}, {kB, 0, 1}});
+  const Positions expected = onPlane(setup.rest.positions);
+  const double area = setup.rest.faceAreas.sum();
+  for (bool linearized : {false, true}) {
+    const optimize::BoundaryConditions bc = optimize::surfaceBoundary(
+        setup.stencils, setup.rest.positions, Eigen::VectorXd::Zero(setup.stencils.edgeCount()),
+        optimize::fixedRings(setup.stencils, 1), plane, optimize::BoundaryNormals::Clamped,
+        linearized);
+    optimize::MinimizeOptions options;
+    options.linearized = linearized;
+    options.start = optimize::Start::AsGiven;  // Newton starts from the flat interior
+    options.threads = 1;
+    const optimize::MinimizeResult result =
+        optimize::minimize(terms, bc, setup.rest.positions,
+                           Eigen::VectorXd::Zero(setup.stencils.edgeCount()), options);
+    ASSERT_TRUE(result.report.converged) << result.report.termination;
+    if (!linearized) EXPECT_GE(result.report.iterations, 1);
+    EXPECT_LT((result.positions - expected).cwiseAbs().maxCoeff(), 1e-10)
+        << (linearized ? "linearized" : "newton");
+    EXPECT_NEAR(setup.term->energy(result.positions, Eigen::VectorXd()),
+                2.0 * (kA * kA + kB * kB) * area, 1e-10);
+  }
+}
+
+}  // namespace
+}  // namespace flexure
