@@ -180,6 +180,14 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
            std::to_string(studyMesh.mesh.vertexCount()) + " vertices)");
     }
   };
+  // Every linearized solve of the case shares one factor (C1's ξ solves another).
+  const FlatPlateSolves linear(problem, variant.normals);
+  int factorizations = 0;  // counted so far, to charge each record with the new ones
+  const auto newFactorizations = [&] {
+    const int made = linear.factorizations() - factorizations;
+    factorizations = linear.factorizations();
+    return made;
+  };
   std::vector<StudyRecord> records;
   for (const Quadratic& q : options.quadratics) {
     const PolynomialSurface p = q.surface();
@@ -188,11 +196,13 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     r.kind = RecordKind::Quadratic;
     r.data = p.spec();
     if (!freeNormals) {
-      r.energyPerArea = linearizedEnergyPerArea(problem, p);
+      r.energyPerArea = linear.energyPerArea(p);
       r.density = plateDensity(p, poisson);
       r.c1Error = c1Measure(*r.energyPerArea, p, poisson);
     }
-    r.c2Error = c2Error(problem, p, variant.normals);
+    r.c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
+                                  problem.fixedVertex, p);
+    r.factorizations = newFactorizations();
     records.push_back(std::move(r));
   }
   if (nonlinear) {
@@ -203,6 +213,7 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
       r.kind = RecordKind::NonlinearC2;
       r.data = q.surface().spec();
       r.nonlinear = nonlinearC2(problem, q.surface(), variant.normals, options.amplitudes, solver);
+      r.factorizations = r.nonlinear.factorizations;
       records.push_back(std::move(r));
     }
   }
@@ -212,11 +223,11 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     StudyRecord r = base;
     r.kind = RecordKind::Refinement;
     r.data = u.spec();
-    const MinimizeResult result =
-        solveWithSurfaceBoundary(problem, u, variant.normals, true, solver);
+    const LinearizedSolution result = linear.surface(u);
     r.solutionError =
         reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, u);
-    r.discreteEnergy = result.report.finalEnergy;
+    r.discreteEnergy = result.energy;
+    r.factorizations = newFactorizations();
     r.exactEnergy = squarePlateEnergy(u, poisson);
     r.energyError = std::abs(r.discreteEnergy - r.exactEnergy) / squarePlateEnergy(u, 0.0);
     records.push_back(std::move(r));
@@ -342,6 +353,68 @@ double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
   return reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, p);
 }
 
+namespace {
+
+// The unknowns of solveWithSurfaceBoundary's linearized solve: interior z; midedge ξ free but on
+// the boundary when clamped (surfaceBoundary). The data move the fixed vertices in z only.
+LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNormals normals) {
+  LinearizedUnknowns unknowns;
+  unknowns.fixedVertex = problem.fixedVertex;
+  unknowns.fixedEdge.assign(problem.restXi.size(), false);
+  if (problem.restXi.size() > 0 && normals == BoundaryNormals::Clamped)
+    unknowns.fixedEdge = curvature::boundaryEdges(problem.stencils);
+  unknowns.heightOnly = true;
+  return unknowns;
+}
+
+}  // namespace
+
+FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals)
+    : problem_(problem),
+      normals_(normals),
+      surface_(std::make_unique<LinearizedSolver>(
+          std::vector<const EnergyTerm*>{problem.term.get()}, problem.rest.positions,
+          problem.restXi, surfaceUnknowns(problem, normals))) {
+  std::vector<bool> touched(problem.fixedVertex.size(), false);
+  problem.term->markTouchedVertices(touched);
+  for (size_t v = 0; v < touched.size(); ++v) {
+    if (!problem.fixedVertex[v] && !touched[v])
+      throw InputError("free vertex " + std::to_string(v) +
+                       " is touched by no element of the energy, so nothing determines it");
+  }
+  if (!problem.term->usesEdgeUnknowns() || normals != BoundaryNormals::Clamped) return;
+  // C1 (linearizedEnergyOfDisplacement): positions given, the interior ξ free.
+  const int positionCount = static_cast<int>(problem.rest.positions.size());
+  std::vector<bool> free(problem.restJacobian.cols(), false);
+  const std::vector<bool> onBoundary = curvature::boundaryEdges(problem.stencils);
+  for (size_t e = 0; e < onBoundary.size(); ++e) free[positionCount + e] = !onBoundary[e];
+  interiorXi_ =
+      std::make_unique<LinearizedSolver>(problem.restJacobian, free, problem.rest.positions);
+}
+
+FlatPlateSolves::~FlatPlateSolves() = default;
+
+LinearizedSolution FlatPlateSolves::surface(const PolynomialSurface& u) const {
+  return surface_->solve(surfaceBoundary(problem_.stencils, problem_.rest.positions,
+                                         problem_.restXi, problem_.fixedVertex, u, normals_, true));
+}
+
+double FlatPlateSolves::energyPerArea(const PolynomialSurface& p) const {
+  if (!interiorXi_) return linearizedEnergyPerArea(problem_, p);
+  const modeling::Positions& rest = problem_.rest.positions;
+  const int positionCount = static_cast<int>(rest.size());
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(problem_.restJacobian.cols());
+  for (int v = 0; v < rest.rows(); ++v) u[3 * v + 2] = p.height(rest(v, 0), rest(v, 1));
+  modeling::Positions delta = Eigen::Map<const modeling::Positions>(u.data(), rest.rows(), 3);
+  u.tail(u.size() - positionCount) =
+      curvature::linearizedClampedBoundaryXi(problem_.stencils, rest, delta, p);
+  return interiorXi_->energy(interiorXi_->solve(u)) / problem_.term->coveredArea();
+}
+
+int FlatPlateSolves::factorizations() const {
+  return surface_->factorizations() + (interiorXi_ ? interiorXi_->factorizations() : 0);
+}
+
 NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialSurface& p,
                               BoundaryNormals normals, int amplitudeCount,
                               MinimizeOptions options) {
@@ -352,6 +425,7 @@ NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialS
     const PolynomialSurface data = scaledSurface(p, eps);
     const MinimizeResult result = solveWithSurfaceBoundary(problem, data, normals, false, options);
     series.converged = series.converged && result.report.converged;
+    series.factorizations += result.report.factorizations;
     const double error =
         reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, data);
     series.amplitudes.push_back(eps);
@@ -505,42 +579,47 @@ std::string_view recordKindName(RecordKind kind) {
   return "unknown";
 }
 
-void checkStudyOptions(const StudyOptions& o) {
-  if (o.energies.empty()) throw InputError("--energies: no energy to study");
+void StudyOptions::validate() const {
+  const StudyOptions& o = *this;
+  if (o.energies.empty()) throw InputError("StudyOptions.energies: no energy to study");
   for (const EnergyVariant& v : o.energies) curvature::effectivePoisson(v.bending);
   if (o.families.empty() && o.userMeshes.empty())
-    throw InputError("--families, --mesh: no mesh to study (give a family or a mesh file)");
+    throw InputError(
+        "StudyOptions.families, StudyOptions.userMeshes: no mesh to study (give a family or a mesh "
+        "file)");
   const bool delaunay = std::find(o.families.begin(), o.families.end(),
                                   modeling::MeshFamily::Delaunay) != o.families.end();
-  if (delaunay && o.seeds.empty()) throw InputError("--seeds: the delaunay family needs a seed");
+  if (delaunay && o.seeds.empty())
+    throw InputError("StudyOptions.seeds: the delaunay family needs a seed");
   if (o.baseN < 4) {
-    throw InputError("--n " + std::to_string(o.baseN) +
+    throw InputError("StudyOptions.baseN " + std::to_string(o.baseN) +
                      ": at least 4 cells per side (rings 0 and 1 are fixed; the interior must "
                      "keep free vertices)");
   }
   if (o.levels < 1 || o.levels > 8)
-    throw InputError("--levels " + std::to_string(o.levels) + ": expected 1 to 8");
+    throw InputError("StudyOptions.levels " + std::to_string(o.levels) + ": expected 1 to 8");
   if (o.amplitudes < 0 || o.amplitudes == 1 || o.amplitudes > 12) {
     throw InputError(
-        "--amplitudes " + std::to_string(o.amplitudes) +
+        "StudyOptions.amplitudes " + std::to_string(o.amplitudes) +
         ": expected 2 to 12 (an order needs two amplitudes), or 0 for no nonlinear C2");
   }
-  if (o.threads < 1) throw InputError("--threads " + std::to_string(o.threads) + ": at least 1");
-  if (o.quadratics.empty()) throw InputError("--quadratics: no quadratic to reproduce");
+  if (o.threads < 1)
+    throw InputError("StudyOptions.threads " + std::to_string(o.threads) + ": at least 1");
+  if (o.quadratics.empty()) throw InputError("StudyOptions.quadratics: no quadratic to reproduce");
   for (const Quadratic& q : o.quadratics) {
     if (!std::isfinite(q.a) || !std::isfinite(q.b) || !std::isfinite(q.c) ||
         (q.a == 0.0 && q.b == 0.0 && q.c == 0.0)) {
-      throw InputError("--quadratics: " + q.surface().spec() +
+      throw InputError("StudyOptions.quadratics: " + q.surface().spec() +
                        " has nothing to reproduce (zero or not finite)");
     }
   }
   if (!o.solution.empty()) {
     const PolynomialSurface u = PolynomialSurface::parse(o.solution);
     if (isZero(u))
-      throw InputError("--solution " + o.solution +
+      throw InputError("StudyOptions.solution " + o.solution +
                        ": the zero solution has nothing to converge to");
     if (relativeBilaplacian(u) > 1e-12) {
-      throw InputError("--solution " + o.solution +
+      throw InputError("StudyOptions.solution " + o.solution +
                        ": is not biharmonic (Δ²u ≠ 0), so it solves no clamped plate problem; "
                        "e.g. polynomial:x^4-3*x^2*y^2 or polynomial:x^3+x*y^2");
     }
@@ -575,7 +654,7 @@ double studyBytesPerVertex(curvature::Discretization discretization) {
 }
 
 StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {
-  checkStudyOptions(options);
+  options.validate();
   struct Case {
     double bytes, vertices;
     std::string name;
@@ -616,7 +695,7 @@ StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {
 
 StudyResults runConvergenceStudy(const StudyOptions& options,
                                  const std::function<void(const StudyProgress&)>& progress) {
-  checkStudyOptions(options);
+  options.validate();
   const std::vector<StudyMesh> meshes = studyMeshes(options);
   const int energies = static_cast<int>(options.energies.size());
   const int cases = energies * static_cast<int>(meshes.size());
