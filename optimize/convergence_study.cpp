@@ -370,11 +370,15 @@ LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNorm
 }  // namespace
 
 FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals)
-    : problem_(problem),
-      normals_(normals),
-      surface_(std::make_unique<LinearizedSolver>(
-          std::vector<const EnergyTerm*>{problem.term.get()}, problem.rest.positions,
-          problem.restXi, surfaceUnknowns(problem, normals))) {
+    : problem_(problem), normals_(normals) {
+  // J at rest with all derivatives: its z and ξ columns are those of the height-mode J that
+  // minimize() evaluates, and the x, y columns meet only zero moves, so the solves are the same.
+  surface_ = std::make_unique<LinearizedSolver>(
+      problem.restJacobian,
+      freeUnknownMask(surfaceUnknowns(problem, normals),
+                      static_cast<int>(problem.rest.positions.rows()),
+                      static_cast<int>(problem.restXi.size())),
+      problem.rest.positions, problem.restXi);
   std::vector<bool> touched(problem.fixedVertex.size(), false);
   problem.term->markTouchedVertices(touched);
   for (size_t v = 0; v < touched.size(); ++v) {

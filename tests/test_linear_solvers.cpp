@@ -114,10 +114,9 @@ TEST(CholeskyFactor, FactorsTheGramMatrixOfARectangularMatrix) {
 
 // The one-off linearized minimize() and the precomputed solver give the same bits, and the
 // solver factors once for any number of boundary data.
-void expectSolvesEqualMinimize(const char* energy, BoundaryNormals normals) {
+void expectSolvesEqualMinimize(const char* energy, BoundaryNormals normals, MeshFamily family) {
   const auto variant = optimize::parseEnergyVariant(energy);
-  const FlatPlateProblem problem(modeling::generateMesh({MeshFamily::Patch48, 8, 1, {}}),
-                                 variant.bending);
+  const FlatPlateProblem problem(modeling::generateMesh({family, 8, 1, {}}), variant.bending);
   const FlatPlateSolves solves(problem, normals);
   const int expectedFactorizations =
       problem.term->usesEdgeUnknowns() && normals == BoundaryNormals::Clamped ? 2 : 1;
@@ -140,10 +139,12 @@ void expectSolvesEqualMinimize(const char* energy, BoundaryNormals normals) {
 }
 
 TEST(LinearizedSolver, ReusedFactorGivesTheOneOffSolvesBitForBit) {
-  expectSolvesEqualMinimize("cotan", BoundaryNormals::Clamped);
-  expectSolvesEqualMinimize("hinge", BoundaryNormals::Clamped);
-  expectSolvesEqualMinimize("midedge", BoundaryNormals::Clamped);
-  expectSolvesEqualMinimize("midedge:free", BoundaryNormals::Free);
+  for (MeshFamily family : {MeshFamily::Patch48, MeshFamily::Delaunay}) {
+    for (const char* energy : {"hinge", "triavg", "cotan", "cotan:barycentric", "quadfit"})
+      expectSolvesEqualMinimize(energy, BoundaryNormals::Clamped, family);
+    expectSolvesEqualMinimize("midedge", BoundaryNormals::Clamped, family);
+    expectSolvesEqualMinimize("midedge:free", BoundaryNormals::Free, family);
+  }
 }
 
 TEST(LinearizedSolver, ReproducesAQuadraticAndKeepsTheFixedUnknowns) {

@@ -68,7 +68,10 @@ CholeskyOptions gramCholeskyOptions() {
   return options;
 }
 
-std::vector<bool> freeMask(const LinearizedUnknowns& unknowns, int vertexCount, int edgeCount) {
+}  // namespace
+
+std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int vertexCount,
+                                  int edgeCount) {
   std::vector<bool> free(3 * vertexCount + edgeCount, false);
   for (int v = 0; v < vertexCount; ++v) {
     if (unknowns.fixedVertex[v]) continue;
@@ -78,11 +81,9 @@ std::vector<bool> freeMask(const LinearizedUnknowns& unknowns, int vertexCount, 
   return free;
 }
 
-}  // namespace
-
-LinearizedSolver::LinearizedSolver(SparseMatrix jacobian, const std::vector<bool>& free,
-                                   const Positions& at)
-    : jacobian_(std::move(jacobian)) {
+LinearizedSolver::LinearizedSolver(const SparseMatrix& jacobian, const std::vector<bool>& free,
+                                   const Positions& at, const Eigen::VectorXd& restXi)
+    : jacobian_(&jacobian), restXi_(restXi) {
   precompute(free, at);
 }
 
@@ -91,14 +92,14 @@ LinearizedSolver::LinearizedSolver(const std::vector<const EnergyTerm*>& terms,
                                    const LinearizedUnknowns& unknowns) {
   const auto start = Clock::now();
   checkInPlane_ = unknowns.heightOnly && !unknowns.fixedMoveInPlane;
-  jacobian_ = residualJacobian(
+  ownJacobian_ = residualJacobian(
       terms, rest, restXi,
       checkInPlane_ ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All);
   jacobianSeconds_ = secondsSince(start);
   const bool withXi = usesEdgeUnknowns(terms);
   if (withXi) restXi_ = restXi;
-  precompute(freeMask(unknowns, static_cast<int>(rest.rows()),
-                      withXi ? static_cast<int>(restXi.size()) : 0),
+  precompute(freeUnknownMask(unknowns, static_cast<int>(rest.rows()),
+                             withXi ? static_cast<int>(restXi.size()) : 0),
              rest);
 }
 
@@ -113,12 +114,12 @@ void LinearizedSolver::precompute(const std::vector<bool>& free, const Positions
   const int freeCount = static_cast<int>(freeColumns_.size());
   for (int k = 0; k < freeCount; ++k) newIndex_[freeColumns_[k]] = k;
   // J is stored by rows, and its rows are the columns of J_freeᵀ.
-  columnStart_.assign(jacobian_.rows() + 1, 0);
-  rowIndex_.reserve(jacobian_.nonZeros());
-  values_.reserve(jacobian_.nonZeros());
+  columnStart_.assign(jacobian_->rows() + 1, 0);
+  rowIndex_.reserve(jacobian_->nonZeros());
+  values_.reserve(jacobian_->nonZeros());
   double squaredSum = 0.0;  // the trace of J_freeᵀ J_free
-  for (int row = 0; row < jacobian_.outerSize(); ++row) {
-    for (SparseMatrix::InnerIterator it(jacobian_, row); it; ++it) {
+  for (int row = 0; row < jacobian_->outerSize(); ++row) {
+    for (SparseMatrix::InnerIterator it(*jacobian_, row); it; ++it) {
       const int k = newIndex_[it.col()];
       if (k < 0) continue;
       rowIndex_.push_back(k);
@@ -128,7 +129,7 @@ void LinearizedSolver::precompute(const std::vector<bool>& free, const Positions
     columnStart_[row + 1] = static_cast<int>(rowIndex_.size());
   }
   factor_ = std::make_unique<CholeskyFactor>(
-      freeCount, columnStart_, rowIndex_, eliminationOrder(jacobian_, freeColumns_, newIndex_, at),
+      freeCount, columnStart_, rowIndex_, eliminationOrder(*jacobian_, freeColumns_, newIndex_, at),
       gramCholeskyOptions());
   // β = 1e-13 of the mean diagonal; when rounding still leaves a pivot ≤ 0 (a null space of J, a
   // system near singular; how near depends on the BLAS's order of operations), β × 1000, twice.
@@ -153,7 +154,7 @@ Eigen::VectorXd LinearizedSolver::solve(Eigen::VectorXd u, const Eigen::VectorXd
   const int freeCount = static_cast<int>(freeColumns_.size());
   Eigen::VectorXd fixedPart = u;
   for (int c : freeColumns_) fixedPart[c] = 0.0;
-  Eigen::VectorXd rhs = jacobian_ * fixedPart;
+  Eigen::VectorXd rhs = *jacobian_ * fixedPart;
   if (r0.size() > 0) rhs += r0;
   // The normal equations' right-hand side −J_freeᵀ (J u_fixed + r0), row by row of J.
   Eigen::VectorXd gradient = Eigen::VectorXd::Zero(freeCount);
@@ -175,14 +176,14 @@ LinearizedSolution LinearizedSolver::solve(const BoundaryConditions& bc) const {
     throw InputError(
         "linearized solve: the boundary values move vertices in x or y, which a height-field "
         "solve precomputed without LinearizedUnknowns.fixedMoveInPlane cannot represent");
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian_.cols());
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian_->cols());
   u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(displacement.data(), positionCount);
   if (restXi_.size() > 0) u.tail(restXi_.size()) = bc.xi - restXi_;
   LinearizedSolution out;
   out.initialEnergy = energy(u);
   u = solve(u);
   out.energy = energy(u);
-  const Eigen::VectorXd gradient = jacobian_.transpose() * (jacobian_ * u);
+  const Eigen::VectorXd gradient = jacobian_->transpose() * (*jacobian_ * u);
   double squared = 0.0;
   for (int k = 0; k < gradient.size(); ++k)
     if (free_[k]) squared += gradient[k] * gradient[k];
@@ -193,7 +194,7 @@ LinearizedSolution LinearizedSolver::solve(const BoundaryConditions& bc) const {
 }
 
 double LinearizedSolver::energy(const Eigen::VectorXd& u) const {
-  return linearizedEnergy(jacobian_, u);
+  return linearizedEnergy(*jacobian_, u);
 }
 
 }  // namespace flexure::optimize

@@ -28,6 +28,10 @@ struct LinearizedUnknowns {
   bool fixedMoveInPlane = false;
 };
 
+// The free mask over the unknowns (3 #V, then #E ξ when edgeCount > 0) that `unknowns` leaves free.
+std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int vertexCount,
+                                  int edgeCount);
+
 // The minimizer of a linearized solve and its energies.
 struct LinearizedSolution {
   Positions positions;         // #V by 3: X̄ + the displacement
@@ -46,7 +50,12 @@ class LinearizedSolver {
   // J_freeᵀ J_free + β I from J_freeᵀ itself, without forming the normal matrix; the ridge β,
   // 1e-13 of its mean diagonal, keeps it defined where Ψ_ν ignores some ξ (e.g. ν = 1).
   // Throws NumericalError when the matrix cannot be factored (a null space of J_free).
-  LinearizedSolver(SparseMatrix jacobian, const std::vector<bool>& free, const Positions& at);
+  // `jacobian` is kept by reference and must outlive the solver; `restXi` (#E, when J has ξ
+  // columns) is needed by solve(bc) only.
+  LinearizedSolver(const SparseMatrix& jacobian, const std::vector<bool>& free, const Positions& at,
+                   const Eigen::VectorXd& restXi = Eigen::VectorXd());
+  LinearizedSolver(SparseMatrix&& jacobian, const std::vector<bool>& free, const Positions& at,
+                   const Eigen::VectorXd& restXi = Eigen::VectorXd()) = delete;
   // From the terms: J at (rest, restXi) over the unknowns `unknowns` leaves free.
   LinearizedSolver(const std::vector<const EnergyTerm*>& terms, const Positions& rest,
                    const Eigen::VectorXd& restXi, const LinearizedUnknowns& unknowns);
@@ -62,7 +71,7 @@ class LinearizedSolver {
   LinearizedSolution solve(const BoundaryConditions& bc) const;
 
   double energy(const Eigen::VectorXd& u) const;  // ½ |J u|²
-  const SparseMatrix& jacobian() const { return jacobian_; }
+  const SparseMatrix& jacobian() const { return *jacobian_; }
   const std::vector<bool>& free() const { return free_; }
   int freeCount() const { return static_cast<int>(freeColumns_.size()); }
   // Numerical factorizations made (the ridge's retries included): 1 when the first succeeded.
@@ -76,7 +85,8 @@ class LinearizedSolver {
   // Renumbers the free unknowns, orders, analyzes and factors J_freeᵀ J_free (+ β I).
   void precompute(const std::vector<bool>& free, const Positions& at);
 
-  SparseMatrix jacobian_;
+  SparseMatrix ownJacobian_;  // the terms' constructor's J
+  const SparseMatrix* jacobian_ = &ownJacobian_;
   std::vector<bool> free_;
   std::vector<int> freeColumns_, newIndex_;
   // J_freeᵀ in compressed columns: column r = the free entries of J's row r, renumbered.
