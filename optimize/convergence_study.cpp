@@ -180,31 +180,35 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
            std::to_string(studyMesh.mesh.vertexCount()) + " vertices)");
     }
   };
-  // Every linearized solve of the case shares one factor (C1's ξ solves another).
-  const FlatPlateSolves linear(problem, variant.normals);
-  int factorizations = 0;  // counted so far, to charge each record with the new ones
-  const auto newFactorizations = [&] {
-    const int made = linear.factorizations() - factorizations;
-    factorizations = linear.factorizations();
-    return made;
-  };
+  // C1 first, its factor (midedge's interior ξ) freed before C2's is made: one factor alive at a
+  // time, as when every solve factored its own.
   std::vector<StudyRecord> records;
   for (const Quadratic& q : options.quadratics) {
-    const PolynomialSurface p = q.surface();
-    announce("C1 and C2, " + p.spec());
     StudyRecord r = base;
     r.kind = RecordKind::Quadratic;
-    r.data = p.spec();
-    if (!freeNormals) {
-      r.energyPerArea = linear.energyPerArea(p);
+    r.data = q.surface().spec();
+    records.push_back(std::move(r));
+  }
+  if (!freeNormals) {
+    const FlatPlateEnergyPerArea energyPerArea(problem);
+    for (size_t k = 0; k < options.quadratics.size(); ++k) {
+      const PolynomialSurface p = options.quadratics[k].surface();
+      StudyRecord& r = records[k];
+      r.energyPerArea = energyPerArea(p);
       r.density = plateDensity(p, poisson);
       r.c1Error = c1Measure(*r.energyPerArea, p, poisson);
     }
-    r.c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
-                                  problem.fixedVertex, p);
-    r.factorizations = newFactorizations();
-    records.push_back(std::move(r));
+    records.front().factorizations += energyPerArea.factorizations();
   }
+  // Every other linearized solve of the case shares one factor.
+  const FlatPlateSolves linear(problem, variant.normals);
+  for (size_t k = 0; k < options.quadratics.size(); ++k) {
+    const PolynomialSurface p = options.quadratics[k].surface();
+    announce("C2, " + p.spec());
+    records[k].c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
+                                           problem.fixedVertex, p);
+  }
+  records.front().factorizations += linear.factorizations();
   if (nonlinear) {
     for (const Quadratic& q : options.quadratics) {
       announce("nonlinear C2, " + q.surface().spec() + " at " + std::to_string(options.amplitudes) +
@@ -227,7 +231,6 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     r.solutionError =
         reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, u);
     r.discreteEnergy = result.energy;
-    r.factorizations = newFactorizations();
     r.exactEnergy = squarePlateEnergy(u, poisson);
     r.energyError = std::abs(r.discreteEnergy - r.exactEnergy) / squarePlateEnergy(u, 0.0);
     records.push_back(std::move(r));
@@ -371,14 +374,6 @@ LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNorm
 
 FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals)
     : problem_(problem), normals_(normals) {
-  // J at rest with all derivatives: its z and ξ columns are those of the height-mode J that
-  // minimize() evaluates, and the x, y columns meet only zero moves, so the solves are the same.
-  surface_ = std::make_unique<LinearizedSolver>(
-      problem.restJacobian,
-      freeUnknownMask(surfaceUnknowns(problem, normals),
-                      static_cast<int>(problem.rest.positions.rows()),
-                      static_cast<int>(problem.restXi.size())),
-      problem.rest.positions, problem.restXi);
   std::vector<bool> touched(problem.fixedVertex.size(), false);
   problem.term->markTouchedVertices(touched);
   for (size_t v = 0; v < touched.size(); ++v) {
@@ -386,8 +381,31 @@ FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormal
       throw InputError("free vertex " + std::to_string(v) +
                        " is touched by no element of the energy, so nothing determines it");
   }
-  if (!problem.term->usesEdgeUnknowns() || normals != BoundaryNormals::Clamped) return;
-  // C1 (linearizedEnergyOfDisplacement): positions given, the interior ξ free.
+  // J at rest with all derivatives: its z and ξ columns are those of the height-mode J that
+  // minimize() evaluates, and the x, y columns meet only zero moves, so the solves are the same.
+  solver_ = std::make_unique<LinearizedSolver>(
+      problem.restJacobian,
+      freeUnknownMask(surfaceUnknowns(problem, normals),
+                      static_cast<int>(problem.rest.positions.rows()),
+                      static_cast<int>(problem.restXi.size())),
+      problem.rest.positions, problem.restXi);
+}
+
+FlatPlateSolves::~FlatPlateSolves() = default;
+
+LinearizedSolution FlatPlateSolves::surface(const PolynomialSurface& u) const {
+  return solver_->solve(surfaceBoundary(problem_.stencils, problem_.rest.positions, problem_.restXi,
+                                        problem_.fixedVertex, u, normals_, true));
+}
+
+int FlatPlateSolves::factorizations() const {
+  return solver_->factorizations();
+}
+
+FlatPlateEnergyPerArea::FlatPlateEnergyPerArea(const FlatPlateProblem& problem)
+    : problem_(problem) {
+  if (!problem.term->usesEdgeUnknowns()) return;
+  // linearizedEnergyOfDisplacement: positions given, the interior ξ free.
   const int positionCount = static_cast<int>(problem.rest.positions.size());
   std::vector<bool> free(problem.restJacobian.cols(), false);
   const std::vector<bool> onBoundary = curvature::boundaryEdges(problem.stencils);
@@ -396,14 +414,9 @@ FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormal
       std::make_unique<LinearizedSolver>(problem.restJacobian, free, problem.rest.positions);
 }
 
-FlatPlateSolves::~FlatPlateSolves() = default;
+FlatPlateEnergyPerArea::~FlatPlateEnergyPerArea() = default;
 
-LinearizedSolution FlatPlateSolves::surface(const PolynomialSurface& u) const {
-  return surface_->solve(surfaceBoundary(problem_.stencils, problem_.rest.positions,
-                                         problem_.restXi, problem_.fixedVertex, u, normals_, true));
-}
-
-double FlatPlateSolves::energyPerArea(const PolynomialSurface& p) const {
+double FlatPlateEnergyPerArea::operator()(const PolynomialSurface& p) const {
   if (!interiorXi_) return linearizedEnergyPerArea(problem_, p);
   const modeling::Positions& rest = problem_.rest.positions;
   const int positionCount = static_cast<int>(rest.size());
@@ -415,8 +428,8 @@ double FlatPlateSolves::energyPerArea(const PolynomialSurface& p) const {
   return interiorXi_->energy(interiorXi_->solve(u)) / problem_.term->coveredArea();
 }
 
-int FlatPlateSolves::factorizations() const {
-  return surface_->factorizations() + (interiorXi_ ? interiorXi_->factorizations() : 0);
+int FlatPlateEnergyPerArea::factorizations() const {
+  return interiorXi_ ? interiorXi_->factorizations() : 0;
 }
 
 NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialSurface& p,

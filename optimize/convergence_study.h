@@ -80,10 +80,11 @@ MinimizeResult solveWithSurfaceBoundary(const FlatPlateProblem& problem,
                                         BoundaryNormals normals, bool linearized,
                                         MinimizeOptions options = {});
 
-// The linearized solves of one FlatPlateProblem with boundary normals `normals`, each ordered and
-// factored once (linear/linearized_solver.h) and reused for every boundary datum: C2's and the
-// refinement's (interior z and the free ξ), and for midedge with clamped normals C1's (the
-// interior ξ at a given displacement). Results equal the one-off functions' bit for bit.
+// The linearized solves of one FlatPlateProblem, each ordered and factored once
+// (linear/linearized_solver.h) and reused for every boundary datum; results equal the one-off
+// functions' bit for bit. Both keep a reference to the problem.
+//
+// C2's and the refinement's: interior z and the free ξ, with boundary normals `normals`.
 class FlatPlateSolves {
  public:
   FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals);
@@ -91,15 +92,26 @@ class FlatPlateSolves {
   // solveWithSurfaceBoundary(problem, u, normals, linearized = true): the minimizer with the
   // fixed vertices on z = u.
   LinearizedSolution surface(const modeling::PolynomialSurface& u) const;
-  // linearizedEnergyPerArea(problem, p).
-  double energyPerArea(const modeling::PolynomialSurface& p) const;
-  // Numerical factorizations made so far (1 per solver when no ridge retry was needed).
-  int factorizations() const;
+  int factorizations() const;  // numerical factorizations made (1 without a ridge retry)
 
  private:
   const FlatPlateProblem& problem_;
   BoundaryNormals normals_;
-  std::unique_ptr<LinearizedSolver> surface_, interiorXi_;
+  std::unique_ptr<LinearizedSolver> solver_;
+};
+
+// C1's: linearizedEnergyPerArea(problem, p) for many p; for midedge the interior ξ solve at a
+// given displacement is factored once (other energies need no solve).
+class FlatPlateEnergyPerArea {
+ public:
+  explicit FlatPlateEnergyPerArea(const FlatPlateProblem& problem);
+  ~FlatPlateEnergyPerArea();
+  double operator()(const modeling::PolynomialSurface& p) const;
+  int factorizations() const;
+
+ private:
+  const FlatPlateProblem& problem_;
+  std::unique_ptr<LinearizedSolver> interiorXi_;
 };
 
 // C2: reproductionError of the linearized minimizer with boundary data p.
@@ -236,9 +248,9 @@ struct StudyRecord {
   // Quadratic: C1 (not for free midedge normals: the spec's "—") and linearized C2.
   std::optional<double> energyPerArea, density, c1Error;
   double c2Error = 0.0;
-  // Numerical sparse Cholesky factorizations this record's solves made: a factor shared by the
-  // case's linearized solves (FlatPlateSolves) is counted on the record that made it; nonlinear
-  // C2 counts its Newton (or Ceres) factorizations.
+  // Numerical sparse Cholesky factorizations made for this record: the case's linearized solves
+  // share their factors (FlatPlateSolves, FlatPlateEnergyPerArea), counted on its first record;
+  // nonlinear C2 counts its Newton (or Ceres) factorizations.
   int factorizations = 0;
   // NonlinearC2
   NonlinearC2Series nonlinear;

@@ -77,6 +77,14 @@ int CholeskyFactor::size() const {
   return static_cast<int>(cholmod_->factor->n);
 }
 
+const std::vector<int>& CholeskyFactor::columnStart() const {
+  return cholmod_->columnStart;
+}
+
+const std::vector<int>& CholeskyFactor::rowIndex() const {
+  return cholmod_->rowIndex;
+}
+
 bool CholeskyFactor::factor(const double* values, double shift) {
   Cholmod& c = *cholmod_;
   cholmod_sparse matrix = c.view(options_, const_cast<double*>(values));

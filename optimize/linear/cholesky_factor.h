@@ -52,6 +52,9 @@ class CholeskyFactor {
   CholeskyFactor& operator=(const CholeskyFactor&) = delete;
 
   int size() const;  // n, the unknowns of a solve
+  // The pattern as given.
+  const std::vector<int>& columnStart() const;
+  const std::vector<int>& rowIndex() const;
 
   // Factors the matrix with these entries (one per pattern entry, in the pattern's order) plus
   // shift × I. false when it is not positive definite or CHOLMOD fails: failure() says which.

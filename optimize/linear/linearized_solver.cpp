@@ -114,23 +114,23 @@ void LinearizedSolver::precompute(const std::vector<bool>& free, const Positions
   const int freeCount = static_cast<int>(freeColumns_.size());
   for (int k = 0; k < freeCount; ++k) newIndex_[freeColumns_[k]] = k;
   // J is stored by rows, and its rows are the columns of J_freeᵀ.
-  columnStart_.assign(jacobian_->rows() + 1, 0);
-  rowIndex_.reserve(jacobian_->nonZeros());
+  std::vector<int> columnStart(jacobian_->rows() + 1, 0), rowIndex;
+  rowIndex.reserve(jacobian_->nonZeros());
   values_.reserve(jacobian_->nonZeros());
   double squaredSum = 0.0;  // the trace of J_freeᵀ J_free
   for (int row = 0; row < jacobian_->outerSize(); ++row) {
     for (SparseMatrix::InnerIterator it(*jacobian_, row); it; ++it) {
       const int k = newIndex_[it.col()];
       if (k < 0) continue;
-      rowIndex_.push_back(k);
+      rowIndex.push_back(k);
       values_.push_back(it.value());
       squaredSum += it.value() * it.value();
     }
-    columnStart_[row + 1] = static_cast<int>(rowIndex_.size());
+    columnStart[row + 1] = static_cast<int>(rowIndex.size());
   }
   factor_ = std::make_unique<CholeskyFactor>(
-      freeCount, columnStart_, rowIndex_, eliminationOrder(*jacobian_, freeColumns_, newIndex_, at),
-      gramCholeskyOptions());
+      freeCount, std::move(columnStart), std::move(rowIndex),
+      eliminationOrder(*jacobian_, freeColumns_, newIndex_, at), gramCholeskyOptions());
   // β = 1e-13 of the mean diagonal; when rounding still leaves a pivot ≤ 0 (a null space of J, a
   // system near singular; how near depends on the BLAS's order of operations), β × 1000, twice.
   bool factored = false;
@@ -158,9 +158,11 @@ Eigen::VectorXd LinearizedSolver::solve(Eigen::VectorXd u, const Eigen::VectorXd
   if (r0.size() > 0) rhs += r0;
   // The normal equations' right-hand side −J_freeᵀ (J u_fixed + r0), row by row of J.
   Eigen::VectorXd gradient = Eigen::VectorXd::Zero(freeCount);
-  for (size_t row = 0; row + 1 < columnStart_.size(); ++row)
-    for (int entry = columnStart_[row]; entry < columnStart_[row + 1]; ++entry)
-      gradient[rowIndex_[entry]] += values_[entry] * rhs[static_cast<Eigen::Index>(row)];
+  const std::vector<int>& columnStart = factor_->columnStart();
+  const std::vector<int>& rowIndex = factor_->rowIndex();
+  for (size_t row = 0; row + 1 < columnStart.size(); ++row)
+    for (int entry = columnStart[row]; entry < columnStart[row + 1]; ++entry)
+      gradient[rowIndex[entry]] += values_[entry] * rhs[static_cast<Eigen::Index>(row)];
   gradient = -gradient;
   const Eigen::VectorXd step = factor_->solve(gradient);
   if (step.size() != freeCount || !step.allFinite())

@@ -89,8 +89,8 @@ class LinearizedSolver {
   const SparseMatrix* jacobian_ = &ownJacobian_;
   std::vector<bool> free_;
   std::vector<int> freeColumns_, newIndex_;
-  // J_freeᵀ in compressed columns: column r = the free entries of J's row r, renumbered.
-  std::vector<int> columnStart_, rowIndex_;
+  // J_freeᵀ's entries in compressed columns (its pattern is the factor's): column r = the free
+  // entries of J's row r, renumbered.
   std::vector<double> values_;
   std::unique_ptr<CholeskyFactor> factor_;
   Positions rest_;
