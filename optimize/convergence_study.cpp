@@ -204,7 +204,7 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
   const FlatPlateSolves linear(problem, variant.normals);
   for (size_t k = 0; k < options.quadratics.size(); ++k) {
     const PolynomialSurface p = options.quadratics[k].surface();
-    announce("C2, " + p.spec());
+    announce("C1 and C2, " + p.spec());
     records[k].c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
                                            problem.fixedVertex, p);
   }
