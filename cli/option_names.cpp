@@ -22,6 +22,16 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"MinimizeOptions.solver", "--solver"},
       // dynamics, modes, spectra, obstacles
       // studies, fairing, meshes, regions
+      {"StudyOptions.energies", "--energies"},
+      {"StudyOptions.families", "--families"},
+      {"StudyOptions.userMeshes", "--mesh"},
+      {"StudyOptions.seeds", "--seeds"},
+      {"StudyOptions.baseN", "--n"},
+      {"StudyOptions.levels", "--levels"},
+      {"StudyOptions.amplitudes", "--amplitudes"},
+      {"StudyOptions.threads", "--threads"},
+      {"StudyOptions.quadratics", "--quadratics"},
+      {"StudyOptions.solution", "--solution"},
       // solvers, linear algebra
   };
   return rows;

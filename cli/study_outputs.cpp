@@ -83,6 +83,7 @@ nlohmann::json recordJson(const StudyOptions& o, const StudyRecord& r) {
       {"h", r.h},
       {"vertices", r.vertices},
       {"free_vertices", r.freeVertices},
+      {"factorizations", r.factorizations},
   };
   switch (r.kind) {
     case RecordKind::Quadratic:
@@ -590,7 +591,7 @@ bool isStudyFile(const std::string& name) {
 
 std::string runStudyInto(const optimize::StudyOptions& options, const std::string& dir,
                          const GlobalOptions& global, const std::string& commandName) {
-  optimize::checkStudyOptions(options);  // bad options fail before the directory is made
+  options.validate();  // bad options fail before the directory is made
   requireMemoryFor(options);
   const std::filesystem::path out(dir);
   modeling::createOutputDirectory(out.string());

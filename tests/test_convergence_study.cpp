@@ -294,12 +294,12 @@ TEST(StudyOptions, UnusableStudiesAreRefusedNamingTheOption) {
   const auto refused = [](auto change, const std::string& text) {
     StudyOptions o;
     change(o);
-    expectInputError([&] { optimize::checkStudyOptions(o); }, text);
+    expectInputError([&] { o.validate(); }, text);
   };
-  refused([](StudyOptions& o) { o.baseN = 2; }, "--n 2");
-  refused([](StudyOptions& o) { o.levels = 0; }, "--levels 0");
-  refused([](StudyOptions& o) { o.amplitudes = 1; }, "--amplitudes 1");
-  refused([](StudyOptions& o) { o.energies.clear(); }, "--energies");
+  refused([](StudyOptions& o) { o.baseN = 2; }, "StudyOptions.baseN 2");
+  refused([](StudyOptions& o) { o.levels = 0; }, "StudyOptions.levels 0");
+  refused([](StudyOptions& o) { o.amplitudes = 1; }, "StudyOptions.amplitudes 1");
+  refused([](StudyOptions& o) { o.energies.clear(); }, "StudyOptions.energies");
   refused([](StudyOptions& o) { o.quadratics = {{0, 0, 0}}; }, "nothing to reproduce");
   refused([](StudyOptions& o) { o.solution = "polynomial:x^^2"; }, "x^^2");
   refused([](StudyOptions& o) { o.solution = "polynomial:x^4"; }, "not biharmonic");  // Δ² = 24
@@ -320,7 +320,7 @@ TEST(StudyOptions, BiharmonicSolutionsAreAccepted) {
         "polynomial:0.1*x^4-0.3*x^2*y^2+x*y^3", "polynomial:x^6-15*x^4*y^2+15*x^2*y^4-y^6"}) {
     StudyOptions o;
     o.solution = u;
-    EXPECT_NO_THROW(optimize::checkStudyOptions(o)) << u;
+    EXPECT_NO_THROW(o.validate()) << u;
   }
 }
 

@@ -10,6 +10,7 @@
 #include "modeling/errors.h"
 #include "optimize/linear/cholmod_view.h"
 #include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/linear/linearized_solver.h"
 #include "optimize/solvers/elimination_order.h"
 
 namespace flexure::optimize {
@@ -154,130 +155,11 @@ SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const
   return linearize(terms, x, xi, derivatives).jacobian;
 }
 
-namespace {
-
-// The free unknowns' elimination order when they are all vertex coordinates: geometric nested
-// dissection of the vertices (a vertex's free coordinates together, at its position `at`);
-// order[k] = the renumbered free unknown eliminated k-th. Empty when a midedge ξ is free: there
-// CHOLMOD's AMD leaves less fill — the one-sided geometric separators hold every node of a band
-// as wide as the midedge stencil, 4× the nodes per length of a vertex energy's (n = 128, with ξ
-// placed around their edges, measured before the cut kept ties on one side: factor nonzeros
-// 1.1e7 geometric vs 4.6e6 AMD, where cotan's were 1.65e6 vs 1.9e6).
-std::vector<int> eliminationOrder(const SparseMatrix& jacobian, const std::vector<int>& freeColumns,
-                                  const std::vector<int>& newIndex, const Positions& at) {
-  const int positionCount = static_cast<int>(at.size());
-  if (freeColumns.back() >= positionCount) return {};
-  std::vector<int> nodeOf(freeColumns.size()), firstUnknown, vertexNode(at.rows(), -1);
-  std::vector<Eigen::Vector3d> points;
-  for (size_t k = 0; k < freeColumns.size(); ++k) {
-    const int v = freeColumns[k] / 3;
-    if (vertexNode[v] < 0) {
-      vertexNode[v] = static_cast<int>(points.size());
-      firstUnknown.push_back(static_cast<int>(k));
-      points.emplace_back(at.row(v).transpose());
-    }
-    nodeOf[k] = vertexNode[v];
-  }
-  firstUnknown.push_back(static_cast<int>(freeColumns.size()));
-  // An element's residuals (up to three rows) read the same nodes: each such set enters once.
-  Incidence incidence;
-  std::vector<int> read, previous;
-  for (int row = 0; row < jacobian.outerSize(); ++row) {
-    for (SparseMatrix::InnerIterator it(jacobian, row); it; ++it)
-      if (newIndex[it.col()] >= 0) read.push_back(nodeOf[newIndex[it.col()]]);
-    if (read != previous) {
-      previous = read;
-      incidence.append(read);
-    }
-    read.clear();
-  }
-  std::vector<int> order;
-  order.reserve(freeColumns.size());
-  for (int node : geometricNestedDissection(points, incidence))
-    for (int k = firstUnknown[node]; k < firstUnknown[node + 1]; ++k) order.push_back(k);
-  return order;
-}
-
-}  // namespace
-
 Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::VectorXd& r0,
                                      Eigen::VectorXd u, const std::vector<bool>& free,
                                      const Positions& at) {
-  std::vector<int> freeColumns;
-  for (int c = 0; c < static_cast<int>(free.size()); ++c)
-    if (free[c]) freeColumns.push_back(c);
-  if (freeColumns.empty()) return u;
-  const int freeCount = static_cast<int>(freeColumns.size());
-  Eigen::VectorXd fixedPart = u;
-  for (int c : freeColumns) fixedPart[c] = 0.0;
-  Eigen::VectorXd rhs = jacobian * fixedPart;
-  if (r0.size() > 0) rhs += r0;
-
-  // J_freeᵀ in compressed columns, the free unknowns renumbered: J is stored by rows, and its
-  // rows are the columns of Jᵀ. CHOLMOD factors A Aᵀ + β I from A = J_freeᵀ itself, without
-  // forming the normal matrix; β is a tiny ridge, 1e-13 of the normal matrix's mean diagonal.
-  std::vector<int> newIndex(free.size(), -1);
-  for (int k = 0; k < freeCount; ++k) newIndex[freeColumns[k]] = k;
-  std::vector<int> columnStart(jacobian.rows() + 1, 0), rowIndex;
-  std::vector<double> values;
-  rowIndex.reserve(jacobian.nonZeros());
-  values.reserve(jacobian.nonZeros());
-  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(freeCount);  // J_freeᵀ rhs
-  double squaredSum = 0.0;
-  for (int row = 0; row < jacobian.outerSize(); ++row) {
-    for (SparseMatrix::InnerIterator it(jacobian, row); it; ++it) {
-      const int k = newIndex[it.col()];
-      if (k < 0) continue;
-      rowIndex.push_back(k);
-      values.push_back(it.value());
-      gradient[k] += it.value() * rhs[row];
-      squaredSum += it.value() * it.value();
-    }
-    columnStart[row + 1] = static_cast<int>(rowIndex.size());
-  }
-  cholmod_sparse transposed =
-      cholmodView(static_cast<size_t>(freeCount), columnStart, rowIndex, values.data(), false);
-  std::vector<int> order = eliminationOrder(jacobian, freeColumns, newIndex, at);
-  const SingleThreadedLinearAlgebra oneThread;
-  cholmod_common common;
-  cholmod_start(&common);
-  // One ordering, not CHOLMOD's default of AMD and then METIS when AMD's fill is high: METIS on
-  // A Aᵀ took 2.8 s of the n = 512 cotan solve's 7.5 and 16 s of midedge's 34.6.
-  common.nmethods = 1;
-  common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
-  cholmod_factor* factor =
-      cholmod_analyze_p(&transposed, order.empty() ? nullptr : order.data(), nullptr, 0, &common);
-  // β = 1e-13 of the mean diagonal; when rounding still leaves a pivot ≤ 0 (a null space of J, a
-  // system near singular; how near depends on the BLAS's order of operations), β × 1000, twice.
-  bool solved = false;
-  double relativeRidge = 1e-13;
-  for (int attempt = 0; factor != nullptr && !solved && attempt < 3;
-       ++attempt, relativeRidge *= 1e3) {
-    double ridge[2] = {relativeRidge * squaredSum / freeCount, 0.0};  // β (real, imaginary)
-    solved = cholmod_factorize_p(&transposed, ridge, nullptr, 0, factor, &common) &&
-             common.status == CHOLMOD_OK;
-  }
-  Eigen::VectorXd step;
-  if (solved) {
-    gradient = -gradient;
-    cholmod_dense b{};
-    b.nrow = b.d = b.nzmax = static_cast<size_t>(freeCount);
-    b.ncol = 1;
-    b.x = gradient.data();
-    b.xtype = CHOLMOD_REAL;
-    b.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* x = cholmod_solve(CHOLMOD_A, factor, &b, &common);
-    if (x != nullptr)
-      step = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), freeCount);
-    cholmod_free_dense(&x, &common);
-  }
-  cholmod_free_factor(&factor, &common);
-  cholmod_finish(&common);
-  if (step.size() != freeCount || !step.allFinite()) {
-    throw NumericalError("the least-squares solve for the free unknowns failed (singular system)");
-  }
-  for (int k = 0; k < freeCount; ++k) u[freeColumns[k]] = step[k];
-  return u;
+  if (std::find(free.begin(), free.end(), true) == free.end()) return u;
+  return LinearizedSolver(jacobian, free, at).solve(std::move(u), r0);
 }
 
 double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u) {

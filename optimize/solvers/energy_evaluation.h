@@ -37,11 +37,9 @@ SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const
 
 // min over the unknowns marked free of ½ |J u + r0|², starting from the given u (the fixed
 // entries keep their values): returns the minimizing u. J is the residual Jacobian at positions
-// `at` (#V by 3). A quadratic in the free unknowns, so one sparse Cholesky solve with CHOLMOD,
-// which factors J_freeᵀ J_free + β I from J_freeᵀ without forming the normal matrix (the ridge
-// β, 1e-13 of its mean diagonal, keeps it defined where Ψ_ν ignores some ξ, e.g. ν = 1), in the
-// geometric nested-dissection order of the unknowns (elimination_order.h). `r0` may be empty
-// (zero).
+// `at` (#V by 3). One precompute and one solve of a LinearizedSolver (linear/linearized_solver.h):
+// to solve for several u or r0 with the same J and free set, keep the solver instead. `r0` may be
+// empty (zero).
 Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::VectorXd& r0,
                                      Eigen::VectorXd u, const std::vector<bool>& free,
                                      const Positions& at);

@@ -1,7 +1,5 @@
 #include "optimize/solvers/hessian_assembly.h"
 
-#include <cholmod.h>
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <thread>
 
 #include "modeling/errors.h"
+#include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/linear_algebra_threads.h"
 
 namespace flexure::optimize {
@@ -201,31 +200,8 @@ HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::Vec
 // ---------------------------------------------------------------------------------------------
 
 struct HessianFactorization::Cholmod {
-  cholmod_common common;
-  cholmod_factor* factor = nullptr;
-  std::vector<int> columnStart, rowIndex;  // copies CHOLMOD may view as non-const
+  CholeskyFactor factor;
 };
-
-namespace {
-
-cholmod_sparse upperTriangleView(std::vector<int>& columnStart, std::vector<int>& rowIndex,
-                                 double* values) {
-  cholmod_sparse view{};
-  view.nrow = view.ncol = columnStart.size() - 1;
-  view.nzmax = rowIndex.size();
-  view.p = columnStart.data();
-  view.i = rowIndex.data();
-  view.x = values;
-  view.stype = 1;  // symmetric, upper triangle stored
-  view.itype = CHOLMOD_INT;
-  view.xtype = values != nullptr ? CHOLMOD_REAL : CHOLMOD_PATTERN;
-  view.dtype = CHOLMOD_DOUBLE;
-  view.sorted = 1;
-  view.packed = 1;
-  return view;
-}
-
-}  // namespace
 
 struct HessianFactorization::Simplicial {
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
@@ -238,9 +214,28 @@ struct HessianFactorization::Simplicial {
   }
 };
 
+namespace {
+
+// Supernodal; a matrix that is not positive definite is an answer here (Newton's
+// indefinite-Hessian rule), not a warning. With free ξ, AMD: METIS on the Hessian graph factored
+// as fast (n = 512 midedge: 31.3 s vs 32.5 s of linear solves) but took 9 s longer to order (one
+// run each).
+CholeskyOptions hessianCholeskyOptions() {
+  CholeskyOptions options;
+  options.matrix = CholeskyMatrix::SymmetricUpper;
+  options.supernodal = true;
+  options.stopAtNonPositivePivot = true;
+  options.cholmodWarnings = false;
+  return options;
+}
+
+}  // namespace
+
 HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
                                            const std::vector<int>& order, bool simplicial)
-    : cholmod_(std::make_unique<Cholmod>()), assembly_(assembly) {
+    : cholmod_(new Cholmod{CholeskyFactor(assembly.size(), assembly.columnStart(),
+                                          assembly.rowIndex(), order, hessianCholeskyOptions())}),
+      assembly_(assembly) {
   if (simplicial) {
     simplicial_ = std::make_unique<Simplicial>();
     simplicial_->columnStart = assembly.columnStart();
@@ -248,29 +243,9 @@ HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
     const std::vector<double> ones(simplicial_->rowIndex.size(), 1.0);
     simplicial_->llt.analyzePattern(simplicial_->matrix(ones.data()));
   }
-  Cholmod& c = *cholmod_;
-  c.columnStart = assembly.columnStart();
-  c.rowIndex = assembly.rowIndex();
-  cholmod_start(&c.common);
-  c.common.supernodal = CHOLMOD_SUPERNODAL;
-  c.common.nmethods = 1;
-  // With free ξ, AMD: METIS on the Hessian graph factored as fast (n = 512 midedge: 31.3 s vs
-  // 32.5 s of linear solves) but took 9 s longer to order (one run each).
-  c.common.method[0].ordering = order.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
-  c.common.quick_return_if_not_posdef = 1;
-  c.common.print = 0;  // a matrix that is not positive definite is an answer here, not a warning
-  cholmod_sparse pattern = upperTriangleView(c.columnStart, c.rowIndex, nullptr);
-  std::vector<int> given = order;
-  c.factor =
-      cholmod_analyze_p(&pattern, given.empty() ? nullptr : given.data(), nullptr, 0, &c.common);
-  if (c.factor == nullptr)
-    throw NumericalError("the sparse Cholesky analysis of the Hessian failed (out of memory?)");
 }
 
-HessianFactorization::~HessianFactorization() {
-  cholmod_free_factor(&cholmod_->factor, &cholmod_->common);
-  cholmod_finish(&cholmod_->common);
-}
+HessianFactorization::~HessianFactorization() = default;
 
 bool HessianFactorization::factor(const std::vector<double>& values, double shift) {
   if (simplicial_) {
@@ -278,34 +253,12 @@ bool HessianFactorization::factor(const std::vector<double>& values, double shif
     simplicial_->llt.factorize(simplicial_->matrix(values.data()));
     return simplicial_->llt.info() == Eigen::Success;
   }
-  Cholmod& c = *cholmod_;
-  cholmod_sparse matrix =
-      upperTriangleView(c.columnStart, c.rowIndex, const_cast<double*>(values.data()));
-  double beta[2] = {shift, 0.0};
-  const SingleThreadedLinearAlgebra oneThread;
-  const int ok = cholmod_factorize_p(&matrix, beta, nullptr, 0, c.factor, &c.common);
-  return ok && c.common.status == CHOLMOD_OK && c.factor->minor == c.factor->n;
+  return cholmod_->factor.factor(values.data(), shift);
 }
 
 Eigen::VectorXd HessianFactorization::solve(const Eigen::VectorXd& b) {
   if (simplicial_) return simplicial_->llt.solve(b);
-  Cholmod& c = *cholmod_;
-  Eigen::VectorXd rhs = b;
-  cholmod_dense view{};
-  view.nrow = view.d = view.nzmax = static_cast<size_t>(rhs.size());
-  view.ncol = 1;
-  view.x = rhs.data();
-  view.xtype = CHOLMOD_REAL;
-  view.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* x = nullptr;
-  {
-    const SingleThreadedLinearAlgebra oneThread;
-    x = cholmod_solve(CHOLMOD_A, c.factor, &view, &c.common);
-  }
-  if (x == nullptr) throw NumericalError("the sparse Cholesky solve failed (out of memory?)");
-  Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), rhs.size());
-  cholmod_free_dense(&x, &c.common);
-  return out;
+  return cholmod_->factor.solve(b);
 }
 
 std::vector<int> hessianOrder(const HessianAssembly& assembly, const Positions& at) {

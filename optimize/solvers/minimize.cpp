@@ -7,6 +7,7 @@
 
 #include "modeling/errors.h"
 #include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/linear/linearized_solver.h"
 #include "optimize/solvers/elimination_order.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/newton_solver.h"
@@ -62,51 +63,26 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
                                   const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
   const auto start = Clock::now();
   MinimizeResult result;
-  const bool withXi = usesEdgeUnknowns(terms);
   // u = (X − X̄, ξ − ξ̄): the fixed entries from the boundary conditions, the free ones solved.
-  // In height mode with x, y at rest J's x and y columns meet only zeros: leave them out.
-  const Positions displacement = bc.start - rest;
-  const bool heightOnly =
-      options.dof == DofMode::Height && displacement.leftCols(2).cwiseAbs().maxCoeff() == 0.0;
-  const SparseMatrix jacobian = residualJacobian(
-      terms, rest, restXi,
-      heightOnly ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All);
-  result.report.evaluationSeconds = secondsSince(start);
-
-  const int positionCount = static_cast<int>(rest.size());
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
-  u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(displacement.data(), positionCount);
-  std::vector<bool> free(jacobian.cols(), false);
-  for (int v = 0; v < rest.rows(); ++v) {
-    if (bc.fixedVertex[v]) continue;
-    for (int c = options.dof == DofMode::Height ? 2 : 0; c < 3; ++c) free[3 * v + c] = true;
-  }
-  if (withXi) {
-    u.tail(restXi.size()) = bc.xi - restXi;
-    for (int e = 0; e < restXi.size(); ++e) free[positionCount + e] = !bc.fixedEdge[e];
-  }
-  result.report.initialEnergy = linearizedEnergy(jacobian, u);
+  LinearizedUnknowns unknowns{bc.fixedVertex, bc.fixedEdge, options.dof == DofMode::Height};
+  unknowns.fixedMoveInPlane = (bc.start - rest).leftCols(2).cwiseAbs().maxCoeff() != 0.0;
+  const LinearizedSolver solver(terms, rest, restXi, unknowns);
   const auto solveStart = Clock::now();
-  u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free, rest);
-  result.report.linearSolverSeconds = secondsSince(solveStart);
-  result.report.finalEnergy = linearizedEnergy(jacobian, u);
-
-  const Eigen::VectorXd gradient = jacobian.transpose() * (jacobian * u);
-  double squared = 0.0;
-  for (int k = 0; k < gradient.size(); ++k)
-    if (free[k]) squared += gradient[k] * gradient[k];
-  result.report.gradientNorm = std::sqrt(squared);
-  result.positions = rest + Eigen::Map<const Positions>(u.data(), rest.rows(), 3);
-  if (withXi) result.xi = restXi + u.tail(restXi.size());
+  LinearizedSolution solution = solver.solve(bc);
+  result.report.evaluationSeconds = solver.jacobianSeconds();
+  result.report.linearSolverSeconds = solver.factorSeconds() + secondsSince(solveStart);
+  result.report.initialEnergy = solution.initialEnergy;
+  result.report.finalEnergy = solution.energy;
+  result.report.gradientNorm = solution.gradientNorm;
+  result.positions = std::move(solution.positions);
+  result.xi = std::move(solution.xi);
   result.report.converged = true;
   result.report.solver = "linearized";
   result.report.termination = "linearized: one sparse solve";
   result.report.iterations = 1;
-  result.report.factorizations = 1;
-  result.report.residuals = static_cast<int>(jacobian.rows());
-  int unknowns = 0;
-  for (bool f : free) unknowns += f;
-  result.report.unknowns = unknowns;
+  result.report.factorizations = solver.factorizations();
+  result.report.residuals = static_cast<int>(solver.jacobian().rows());
+  result.report.unknowns = solver.freeCount();
   result.report.totalSeconds = secondsSince(start);
   return result;
 }

@@ -181,21 +181,35 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
            std::to_string(studyMesh.mesh.vertexCount()) + " vertices)");
     }
   };
+  // C1 first, its factor (midedge's interior ξ) freed before C2's is made: one factor alive at a
+  // time, as when every solve factored its own.
   std::vector<StudyRecord> records;
   for (const Quadratic& q : options.quadratics) {
-    const PolynomialSurface p = q.surface();
-    announce("C1 and C2, " + p.spec());
     StudyRecord r = base;
     r.kind = RecordKind::Quadratic;
-    r.data = p.spec();
-    if (!freeNormals) {
-      r.energyPerArea = linearizedEnergyPerArea(problem, p);
+    r.data = q.surface().spec();
+    records.push_back(std::move(r));
+  }
+  if (!freeNormals) {
+    const FlatPlateEnergyPerArea energyPerArea(problem);
+    for (size_t k = 0; k < options.quadratics.size(); ++k) {
+      const PolynomialSurface p = options.quadratics[k].surface();
+      StudyRecord& r = records[k];
+      r.energyPerArea = energyPerArea(p);
       r.density = plateDensity(p, poisson);
       r.c1Error = c1Measure(*r.energyPerArea, p, poisson);
     }
-    r.c2Error = c2Error(problem, p, variant.normals);
-    records.push_back(std::move(r));
+    records.front().factorizations += energyPerArea.factorizations();
   }
+  // Every other linearized solve of the case shares one factor.
+  const FlatPlateSolves linear(problem, variant.normals);
+  for (size_t k = 0; k < options.quadratics.size(); ++k) {
+    const PolynomialSurface p = options.quadratics[k].surface();
+    announce("C1 and C2, " + p.spec());
+    records[k].c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
+                                           problem.fixedVertex, p);
+  }
+  records.front().factorizations += linear.factorizations();
   if (nonlinear) {
     for (const Quadratic& q : options.quadratics) {
       announce("nonlinear C2, " + q.surface().spec() + " at " + std::to_string(options.amplitudes) +
@@ -204,6 +218,7 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
       r.kind = RecordKind::NonlinearC2;
       r.data = q.surface().spec();
       r.nonlinear = nonlinearC2(problem, q.surface(), variant.normals, options.amplitudes, solver);
+      r.factorizations = r.nonlinear.factorizations;
       records.push_back(std::move(r));
     }
   }
@@ -213,11 +228,10 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     StudyRecord r = base;
     r.kind = RecordKind::Refinement;
     r.data = u.spec();
-    const MinimizeResult result =
-        solveWithSurfaceBoundary(problem, u, variant.normals, true, solver);
+    const LinearizedSolution result = linear.surface(u);
     r.solutionError =
         reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, u);
-    r.discreteEnergy = result.report.finalEnergy;
+    r.discreteEnergy = result.energy;
     r.exactEnergy = squarePlateEnergy(u, poisson);
     r.energyError = std::abs(r.discreteEnergy - r.exactEnergy) / squarePlateEnergy(u, 0.0);
     records.push_back(std::move(r));
@@ -343,6 +357,82 @@ double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
   return reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, p);
 }
 
+namespace {
+
+// The unknowns of solveWithSurfaceBoundary's linearized solve: interior z; midedge ξ free but on
+// the boundary when clamped (surfaceBoundary). The data move the fixed vertices in z only.
+LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNormals normals) {
+  LinearizedUnknowns unknowns;
+  unknowns.fixedVertex = problem.fixedVertex;
+  unknowns.fixedEdge.assign(problem.restXi.size(), false);
+  if (problem.restXi.size() > 0 && normals == BoundaryNormals::Clamped)
+    unknowns.fixedEdge = curvature::boundaryEdges(problem.stencils);
+  unknowns.heightOnly = true;
+  return unknowns;
+}
+
+}  // namespace
+
+FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals)
+    : problem_(problem), normals_(normals) {
+  std::vector<bool> touched(problem.fixedVertex.size(), false);
+  problem.term->markTouchedVertices(touched);
+  for (size_t v = 0; v < touched.size(); ++v) {
+    if (!problem.fixedVertex[v] && !touched[v])
+      throw InputError("free vertex " + std::to_string(v) +
+                       " is touched by no element of the energy, so nothing determines it");
+  }
+  // J at rest with all derivatives: its z and ξ columns are those of the height-mode J that
+  // minimize() evaluates, and the x, y columns meet only zero moves, so the solves are the same.
+  solver_ = std::make_unique<LinearizedSolver>(
+      problem.restJacobian,
+      freeUnknownMask(surfaceUnknowns(problem, normals),
+                      static_cast<int>(problem.rest.positions.rows()),
+                      static_cast<int>(problem.restXi.size())),
+      problem.rest.positions, problem.restXi);
+}
+
+FlatPlateSolves::~FlatPlateSolves() = default;
+
+LinearizedSolution FlatPlateSolves::surface(const PolynomialSurface& u) const {
+  return solver_->solve(surfaceBoundary(problem_.stencils, problem_.rest.positions, problem_.restXi,
+                                        problem_.fixedVertex, u, normals_, true));
+}
+
+int FlatPlateSolves::factorizations() const {
+  return solver_->factorizations();
+}
+
+FlatPlateEnergyPerArea::FlatPlateEnergyPerArea(const FlatPlateProblem& problem)
+    : problem_(problem) {
+  if (!problem.term->usesEdgeUnknowns()) return;
+  // linearizedEnergyOfDisplacement: positions given, the interior ξ free.
+  const int positionCount = static_cast<int>(problem.rest.positions.size());
+  std::vector<bool> free(problem.restJacobian.cols(), false);
+  const std::vector<bool> onBoundary = curvature::boundaryEdges(problem.stencils);
+  for (size_t e = 0; e < onBoundary.size(); ++e) free[positionCount + e] = !onBoundary[e];
+  interiorXi_ =
+      std::make_unique<LinearizedSolver>(problem.restJacobian, free, problem.rest.positions);
+}
+
+FlatPlateEnergyPerArea::~FlatPlateEnergyPerArea() = default;
+
+double FlatPlateEnergyPerArea::operator()(const PolynomialSurface& p) const {
+  if (!interiorXi_) return linearizedEnergyPerArea(problem_, p);
+  const modeling::Positions& rest = problem_.rest.positions;
+  const int positionCount = static_cast<int>(rest.size());
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(problem_.restJacobian.cols());
+  for (int v = 0; v < rest.rows(); ++v) u[3 * v + 2] = p.height(rest(v, 0), rest(v, 1));
+  modeling::Positions delta = Eigen::Map<const modeling::Positions>(u.data(), rest.rows(), 3);
+  u.tail(u.size() - positionCount) =
+      curvature::linearizedClampedBoundaryXi(problem_.stencils, rest, delta, p);
+  return interiorXi_->energy(interiorXi_->solve(u)) / problem_.term->coveredArea();
+}
+
+int FlatPlateEnergyPerArea::factorizations() const {
+  return interiorXi_ ? interiorXi_->factorizations() : 0;
+}
+
 NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialSurface& p,
                               BoundaryNormals normals, int amplitudeCount,
                               MinimizeOptions options) {
@@ -353,6 +443,7 @@ NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialS
     const PolynomialSurface data = scaledSurface(p, eps);
     const MinimizeResult result = solveWithSurfaceBoundary(problem, data, normals, false, options);
     series.converged = series.converged && result.report.converged;
+    series.factorizations += result.report.factorizations;
     const double error =
         reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, data);
     series.amplitudes.push_back(eps);
@@ -520,42 +611,47 @@ std::string_view recordKindName(RecordKind kind) {
   return "unknown";
 }
 
-void checkStudyOptions(const StudyOptions& o) {
-  if (o.energies.empty()) throw InputError("--energies: no energy to study");
+void StudyOptions::validate() const {
+  const StudyOptions& o = *this;
+  if (o.energies.empty()) throw InputError("StudyOptions.energies: no energy to study");
   for (const EnergyVariant& v : o.energies) curvature::effectivePoisson(v.bending);
   if (o.families.empty() && o.userMeshes.empty())
-    throw InputError("--families, --mesh: no mesh to study (give a family or a mesh file)");
+    throw InputError(
+        "StudyOptions.families, StudyOptions.userMeshes: no mesh to study (give a family or a mesh "
+        "file)");
   const bool delaunay = std::find(o.families.begin(), o.families.end(),
                                   modeling::MeshFamily::Delaunay) != o.families.end();
-  if (delaunay && o.seeds.empty()) throw InputError("--seeds: the delaunay family needs a seed");
+  if (delaunay && o.seeds.empty())
+    throw InputError("StudyOptions.seeds: the delaunay family needs a seed");
   if (o.baseN < 4) {
-    throw InputError("--n " + std::to_string(o.baseN) +
+    throw InputError("StudyOptions.baseN " + std::to_string(o.baseN) +
                      ": at least 4 cells per side (rings 0 and 1 are fixed; the interior must "
                      "keep free vertices)");
   }
   if (o.levels < 1 || o.levels > 8)
-    throw InputError("--levels " + std::to_string(o.levels) + ": expected 1 to 8");
+    throw InputError("StudyOptions.levels " + std::to_string(o.levels) + ": expected 1 to 8");
   if (o.amplitudes < 0 || o.amplitudes == 1 || o.amplitudes > 12) {
     throw InputError(
-        "--amplitudes " + std::to_string(o.amplitudes) +
+        "StudyOptions.amplitudes " + std::to_string(o.amplitudes) +
         ": expected 2 to 12 (an order needs two amplitudes), or 0 for no nonlinear C2");
   }
-  if (o.threads < 1) throw InputError("--threads " + std::to_string(o.threads) + ": at least 1");
-  if (o.quadratics.empty()) throw InputError("--quadratics: no quadratic to reproduce");
+  if (o.threads < 1)
+    throw InputError("StudyOptions.threads " + std::to_string(o.threads) + ": at least 1");
+  if (o.quadratics.empty()) throw InputError("StudyOptions.quadratics: no quadratic to reproduce");
   for (const Quadratic& q : o.quadratics) {
     if (!std::isfinite(q.a) || !std::isfinite(q.b) || !std::isfinite(q.c) ||
         (q.a == 0.0 && q.b == 0.0 && q.c == 0.0)) {
-      throw InputError("--quadratics: " + q.surface().spec() +
+      throw InputError("StudyOptions.quadratics: " + q.surface().spec() +
                        " has nothing to reproduce (zero or not finite)");
     }
   }
   if (!o.solution.empty()) {
     const PolynomialSurface u = PolynomialSurface::parse(o.solution);
     if (isZero(u))
-      throw InputError("--solution " + o.solution +
+      throw InputError("StudyOptions.solution " + o.solution +
                        ": the zero solution has nothing to converge to");
     if (relativeBilaplacian(u) > 1e-12) {
-      throw InputError("--solution " + o.solution +
+      throw InputError("StudyOptions.solution " + o.solution +
                        ": is not biharmonic (Δ²u ≠ 0), so it solves no clamped plate problem; "
                        "e.g. polynomial:x^4-3*x^2*y^2 or polynomial:x^3+x*y^2");
     }
@@ -576,7 +672,7 @@ double studyBytesPerVertex(curvature::Discretization discretization) {
 }
 
 StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {
-  checkStudyOptions(options);
+  options.validate();
   struct Case {
     double bytes, vertices;
     std::string name;
@@ -617,7 +713,7 @@ StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options) {
 
 StudyResults runConvergenceStudy(const StudyOptions& options,
                                  const std::function<void(const StudyProgress&)>& progress) {
-  checkStudyOptions(options);
+  options.validate();
   const std::vector<StudyMesh> meshes = studyMeshes(options);
   const int energies = static_cast<int>(options.energies.size());
   const int cases = energies * static_cast<int>(meshes.size());

@@ -33,6 +33,7 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/linear/linearized_solver.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/minimize.h"
 
@@ -79,6 +80,40 @@ MinimizeResult solveWithSurfaceBoundary(const FlatPlateProblem& problem,
                                         BoundaryNormals normals, bool linearized,
                                         MinimizeOptions options = {});
 
+// The linearized solves of one FlatPlateProblem, each ordered and factored once
+// (linear/linearized_solver.h) and reused for every boundary datum; results equal the one-off
+// functions' bit for bit. Both keep a reference to the problem.
+//
+// C2's and the refinement's: interior z and the free ξ, with boundary normals `normals`.
+class FlatPlateSolves {
+ public:
+  FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals);
+  ~FlatPlateSolves();
+  // solveWithSurfaceBoundary(problem, u, normals, linearized = true): the minimizer with the
+  // fixed vertices on z = u.
+  LinearizedSolution surface(const modeling::PolynomialSurface& u) const;
+  int factorizations() const;  // numerical factorizations made (1 without a ridge retry)
+
+ private:
+  const FlatPlateProblem& problem_;
+  BoundaryNormals normals_;
+  std::unique_ptr<LinearizedSolver> solver_;
+};
+
+// C1's: linearizedEnergyPerArea(problem, p) for many p; for midedge the interior ξ solve at a
+// given displacement is factored once (other energies need no solve).
+class FlatPlateEnergyPerArea {
+ public:
+  explicit FlatPlateEnergyPerArea(const FlatPlateProblem& problem);
+  ~FlatPlateEnergyPerArea();
+  double operator()(const modeling::PolynomialSurface& p) const;
+  int factorizations() const;
+
+ private:
+  const FlatPlateProblem& problem_;
+  std::unique_ptr<LinearizedSolver> interiorXi_;
+};
+
 // C2: reproductionError of the linearized minimizer with boundary data p.
 double c2Error(const FlatPlateProblem& problem, const modeling::PolynomialSurface& p,
                BoundaryNormals normals);
@@ -89,6 +124,7 @@ struct NonlinearC2Series {
   std::vector<double> errors;      // reproductionError with data ε_k p (relative to max |ε_k p|)
   std::optional<double> order;     // slope of log(ε_k · error_k) vs log ε_k; empty when exact
   bool converged = true;           // every nonlinear solve converged
+  int factorizations = 0;          // of all the nonlinear solves
 };
 NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const modeling::PolynomialSurface& p,
                               BoundaryNormals normals, int amplitudeCount,
@@ -190,13 +226,13 @@ struct StudyOptions {
   int threads = 2;                          // independent cases run on this many threads
   Solver solver = Solver::Newton;           // the nonlinear C2 solves
   HessianMode hessian = HessianMode::Exact;
-};
 
-// Throws InputError naming the option for an unusable study: no energies, no meshes, n < 4,
-// levels outside 1..8, amplitudes other than 0 or 2..12, threads < 1, a zero quadratic, a solution
-// that does not parse, is zero or is not biharmonic (Δ²u ≠ 0: no plate's solution), a user mesh
-// that is not flat (z ≢ 0).
-void checkStudyOptions(const StudyOptions& options);
+  // Throws InputError naming the field ("StudyOptions.levels 9: expected 1 to 8") for an unusable
+  // study: no energies, no meshes, baseN < 4, levels outside 1..8, amplitudes other than 0 or
+  // 2..12, threads < 1, a zero quadratic, a solution that does not parse, is zero or is not
+  // biharmonic (Δ²u ≠ 0: no plate's solution), a user mesh that is not flat (z ≢ 0).
+  void validate() const;
+};
 
 enum class RecordKind { Quadratic, NonlinearC2, Refinement };
 std::string_view recordKindName(RecordKind kind);  // "quadratic" | "nonlinear_c2" | "refinement"
@@ -216,6 +252,10 @@ struct StudyRecord {
   // Quadratic: C1 (not for free midedge normals: the spec's "—") and linearized C2.
   std::optional<double> energyPerArea, density, c1Error;
   double c2Error = 0.0;
+  // Numerical sparse Cholesky factorizations made for this record: the case's linearized solves
+  // share their factors (FlatPlateSolves, FlatPlateEnergyPerArea), counted on its first record;
+  // nonlinear C2 counts its Newton (or Ceres) factorizations.
+  int factorizations = 0;
   // NonlinearC2
   NonlinearC2Series nonlinear;
   // Refinement (order, energyOrder and verdict: the series' fit, on each of its records)
@@ -270,12 +310,12 @@ struct StudyMemoryEstimate {
   int concurrent = 1;
 };
 // Generated meshes count (n + 1)² vertices (delaunay 1.25 (n + 1)², measured 1.21 at n = 128);
-// user meshes their own. Throws what checkStudyOptions throws.
+// user meshes their own. Throws what StudyOptions::validate throws.
 StudyMemoryEstimate estimateStudyMemory(const StudyOptions& options);
 
 // Runs every case (an energy on a mesh) on `options.threads` threads; the results do not depend
 // on the thread count. `progress` (may be empty) is called after each case, from one thread at a
-// time. Throws what checkStudyOptions throws, and the first error of a case (in case order).
+// time. Throws what StudyOptions::validate throws, and the first error of a case (in case order).
 StudyResults runConvergenceStudy(const StudyOptions& options,
                                  const std::function<void(const StudyProgress&)>& progress = {});
 
