@@ -16,8 +16,25 @@ struct FieldFlag {
 const std::vector<FieldFlag>& fieldFlags() {
   static const std::vector<FieldFlag> rows = {
       // minimize, energies, membranes
+      {"MinimizeOptions.dof", "--dof"},
+      {"MinimizeOptions.externalForce", "--gravity"},
+      {"MinimizeOptions.linearized", "--linearized"},
+      {"MinimizeOptions.solver", "--solver"},
+      {"MinimizeOptions.obstacles", "--obstacle"},
+      {"BoundaryConditions.fixedVertex", "--fix"},
       // dynamics, modes, spectra, obstacles
+      {"DynamicsOptions.integrator", "--integrator"},
+      {"DynamicsOptions.pinMotion", "--pin-motion"},
+      {"DynamicsOptions.beta", "--beta"},
+      {"DynamicsOptions.gamma", "--gamma"},
+      {"DynamicsOptions.density", "--density"},
+      {"DynamicsOptions.obstacles", "--obstacle"},
+      // the longer first: it starts with the next one
+      {"DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping", "--damping"},
+      {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
+      {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       // studies, fairing, meshes, regions
+      {"FairingOptions.membraneWeight", "--membrane-weight"},
       // solvers, linear algebra
   };
   return rows;
