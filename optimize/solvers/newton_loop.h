@@ -17,6 +17,12 @@
 //   predicts a decrease ½ λ² below f's roundoff, with F known to describe f near y (factored in
 //   this solve, or its chord steps here contracted). A factor from an earlier solve is never
 //   trusted alone: it may be stiffer than f is now (a contact since released).
+// Each rule also keeps the search details its solver was measured with, so that results did not
+// change when the two loops became this one: the static rule evaluates ∇f afresh at each accepted
+// point, halves α down to 10⁻¹² (a chord step: 0.1) and shifts JᵀJ by μI where it is singular;
+// the step rule carries ∇f from the line search's first trial, gives a chord step two trials,
+// first searches δ scaled per vertex by its own bound where an obstacle bounds the step, and keeps
+// JᵀJ for its Newton steps while they contract tenfold.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,9 +38,7 @@ struct StaticStopRule {
   double gradientTolerance = 1e-10;  // on ‖∇f‖∞
   int maxIterations = 200;           // accepted steps
   bool chordSteps = true;            // false: every step factors the Hessian at its iterate
-  // Where neither the Hessian nor JᵀJ factors: JᵀJ + μI with the smallest μ = μ₀ 10^k that
-  // does (below).
-  bool progress = false;  // one line per iteration on stderr
+  bool progress = false;             // one line per iteration on stderr
 };
 
 struct StepStopRule {
