@@ -1,6 +1,7 @@
 // The command-line options of a gravity load and of obstacles, shared by minimize (static) and
 // simulate (dynamic): --gravity gx,gy,gz, --density ρ (mass per unit rest area), --mass (the
-// lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable; optimize/obstacles.h).
+// lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable;
+// optimize/dynamics/obstacles.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -9,8 +10,8 @@
 #include <vector>
 
 #include "modeling/rest_state.h"
-#include "optimize/obstacles.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/modes/vibration_modes.h"
 
 namespace flexure::cli {
 

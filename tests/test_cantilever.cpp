@@ -18,8 +18,8 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/minimize.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/modes/vibration_modes.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure {
 namespace {

@@ -1,5 +1,5 @@
 // The Newton loop for every objective (objective.h): static minimizers (newton_solver.h) and each
-// implicit time step (time_stepping.h).
+// implicit time step (dynamics/time_stepping.h).
 //
 // Every iteration has ∇f at the iterate y and, while a factor F of an earlier Hessian is at hand,
 // the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step (modified

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
 #include "optimize/solvers/objective.h"
 
 namespace flexure::optimize {

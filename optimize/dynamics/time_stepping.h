@@ -33,9 +33,9 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/modes/vibration_modes.h"
 #include "optimize/solvers/newton_stop.h"
-#include "optimize/vibration_modes.h"
 
 namespace flexure::optimize {
 

@@ -1,5 +1,5 @@
 // Newton's method on the exact Hessian for the static minimizers of minimize.h: the objective
-// E − fᵀx + B (solvers/static_energy.h) minimized by the Newton loop (solvers/newton_loop.h) with
+// E − fᵀx + B (static_energy.h) minimized by the Newton loop (newton_loop.h) with
 // the static stop rule — converged when the predicted decrease ½ λ² of a step is at most
 // functionTolerance · E, or when ‖∇E‖∞ ≤ gradientTolerance. HessianMode::Projected factors the
 // sum of the element Hessians projected to positive semidefinite instead of the exact one.
@@ -14,7 +14,7 @@
 
 #include <vector>
 
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 

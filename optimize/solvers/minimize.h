@@ -14,7 +14,7 @@
 
 #include "curvature/energy_term.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
 #include "optimize/solvers/newton_stop.h"
 
 namespace flexure::optimize {
