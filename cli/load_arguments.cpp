@@ -6,6 +6,7 @@
 
 #include "cli/command_files.h"
 #include "modeling/errors.h"
+#include "modeling/vertex_quantities.h"
 
 namespace flexure::cli {
 
@@ -55,7 +56,7 @@ optimize::MassLumping massLumping(const LoadArguments& a) {
 
 modeling::Positions gravityLoad(const LoadArguments& a, const modeling::RestState& rest) {
   if (a.gravity.empty()) return {};
-  const Eigen::VectorXd mass = optimize::lumpedVertexMasses(rest, massLumping(a), a.density);
+  const Eigen::VectorXd mass = modeling::lumpedVertexMasses(rest, massLumping(a), a.density);
   return mass * gravityVector(a).transpose();
 }
 

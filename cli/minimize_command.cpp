@@ -21,6 +21,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
@@ -225,7 +226,7 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   if (!obstacles.empty())
     solver.obstacles = optimize::makeObstacleBarrier(
         std::move(obstacles), rest,
-        optimize::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
+        modeling::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
         gravityVector(o.load));
   const optimize::MinimizeResult result =
       optimize::minimize(terms, bc, rest.positions, restXi, solver);

@@ -62,7 +62,7 @@ double tipDeflection(int n, double length, double width, double g) {
   optimize::MinimizeOptions o;
   o.externalForce = modeling::Positions::Zero(mesh.vertexCount(), 3);
   o.externalForce.col(2) =
-      optimize::lumpedVertexMasses(rest, optimize::MassLumping::Barycentric, 1.0) * g;
+      modeling::lumpedVertexMasses(rest, optimize::MassLumping::Barycentric, 1.0) * g;
   const optimize::MinimizeResult r =
       optimize::minimize({bending.get()}, bc, mesh.positions, bc.xi, o);
   EXPECT_TRUE(r.report.converged) << r.report.termination;
