@@ -131,21 +131,12 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   for (int k = 1; k < steps; ++k) {
     const auto stepStart = Clock::now();
     const int iterationsBefore = iterations, factorizationsBefore = factorizations;
-    auto outcome = stepper.step(dt);
-    factorizations += outcome.factorizations;
-    if (!outcome.converged) {  // as flexure simulate does: two half steps
-      ++halvings;
-      iterations += outcome.newtonIterations;
-      outcome = stepper.step(dt / 2);
-      factorizations += outcome.factorizations;
-      if (outcome.converged) {
-        iterations += outcome.newtonIterations;
-        outcome = stepper.step(dt / 2);
-        factorizations += outcome.factorizations;
-      }
-      if (!outcome.converged) return {{"energy", energy}, {"error", outcome.failure}};
-    }
-    iterations += outcome.newtonIterations;
+    // As flexure simulate does, a failed step is replaced by two half steps (one halving here).
+    const auto advance = stepper.advance(dt, dt / 2);
+    factorizations += advance.factorizations;
+    halvings += advance.halvings;
+    if (!advance.completed) return {{"energy", energy}, {"error", advance.failure.failure}};
+    iterations += advance.attemptedIterations;
     if (trace)
       std::fprintf(stderr, "  step %4d t %.4f  %.3f s  iterations %d  factorizations %d\n", k,
                    stepper.time(), secondsSince(stepStart), iterations - iterationsBefore,

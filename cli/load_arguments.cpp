@@ -6,6 +6,7 @@
 
 #include "cli/command_files.h"
 #include "modeling/errors.h"
+#include "modeling/vertex_quantities.h"
 
 namespace flexure::cli {
 

@@ -21,6 +21,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {

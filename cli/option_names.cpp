@@ -20,7 +20,21 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.dof", "--dof"},
       {"MinimizeOptions.solver", "--solver"},
+      {"MinimizeOptions.externalForce", "--gravity"},
+      {"MinimizeOptions.linearized", "--linearized"},
+      {"MinimizeOptions.obstacles", "--obstacle"},
+      {"BoundaryConditions.fixedVertex", "--fix"},
       // dynamics, modes, spectra, obstacles
+      {"DynamicsOptions.integrator", "--integrator"},
+      {"DynamicsOptions.pinMotion", "--pin-motion"},
+      {"DynamicsOptions.beta", "--beta"},
+      {"DynamicsOptions.gamma", "--gamma"},
+      {"DynamicsOptions.density", "--density"},
+      {"DynamicsOptions.obstacles", "--obstacle"},
+      // the longer first: it starts with the next one
+      {"DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping", "--damping"},
+      {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
+      {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       // studies, fairing, meshes, regions
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},
@@ -32,6 +46,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"StudyOptions.threads", "--threads"},
       {"StudyOptions.quadratics", "--quadratics"},
       {"StudyOptions.solution", "--solution"},
+      {"FairingOptions.membraneWeight", "--membrane-weight"},
       // solvers, linear algebra
   };
   return rows;

@@ -270,25 +270,19 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   double nextFrame = frameInterval;
   std::string failure;
   // One step of h, halved (recursively, down to --min-dt) while Newton fails.
-  std::function<bool(double)> advance = [&](double h) {
-    const optimize::TimeStepper::Outcome outcome = stepper.step(h);
-    if (outcome.converged) {
-      ++run.steps;
-      run.newtonIterations += outcome.newtonIterations;
-      run.maxNewtonIterations = std::max(run.maxNewtonIterations, outcome.newtonIterations);
-      return true;
-    }
-    if (h / 2.0 < minDt) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g", stepper.time(),
-                    h, outcome.failure.c_str(), minDt);
-      failure = std::string(text) + " stops the halving";
-      return false;
-    }
-    ++run.halvings;
-    run.smallestStep = std::min(run.smallestStep, h / 2.0);
-    return advance(h / 2.0) && advance(h / 2.0);
+  auto advance = [&](double h) {
+    const optimize::TimeStepper::Advance a = stepper.advance(h, minDt);
+    run.steps += a.steps;
+    run.newtonIterations += a.newtonIterations;
+    run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
+    run.halvings += a.halvings;
+    run.smallestStep = std::min(run.smallestStep, a.smallestStep);
+    if (a.completed) return true;
+    char text[160];
+    std::snprintf(text, sizeof text, "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g",
+                  a.failedTime, a.failedStep, a.failure.failure.c_str(), minDt);
+    failure = std::string(text) + " stops the halving";
+    return false;
   };
   for (long k = 1; k <= steps && failure.empty(); ++k) {
     if (!advance(o.dt)) break;

@@ -60,11 +60,8 @@ void addSolverLimits(CLI::App& sub, optimize::MinimizeOptions& solver, bool tole
 
 std::string solverAdvice(const optimize::MinimizeReport& report,
                          const optimize::MinimizeOptions& solver) {
-  // Ceres reports a residual that evaluates to inf or NaN as "Evaluation of the residual ...
-  // failed" or "Residual and Jacobian evaluation failed", Newton as "... is not finite".
   if (!std::isfinite(report.initialEnergy) || !std::isfinite(report.finalEnergy) ||
-      report.termination.find("valuation") != std::string::npos ||
-      report.termination.find("not finite") != std::string::npos) {
+      report.stop == optimize::NewtonStop::NonFinite) {
     return "the energy is not finite (overflow, or a degenerate triangle): values this large do "
            "not fit in double precision; scale the boundary data down, and check the mesh with "
            "flexure info";

@@ -163,6 +163,26 @@ TEST(NonlinearMinimize, ConvergesForEveryEnergyWithSmallGradient) {
   }
 }
 
+// Why Newton stopped is a value: Converged with the report's CONVERGENCE text, MaxIterations
+// (and NO_CONVERGENCE for users) when one iteration is allowed for a solve that needs several.
+TEST(NonlinearMinimize, ReportsWhyNewtonStopped) {
+  const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Patch48, 8, 1, {}});
+  const auto p = PolynomialSurface::quadratic(0.3, -0.7, 0.5);
+  const testing::TestProblem problem(mesh, energy(Discretization::Cotan));
+  const optimize::MinimizeResult converged = problem.solve(p, false);
+  EXPECT_EQ(converged.report.stop, optimize::NewtonStop::Converged);
+  EXPECT_EQ(converged.report.termination.rfind("CONVERGENCE: ", 0), 0u);
+  optimize::MinimizeOptions once;
+  once.maxIterations = 1;
+  once.start = optimize::Start::AsGiven;  // from rest: one step does not reach the tolerance
+  const optimize::MinimizeResult stopped = problem.solve(p, false, BoundaryNormals::Clamped, once);
+  EXPECT_FALSE(stopped.report.converged);
+  EXPECT_EQ(stopped.report.stop, optimize::NewtonStop::MaxIterations);
+  EXPECT_EQ(stopped.report.iterations, 1);
+  EXPECT_EQ(stopped.report.termination.rfind("NO_CONVERGENCE: no convergence in 1 iterations", 0),
+            0u);
+}
+
 // Newton (the default) and Ceres' Levenberg–Marquardt, the reference, reach the same minimizer on
 // every energy and option, on a regular and an irregular mesh, both solved tightly: max vertex
 // difference ≤ 1e-8 × the boundary amplitude. Newton converges quadratically: a few iterations,

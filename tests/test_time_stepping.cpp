@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 #include "curvature/bending_energy.h"
@@ -454,6 +455,50 @@ TEST(TimeStepping, ContactStepsConvergeWhereTheExactHessianIsIndefinite) {
   // measured 0.097 d̂. (With the weight-only κ̄, vertices of the drape benchmark's hinge sheet
   // reached 1e-4 d̂ at 2 500 vertices and 2e-5 d̂ at 10 000.)
   EXPECT_GT(closest, 0.03 * layer);
+}
+
+// TimeStepper::advance replaces a step that fails by two of half its length, recursively down to
+// minStep: the same states, bit for bit, as doing so by hand with step(); and it stops, state
+// unchanged, where halving would go below minStep. Two Newton steps per time step make a long
+// step fail.
+TEST(TimeStepping, AdvanceHalvesFailedStepsAsStepByStepDoes) {
+  const Shell shell(6, Discretization::Hinge);
+  DynamicsOptions o;
+  o.gravity = Eigen::Vector3d(0.0, 0.0, -50.0);
+  o.maxNewtonIterations = 2;
+  const modeling::Positions still = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
+  TimeStepper advanced(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  TimeStepper byHand(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  advanced.start(shell.rest.positions, still, Eigen::VectorXd());
+  byHand.start(shell.rest.positions, still, Eigen::VectorXd());
+  const double h = 0.2;
+  const TimeStepper::Advance a = advanced.advance(h, h / 64.0);
+  ASSERT_TRUE(a.completed) << a.failure.failure;
+  EXPECT_GT(a.halvings, 0);
+  EXPECT_NEAR(advanced.time(), h, 1e-15);
+  // By hand: the same recursion.
+  int halvings = 0, steps = 0;
+  std::function<bool(double)> step = [&](double length) {
+    if (byHand.step(length).converged) return ++steps, true;
+    if (length / 2.0 < h / 64.0) return false;
+    ++halvings;
+    return step(length / 2.0) && step(length / 2.0);
+  };
+  ASSERT_TRUE(step(h));
+  EXPECT_EQ(a.halvings, halvings);
+  EXPECT_EQ(a.steps, steps);
+  EXPECT_EQ((advanced.positions() - byHand.positions()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((advanced.velocities() - byHand.velocities()).cwiseAbs().maxCoeff(), 0.0);
+
+  // No halving allowed: the step fails, the state stays.
+  const modeling::Positions before = advanced.positions();
+  const TimeStepper::Advance refused = advanced.advance(h, h);
+  EXPECT_FALSE(refused.completed);
+  EXPECT_EQ(refused.steps, 0);
+  EXPECT_EQ(refused.failedStep, h);
+  EXPECT_NE(refused.failure.stop, optimize::NewtonStop::Converged);
+  EXPECT_FALSE(refused.failure.failure.empty());
+  EXPECT_EQ((advanced.positions() - before).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(TimeStepping, RefusesUnusableOptions) {

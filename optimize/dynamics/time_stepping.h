@@ -17,11 +17,12 @@
 //
 // (B the obstacles' barrier, obstacles.h; its force −∇B joins ∇E in the equation of motion)
 //
-// whose gradient is the equation above; Newton on its exact Hessian M/(βh²) + γC/(βh) + ∇²E
-// (pattern and CHOLMOD analysis once per run). β = ¼, γ = ½ (average acceleration, the default)
-// conserves the energy of a linear undamped system; backward Euler is the same minimization with
-// β = γ = 1 and x̂ = x_n + h v_n, v̂ = v_n (it dissipates); β = 0, γ = ½ is explicit central
-// differences (x = x̂, then a from the forces; ξ from minimizeEdgeUnknowns).
+// whose gradient is the equation above; the Newton loop (solvers/newton_loop.h, its step stop
+// rule) on its exact Hessian M/(βh²) + γC/(βh) + ∇²E (pattern and CHOLMOD analysis once per run). β
+// = ¼, γ = ½ (average acceleration, the default) conserves the energy of a linear undamped system;
+// backward Euler is the same minimization with β = γ = 1 and x̂ = x_n + h v_n, v̂ = v_n (it
+// dissipates); β = 0, γ = ½ is explicit central differences (x = x̂, then a from the forces; ξ from
+// minimizeEdgeUnknowns).
 #pragma once
 
 #include <Eigen/Core>
@@ -34,8 +35,11 @@
 #include "modeling/stencils.h"
 #include "optimize/dynamics/obstacles.h"
 #include "optimize/modes/vibration_modes.h"
+#include "optimize/solvers/newton_stop.h"
 
 namespace flexure::optimize {
+
+struct NewtonResult;
 
 enum class Integrator { Newmark, BackwardEuler, CentralDifference };
 Integrator parseIntegrator(
@@ -58,7 +62,7 @@ struct PinMotion {
   Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
 };
-// rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz (InputError naming --pin-motion
+// rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz (InputError naming the pin motion
 // otherwise: a zero axis, a number that is not finite).
 PinMotion parsePinMotion(const std::string& spec);
 
@@ -97,7 +101,7 @@ struct DynamicsOptions {
   // A step has converged when the Newton step moves no unknown more than `tolerance` × the rest
   // mesh's bounding-box diagonal.
   double tolerance = 1e-10;
-  // Chord steps (time_stepping.cpp): the last factor of the step's Hessian, from an earlier
+  // Chord steps (solvers/newton_loop.h): the last factor of the step's Hessian, from an earlier
   // iteration or an earlier step of the same h, serves while its steps contract; false: every
   // iteration factors the Hessian at its iterate (plain Newton, the reference the tests compare
   // with).
@@ -135,11 +139,30 @@ class TimeStepper {
   struct Outcome {
     bool converged = false;
     int newtonIterations = 0;  // chord and Newton steps, and the last, converged, iteration
-    std::string failure;       // why it did not converge
+    std::string failure;       // why it did not converge, for users
     int factorizations = 0;    // Hessians assembled and factored
+    NewtonStop stop = NewtonStop::Running;  // why it stopped (Converged on success)
   };
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
+
+  // What advance() did: the steps taken, and where it stopped when it could not go on.
+  struct Advance {
+    bool completed = false;       // the whole h was advanced
+    int steps = 0;                // converged steps (h, or halves of it)
+    int halvings = 0;             // failed steps that were split into two halves
+    double smallestStep = 0.0;    // the shortest step tried (h when none was halved)
+    int newtonIterations = 0;     // over the converged steps
+    int maxNewtonIterations = 0;  // of one converged step
+    int attemptedIterations = 0;  // over every step tried, failed ones too
+    int factorizations = 0;       // over every step tried
+    Outcome failure;              // the last failed step's outcome (completed: none)
+    double failedStep = 0.0;      // its length, and the time it started from
+    double failedTime = 0.0;
+  };
+  // Advances by h; a step that fails is replaced by two of h/2, recursively, while h/2 ≥ minStep.
+  // On failure the state is that after the steps that converged.
+  Advance advance(double h, double minStep);
 
   // The implicit step's objective Φ for a step of h from the current state, at (x, ξ) (#V by 3,
   // #E or empty; the pinned rows are replaced by where the pins are at t + h): its value,
@@ -166,8 +189,16 @@ class TimeStepper {
 
  private:
   struct Implicit;
+  class IncrementalPotential;
   // One step; with `probe`, only Φ and its derivatives at the probe's point (stepObjective).
   Outcome implicitStep(double h, StepObjective* probe = nullptr);
+  // The stiffness-proportional damping β K̄ + c K_B(x_n) of the next step on the pattern (empty:
+  // none).
+  std::vector<double> stiffnessDamping() const;
+  // Where the step's Newton loop starts (free unknowns).
+  Eigen::VectorXd startingPoint(IncrementalPotential& phi, double h) const;
+  static std::string stepFailure(const NewtonResult& newton);
+  void advanceInto(double h, double minStep, Advance& advance);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
   // Puts the pinned rows of x (and of v, when given) where the pin motion has them at time t.

@@ -101,7 +101,8 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch, const CompiledPatc
 curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, double weight,
                                            double bendingStiffness, double meanEdgeLength) {
   if (!(weight > 0.0) || !std::isfinite(weight))
-    throw InputError("--membrane-weight must be positive (got " + std::to_string(weight) + ")");
+    throw InputError("FairingOptions.membraneWeight must be positive (got " +
+                     std::to_string(weight) + ")");
   const double l = meanEdgeLength;
   curvature::MembraneOptions m;
   m.model = model;

@@ -119,7 +119,7 @@ struct EnergyMeasure {
 struct FairingMeasures {
   std::vector<EnergyMeasure> bending;  // all five discretizations, in docs/energies.md's order
   // The same on the current metric: the geometric energy of the surface alone, independent of
-  // the input's triangles (what --metric current minimizes).
+  // the input's triangles (what FairingOptions.metric Current minimizes).
   std::vector<EnergyMeasure> bendingCurrent;
   TriangleQuality quality;
   double maxDisplacement = 0.0;  // max |x_v − x_v(input)| over the patch

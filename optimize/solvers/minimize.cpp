@@ -30,12 +30,13 @@ void requireWellPosed(const std::vector<const EnergyTerm*>& terms, const Boundar
     throw InputError("every vertex is fixed: there is nothing to minimize (fix fewer rings)");
   }
   if (fixed == 0) {
-    throw InputError(options.dof == DofMode::Height
-                         ? "no vertex is fixed: in --dof height adding a plane z = a + bx + cy "
-                           "costs no bending energy, so the minimizer is not unique; fix the "
-                           "boundary (--fix rings:2)"
-                         : "no vertex is fixed: rigid motions cost no energy, so the minimizer is "
-                           "not unique; fix the boundary (--fix rings:2)");
+    throw InputError(
+        options.dof == DofMode::Height
+            ? "no vertex is fixed: in MinimizeOptions.dof height adding a plane z = a + bx + cy "
+              "costs no bending energy, so the minimizer is not unique; fix the "
+              "boundary (BoundaryConditions.fixedVertex rings:2)"
+            : "no vertex is fixed: rigid motions cost no energy, so the minimizer is "
+              "not unique; fix the boundary (BoundaryConditions.fixedVertex rings:2)");
   }
   std::vector<bool> touched(vertexCount, false);
   for (const EnergyTerm* term : terms) term->markTouchedVertices(touched);
@@ -43,7 +44,7 @@ void requireWellPosed(const std::vector<const EnergyTerm*>& terms, const Boundar
     if (!bc.fixedVertex[v] && !touched[v]) {
       throw InputError("free vertex " + std::to_string(v) +
                        " is touched by no element of the energy, so nothing determines it; fix "
-                       "it or use more rings (--fix rings:K)");
+                       "it or use more rings (BoundaryConditions.fixedVertex rings:K)");
     }
   }
 }
@@ -77,6 +78,7 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
   result.positions = std::move(solution.positions);
   result.xi = std::move(solution.xi);
   result.report.converged = true;
+  result.report.stop = NewtonStop::Converged;
   result.report.solver = "linearized";
   result.report.termination = "linearized: one sparse solve";
   result.report.iterations = 1;
@@ -85,6 +87,23 @@ MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
   result.report.unknowns = solver.freeCount();
   result.report.totalSeconds = secondsSince(start);
   return result;
+}
+
+// Ceres' termination as a NewtonStop. Ceres reports a residual that evaluates to inf or NaN only
+// in its message ("Residual and Jacobian evaluation failed", "Evaluation of the residual ...
+// failed"): this is the one place that reads it.
+NewtonStop ceresStop(const ceres::Solver::Summary& summary) {
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+      return NewtonStop::Converged;
+    case ceres::NO_CONVERGENCE:
+      return NewtonStop::MaxIterations;
+    default:
+      return summary.message.find("valuation") != std::string::npos ||
+                     summary.message.find("not finite") != std::string::npos
+                 ? NewtonStop::NonFinite
+                 : NewtonStop::SolverFailure;
+  }
 }
 
 MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
@@ -164,6 +183,7 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   r.factorizations = summary.num_linear_solves;
   r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
                   summary.message;
+  r.stop = ceresStop(summary);
   r.iterations = summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
   r.initialEnergy = summary.initial_cost;
   r.finalEnergy = summary.final_cost;
@@ -190,11 +210,13 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
   requireWellPosed(terms, conditions, options);
   if (options.externalForce.rows() > 0 && (options.linearized || options.solver != Solver::Newton))
     throw InputError(
-        "an external load (--gravity) needs the nonlinear Newton solve: not "
-        "--linearized, not --solver ceres");
+        "an external load (MinimizeOptions.externalForce) needs the nonlinear Newton solve: not "
+        "MinimizeOptions.linearized, not MinimizeOptions.solver ceres");
   if (!options.obstacles.empty() && (options.linearized || options.solver != Solver::Newton))
     throw InputError(
-        "--obstacle needs the nonlinear Newton solve: not --linearized, not --solver ceres");
+        "MinimizeOptions.obstacles needs the nonlinear Newton solve: not "
+        "MinimizeOptions.linearized, "
+        "not MinimizeOptions.solver ceres");
   if (options.externalForce.rows() > 0 && options.externalForce.rows() != rest.rows())
     throw InputError("external load: expected one force per vertex");
   MinimizeResult result;

@@ -15,6 +15,7 @@
 #include "curvature/energy_term.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/obstacles.h"
+#include "optimize/solvers/newton_stop.h"
 
 namespace flexure::optimize {
 
@@ -24,7 +25,8 @@ enum class DofMode { Height, Xyz };
 
 // Where the free unknowns of a nonlinear solve start. Linearized: at the minimizer of the
 // linearized energy (one sparse solve: the Newton step from rest), which leaves Gauss–Newton a
-// small correction; AsGiven: at the boundary conditions' `start` (the rest state, or --init).
+// small correction; AsGiven: at the boundary conditions' `start` (the rest state, or a given
+// start).
 enum class Start { Linearized, AsGiven };
 
 // The nonlinear solver: flexure's Newton method on the exact Hessian (newton_solver.h), or
@@ -71,8 +73,9 @@ struct MinimizeOptions {
 
 struct MinimizeReport {
   bool converged = false;
-  std::string solver;       // "newton", "ceres" or "linearized"
-  std::string termination;  // why the solver stopped
+  std::string solver;                     // "newton", "ceres" or "linearized"
+  std::string termination;                // why the solver stopped, for users
+  NewtonStop stop = NewtonStop::Running;  // why the solver stopped, for callers
   int iterations = 0;
   int factorizations = 0;  // numerical sparse Cholesky factorizations, the predictor's included
   double initialEnergy = 0.0, finalEnergy = 0.0;

@@ -8,6 +8,8 @@
 #include "modeling/errors.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/newton_loop.h"
+#include "optimize/solvers/static_energy.h"
 
 namespace flexure::optimize {
 namespace {
@@ -44,6 +46,7 @@ class NewtonSolver {
         factorization_(assembly_,
                        options.simplicialBaseline ? std::vector<int>() : eliminationOrder(options),
                        options.simplicialBaseline),
+        loop_(assembly_, factorization_),
         projection_(options.hessian == HessianMode::Projected
                         ? HessianProjection::PositiveSemidefinite
                         : HessianProjection::Exact) {}
@@ -59,12 +62,8 @@ class NewtonSolver {
 
   MinimizeResult run(Clock::time_point start) {
     report_.orderingSeconds = secondsSince(start);  // the pattern, the order and the analysis
-    MinimizeResult result;
-    result.positions = bc_.start;
-    if (withXi_) result.xi = bc_.xi;
-    MinimizeResult base;  // where the solve starts, feasible
-    base.positions = bc_.start;
-    base.xi = result.xi;
+    Configuration result{bc_.start, withXi_ ? bc_.xi : Eigen::VectorXd()};
+    Configuration base = result;  // where the solve starts, feasible
     if (options_.start == Start::Linearized) {
       for (Eigen::Index v = 0; v < rest_.rows(); ++v)
         if (!bc_.fixedVertex[v]) base.positions.row(v) = rest_.row(v);
@@ -83,8 +82,25 @@ class NewtonSolver {
         if (withXi_) result.xi = base.xi + alpha * (result.xi - base.xi);
       }
     }
-    iterate(result);
-    return finish(std::move(result), start);
+    StaticEnergy objective = staticEnergy(result);
+    Eigen::VectorXd y = objective.freeValues(result);
+    StaticStopRule rule;
+    rule.functionTolerance = options_.functionTolerance;
+    rule.gradientTolerance = options_.gradientTolerance;
+    rule.maxIterations = options_.maxIterations;
+    rule.chordSteps = !options_.simplicialBaseline;
+    rule.progress = options_.progress;
+    const NewtonResult loop = loop_.run(objective, y, rule);
+    add(loop);
+    report_.iterations = loop.iterations;
+    report_.initialEnergy = loop.initialValue;
+    report_.finalEnergy = loop.finalValue;
+    gradient_ = loop.gradient;
+    newtonSteps_ = loop.newtonSteps;
+    chordSteps_ = loop.chordSteps;
+    gaussNewtonIterations_ = loop.gaussNewtonSteps;
+    stop(loop.stop, loop.stop == NewtonStop::Converged ? loop.convergedBy : std::string());
+    return finish(objective.configuration(y), start);
   }
 
  private:
@@ -100,166 +116,90 @@ class NewtonSolver {
     return free;
   }
 
-  HessianEvaluation evaluate(
-      const Positions& x, const Eigen::VectorXd& xi, HessianProjection projection,
-      const Eigen::VectorXd* fixedMove,
-      curvature::SecondDerivatives kind = curvature::SecondDerivatives::Exact) {
-    const auto t = Clock::now();
-    HessianEvaluation e = assembly_.evaluate(x, xi, projection, fixedMove, kind);
-    if (options_.externalForce.rows() > 0) {  // − fᵀx and its gradient − f
-      e.energy -= loadEnergy(x);
-      const std::vector<int>& unknowns = assembly_.freeUnknowns();
-      for (size_t k = 0; k < unknowns.size(); ++k)
-        if (unknowns[k] < x.size())
-          e.gradient[static_cast<Eigen::Index>(k)] -= options_.externalForce.data()[unknowns[k]];
-    }
-    options_.obstacles.add(assembly_, x, e,
-                           kind != curvature::SecondDerivatives::Exact ||
-                               projection == HessianProjection::PositiveSemidefinite);
+  // The objective with the fixed unknowns of `at`.
+  StaticEnergy staticEnergy(const Configuration& at) const {
+    return StaticEnergy(assembly_, at, terms_, options_.externalForce, options_.obstacles,
+                        projection_);
+  }
+
+  // The counts and times of a loop (or the predictor's factor and solve) into the report.
+  void add(const NewtonResult& part) {
+    report_.factorizations += part.factorizations;
+    report_.evaluationSeconds += part.evaluationSeconds;
+    report_.linearSolverSeconds += part.linearSolverSeconds;
+    shiftedFactorizations_ += part.shiftedFactorizations;
+  }
+
+  // Why the solve stopped, in the report's words.
+  void stop(NewtonStop why, const std::string& convergedBy) {
+    report_.stop = why;
+    report_.converged = why == NewtonStop::Converged;
+    if (why == NewtonStop::Converged)
+      report_.termination = "CONVERGENCE: " + convergedBy;
+    else if (why == NewtonStop::MaxIterations)
+      report_.termination =
+          "no convergence in " + std::to_string(options_.maxIterations) + " iterations";
+    else
+      report_.termination = newtonStopMessage(why);
+  }
+
+  // The minimizer of the linearized energy ½ |J (u − ū)|² (minimize.h) over the free unknowns, J
+  // the residual Jacobian at rest with all derivatives, u's fixed entries the boundary values.
+  void predictLinearized(const Positions& move, Configuration& result) {
+    auto t = Clock::now();
+    const SparseMatrix jacobian =
+        residualJacobian(terms_, rest_, restXi_, curvature::Derivatives::All);
     report_.evaluationSeconds += secondsSince(t);
-    return e;
-  }
-
-  // The displacement (#V by 3) of the step δ over the free unknowns.
-  Positions displacement(const Eigen::VectorXd& delta) const {
-    Positions dx = Positions::Zero(rest_.rows(), 3);
-    const std::vector<int>& unknowns = assembly_.freeUnknowns();
-    for (size_t k = 0; k < unknowns.size(); ++k)
-      if (unknowns[k] < dx.size()) dx.data()[unknowns[k]] = delta[static_cast<Eigen::Index>(k)];
-    return dx;
-  }
-
-  // The longest fraction of δ from x that keeps every vertex outside the obstacles (1 without).
-  double feasibleStep(const MinimizeResult& x, const Eigen::VectorXd& delta) const {
-    return options_.obstacles.empty()
-               ? 1.0
-               : options_.obstacles.stepBound(x.positions, displacement(delta));
-  }
-
-  // fᵀx of the external load (0 without one).
-  double loadEnergy(const Positions& x) const {
-    return options_.externalForce.rows() > 0 ? options_.externalForce.cwiseProduct(x).sum() : 0.0;
-  }
-
-  // Factors h's matrix, or where it is singular (or not positive definite) the matrix + μI with
-  // the smallest μ = μ₀ 10^k that makes it so; μ₀ = μ_last / 10 (the previous iteration's μ, so
-  // that a run of such iterations does not search from scratch each time), at least 1e-8 of the
-  // largest diagonal magnitude.
-  bool factor(HessianEvaluation& h) {
-    const auto t = Clock::now();
+    const long positions = rest_.size();
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
+    u.head(positions) = Eigen::Map<const Eigen::VectorXd>(move.data(), positions);
+    if (withXi_) u.tail(restXi_.size()) = bc_.xi - restXi_;
+    std::vector<bool> free(jacobian.cols(), false);
+    for (size_t k = 0; k < free_.size() && k < free.size(); ++k) free[k] = free_[k];
+    t = Clock::now();
+    u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free, rest_);
+    report_.linearSolverSeconds += secondsSince(t);
     ++report_.factorizations;
-    bool ok = factorization_.factor(h.values);
-    if (ok) {
-      lastShift_ = 0.0;
-    } else {
-      double largest = 0.0;
-      for (int q = 0; q < assembly_.size(); ++q)
-        largest = std::max(largest, std::abs(h.values[assembly_.columnStart()[q + 1] - 1]));
-      for (double shift = std::max(1e-8 * largest, 0.1 * lastShift_); !ok && shift <= 1e8 * largest;
-           shift *= 10.0) {
-        ++report_.factorizations;
-        ok = factorization_.factor(h.values, shift);
-        if (ok) lastShift_ = shift;
-      }
-      ++shiftedFactorizations_;
-    }
-    report_.linearSolverSeconds += secondsSince(t);
-    return ok;
-  }
-
-  // The Newton factorization at x: the exact Hessian h, or, where it is not positive definite
-  // (away from a minimizer: a fairing start, a compressed membrane), the Gauss–Newton matrix JᵀJ
-  // at x — positive semidefinite by construction, and the curvature Ceres' LM uses — shifted by
-  // μI where singular. Near a strict minimizer the exact Hessian is positive definite, so the
-  // last steps are Newton's. Measured against shifting the indefinite exact Hessian by μI:
-  // fairing lion-head all-interior (midedge, 49 851 unknowns) 12 iterations, 28 s against 51,
-  // 256 s (Ceres' LM: 36, 90 s); against projecting the element Hessians to positive
-  // semidefinite (HessianMode::Projected), hinge + StVK in xyz lifted by a unit quadratic:
-  // converged where projection did not in 400 iterations. h is replaced by what was factored.
-  bool factorNewton(HessianEvaluation& h, const MinimizeResult& x) {
-    const auto t = Clock::now();
-    ++report_.factorizations;
-    const bool exact = factorization_.factor(h.values);
-    report_.linearSolverSeconds += secondsSince(t);
-    if (exact) return true;
-    ++gaussNewtonIterations_;
-    h = evaluate(x.positions, x.xi, projection_, nullptr,
-                 curvature::SecondDerivatives::GaussNewton);
-    return factor(h);
-  }
-
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) {
-    const auto t = Clock::now();
-    Eigen::VectorXd x = factorization_.solve(b);
-    report_.linearSolverSeconds += secondsSince(t);
-    return x;
-  }
-
-  // (x, ξ) + α δ, δ over the free unknowns.
-  void step(const MinimizeResult& from, const Eigen::VectorXd& delta, double alpha,
-            MinimizeResult& to) const {
-    to.positions = from.positions;
-    to.xi = from.xi;
-    const std::vector<int>& unknowns = assembly_.freeUnknowns();
-    const long positions = from.positions.size();
-    for (size_t k = 0; k < unknowns.size(); ++k) {
-      const long u = unknowns[k];
-      if (u < positions)
-        to.positions.data()[u] += alpha * delta[static_cast<Eigen::Index>(k)];
-      else
-        to.xi[u - positions] += alpha * delta[static_cast<Eigen::Index>(k)];
-    }
-  }
-
-  // E (− fᵀx under an external load), or +∞ where an element is degenerate.
-  double energy(const MinimizeResult& at) const {
-    double sum = 0.0;
-    try {
-      for (const EnergyTerm* term : terms_) sum += term->energy(at.positions, at.xi);
-    } catch (const NumericalError&) {
-      return std::numeric_limits<double>::infinity();
-    }
-    sum -= loadEnergy(at.positions);
-    sum += options_.obstacles.energy(at.positions);  // +∞ inside an obstacle
-    return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
+    result.positions = rest_ + Eigen::Map<const Positions>(u.data(), rest_.rows(), 3);
+    if (withXi_) result.xi = restXi_ + u.tail(restXi_.size());
   }
 
   // The Gauss–Newton step from the rest state with the fixed unknowns moved to their values:
   // JᵀJ from first derivatives, which at a stress-free rest (r = 0) is the exact Hessian, so
   // that the step is the Newton step and the linearized minimizer. Its factor serves the first
   // chord steps. false (the report says why) when it fails.
-  bool predict(MinimizeResult& result) {
+  bool predict(Configuration& result) {
     const Positions move = bc_.start - rest_;
     if (options_.dof == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
       // x, y moved in height mode: the z-only Hessian has no coupling to them. Start from the
       // linearized minimizer with all derivatives (one least-squares solve) instead.
-      MinimizeOptions linear = options_;
-      linear.linearized = true;
-      const MinimizeResult predictor = minimize(terms_, bc_, rest_, restXi_, linear);
-      result.positions = predictor.positions;
-      if (withXi_) result.xi = predictor.xi;
-      report_.factorizations += 1;
-      report_.evaluationSeconds += predictor.report.evaluationSeconds;
-      report_.linearSolverSeconds += predictor.report.linearSolverSeconds;
+      predictLinearized(move, result);
       return true;
     }
     const Eigen::VectorXd fixedMove = unknownVector(
         move, withXi_ ? Eigen::VectorXd(bc_.xi - restXi_) : Eigen::VectorXd(), withXi_);
     const Eigen::VectorXd restXi = withXi_ ? restXi_ : Eigen::VectorXd();
-    HessianEvaluation h =
-        evaluate(rest_, restXi, projection_, &fixedMove, curvature::SecondDerivatives::GaussNewton);
-    if (!factor(h)) {
+    NewtonResult part;
+    const auto t = Clock::now();
+    const HessianEvaluation h = staticEnergy(result).evaluateAt(
+        Configuration{rest_, restXi}, curvature::SecondDerivatives::GaussNewton, &fixedMove);
+    part.evaluationSeconds += secondsSince(t);
+    const bool factored = loop_.factorShifted(h.values, part);
+    const Eigen::VectorXd delta =
+        factored ? loop_.solve(-(h.gradient + h.fixedCoupling), part) : Eigen::VectorXd();
+    add(part);
+    if (!factored) {
+      stop(NewtonStop::NotPositiveDefinite, "");
       report_.termination = "the Hessian at rest could not be factored";
       return false;
     }
-    const Eigen::VectorXd delta = solve(-(h.gradient + h.fixedCoupling));
     if (!delta.allFinite()) {
+      stop(NewtonStop::NonFinite, "");
       report_.termination = "the linearized predictor is not finite";
       return false;
     }
-    MinimizeResult atRest;
-    atRest.positions = bc_.start;  // the fixed unknowns at their values, the free ones at rest
-    if (withXi_) atRest.xi = bc_.xi;
+    Configuration atRest{bc_.start, withXi_ ? bc_.xi : Eigen::VectorXd()};
+    // the fixed unknowns at their values, the free ones at rest
     const std::vector<int>& unknowns = assembly_.freeUnknowns();
     const long positions = rest_.size();
     for (int u : unknowns) {
@@ -268,142 +208,14 @@ class NewtonSolver {
       else
         atRest.xi[u - positions] = restXi_[u - positions];
     }
-    step(atRest, delta, 1.0, result);
-    haveFactor_ = true;
+    const StaticEnergy fromRest = staticEnergy(atRest);
+    result = fromRest.configuration(fromRest.freeValues(atRest) + 1.0 * delta);
     return true;
   }
 
-  // E and ∇E over the free unknowns at x, from first derivatives only (no Hessian).
-  HessianEvaluation gradientAt(const MinimizeResult& x) {
-    return evaluate(x.positions, x.xi, HessianProjection::Exact, nullptr,
-                    curvature::SecondDerivatives::None);
-  }
-
-  // Each iteration evaluates E and ∇E (first derivatives) and, while a factor is at hand, the
-  // step δ = −F⁻¹∇E with it. The iteration has converged when the decrease ½ ∇Eᵀ F⁻¹ ∇E it
-  // predicts is below functionTolerance · E — no new factorization is made to confirm. Otherwise
-  // δ is taken as a chord step if the predicted decrease shrank at least kChordContraction-fold
-  // since the last step (the factor still describes E well: modified Newton converges linearly
-  // with that rate), else the exact Hessian at x is assembled and factored: a Newton step.
-  void iterate(MinimizeResult& x) {
-    MinimizeResult trial;
-    double previousDecrement = std::numeric_limits<double>::infinity();
-    for (int iteration = 0;; ++iteration) {
-      HessianEvaluation at = gradientAt(x);
-      if (iteration == 0) report_.initialEnergy = at.energy;
-      report_.finalEnergy = at.energy;
-      gradient_ = at.gradient;
-      const double gradientMax = at.gradient.size() > 0 ? at.gradient.cwiseAbs().maxCoeff() : 0.0;
-      if (!std::isfinite(at.energy) || !at.gradient.allFinite()) {
-        report_.termination = "the energy or its gradient is not finite";
-        return;
-      }
-      if (gradientMax <= options_.gradientTolerance) {
-        converge("gradient max-norm " + number(gradientMax) +
-                 " <= " + number(options_.gradientTolerance));
-        return;
-      }
-      if (iteration == options_.maxIterations) {
-        report_.termination = "no convergence in " + std::to_string(iteration) + " iterations";
-        return;
-      }
-      Eigen::VectorXd delta;
-      double decrement = 0.0;
-      bool chord = false;
-      if (haveFactor_) {
-        delta = solve(-at.gradient);
-        decrement = -at.gradient.dot(delta);
-        if (decrement > 0.0 &&
-            0.5 * decrement <= options_.functionTolerance * std::abs(at.energy)) {
-          finalStep(x, at, delta, "predicted decrease " + number(0.5 * decrement));
-          return;
-        }
-        chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement &&
-                !options_.simplicialBaseline;
-      }
-      if (!chord) {
-        HessianEvaluation h = evaluate(x.positions, x.xi, projection_, nullptr);
-        if (!factorNewton(h, x)) {
-          report_.termination = "the Hessian could not be made positive definite";
-          return;
-        }
-        haveFactor_ = true;
-        delta = solve(-h.gradient);
-        decrement = -h.gradient.dot(delta);  // λ², > 0 for a positive definite H
-        if (!std::isfinite(decrement) || decrement <= 0.0) {
-          report_.termination = "the Newton step is not a descent direction";
-          return;
-        }
-        if (0.5 * decrement <= options_.functionTolerance * std::abs(at.energy)) {
-          finalStep(x, at, delta, "Newton decrement " + number(0.5 * decrement));
-          return;
-        }
-      }
-      double alpha = feasibleStep(x, delta), trialEnergy = 0.0;
-      bool decreased = true;
-      for (;; alpha *= 0.5) {
-        step(x, delta, alpha, trial);
-        trialEnergy = energy(trial);
-        // Armijo, with room for the roundoff of E itself when the decrease is at that level.
-        if (trialEnergy <= at.energy - 1e-4 * alpha * decrement + 1e-14 * std::abs(at.energy))
-          break;
-        if (alpha < (chord ? 0.1 : 1e-12)) {
-          decreased = false;
-          break;
-        }
-      }
-      if (!decreased && !chord) {
-        report_.termination = "the line search found no decrease of the energy";
-        return;
-      }
-      // A chord step that needed damping, or failed, asks for a new factor next time.
-      previousDecrement = chord && alpha < 1.0 ? 0.0 : decrement;
-      if (!decreased) continue;
-      std::swap(x, trial);
-      ++report_.iterations;
-      ++(chord ? chordSteps_ : newtonSteps_);
-      if (options_.progress) {
-        std::fprintf(stderr,
-                     "  iteration %3d  %-6s energy %.10e  |gradient|max %.3e  decrement %.3e  "
-                     "step %.3g\n",
-                     report_.iterations, chord ? "chord" : "newton", trialEnergy, gradientMax,
-                     decrement, alpha);
-      }
-    }
-  }
-
-  // Converged at x, whose predicted decrease is below the tolerance: the step δ already solved
-  // for is taken too where it does not raise E beyond roundoff (it costs no factorization and
-  // brings x closer by the step's contraction), and ∇E is evaluated for the report.
-  void finalStep(MinimizeResult& x, const HessianEvaluation& at, const Eigen::VectorXd& delta,
-                 const std::string& why) {
-    MinimizeResult trial;
-    step(x, delta, 1.0, trial);
-    if (energy(trial) <= at.energy + 1e-14 * std::abs(at.energy)) {
-      std::swap(x, trial);
-      const HessianEvaluation end = gradientAt(x);
-      report_.finalEnergy = end.energy;
-      gradient_ = end.gradient;
-    }
-    converge(why + " <= " + number(options_.functionTolerance) +
-             " E = " + number(options_.functionTolerance * std::abs(at.energy)));
-  }
-
-  void converge(const std::string& why) {
-    report_.converged = true;
-    report_.termination = "CONVERGENCE: " + why;
-  }
-
-  static std::string number(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-  }
-
-  MinimizeResult finish(MinimizeResult result, Clock::time_point start) {
+  MinimizeResult finish(Configuration at, Clock::time_point start) {
     report_.solver = "newton";
-    if (!report_.converged && report_.termination.rfind("NO_CONVERGENCE", 0) != 0)
-      report_.termination = "NO_CONVERGENCE: " + report_.termination;
+    if (!report_.converged) report_.termination = "NO_CONVERGENCE: " + report_.termination;
     report_.termination += " after " + std::to_string(newtonSteps_) + " Newton and " +
                            std::to_string(chordSteps_) + " chord steps";
     if (gaussNewtonIterations_ > 0 || shiftedFactorizations_ > 0) {
@@ -414,6 +226,9 @@ class NewtonSolver {
     report_.gradientNorm = gradient_.size() > 0 ? gradient_.norm() : 0.0;
     report_.unknowns = assembly_.size();
     report_.totalSeconds = secondsSince(start);
+    MinimizeResult result;
+    result.positions = std::move(at.positions);
+    result.xi = std::move(at.xi);
     result.report = report_;
     return result;
   }
@@ -428,16 +243,12 @@ class NewtonSolver {
   const std::vector<bool> free_;
   HessianAssembly assembly_;
   HessianFactorization factorization_;
+  NewtonLoop loop_;
   const HessianProjection projection_;
   MinimizeReport report_;
   Eigen::VectorXd gradient_;
-  // A chord step is taken while the predicted decrease shrinks at least this much per step
-  // (the error about √ of it).
-  static constexpr double kChordContraction = 0.1;
-  bool haveFactor_ = false;  // a factor from an earlier point (the predictor's or a Newton step's)
   int newtonSteps_ = 0, chordSteps_ = 0;
   int gaussNewtonIterations_ = 0, shiftedFactorizations_ = 0;
-  double lastShift_ = 0.0;
 };
 
 }  // namespace

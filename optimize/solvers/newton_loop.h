@@ -1,0 +1,100 @@
+// The Newton loop for every objective (objective.h): static minimizers (newton_solver.h) and each
+// implicit time step (dynamics/time_stepping.h).
+//
+// Every iteration has ∇f at the iterate y and, while a factor F of an earlier Hessian is at hand,
+// the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step (modified
+// Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is assembled
+// and factored with CHOLMOD (analysis once per pattern) for a Newton step. Where the Hessian is
+// not positive definite (away from a minimizer: a fairing start, a compressed membrane about to
+// buckle) that step factors the Gauss–Newton matrix JᵀJ at y instead (positive semidefinite; the
+// static rule adds μI where it is singular). Steps are searched on the objective (Armijo:
+// f(y + αδ) ≤ f(y) − 10⁻⁴ α λ² + roundoff, α halved) from the longest feasible α ≤ 1 (obstacles).
+//
+// The stop rule is chosen by its type:
+// - StaticStopRule (minimize): converged when the predicted decrease ½ λ² ≤ functionTolerance · |f|
+//   or ‖∇f‖∞ ≤ gradientTolerance; no factorization is made only to confirm.
+// - StepStopRule (a time step): converged when the step moves no unknown more than `step`, or
+//   predicts a decrease ½ λ² below f's roundoff, with F known to describe f near y (factored in
+//   this solve, or its chord steps here contracted). A factor from an earlier solve is never
+//   trusted alone: it may be stiffer than f is now (a contact since released).
+// Each rule also keeps the search details its solver was measured with, so that results did not
+// change when the two loops became this one: the static rule evaluates ∇f afresh at each accepted
+// point, halves α down to 10⁻¹² (a chord step: 0.1) and shifts JᵀJ by μI where it is singular;
+// the step rule carries ∇f from the line search's first trial, gives a chord step two trials,
+// first searches δ scaled per vertex by its own bound where an obstacle bounds the step, and keeps
+// JᵀJ for its Newton steps while they contract tenfold.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "optimize/solvers/newton_stop.h"
+#include "optimize/solvers/objective.h"
+
+namespace flexure::optimize {
+
+struct StaticStopRule {
+  double functionTolerance = 1e-12;  // on ½ λ² / |f|
+  double gradientTolerance = 1e-10;  // on ‖∇f‖∞
+  int maxIterations = 200;           // accepted steps
+  bool chordSteps = true;            // false: every step factors the Hessian at its iterate
+  bool progress = false;             // one line per iteration on stderr
+};
+
+struct StepStopRule {
+  double step = 0.0;        // the largest |δ_k| of a converged step
+  int maxNewtonSteps = 30;  // factoring iterations, and 4 × as many iterations in all
+  bool chordSteps = true;   // false: every iteration factors the Hessian at its iterate
+  // The Newton steps' Hessian of E: Exact, or GaussNewton throughout.
+  curvature::SecondDerivatives hessian = curvature::SecondDerivatives::Exact;
+};
+
+struct NewtonResult {
+  NewtonStop stop = NewtonStop::Running;
+  std::string convergedBy;  // static rule: the test that held, with its numbers
+  int iterations = 0;       // static: accepted steps; time step: iterations made
+  int newtonSteps = 0, chordSteps = 0;
+  int factorizations = 0;
+  int gaussNewtonSteps = 0, shiftedFactorizations = 0;  // the indefinite-Hessian rule's
+  double initialValue = 0.0, finalValue = 0.0;
+  Eigen::VectorXd gradient;  // ∇f at the last iterate
+  double evaluationSeconds = 0.0, linearSolverSeconds = 0.0;
+};
+
+class NewtonLoop {
+ public:
+  // `factorization` is of `assembly`'s pattern (the objectives'); the loop keeps its last factor
+  // between runs.
+  NewtonLoop(const HessianAssembly& assembly, HessianFactorization& factorization)
+      : assembly_(assembly), factorization_(factorization) {}
+
+  // Minimizes from y (updated to the last iterate, or the converged point).
+  NewtonResult run(Objective& objective, Eigen::VectorXd& y, const StaticStopRule& rule);
+  NewtonResult run(Objective& objective, Eigen::VectorXd& y, const StepStopRule& rule);
+
+  // Whether a factor from an earlier run (or `factor` below) is at hand; forget() drops it.
+  bool haveFactor() const { return haveFactor_; }
+  void forget() { haveFactor_ = false; }
+  // Factors h's values, shifted by μI where singular (the static rule's); counts into `result`.
+  bool factorShifted(const std::vector<double>& values, NewtonResult& result);
+  Eigen::VectorXd solve(const Eigen::VectorXd& b, NewtonResult& result);
+
+ private:
+  HessianEvaluation evaluate(Objective& objective, const Eigen::VectorXd& y,
+                             curvature::SecondDerivatives kind, NewtonResult& result);
+  bool factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y, HessianEvaluation& h,
+                          NewtonResult& result);
+  void finishStatic(Objective& objective, Eigen::VectorXd& y, const HessianEvaluation& at,
+                    const Eigen::VectorXd& delta, const std::string& why,
+                    const StaticStopRule& rule, NewtonResult& result);
+  bool searchStep(Objective& objective, const Eigen::VectorXd& y, const Eigen::VectorXd& gradient,
+                  const Eigen::VectorXd& delta, double value, double decrement, double bound,
+                  bool chord, Eigen::VectorXd& trial, HessianEvaluation& trialAt, bool& shortened);
+
+  const HessianAssembly& assembly_;
+  HessianFactorization& factorization_;
+  bool haveFactor_ = false;
+  double lastShift_ = 0.0;
+};
+
+}  // namespace flexure::optimize
