@@ -16,8 +16,23 @@ struct FieldFlag {
 const std::vector<FieldFlag>& fieldFlags() {
   static const std::vector<FieldFlag> rows = {
       // minimize, energies, membranes
+      {"MembraneOptions.young", "--young"},
+      {"MembraneOptions.poisson", "--membrane-poisson"},
+      {"MembraneOptions.lengthStiffness", "--length-stiffness"},
+      {"MembraneOptions.areaStiffness", "--area-stiffness"},
+      {"MembraneOptions.shapeStiffness", "--shape-stiffness"},
       // dynamics, modes, spectra, obstacles
+      {"ModesOptions.count", "--count"},
+      {"ModesOptions.clamp", "--clamp"},
+      {"ModesOptions.density", "--density"},
+      {"SpectrumStudyOptions.energies", "--energies"},
+      {"SpectrumStudyOptions.families", "--families"},
+      {"SpectrumStudyOptions.baseN", "--n"},
+      {"SpectrumStudyOptions.levels", "--levels"},
+      {"SpectrumStudyOptions.count", "--count"},
+      {"SpectrumStudyOptions.support", "--support"},
       // studies, fairing, meshes, regions
+      {"GeneratorOptions.aspect", "--aspect"},
       // solvers, linear algebra
   };
   return rows;
@@ -34,8 +49,11 @@ std::string withFlagNames(std::string message) {
   for (const FieldFlag& row : fieldFlags()) {
     for (size_t at = message.find(row.field); at != std::string::npos;
          at = message.find(row.field, at)) {
-      if (continuesName(message, at + row.field.size())) {
-        at += row.field.size();  // a longer field that starts with this one
+      // A longer field that starts or ends with this one ("SpectrumStudyOptions.count" holds
+      // "StudyOptions.count").
+      if (continuesName(message, at + row.field.size()) ||
+          (at > 0 && continuesName(message, at - 1))) {
+        at += row.field.size();
         continue;
       }
       message.replace(at, row.field.size(), row.flag);
