@@ -33,6 +33,18 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"SpectrumStudyOptions.support", "--support"},
       // studies, fairing, meshes, regions
       {"GeneratorOptions.aspect", "--aspect"},
+      // renders
+      {"RenderOptions.width", "--width"},
+      {"RenderOptions.height", "--height"},
+      {"RenderOptions.azimuthDegrees", "--azimuth"},
+      {"RenderOptions.elevationDegrees", "--elevation"},
+      {"RenderOptions.stripeCount", "--stripes"},
+      {"RenderOptions.stripeWidth", "--stripe-width"},
+      {"RenderOptions.stripeDirectionDegrees", "--stripe-direction"},
+      {"RenderOptions.lightDirection", "--light"},
+      {"RenderOptions.errorMax", "--error-max"},
+      {"RenderOptions.curvatureMax", "--curvature-max"},
+      {"RenderOptions.background", "--background"},
       // solvers, linear algebra
   };
   return rows;
