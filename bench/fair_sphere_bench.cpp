@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,8 +63,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> surfaces = {"sphere", "remeshed", "torus"};
   std::vector<std::string> cases = {"noise40", "flat60"};
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
-  double noise = 0.05, jitter = 0.3, weight = 0.1;
-  std::string metric = "current", shape = "start", vertexArea = "barycentric";
+  double noise = 0.05, jitter = 0.3;
+  std::optional<double> weight;  // empty: the metric's default (optimize::defaultFairingOptions)
+  std::string metric = "current", shape = "start", vertexArea;  // vertexArea likewise
   int threads = 2;
   bool progress = false;
   std::string writeDirectory;
@@ -78,8 +80,11 @@ int main(int argc, char** argv) {
   app.add_option("--metric", metric, "current | input")->check(CLI::IsMember({"current", "input"}));
   app.add_option("--shape", shape, "Membrane rest shape: start | input")
       ->check(CLI::IsMember({"start", "input"}));
-  app.add_option("--membrane-weight", weight, "Membrane weight w");
-  app.add_option("--vertex-area", vertexArea, "cotan's vertex area: barycentric | voronoi")
+  app.add_option("--membrane-weight", weight,
+                 "Membrane weight w (default: the metric's, 0.1 on the current metric)");
+  app.add_option("--vertex-area", vertexArea,
+                 "cotan's vertex area: barycentric | voronoi (default: the metric's, barycentric "
+                 "on the current metric)")
       ->check(CLI::IsMember({"barycentric", "voronoi"}));
   app.add_option("--threads", threads);
   app.add_flag("--progress", progress);
@@ -164,17 +169,19 @@ int main(int argc, char** argv) {
         record("cgal", cgal, std::chrono::duration<double>(Clock::now() - t0).count(),
                json::object());
         for (const std::string& energy : energies) {
-          optimize::FairingOptions options;
+          optimize::FairingOptions options =
+              optimize::defaultFairingOptions(metric == "input" ? optimize::FairingMetric::Input
+                                                                : optimize::FairingMetric::Current);
           options.bending.discretization = curvature::parseDiscretization(energy);
           options.bending.restCurvature = curvature::RestCurvature::Flat;
-          options.bending.vertexArea = vertexArea == "barycentric"
-                                           ? curvature::VertexArea::Barycentric
-                                           : curvature::VertexArea::Voronoi;
-          options.metric =
-              metric == "input" ? optimize::FairingMetric::Input : optimize::FairingMetric::Current;
+          if (!vertexArea.empty()) {
+            options.bending.vertexArea = vertexArea == "barycentric"
+                                             ? curvature::VertexArea::Barycentric
+                                             : curvature::VertexArea::Voronoi;
+          }
           options.membraneShape =
               shape == "input" ? optimize::FairingShape::Input : optimize::FairingShape::Start;
-          options.membraneWeight = weight;
+          if (weight) options.membraneWeight = *weight;
           options.solver.threads = threads;
           options.solver.progress = progress;
           t0 = Clock::now();

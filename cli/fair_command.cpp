@@ -146,7 +146,14 @@ RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
     choice.filled = std::move(filled);
     return choice;
   }
-  choice.region = modeling::parseRegion(o.region, input, stencils);
+  try {
+    choice.region = modeling::parseRegion(o.region, input, stencils);
+  } catch (const InputError& e) {
+    // The library names the text ("region sphere:…: …"); the user gave it as --region.
+    const std::string message = e.what();
+    if (message.rfind("region " + o.region + ":", 0) == 0) throw InputError("--" + message);
+    throw;
+  }
   choice.mesh = std::move(input);
   return choice;
 }
@@ -399,8 +406,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const curvature::BendingOptions bending = bendingOptions(bendingArguments);
   const std::string energyName(curvature::discretizationName(bending.discretization));
   const curvature::MembraneModel membrane = curvature::parseMembraneModel(o.membrane);
-  const double membraneWeight = o.membraneWeight.value_or(
-      o.metric == "current" ? optimize::kCurrentMetricMembraneWeight : 1.0);
+  const optimize::FairingOptions defaults = optimize::defaultFairingOptions(
+      o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
+  const double membraneWeight = o.membraneWeight.value_or(defaults.membraneWeight);
   if (!cgal) optimize::fairingMembrane(membrane, membraneWeight, 1.0, 1.0);  // checks w
   if (!o.renderFile.empty()) render::OffscreenContext();  // a missing OSMesa fails before any solve
 
@@ -430,20 +438,14 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   std::optional<optimize::FairingResult> fairing;
   std::string startUsed;
   if (!cgal) {
-    optimize::FairingOptions options;
+    optimize::FairingOptions options = defaults;
     options.bending = bending;
+    if (o.bending.vertexArea.empty()) options.bending.vertexArea = defaults.bending.vertexArea;
     options.membrane = membrane;
     options.membraneWeight = membraneWeight;
     options.start = o.start == "input"        ? optimize::FairingStart::Input
                     : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                               : optimize::FairingStart::Best;
-    options.metric =
-        o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input;
-    // cotan's mixed Voronoi area switches formula where a current angle crosses 90 degrees: on
-    // the current metric that kink stalls Newton (the shark's holes: 200 iterations), so there
-    // the smooth barycentric area is the default.
-    if (options.metric == optimize::FairingMetric::Current && o.bending.vertexArea.empty())
-      options.bending.vertexArea = curvature::VertexArea::Barycentric;
     options.angleBarrier = !o.allowSlivers;
     options.solver = solver;
     options.solver.progress = !global.quiet;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli/command_files.h"
+#include "cli/mode_arguments.h"
 #include "modeling/errors.h"
 #include "modeling/vertex_quantities.h"
 
@@ -51,7 +52,7 @@ std::vector<optimize::Obstacle> obstacleList(const LoadArguments& a) {
 }
 
 optimize::MassLumping massLumping(const LoadArguments& a) {
-  return optimize::parseMassLumping(a.mass);
+  return parseMassLumping(a.mass);
 }
 
 modeling::Positions gravityLoad(const LoadArguments& a, const modeling::RestState& rest) {

@@ -18,6 +18,7 @@
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
+#include "cli/mode_arguments.h"
 #include "curvature/bending_energy.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -69,8 +70,8 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
         throw InputError("--energy: " + o.energies[i] + " is given twice");
   optimize::ModesOptions base;
   base.count = o.count;
-  base.support = optimize::parseSupport(o.support);
-  base.mass = optimize::parseMassLumping(o.mass);
+  base.support = parseSupport(o.support);
+  base.mass = parseMassLumping(o.mass);
   base.density = o.density;
   base.bendingStiffness = o.stiffness;
   base.length = o.length;
@@ -102,7 +103,7 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     curvature::effectivePoisson(run.bending);  // a ν the energy does not take fails here
     const bool midedge = run.bending.discretization == curvature::Discretization::Midedge;
     run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
-                                : optimize::parseClamp(o.clamp);
+                                : parseClamp(o.clamp);
     if (run.clamp == optimize::Clamp::Normals && !midedge &&
         base.support == optimize::Support::Clamped)
       throw InputError("--clamp normals holds the midedge normals: " + spec +

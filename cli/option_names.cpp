@@ -47,6 +47,33 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"StudyOptions.quadratics", "--quadratics"},
       {"StudyOptions.solution", "--solution"},
       {"FairingOptions.membraneWeight", "--membrane-weight"},
+      {"MembraneOptions.young", "--young"},
+      {"MembraneOptions.poisson", "--membrane-poisson"},
+      {"MembraneOptions.lengthStiffness", "--length-stiffness"},
+      {"MembraneOptions.areaStiffness", "--area-stiffness"},
+      {"MembraneOptions.shapeStiffness", "--shape-stiffness"},
+      {"ModesOptions.count", "--count"},
+      {"ModesOptions.clamp", "--clamp"},
+      {"ModesOptions.density", "--density"},
+      {"SpectrumStudyOptions.energies", "--energies"},
+      {"SpectrumStudyOptions.families", "--families"},
+      {"SpectrumStudyOptions.baseN", "--n"},
+      {"SpectrumStudyOptions.levels", "--levels"},
+      {"SpectrumStudyOptions.count", "--count"},
+      {"SpectrumStudyOptions.support", "--support"},
+      {"GeneratorOptions.aspect", "--aspect"},
+      // renders
+      {"RenderOptions.width", "--width"},
+      {"RenderOptions.height", "--height"},
+      {"RenderOptions.azimuthDegrees", "--azimuth"},
+      {"RenderOptions.elevationDegrees", "--elevation"},
+      {"RenderOptions.stripeCount", "--stripes"},
+      {"RenderOptions.stripeWidth", "--stripe-width"},
+      {"RenderOptions.stripeDirectionDegrees", "--stripe-direction"},
+      {"RenderOptions.lightDirection", "--light"},
+      {"RenderOptions.errorMax", "--error-max"},
+      {"RenderOptions.curvatureMax", "--curvature-max"},
+      {"RenderOptions.background", "--background"},
       // solvers, linear algebra
   };
   return rows;
@@ -63,8 +90,11 @@ std::string withFlagNames(std::string message) {
   for (const FieldFlag& row : fieldFlags()) {
     for (size_t at = message.find(row.field); at != std::string::npos;
          at = message.find(row.field, at)) {
-      if (continuesName(message, at + row.field.size())) {
-        at += row.field.size();  // a longer field that starts with this one
+      // A longer field that starts or ends with this one ("SpectrumStudyOptions.count" holds
+      // "StudyOptions.count").
+      if (continuesName(message, at + row.field.size()) ||
+          (at > 0 && continuesName(message, at - 1))) {
+        at += row.field.size();
         continue;
       }
       message.replace(at, row.field.size(), row.flag);

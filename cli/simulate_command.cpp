@@ -213,10 +213,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const bool midedge = bending->usesEdgeUnknowns();
   const Eigen::VectorXd restXi =
       midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
-  // Pinning two rings clamps: the boundary faces are held, and with them midedge's boundary
-  // normals (as minimize's rings:2 and modes' --clamp rings).
-  if (midedge && o.pin.rfind("rings:", 0) == 0 && o.pin != "rings:1")
-    dynamics.heldEdges = curvature::boundaryEdges(stencils);
+  if (midedge) dynamics.heldEdges = optimize::clampedBoundaryEdges(o.pin, stencils);
   optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, dynamics);
   stepper.start(start, modeling::Positions::Zero(restMesh.vertexCount(), 3), Eigen::VectorXd());
 

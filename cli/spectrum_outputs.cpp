@@ -100,7 +100,7 @@ bool isSpectrumFile(const std::string& name) {
 
 std::string runSpectrumStudyInto(const optimize::SpectrumStudyOptions& o, const std::string& dir,
                                  const GlobalOptions& global, const std::string& commandName) {
-  optimize::checkSpectrumStudyOptions(o);
+  o.validate();
   const std::vector<optimize::SpectrumSeries> all =
       optimize::runSpectrumStudy(o, [&](const std::string& done) {
         if (!global.quiet) std::cerr << commandName << ": " << done << '\n';

@@ -1,4 +1,4 @@
-// Derivatives for the height-field mode (--dof height), where x and y of every vertex are held:
+// Derivatives for the height-field mode (DofMode::Height), where x and y of every vertex are held:
 // only ∂r/∂z and ∂r/∂ξ are needed. Forward-mode autodiff with one derivative component per
 // parameter block (a vertex block's z, or a ξ) instead of one per coordinate: a third of the
 // derivative arithmetic of the full Jacobian for vertex-only elements. The x and y columns of a

@@ -2,9 +2,9 @@
 //
 //   E = k_B Σ_{interior e} (φ(θ_e) − φ(θ̄_e))² · 3 ℓ̄_e² / (Ā_f + Ā_g),
 //
-// φ(θ) = θ or 2 tan(θ/2) (--hinge-angle). 3ℓ̄²/(Ā_f + Ā_g) is ℓ̄/h̄ with h̄ a third of the mean of
-// the two triangle heights on e. One residual per hinge: r = √(2 k_B 3ℓ̄²/(Ā_f + Ā_g)) (φ − φ̄).
-// On the current metric (current_metric.h) the factor 3ℓ²/(A_f + A_g) is the current hinge's.
+// φ(θ) = θ or 2 tan(θ/2) (BendingOptions.hingeAngle). 3ℓ̄²/(Ā_f + Ā_g) is ℓ̄/h̄ with h̄ a third of the
+// mean of the two triangle heights on e. One residual per hinge: r = √(2 k_B 3ℓ̄²/(Ā_f + Ā_g)) (φ −
+// φ̄). On the current metric (current_metric.h) the factor 3ℓ²/(A_f + A_g) is the current hinge's.
 #pragma once
 
 #include <array>

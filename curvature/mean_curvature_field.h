@@ -1,5 +1,5 @@
-// Per-vertex mean curvature of a mesh as it stands, for curvature maps (flexure render --style
-// curvature), from the cotan discretization's kernel (cotan_mean_curvature.h):
+// Per-vertex mean curvature of a mesh as it stands, for curvature maps (the render command's
+// curvature style), from the cotan discretization's kernel (cotan_mean_curvature.h):
 //
 //   H_v = ½ K_v · n_v / Ā_v,
 //

@@ -37,11 +37,6 @@ std::array<int, 3> faceVertices(const Stencils& s, int f) {
 
 std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
                                      const MembraneOptions& o) {
-  requirePositive(o.young, "--young (Young's modulus × thickness)");
-  if (!(o.poisson > -1.0 && o.poisson <= 0.5)) {
-    throw InputError("stvk membrane: --membrane-poisson " + std::to_string(o.poisson) +
-                     " is outside (-1, 0.5]");
-  }
   const double modulus = o.young / (2.0 * (1.0 - o.poisson * o.poisson));
   std::vector<StvkMembraneResidual> elements;
   std::vector<int> ids;
@@ -60,8 +55,6 @@ std::unique_ptr<EnergyTerm> makeStvk(const Stencils& s, const RestState& rest,
 std::unique_ptr<EnergyTerm> makeConformal(const Stencils& s, const RestState& rest,
                                           const MembraneOptions& o) {
   const bool barrier = o.model == MembraneModel::Mips;
-  requirePositive(o.shapeStiffness,
-                  barrier ? "mips membrane stiffness k_S" : "conformal membrane stiffness k_S");
   std::vector<ConformalMembraneResidual> elements;
   std::vector<int> ids;
   for (int f = 0; f < s.faceCount(); ++f) {
@@ -76,8 +69,6 @@ std::unique_ptr<EnergyTerm> makeConformal(const Stencils& s, const RestState& re
 
 std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const RestState& rest,
                                                      const MembraneOptions& o) {
-  requirePositive(o.lengthStiffness, "edge spring stiffness k_L");
-  requirePositive(o.areaStiffness, "area spring stiffness k_A");
   std::vector<EdgeSpringResidual> edges;
   std::vector<int> edgeIds;
   for (int e = 0; e < s.edgeCount(); ++e) {
@@ -103,6 +94,31 @@ std::vector<std::unique_ptr<EnergyTerm>> makeSprings(const Stencils& s, const Re
 }
 
 }  // namespace
+
+void MembraneOptions::validate() const {
+  switch (model) {
+    case MembraneModel::Stvk:
+      requirePositive(young, "MembraneOptions.young (Young's modulus × thickness)");
+      // Plane stress: 1 − ν² > 0 and a positive bulk modulus.
+      if (!(poisson > -1.0 && poisson <= 0.5)) {
+        throw InputError("MembraneOptions.poisson " + std::to_string(poisson) +
+                         " is outside (-1, 0.5] (stvk membrane)");
+      }
+      return;
+    case MembraneModel::Springs:
+      requirePositive(lengthStiffness,
+                      "MembraneOptions.lengthStiffness (edge spring stiffness k_L)");
+      requirePositive(areaStiffness, "MembraneOptions.areaStiffness (area spring stiffness k_A)");
+      return;
+    case MembraneModel::Conformal:
+    case MembraneModel::Mips:
+      requirePositive(shapeStiffness,
+                      model == MembraneModel::Mips
+                          ? "MembraneOptions.shapeStiffness (mips membrane k_S)"
+                          : "MembraneOptions.shapeStiffness (conformal membrane k_S)");
+      return;
+  }
+}
 
 std::unique_ptr<EnergyTerm> makeAngleBarrier(const Stencils& s, const std::vector<int>& faces,
                                              const modeling::Positions& positions, double stiffness,
@@ -130,6 +146,7 @@ MembraneModel parseMembraneModel(std::string_view name) {
 std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const Stencils& s,
                                                             const RestState& rest,
                                                             const MembraneOptions& o) {
+  o.validate();
   if (o.model == MembraneModel::Springs) return makeSprings(s, rest, o);
   std::vector<std::unique_ptr<EnergyTerm>> terms;
   terms.push_back(o.model == MembraneModel::Stvk ? makeStvk(s, rest, o)

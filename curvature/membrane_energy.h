@@ -20,12 +20,17 @@ struct MembraneOptions {
   double lengthStiffness = 1.0;  // springs: k_L
   double areaStiffness = 1.0;    // springs: k_A
   double shapeStiffness = 1.0;   // conformal and mips: k_S
+
+  // Throws InputError naming the field when one that `model` uses is out of range: Y, k_L, k_A,
+  // k_S finite and > 0; ν in (−1, 1/2].
+  void validate() const;
 };
 
 // "stvk" | "springs" | "conformal" | "mips"
 MembraneModel parseMembraneModel(std::string_view name);
 
 // stvk, conformal and mips give one term (faces); springs two (edge springs, area springs).
+// Validates `options` first.
 std::vector<std::unique_ptr<EnergyTerm>> makeMembraneEnergy(const modeling::Stencils& stencils,
                                                             const modeling::RestState& rest,
                                                             const MembraneOptions& options);

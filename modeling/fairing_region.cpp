@@ -23,7 +23,7 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& spe
     double value = 0.0;
     const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
     if (error != std::errc() || end != field.data() + field.size())
-      throw InputError("--region " + spec + ": '" + field + "' is not a number");
+      throw InputError("region " + spec + ": '" + field + "' is not a number");
     numbers.push_back(value);
   }
   return numbers;
@@ -49,15 +49,15 @@ std::pair<int, Second> parseVertexAnd(
     const std::function<Second(const std::string&)>& parseSecond) {
   const std::vector<std::string> fields = splitFields(value);
   if (fields.size() != 2 || fields[0].empty() || fields[1].empty())
-    throw InputError("--region " + spec + ": expected " + form);
+    throw InputError("region " + spec + ": expected " + form);
   int vertex = 0;
   const std::string& v = fields[0];
   const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), vertex);
   if (error != std::errc() || end != v.data() + v.size())
-    throw InputError("--region " + spec + ": '" + v + "' is not a vertex index (expected " + form +
+    throw InputError("region " + spec + ": '" + v + "' is not a vertex index (expected " + form +
                      ")");
   if (vertex < 0 || vertex >= vertexCount) {
-    throw InputError("--region " + spec + ": vertex " + v + " is out of range: the mesh has " +
+    throw InputError("region " + spec + ": vertex " + v + " is out of range: the mesh has " +
                      std::to_string(vertexCount) + " vertices (0 .. " +
                      std::to_string(vertexCount - 1) + ")");
   }
@@ -96,7 +96,7 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
   if (kind == "sphere") {
     const std::vector<double> n = parseNumbers(value, spec);
     if (n.size() != 4 || !(n[3] > 0.0))
-      throw InputError("--region " + spec + ": expected sphere:x,y,z,r with r > 0");
+      throw InputError("region " + spec + ": expected sphere:x,y,z,r with r > 0");
     return verticesInSphere(mesh.positions, Eigen::Vector3d(n[0], n[1], n[2]), n[3]);
   }
   if (kind == "around") {
@@ -106,10 +106,10 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
           double x = 0.0;
           const auto [end, error] = std::from_chars(r.data(), r.data() + r.size(), x);
           if (error != std::errc() || end != r.data() + r.size())
-            throw InputError("--region " + spec + ": R '" + r + "' is not a number (expected " +
+            throw InputError("region " + spec + ": R '" + r + "' is not a number (expected " +
                              form + ")");
           if (!(x > 0.0) || !std::isfinite(x))
-            throw InputError("--region " + spec + ": R = " + r + " must be a finite number > 0");
+            throw InputError("region " + spec + ": R = " + r + " must be a finite number > 0");
           return x;
         });
     const double reach = radius * meanEdgeLength(mesh, stencils);
@@ -125,9 +125,9 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
           int x = 0;
           const auto [end, error] = std::from_chars(k.data(), k.data() + k.size(), x);
           if (error != std::errc() || end != k.data() + k.size())
-            throw InputError("--region " + spec + ": K '" + k +
-                             "' is not a whole number (expected " + form + ")");
-          if (x < 0) throw InputError("--region " + spec + ": K = " + k + " must be >= 0");
+            throw InputError("region " + spec + ": K '" + k + "' is not a whole number (expected " +
+                             form + ")");
+          if (x < 0) throw InputError("region " + spec + ": K = " + k + " must be >= 0");
           return x;
         });
     std::vector<bool> seed(mesh.vertexCount(), false);
@@ -138,7 +138,7 @@ std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const S
     return region;
   }
   if (spec == "all-interior") return interiorRegion(stencils);
-  throw InputError("--region " + spec +
+  throw InputError("region " + spec +
                    ": expected vertices:FILE, sphere:x,y,z,r, around:VERTEX,R, rings:VERTEX,K, "
                    "all-interior or holes[:N]");
 }

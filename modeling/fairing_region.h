@@ -20,15 +20,15 @@ namespace flexure::modeling {
 
 inline constexpr int kHeldRings = 2;
 
-// The region a `--region` text names on `mesh`:
+// The region a text names on `mesh`:
 //   "vertices:FILE"     the indices in FILE (as readVertexSet reads them);
 //   "sphere:x,y,z,r"    the vertices inside the ball (r > 0);
 //   "around:VERTEX,R"   the vertices within geodesic distance R ℓ̄ of VERTEX (geodesicDistances
 //                       below), ℓ̄ the mesh's mean edge length, R > 0 in multiples of it;
 //   "rings:VERTEX,K"    VERTEX and its K rings (ring k = the neighbours of ring k − 1; K ≥ 0);
 //   "all-interior"      every vertex at least kHeldRings rings from the boundary.
-// ("holes" changes the mesh and is fillHoles' business.) Throws InputError, quoting the spec and
-// saying what is wrong, for a malformed text, a vertex out of range, R ≤ 0 or K < 0.
+// ("holes" changes the mesh and is fillHoles' business.) Throws InputError starting "region SPEC: "
+// and saying what is wrong, for a malformed text, a vertex out of range, R ≤ 0 or K < 0.
 std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const Stencils& stencils);
 
 // #V: the geodesic distance of every vertex from `source` along the surface, up to
@@ -52,7 +52,7 @@ double meanEdgeLength(const Mesh& mesh, const Stencils& stencils);
 // boundary (its "interior" would be everything).
 std::vector<bool> interiorRegion(const Stencils& stencils, int heldRings = kHeldRings);
 
-// Throws InputError, starting with `regionName` (e.g. "lion.off: --region sphere:0,0,0,1") and
+// Throws InputError, starting with `regionName` (e.g. "lion.off: region sphere:0,0,0,1") and
 // naming a vertex, for a region that cannot be faired: it is
 // empty; it comes closer than `heldRings` rings to the mesh boundary (no room for the held
 // rings); or it covers a whole connected component (nothing holds it in place).

@@ -45,13 +45,14 @@ GridSize gridSize(const GeneratorOptions& options, double defaultAspect) {
   }
   const double aspect = options.aspect.value_or(defaultAspect);
   if (!std::isfinite(aspect) || aspect <= 0.0) {
-    throw InputError(family + ": --aspect must be a positive number, got " + formatNumber(aspect));
+    throw InputError(family + ": GeneratorOptions.aspect must be a positive number, got " +
+                     formatNumber(aspect));
   }
   const double rows = static_cast<double>(n) / aspect;
   const double wholeRows = std::round(rows);
   if (!(wholeRows >= 1.0) || std::abs(rows - wholeRows) > 1e-9 * wholeRows ||
       wholeRows > static_cast<double>(std::numeric_limits<int>::max())) {
-    throw InputError(family + ": --aspect " + formatNumber(aspect) +
+    throw InputError(family + ": GeneratorOptions.aspect " + formatNumber(aspect) +
                      " does not tile the square with n = " + std::to_string(n) + " cells (" +
                      std::to_string(n) + "/" + formatNumber(aspect) + " is not a whole number)");
   }
@@ -120,11 +121,32 @@ std::string_view meshFamilyName(MeshFamily family) {
   return "unknown";
 }
 
-Mesh generateMesh(const GeneratorOptions& options) {
-  const std::string family(meshFamilyName(options.family));
-  if (options.n < 1) {
-    throw InputError(family + ": n must be at least 1, got " + std::to_string(options.n));
+void GeneratorOptions::validate() const {
+  const std::string name(meshFamilyName(family));
+  if (n < 1) throw InputError(name + ": n must be at least 1, got " + std::to_string(n));
+  switch (family) {
+    case MeshFamily::Patch48:
+    case MeshFamily::Criss:
+      gridSize(*this, 1.0);
+      return;
+    case MeshFamily::Stripe:
+      gridSize(*this, 2.0);
+      return;
+    case MeshFamily::Delaunay:
+      if (aspect) {
+        throw InputError("delaunay: GeneratorOptions.aspect " + formatNumber(*aspect) +
+                         " does not apply; the delaunay mesh has no cells (omit "
+                         "GeneratorOptions.aspect)");
+      }
+      // About 1.1 n² vertices and twice as many faces.
+      requireIndexable(name, 2 * std::int64_t{n} * n, 4 * std::int64_t{n} * n);
+      return;
   }
+  throw InputError("unknown mesh family");
+}
+
+Mesh generateMesh(const GeneratorOptions& options) {
+  options.validate();
   switch (options.family) {
     case MeshFamily::Patch48:
       return structuredGrid(gridSize(options, 1.0), true);
@@ -133,13 +155,6 @@ Mesh generateMesh(const GeneratorOptions& options) {
     case MeshFamily::Criss:
       return structuredGrid(gridSize(options, 1.0), false);
     case MeshFamily::Delaunay:
-      if (options.aspect) {
-        throw InputError("delaunay: --aspect " + formatNumber(*options.aspect) +
-                         " does not apply; the delaunay mesh has no cells (omit --aspect)");
-      }
-      // About 1.1 n² vertices and twice as many faces.
-      requireIndexable(family, 2 * std::int64_t{options.n} * options.n,
-                       4 * std::int64_t{options.n} * options.n);
       return delaunayMesh(options.n, options.seed);
   }
   throw InputError("unknown mesh family");

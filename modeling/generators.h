@@ -29,14 +29,18 @@ struct GeneratorOptions {
   int n = 8;                     // cells per side (delaunay: boundary segments per side)
   std::uint64_t seed = 1;        // delaunay only
   std::optional<double> aspect;  // cell height / width; family default when empty
+
+  // Throws InputError, naming the family and the field, for n < 1, an odd n for stripe, an
+  // aspect that is not positive or does not tile the square, an aspect given to delaunay, or a
+  // mesh too large to index.
+  void validate() const;
 };
 
 // "patch48" | "stripe" | "criss" | "delaunay"; throws InputError listing the names otherwise.
 MeshFamily parseMeshFamily(std::string_view name);
 std::string_view meshFamilyName(MeshFamily family);
 
-// Throws InputError for n < 1, an odd n for stripe, an aspect that does not tile the square, or
-// an aspect given to delaunay.
+// Throws InputError when the options do not validate.
 Mesh generateMesh(const GeneratorOptions& options);
 
 // `levels` meshes with n, 2n, 4n, ... (same family, seed and aspect).

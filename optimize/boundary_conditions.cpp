@@ -61,6 +61,17 @@ std::vector<bool> parseFixedSet(const std::string& option, const std::string& sp
   throw InputError(option + " " + spec + expected);
 }
 
+std::vector<bool> clampedBoundaryEdges(const std::string& spec,
+                                       const modeling::Stencils& stencils) {
+  const std::string prefix = "rings:";
+  if (spec.rfind(prefix, 0) != 0) return {};
+  int rings = 0;
+  const auto [end, error] =
+      std::from_chars(spec.data() + prefix.size(), spec.data() + spec.size(), rings);
+  if (error != std::errc() || end != spec.data() + spec.size() || rings < 2) return {};
+  return curvature::boundaryEdges(stencils);
+}
+
 Positions boundaryFromSurface(const Positions& rest, const std::vector<bool>& fixedVertex,
                               const modeling::PolynomialSurface& surface) {
   Positions start = rest;

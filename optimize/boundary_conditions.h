@@ -25,11 +25,18 @@ struct BoundaryConditions {
 // normals: "clamped").
 std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount);
 
-// A set of held vertices, as `option` (--fix, --pin) gives it: rings:K (rings 0 .. K − 1),
-// vertices:FILE (a list as modeling::readVertexSet reads it) or box:X0,X1,Y0,Y1,Z0,Z1 (the `rest`
-// vertices inside the box, bounds included; a box that holds none is an error).
+// A set of held vertices, as the text `spec` names it: rings:K (rings 0 .. K − 1), vertices:FILE
+// (a list as modeling::readVertexSet reads it) or box:X0,X1,Y0,Y1,Z0,Z1 (the `rest` vertices
+// inside the box, bounds included; a box that holds none is an error). InputError for a bad text
+// starts with `option` (what gave the text, e.g. the command line's option) and the text.
 std::vector<bool> parseFixedSet(const std::string& option, const std::string& spec,
                                 const modeling::Stencils& stencils, const Positions& rest);
+
+// The midedge ξ (#E) held with a set of held vertices named by `spec` (parseFixedSet's text):
+// rings:K with K ≥ 2 holds the boundary faces, and with them midedge's boundary normals ("clamped",
+// as fixedRings(·, 2) is for a minimization and the ring clamp for vibration modes): every
+// boundary edge. Empty (no ξ held) for any other set.
+std::vector<bool> clampedBoundaryEdges(const std::string& spec, const modeling::Stencils& stencils);
 
 // Positions that hold x̄, ȳ of `rest` and lift the fixed vertices onto z = p(x̄, ȳ); the free
 // ones keep their rest z (the interior starts at rest).

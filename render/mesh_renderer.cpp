@@ -317,50 +317,6 @@ GLuint linkProgram(const GlFunctions& gl) {
   return program;
 }
 
-void checkOptions(const RenderOptions& o) {
-  const auto fail = [](const std::string& what) { throw InputError("render: " + what); };
-  const int minWidth = hasLegend(o.style) ? kLegendWidth + 64 : 32;
-  if (o.width < minWidth || o.width > 8192 || o.height < 32 || o.height > 8192) {
-    fail("image size " + std::to_string(o.width) + " x " + std::to_string(o.height) +
-         " is outside [" + std::to_string(minWidth) + ", 8192] x [32, 8192]");
-  }
-  if (!std::isfinite(o.azimuthDegrees) || !std::isfinite(o.elevationDegrees) ||
-      std::abs(o.elevationDegrees) > 90.0) {
-    fail("the elevation must lie in [-90, 90] degrees and the azimuth be finite");
-  }
-  if (o.stripeCount < 1 || o.stripeCount > 1000) fail("the stripe count must lie in [1, 1000]");
-  if (!(o.stripeWidth > 0.0 && o.stripeWidth < 1.0)) {
-    fail("the stripe width (dark fraction of a period) must lie in (0, 1)");
-  }
-  if (!std::isfinite(o.stripeDirectionDegrees)) fail("the stripe direction must be finite");
-  const double lightLength =
-      std::hypot(o.lightDirection[0], o.lightDirection[1], o.lightDirection[2]);
-  if (!(lightLength > 0.0) || !std::isfinite(lightLength)) {
-    fail("the light direction must be a finite non-zero vector");
-  }
-  if (o.errorMax && !(*o.errorMax > 0.0 && std::isfinite(*o.errorMax))) {
-    fail("the error colour-map maximum must be positive");
-  }
-  if (o.curvatureMax && !(*o.curvatureMax > 0.0 && std::isfinite(*o.curvatureMax))) {
-    fail("the curvature colour-map bound must be positive");
-  }
-  if (o.style == RenderStyle::Curvature && o.vertexScalars.empty()) {
-    fail("the curvature style needs a value per vertex (RenderOptions::vertexScalars)");
-  }
-  if (o.outlineSegments.rows() % 2 != 0 || !o.outlineSegments.allFinite()) {
-    fail("the outline needs finite segment ends in pairs (" +
-         std::to_string(o.outlineSegments.rows()) + " rows)");
-  }
-  if (!(o.outlineWidth > 0.0 && o.outlineWidth <= 100.0)) {
-    fail("the outline width must lie in (0, 100] pixels");
-  }
-  for (const Rgb& c : {o.background, o.outlineColour}) {
-    if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1)) {
-      fail("the background and outline colour components must lie in [0, 1]");
-    }
-  }
-}
-
 // Draws the mesh with GL into an image of `width` × `height` (the whole image, or the part left
 // of the legend).
 Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const RenderOptions& o,
@@ -706,6 +662,42 @@ std::string curvatureRangeRule(const std::vector<double>& values) {
   return rule;
 }
 
+void RenderOptions::validate() const {
+  const auto fail = [](const std::string& what) { throw InputError("RenderOptions." + what); };
+  const int minWidth = hasLegend(style) ? kLegendWidth + 64 : 32;
+  if (width < minWidth || width > 8192 || height < 32 || height > 8192) {
+    fail("width x RenderOptions.height = " + std::to_string(width) + " x " +
+         std::to_string(height) + " is outside [" + std::to_string(minWidth) +
+         ", 8192] x [32, 8192] pixels");
+  }
+  if (!std::isfinite(azimuthDegrees)) fail("azimuthDegrees must be finite");
+  if (!(std::abs(elevationDegrees) <= 90.0)) fail("elevationDegrees must lie in [-90, 90] degrees");
+  if (stripeCount < 1 || stripeCount > 1000) fail("stripeCount must lie in [1, 1000]");
+  if (!(stripeWidth > 0.0 && stripeWidth < 1.0))
+    fail("stripeWidth (the dark fraction of a stripe period) must lie in (0, 1)");
+  if (!std::isfinite(stripeDirectionDegrees)) fail("stripeDirectionDegrees must be finite");
+  const double lightLength = std::hypot(lightDirection[0], lightDirection[1], lightDirection[2]);
+  if (!(lightLength > 0.0) || !std::isfinite(lightLength))
+    fail("lightDirection must be a finite non-zero vector");
+  if (errorMax && !(*errorMax > 0.0 && std::isfinite(*errorMax)))
+    fail("errorMax (the error colour-map maximum) must be positive");
+  if (curvatureMax && !(*curvatureMax > 0.0 && std::isfinite(*curvatureMax)))
+    fail("curvatureMax (the curvature colour-map bound) must be positive");
+  if (style == RenderStyle::Curvature && vertexScalars.empty())
+    fail("vertexScalars: the curvature style needs a value per vertex");
+  if (outlineSegments.rows() % 2 != 0 || !outlineSegments.allFinite()) {
+    fail("outlineSegments needs finite segment ends in pairs (" +
+         std::to_string(outlineSegments.rows()) + " rows)");
+  }
+  if (!(outlineWidth > 0.0 && outlineWidth <= 100.0))
+    fail("outlineWidth must lie in (0, 100] pixels");
+  const auto inUnitCube = [](const Rgb& c) {
+    return c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1;
+  };
+  if (!inUnitCube(background)) fail("background: colour components must lie in [0, 1]");
+  if (!inUnitCube(outlineColour)) fail("outlineColour: colour components must lie in [0, 1]");
+}
+
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options) {
   return renderMesh(context, mesh, options, nullptr);
@@ -713,7 +705,7 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
 
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options, RenderTimings* timings) {
-  checkOptions(options);
+  options.validate();
   if (mesh.faceCount() == 0) throw InputError("render: the mesh has no faces");
   if (!hasLegend(options.style)) {
     return withOutline(rasterize(context, mesh, options, options.width, options.height, {}, 0.0,
@@ -757,7 +749,7 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
 }
 
 Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options) {
-  checkOptions(options);
+  options.validate();
   OffscreenContext context;
   return renderMesh(context, mesh, options);
 }

@@ -91,6 +91,10 @@ struct RenderOptions {
   modeling::Positions outlineSegments;
   Rgb outlineColour{0.0, 0.8, 0.2};
   double outlineWidth = 2.5;
+
+  // Throws InputError starting with the field ("RenderOptions.stripeWidth …") for a value out of
+  // the ranges above (the width leaves room for the legend of `error` and `curvature`).
+  void validate() const;
 };
 
 // Legend ticks over [minimum, maximum]: the multiples in the range of the largest step 1, 2 or

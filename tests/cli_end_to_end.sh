@@ -290,7 +290,7 @@ absent bad.png
 run 2 render render-bowl.obj -o bad.png --style curvy; stderr_has "curvy"; absent bad.png
 run 2 render render-bowl.obj -o bad.png --style error; stderr_has "--surface"; absent bad.png
 run 2 render render-bowl.obj -o bad.png --background teal; stderr_has "teal"; absent bad.png
-run 2 render render-bowl.obj -o bad.png --stripe-width 2; stderr_has "stripe width"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --stripe-width 2; stderr_has "--stripe-width (the dark fraction"; absent bad.png
 run 2 render render-bowl.obj -o bad.jpg; stderr_has "bad.jpg"; absent bad.jpg
 run 2 render missing.obj -o bad.png; stderr_has "missing.obj"; absent bad.png
 FLEXURE_OSMESA_LIBRARY=/nonexistent/libOSMesa.so run 2 render render-bowl.obj -o bad.png

@@ -329,8 +329,8 @@ TEST(GeneratorsCriss, WithAspect) {
 
 TEST(GeneratorsOptions, BadOptionsThrowHelpfulMessages) {
   EXPECT_EQ(inputErrorOf(optionsFor(MeshFamily::Criss, 8, 3.0)),
-            "criss: --aspect 3 does not tile the square with n = 8 cells (8/3 is not a whole "
-            "number)");
+            "criss: GeneratorOptions.aspect 3 does not tile the square with n = 8 cells (8/3 is "
+            "not a whole number)");
   EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Patch48, 8, 16.0)).find("8/16 is not a whole"),
             std::string::npos);
   EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Patch48, 0)).find("n must be at least 1, got 0"),
@@ -344,8 +344,21 @@ TEST(GeneratorsOptions, BadOptionsThrowHelpfulMessages) {
   EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Criss, 4, std::nan(""))).find("positive"),
             std::string::npos);
   const std::string delaunay = inputErrorOf(optionsFor(MeshFamily::Delaunay, 4, 1.0));
-  EXPECT_NE(delaunay.find("delaunay: --aspect"), std::string::npos) << delaunay;
+  EXPECT_NE(delaunay.find("delaunay: GeneratorOptions.aspect"), std::string::npos) << delaunay;
   EXPECT_THROW(refinementSequence(optionsFor(MeshFamily::Patch48, 4), 0), InputError);
+}
+
+TEST(GeneratorsOptions, ValidateRefusesWhatGenerateRefusesAndNothingElse) {
+  for (const MeshFamily family :
+       {MeshFamily::Patch48, MeshFamily::Stripe, MeshFamily::Criss, MeshFamily::Delaunay}) {
+    EXPECT_NO_THROW(optionsFor(family, 8).validate()) << meshFamilyName(family);
+    EXPECT_THROW(optionsFor(family, 0).validate(), InputError) << meshFamilyName(family);
+  }
+  EXPECT_THROW(optionsFor(MeshFamily::Stripe, 7).validate(), InputError);
+  EXPECT_THROW(optionsFor(MeshFamily::Criss, 8, 3.0).validate(), InputError);
+  EXPECT_THROW(optionsFor(MeshFamily::Criss, 4, -1.0).validate(), InputError);
+  EXPECT_THROW(optionsFor(MeshFamily::Delaunay, 4, 1.0).validate(), InputError);
+  EXPECT_NO_THROW(optionsFor(MeshFamily::Criss, 8, 4.0).validate());
 }
 
 TEST(GeneratorsRefinement, SequenceDoublesN) {

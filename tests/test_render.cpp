@@ -385,6 +385,27 @@ TEST(Render, BadOptionsAreInputErrors) {
   rejects([](RenderOptions& o) { o.lightDirection = {0.0, 0.0, 0.0}; });
   rejects([](RenderOptions& o) { o.style = RenderStyle::Error; });  // 64 px: no room for legend
   EXPECT_THROW(render::parseRenderStyle("curvy"), InputError);
+  EXPECT_NO_THROW(RenderOptions().validate());
+  const auto message = [](auto change) {
+    RenderOptions options;
+    change(options);
+    try {
+      options.validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_THAT(message([](RenderOptions& o) { o.stripeWidth = 1.5; }),
+              ::testing::StartsWith("RenderOptions.stripeWidth "));
+  EXPECT_THAT(message([](RenderOptions& o) { o.elevationDegrees = 120.0; }),
+              ::testing::StartsWith("RenderOptions.elevationDegrees "));
+  EXPECT_THAT(message([](RenderOptions& o) { o.width = 8; }),
+              ::testing::StartsWith("RenderOptions.width x RenderOptions.height = 8 x 1024 "));
+  EXPECT_THAT(message([](RenderOptions& o) {
+                o.outlineColour = {2.0, 0.0, 0.0};
+              }),
+              ::testing::StartsWith("RenderOptions.outlineColour: "));
   EXPECT_EQ(render::parseRenderStyle("isophote"), RenderStyle::Isophote);
   EXPECT_THROW(render::parseColour("#12345"), InputError);
   EXPECT_THROW(render::parseColour("#12345g"), InputError);

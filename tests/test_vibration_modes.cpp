@@ -2,6 +2,7 @@
 // square (exact λ_mn = π²(m² + n²)), the clamped square (Leissa's tables), the free plate's
 // rigid zero modes, residuals of every returned pair, and the nodal lines of the (1,2)/(2,1)
 // pair.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
@@ -330,6 +331,50 @@ TEST(VibrationModes, RefusesWhatCannotBeComputed) {
   EXPECT_THROW(hinge.modes(o), InputError);  // more modes than unknowns
   o.count = 0;
   EXPECT_THROW(hinge.modes(o), InputError);
+}
+
+// The message of the InputError that `validate` throws, "" when it throws none.
+template <typename Options>
+std::string validationError(const Options& options) {
+  try {
+    options.validate();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(VibrationModes, OptionsNameTheFieldTheyRefuse) {
+  EXPECT_EQ(validationError(ModesOptions()), "");
+  ModesOptions modes;
+  modes.count = 0;
+  EXPECT_EQ(validationError(modes), "ModesOptions.count 0: expected at least 1");
+  modes.count = 1;
+  for (const double density : {0.0, -1.0, std::nan("")}) {
+    modes.density = density;
+    EXPECT_EQ(validationError(modes), "ModesOptions.density: expected a value > 0") << density;
+  }
+
+  optimize::SpectrumStudyOptions study;
+  study.energies = {optimize::parseEnergyVariant("hinge")};
+  EXPECT_EQ(validationError(study), "");
+  const std::vector<std::pair<std::function<void(optimize::SpectrumStudyOptions&)>, std::string>>
+      cases = {
+          {[](auto& o) { o.energies.clear(); }, "SpectrumStudyOptions.energies: "},
+          {[](auto& o) { o.families.clear(); }, "SpectrumStudyOptions.families: "},
+          {[](auto& o) { o.baseN = 3; }, "SpectrumStudyOptions.baseN 3: "},
+          {[](auto& o) { o.levels = 9; }, "SpectrumStudyOptions.levels 9: "},
+          {[](auto& o) { o.count = 13; }, "SpectrumStudyOptions.count 13: "},
+          {[](auto& o) { o.support = Support::Free; }, "SpectrumStudyOptions.support free: "},
+          {[](auto& o) { o.energies = {optimize::parseEnergyVariant("midedge:free")}; },
+           "SpectrumStudyOptions.energies midedge(free): "},
+      };
+  for (const auto& [spoil, start] : cases) {
+    optimize::SpectrumStudyOptions bad = study;
+    spoil(bad);
+    EXPECT_THAT(validationError(bad), ::testing::StartsWith(start));
+    EXPECT_THROW(optimize::runSpectrumStudy(bad), InputError) << start;
+  }
 }
 
 }  // namespace

@@ -67,7 +67,7 @@ Obstacle parseObstacle(const std::string& option, const std::string& spec) {
     cursor = end + 1;
   }
   Obstacle o;
-  o.spec = spec;
+  o.label = option + " " + spec;
   const Eigen::Vector3d v(value[0], value[1], value[2]);
   if (kind == "plane") {
     const double length = v.norm();
@@ -234,7 +234,7 @@ void ObstacleBarrier::requireOutside(const Positions& x, const std::string& what
                     ": vertex %ld of %s is inside or on the obstacle (signed distance %.6g); "
                     "every vertex must start outside",
                     static_cast<long>(v), what.c_str(), d);
-      throw InputError("--obstacle " + o.spec + text);
+      throw InputError(o.label + text);
     }
 }
 

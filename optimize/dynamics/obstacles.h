@@ -57,7 +57,7 @@ struct Obstacle {
   Kind kind = Kind::Plane;
   Eigen::Vector3d vector = Eigen::Vector3d::UnitZ();  // plane: unit normal n̂; sphere: centre c
   double scalar = 0.0;                                // plane: offset d/|n|; sphere: radius r
-  std::string spec;                                   // as given, for messages
+  std::string label;  // for messages: parseObstacle's `option` and text ("obstacle plane:0,0,1,0")
 
   // d(x), and when asked ∇d and ∇²d.
   double signedDistance(const Eigen::Vector3d& x, Eigen::Vector3d* gradient = nullptr,
@@ -66,8 +66,9 @@ struct Obstacle {
   double contactTime(const Eigen::Vector3d& x, const Eigen::Vector3d& delta) const;
 };
 
-// plane:nx,ny,nz,d or sphere:x,y,z,r; InputError quoting `option` and the text otherwise (a zero
-// normal, a radius ≤ 0, a number that is not finite).
+// plane:nx,ny,nz,d or sphere:x,y,z,r; InputError quoting `option` (what gave the text, e.g. the
+// command line's option) and the text otherwise (a zero normal, a radius ≤ 0, a number that is
+// not finite).
 Obstacle parseObstacle(const std::string& option, const std::string& spec);
 
 // b(d) / κ and its first two derivatives (d1, d2 may be null); +∞ for d ≤ 0, 0 for d ≥ d̂.

@@ -69,6 +69,20 @@ struct FairingOptions {
   MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
 };
 
+// The options a fairing on `metric` starts from. On the current metric: the membrane weight
+// kCurrentMetricMembraneWeight, and cotan's barycentric vertex area — the mixed Voronoi area
+// switches formula where a current angle crosses 90°, and on the current metric that kink stalls
+// Newton (the shark's holes: 200 iterations). On the input's: w = 1 and the Voronoi area.
+inline FairingOptions defaultFairingOptions(FairingMetric metric) {
+  FairingOptions options;
+  options.metric = metric;
+  if (metric == FairingMetric::Current) {
+    options.membraneWeight = kCurrentMetricMembraneWeight;
+    options.bending.vertexArea = curvature::VertexArea::Barycentric;
+  }
+  return options;
+}
+
 // The membrane of weight w, bending stiffness k_B, mean rest edge length ℓ̄ of the region:
 //   mips, conformal: k_S = w k_B                (shapes kept, sizes free; mips the default:
 //                                               measured on three_peaks' all-interior, conformal

@@ -13,7 +13,7 @@ namespace flexure::optimize {
 //   of one thread are fine). The BLAS that install-deps selects, OpenBLAS's serial build
 //   (libopenblas0-serial, 0.3.21), takes no lock in its buffer allocation: two threads calling
 //   dgemm on 16 × 16 matrices at once got a wrong product in 68 709 of 600 000 calls, and the
-//   convergence study's parallel cases got results that changed with --threads (111 of 300
+//   convergence study's parallel cases got results that changed with the thread count (111 of 300
 //   concurrent supernodal solves in the test LinearAlgebraThreads differed). OpenBLAS's pthreads
 //   build is thread-safe but starts a worker thread when it is loaded, which allocates a 128 MiB
 //   buffer and, when that fails (a process under ulimit -v), loops and keeps the process from

@@ -94,21 +94,10 @@ class ShiftInvertOperator {
 
 }  // namespace
 
-Support parseSupport(const std::string& name) {
-  if (name == "clamped") return Support::Clamped;
-  if (name == "simply-supported") return Support::SimplySupported;
-  if (name == "free") return Support::Free;
-  throw InputError("--support " + name + ": expected clamped, simply-supported or free");
-}
-Clamp parseClamp(const std::string& name) {
-  if (name == "rings") return Clamp::Rings;
-  if (name == "normals") return Clamp::Normals;
-  throw InputError("--clamp " + name + ": expected rings or normals");
-}
-MassLumping parseMassLumping(const std::string& name) {
-  if (name == "barycentric") return MassLumping::Barycentric;
-  if (name == "voronoi") return MassLumping::Voronoi;
-  throw InputError("--mass " + name + ": expected barycentric or voronoi");
+void ModesOptions::validate() const {
+  if (count < 1)
+    throw InputError("ModesOptions.count " + std::to_string(count) + ": expected at least 1");
+  if (!(density > 0.0)) throw InputError("ModesOptions.density: expected a value > 0");
 }
 const char* supportName(Support support) {
   switch (support) {
@@ -182,14 +171,16 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   const auto start = Clock::now();
   const int vertexCount = stencils.vertexCount();
   const bool withXi = restXi.size() > 0;
-  if (o.count < 1) throw InputError("--count " + std::to_string(o.count) + ": expected at least 1");
+  o.validate();
   if (o.clamp == Clamp::Normals && o.support == Support::Clamped) {
     if (!withXi)
-      throw InputError("--clamp normals holds the midedge normals: it applies to midedge only");
+      throw InputError(
+          "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
     if (o.dof != DofMode::Height || !restIsFlat(rest.positions))
-      throw InputError("--clamp normals: needs a flat plate in height mode (use --clamp rings)");
+      throw InputError(
+          "ModesOptions.clamp normals: needs a flat plate in height mode (use ModesOptions.clamp "
+          "rings)");
   }
-  if (!(o.density > 0.0)) throw InputError("--density: expected a value > 0");
 
   ModesResult result;
   const std::vector<bool> fixed = supportFixedVertices(stencils, o.support, o.clamp, o.extraFixed);
@@ -286,7 +277,7 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   result.massUnknowns = static_cast<int>(massive.size());
   const int wanted = o.count + result.rigidModes;
   if (wanted >= result.massUnknowns) {
-    throw InputError("--count " + std::to_string(o.count) + ": the problem has only " +
+    throw InputError("ModesOptions.count " + std::to_string(o.count) + ": the problem has only " +
                      std::to_string(result.massUnknowns) + " vertex unknowns (" +
                      std::to_string(result.rigidModes) +
                      " rigid modes); ask for fewer modes or refine the mesh");

@@ -43,10 +43,6 @@ enum class Clamp { Rings, Normals };
 using modeling::MassLumping;
 
 // "clamped" | "simply-supported" | "free"; "rings" | "normals"; "barycentric" | "voronoi".
-// InputError listing the names otherwise.
-Support parseSupport(const std::string& name);
-Clamp parseClamp(const std::string& name);
-MassLumping parseMassLumping(const std::string& name);
 const char* supportName(Support support);
 const char* clampName(Clamp clamp);
 const char* massLumpingName(MassLumping mass);
@@ -56,11 +52,16 @@ struct ModesOptions {
   DofMode dof = DofMode::Height;
   Support support = Support::Clamped;
   Clamp clamp = Clamp::Rings;
-  std::vector<bool> extraFixed;  // #V or empty: vertices held in addition (--fix)
+  std::vector<bool> extraFixed;  // #V or empty: vertices held in addition to the support
   MassLumping mass = MassLumping::Barycentric;
   double density = 1.0;           // ρh: mass per unit rest area
   double bendingStiffness = 1.0;  // k_B, for λ (D = 2 k_B)
   double length = 0.0;            // L for λ; ≤ 0: the rest bounding box's largest side
+
+  // Throws InputError naming the field for count < 1 or density ≤ 0 (what vibrationModes also
+  // refuses, knowing the problem: a normals clamp without midedge or off a flat height-mode
+  // plate, more modes than unknowns).
+  void validate() const;
 };
 
 struct VibrationMode {

@@ -6,8 +6,8 @@
 // Ceres takes no METIS order, but it takes a partition of the parameter blocks into ordered groups
 // and then runs constrained AMD (CAMD) within them: a nested-dissection order cut into a few
 // hundred consecutive groups hands Ceres the separators' order while CAMD orders each group's
-// interior. Measured in one run of `solve_bench --sizes 256,512 --energies hinge,cotan,quadfit
-// --baselines` (mode nonlinear_amd = Ceres' AMD), nonlinear solve at n = 512, AMD total /
+// interior. Measured in one run of solve_bench (sizes 256 and 512; hinge, cotan, quadfit;
+// with its baselines: mode nonlinear_amd = Ceres' AMD), nonlinear solve at n = 512, AMD total /
 // nested-dissection total: cotan 1.34 (57.6 vs 43.0 s; 1.22 at n = 256), hinge 0.99 and quadfit
 // 1.00 — their linear solver gains (19.6 → 17.1 s, 33.5 → 29.0 s) go to computing the order
 // (2–3 s). The geometric nested dissection below, as Ceres' groups, takes 0.6–1.0 s instead of

@@ -40,28 +40,32 @@ const char* squarePlateSource(Support support) {
              : "exact: pi^2 (m^2 + n^2)";
 }
 
-void checkSpectrumStudyOptions(const SpectrumStudyOptions& o) {
-  if (o.energies.empty()) throw InputError("--energies: give at least one energy");
-  if (o.families.empty()) throw InputError("--families: give at least one mesh family");
-  if (o.baseN < 4) throw InputError("--n " + std::to_string(o.baseN) + ": expected at least 4");
-  if (o.levels < 1 || o.levels > 8)
-    throw InputError("--levels " + std::to_string(o.levels) + ": expected 1 .. 8");
-  if (o.count < 1 || o.count > 12)
-    throw InputError("--count " + std::to_string(o.count) + ": expected 1 .. 12");
-  if (o.support == Support::Free)
+void SpectrumStudyOptions::validate() const {
+  if (energies.empty()) throw InputError("SpectrumStudyOptions.energies: give at least one energy");
+  if (families.empty())
+    throw InputError("SpectrumStudyOptions.families: give at least one mesh family");
+  if (baseN < 4)
+    throw InputError("SpectrumStudyOptions.baseN " + std::to_string(baseN) +
+                     ": expected at least 4");
+  if (levels < 1 || levels > 8)
+    throw InputError("SpectrumStudyOptions.levels " + std::to_string(levels) + ": expected 1 .. 8");
+  if (count < 1 || count > 12)
+    throw InputError("SpectrumStudyOptions.count " + std::to_string(count) + ": expected 1 .. 12");
+  if (support == Support::Free)
     throw InputError(
-        "--support free: the spectrum study needs reference frequencies "
+        "SpectrumStudyOptions.support free: the spectrum study needs reference frequencies "
         "(simply-supported or clamped)");
-  squarePlateLambdas(o.support, o.count);
-  for (const EnergyVariant& v : o.energies)
+  squarePlateLambdas(support, count);
+  for (const EnergyVariant& v : energies)
     if (v.normals == BoundaryNormals::Free)
-      throw InputError("--energies " + v.label +
-                       ": midedge's boundary normals follow --support; give midedge");
+      throw InputError("SpectrumStudyOptions.energies " + v.label +
+                       ": midedge's boundary normals follow SpectrumStudyOptions.support; give "
+                       "midedge");
 }
 
 std::vector<SpectrumSeries> runSpectrumStudy(
     const SpectrumStudyOptions& o, const std::function<void(const std::string&)>& progress) {
-  checkSpectrumStudyOptions(o);
+  o.validate();
   const std::vector<double> reference = squarePlateLambdas(o.support, o.count);
   std::vector<SpectrumSeries> all;
   for (int e = 0; e < static_cast<int>(o.energies.size()); ++e) {

@@ -1,4 +1,4 @@
-// The spectrum as a convergence test (`flexure converge --measure modes`): the smallest
+// The spectrum as a convergence test (the convergence command's modes measure): the smallest
 // vibration frequencies λ₁ … λ_K of the square plate (vibration_modes.h) on every energy and mesh
 // family over refinement levels n, 2n, 4n, …, their errors against the exact or tabulated
 // values, and the orders of those errors in h = 1/n.
@@ -31,6 +31,11 @@ struct SpectrumStudyOptions {
   int baseN = 8, levels = 3;
   int count = 6;  // modes λ₁ … λ_K
   Support support = Support::SimplySupported;
+
+  // Throws InputError naming the field for an unusable study (no energies or families, baseN < 4,
+  // levels outside 1..8, count outside 1..12 or beyond the reference, a free support,
+  // midedge:free) before any work.
+  void validate() const;
 };
 
 // One energy on one mesh sequence.
@@ -46,12 +51,8 @@ struct SpectrumSeries {
   std::vector<Refinement> verdicts;                  // [k]
 };
 
-// Throws InputError for an unusable study (no energies or families, n < 4, levels outside 1..8,
-// count outside 1..12 or beyond the reference, a free support, midedge:free) before any work.
-void checkSpectrumStudyOptions(const SpectrumStudyOptions& options);
-
-// Energy-major, then family, seed. `progress` (may be empty) gets "<energy> on <family> n=<n>"
-// after each solve.
+// Energy-major, then family, seed; validates `options` first. `progress` (may be empty) gets
+// "<energy> on <family> n=<n>" after each solve.
 std::vector<SpectrumSeries> runSpectrumStudy(
     const SpectrumStudyOptions& options,
     const std::function<void(const std::string&)>& progress = {});
