@@ -53,10 +53,12 @@ optimize::MassLumping massLumping(const LoadArguments& a) {
   return optimize::parseMassLumping(a.mass);
 }
 
-modeling::Positions gravityLoad(const LoadArguments& a, const modeling::RestState& rest) {
-  if (a.gravity.empty()) return {};
-  const Eigen::VectorXd mass = optimize::lumpedVertexMasses(rest, massLumping(a), a.density);
-  return mass * gravityVector(a).transpose();
+optimize::LoadOptions loadOptions(const LoadArguments& a) {
+  optimize::LoadOptions load;
+  if (!a.gravity.empty()) load.gravity = gravityVector(a);
+  load.density = a.density;
+  load.mass = massLumping(a);
+  return load;
 }
 
 }  // namespace flexure::cli
