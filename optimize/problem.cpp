@@ -1,5 +1,6 @@
 #include "optimize/problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -95,6 +96,7 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
     if (term->usesEdgeUnknowns())
       p.restXi = curvature::midedgeRestXi(p.stencils, p.rest, options.bending.restCurvature);
   p.boundary = boundaryConditions(p, options);
+  p.linearizedClamp = options.linearizedClamp;
   const Eigen::Vector3d gravity = options.load.gravity.value_or(Eigen::Vector3d::Zero());
   if (options.load.gravity || !options.obstacles.empty()) {
     const Eigen::VectorXd mass =
@@ -114,6 +116,13 @@ Problem buildProblem(const modeling::Mesh& rest, const ProblemOptions& options) 
 }
 
 MinimizeResult minimize(const Problem& problem, MinimizeOptions options) {
+  const std::vector<bool>& heldEdge = problem.boundary.fixedEdge;
+  if (options.linearized != problem.linearizedClamp &&
+      std::find(heldEdge.begin(), heldEdge.end(), true) != heldEdge.end())
+    throw InputError(std::string("MinimizeOptions.linearized is ") +
+                     (options.linearized ? "true" : "false") +
+                     " but the problem's boundary ξ are clamped for the other solve "
+                     "(ProblemOptions.linearizedClamp): build the problem with the same value");
   options.dof = problem.dof;
   options.externalForce = problem.externalForce;
   options.obstacles = problem.obstacles;

@@ -67,7 +67,8 @@ struct Problem {
   Eigen::VectorXd restXi;
   // Held vertices (#V) and their values (start, #V by 3); held ξ (#E) and their values.
   BoundaryConditions boundary;
-  Positions externalForce;  // #V by 3: m_v g; empty without a load
+  bool linearizedClamp = false;  // the held ξ are the clamp linearized about rest
+  Positions externalForce;       // #V by 3: m_v g; empty without a load
   ObstacleBarrier obstacles;
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }
@@ -86,6 +87,8 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
 
 // optimize::minimize on the problem: its terms, boundary, rest state and ξ̄, with the problem's
 // unknown layout, load and obstacles in place of `options`' dof, externalForce and obstacles.
+// InputError when ξ are clamped for the other kind of solve (MinimizeOptions.linearized against
+// ProblemOptions.linearizedClamp).
 MinimizeResult minimize(const Problem& problem, MinimizeOptions options);
 
 }  // namespace flexure::optimize

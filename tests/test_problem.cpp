@@ -175,6 +175,25 @@ TEST(Problem, BoundaryValuesAndLoads) {
                   ::testing::HasSubstr("ProblemOptions.boundaryPositions has 5 rows")));
 }
 
+// A midedge clamp built for a nonlinear solve is refused by a linearized one, and the other way.
+TEST(Problem, MinimizeRefusesAClampForTheOtherSolve) {
+  ProblemOptions o = optionsFor(Discretization::Midedge, DofMode::Height);
+  const Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, 6, 1, {}});
+  optimize::MinimizeOptions linearized;
+  linearized.linearized = true;
+  const optimize::Problem nonlinearClamp = optimize::buildProblem(mesh, o);
+  EXPECT_THAT(
+      [&] { optimize::minimize(nonlinearClamp, linearized); },
+      ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("ProblemOptions.linearizedClamp")));
+  o.linearizedClamp = true;
+  const optimize::Problem linearClamp = optimize::buildProblem(mesh, o);
+  EXPECT_TRUE(optimize::minimize(linearClamp, linearized).report.converged);
+  EXPECT_THROW(optimize::minimize(linearClamp, {}), InputError);
+  // Free normals hold no ξ: either solve takes the problem.
+  o.boundaryNormals = BoundaryNormals::Free;
+  EXPECT_TRUE(optimize::minimize(optimize::buildProblem(mesh, o), linearized).report.converged);
+}
+
 TEST(Problem, BadOptionsNameTheField) {
   const ProblemOptions good = optionsFor(Discretization::Midedge, DofMode::Height);
   EXPECT_EQ(whatOf(good), "");
