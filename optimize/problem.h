@@ -69,7 +69,7 @@ struct Problem {
   BoundaryConditions boundary;
   bool linearizedClamp = false;  // the held ξ are the clamp linearized about rest
   Positions externalForce;       // #V by 3: m_v g; empty without a load
-  ObstacleBarrier obstacles;
+  ObstacleBarrier obstacles;  // the stated rule's barrier of ProblemOptions.obstacles; empty: none
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }
   bool usesEdgeUnknowns() const { return restXi.size() > 0; }
