@@ -49,6 +49,7 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/linear/biharmonic.h"
 
 namespace {
 
@@ -279,33 +280,11 @@ void ceresEvaluate(benchmark::State& state, EnergyCase c, bool withGradient) {
   setCounters(state, c, e.term->elementCount(), loop.count());
 }
 
-// The cotangent Laplacian of the rest mesh: L_ij = −(cot α_ij + cot β_ij)/2 over the (one or
-// two) angles opposite edge ij, L_ii = −Σ_j L_ij.
-Eigen::SparseMatrix<double, Eigen::RowMajor> cotanLaplacian(const Stencils& s,
-                                                            const RestState& rest) {
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(12 * static_cast<size_t>(s.faceCount()));
-  for (int f = 0; f < s.faceCount(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = s.faces(f, k), i = s.faces(f, (k + 1) % 3), j = s.faces(f, (k + 2) % 3);
-      const Eigen::Vector3d a = rest.positions.row(i) - rest.positions.row(v);
-      const Eigen::Vector3d b = rest.positions.row(j) - rest.positions.row(v);
-      const double halfCot = 0.5 * a.dot(b) / a.cross(b).norm();  // ½ cot of the angle at v
-      entries.emplace_back(i, j, -halfCot);
-      entries.emplace_back(j, i, -halfCot);
-      entries.emplace_back(i, i, halfCot);
-      entries.emplace_back(j, j, halfCot);
-    }
-  }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(s.vertexCount(), s.vertexCount());
-  laplacian.setFromTriplets(entries.begin(), entries.end());
-  return laplacian;
-}
-
 void laplacianFloor(benchmark::State& state, int n) {
   const MeshData& mesh = meshData(n);
+  // The library's cotangent Laplacian (optimize/linear/biharmonic.h), row-major for the product.
   const Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian =
-      cotanLaplacian(mesh.stencils, mesh.rest);
+      flexure::optimize::cotanLaplacian(mesh.stencils, mesh.rest);
   const Eigen::MatrixXd x = mesh.current;  // #V × 3, one column per coordinate
   Eigen::MatrixXd y(x.rows(), 3);
   const auto start = Clock::now();

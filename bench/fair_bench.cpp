@@ -32,8 +32,8 @@
 #include "modeling/fairing_region.h"
 #include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
-#include "optimize/fairing.h"
-#include "optimize/heap_reuse.h"
+#include "optimize/fairing/fairing.h"
+#include "optimize/linear/heap_reuse.h"
 
 namespace {
 

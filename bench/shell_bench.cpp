@@ -26,8 +26,8 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/heap_reuse.h"
-#include "optimize/minimize.h"
+#include "optimize/linear/heap_reuse.h"
+#include "optimize/solvers/minimize.h"
 
 namespace {
 

@@ -2,8 +2,9 @@
 // membrane (Y = 1e3) + each bending energy, Newmark (β = ¼, γ = ½), dt = 1/200 s, from rest under
 // gravity. --scene drape (the scene, the default): nothing pinned, the sheet falls 0.05
 // onto the sphere of radius 0.3 centred 0.35 below its centre and drapes over it (the obstacle
-// barrier of optimize/obstacles.h); --scene hang: it hangs from two pinned corners. Per energy:
-// steps per second, iterations (Newton and chord steps) and Hessian factorizations per step over
+// barrier of optimize/dynamics/obstacles.h); --scene hang: it hangs from two pinned corners. Per
+// energy: steps per second, iterations (Newton and chord steps) and Hessian factorizations per step
+// over
 // --steps steps, or --duration seconds simulated (the first step, which includes building the
 // Hessian pattern and its CHOLMOD analysis, timed apart), and with the sphere the smallest vertex
 // distance to it over the run. --chord-steps false --predict false runs the plain Newton of
@@ -29,9 +30,9 @@
 #include "modeling/generators.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/heap_reuse.h"
-#include "optimize/hessian_assembly.h"
-#include "optimize/time_stepping.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "optimize/linear/heap_reuse.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace {
 

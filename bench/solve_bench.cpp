@@ -29,8 +29,8 @@
 //              factorizations: numerical sparse Cholesky factorizations, the predictor's
 //              included. newton's ratio_to_ceres = its total / ceres' total.
 //              Mode vibration (issue #16): the 12 smallest vibration modes of the clamped plate
-//              (optimize/vibration_modes.h: midedge clamps its normals, the others rings 0 and 1)
-//              — assembly of K, one CHOLMOD factor of K − σM, shift-invert Lanczos —;
+//              (optimize/modes/vibration_modes.h: midedge clamps its normals, the others rings 0
+//              and 1) — assembly of K, one CHOLMOD factor of K − σM, shift-invert Lanczos —;
 //              seconds.total = setup + modes, split into assembly, factor and eigensolve.
 //              With --baselines, mode ceres_amd measures the nested-dissection order in the
 //              same run: the Ceres solve on Ceres' AMD order, with ratio_to_ceres = its
@@ -66,12 +66,12 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/biharmonic.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/heap_reuse.h"
-#include "optimize/minimize.h"
+#include "optimize/linear/biharmonic.h"
+#include "optimize/linear/heap_reuse.h"
+#include "optimize/modes/vibration_modes.h"
 #include "optimize/problem.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/solvers/minimize.h"
 
 namespace {
 

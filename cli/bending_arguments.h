@@ -7,7 +7,7 @@
 #include <string>
 
 #include "curvature/bending_energy.h"
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
 

@@ -16,7 +16,7 @@
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"

@@ -13,7 +13,7 @@
 #include "cli/study_outputs.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure::cli {
 namespace {

@@ -14,8 +14,8 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
-#include "optimize/energy_evaluation.h"
 #include "optimize/problem.h"
+#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::cli {
 namespace {

@@ -23,9 +23,10 @@
 #include "modeling/mesh_io.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "modeling/vertex_quantities.h"
 #include "modeling/vertex_sets.h"
-#include "optimize/fairing.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/fairing/fairing.h"
+#include "optimize/modes/vibration_modes.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
@@ -305,18 +306,14 @@ modeling::Positions regionOutline(const modeling::Mesh& mesh, const modeling::St
 
 // The signed distance of flexure's result from CGAL's fair at every mesh vertex,
 // d_v = (x_v − y_v) · n̄_v, x flexure's and y CGAL's positions, n̄_v the area-weighted vertex
-// normal of CGAL's patch (optimize::restVertexNormals): to first order in |x − y| the distance of
+// normal of CGAL's patch (modeling::vertexNormals): to first order in |x − y| the distance of
 // x_v from CGAL's surface, positive on the side the faces' normals point to; 0 off the region
 // (the held rings and the rest of the mesh do not move).
 std::vector<double> signedDistanceFromCgal(const modeling::Mesh& mesh,
                                            const modeling::FairingPatch& patch,
                                            const modeling::Positions& flexurePatch,
                                            const modeling::Positions& cgalPatch) {
-  modeling::Mesh cgalMesh = patch.mesh;
-  cgalMesh.positions = cgalPatch;
-  const modeling::Stencils stencils = modeling::compileStencils(cgalMesh);
-  const Eigen::MatrixX3d normals =
-      optimize::restVertexNormals(stencils, modeling::precomputeRestState(stencils, cgalPatch));
+  const Eigen::MatrixX3d normals = modeling::vertexNormals(cgalPatch, patch.mesh.triangles);
   std::vector<double> d(mesh.vertexCount(), 0.0);
   for (std::size_t p = 0; p < patch.inputVertex.size(); ++p) {
     const auto i = static_cast<Eigen::Index>(p);

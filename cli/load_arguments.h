@@ -1,6 +1,7 @@
 // The command-line options of a gravity load and of obstacles, shared by minimize (static) and
 // simulate (dynamic): --gravity gx,gy,gz, --density ρ (mass per unit rest area), --mass (the
-// lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable; optimize/obstacles.h).
+// lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable;
+// optimize/dynamics/obstacles.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/modes/vibration_modes.h"
 #include "optimize/problem.h"
-#include "optimize/vibration_modes.h"
 
 namespace flexure::cli {
 

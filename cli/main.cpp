@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "modeling/errors.h"
-#include "optimize/heap_reuse.h"
+#include "optimize/linear/heap_reuse.h"
 
 int main(int argc, char** argv) {
   flexure::optimize::reuseFreedMemory();

@@ -21,8 +21,8 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
-#include "optimize/minimize.h"
 #include "optimize/problem.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
 namespace {

@@ -1,7 +1,7 @@
 // flexure modes: the vibration modes of a plate or shell about its rest state for one or more
-// bending energies (optimize/vibration_modes.h), with the Chladni figure (mode shapes with their
-// nodal lines), a JSON report and, for the square plate, the errors against exact or tabulated
-// frequencies.
+// bending energies (optimize/modes/vibration_modes.h), with the Chladni figure (mode shapes with
+// their nodal lines), a JSON report and, for the square plate, the errors against exact or
+// tabulated frequencies.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -23,11 +23,12 @@
 #include "modeling/generators.h"
 #include "modeling/mesh_io.h"
 #include "modeling/rest_state.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/convergence_study.h"
+#include "optimize/modes/vibration_modes.h"
 #include "optimize/problem.h"
-#include "optimize/spectrum_study.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/studies/convergence_study.h"
+#include "optimize/studies/spectrum_study.h"
 #include "render/field_map.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
@@ -195,7 +196,7 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   if (!reference.empty()) std::printf(" %12s", "reference");
   std::printf("\n");
   std::vector<std::vector<double>> table(o.count);
-  const Eigen::MatrixX3d normals = optimize::restVertexNormals(stencils, rest);
+  const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
   for (const EnergyRun& run : runs) {
     const optimize::ModesResult& r = run.result;
     nlohmann::json modes = nlohmann::json::array();

@@ -1,6 +1,6 @@
-// flexure simulate: a plate or shell in time (optimize/time_stepping.h) — a bending energy and a
-// membrane, lumped masses, gravity, pins, damping — written as frame meshes, an energy history
-// and a report.
+// flexure simulate: a plate or shell in time (optimize/dynamics/time_stepping.h) — a bending energy
+// and a membrane, lumped masses, gravity, pins, damping — written as frame meshes, an energy
+// history and a report.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +26,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/time_stepping.h"
+#include "optimize/dynamics/time_stepping.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
 #include "render/plot.h"

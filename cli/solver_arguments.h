@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
 

@@ -1,13 +1,13 @@
-// The outputs of `flexure converge --measure modes` (optimize/spectrum_study.h): spectrum.md (the
-// orders and finest errors per energy and family, also printed), spectrum.json (every λ of every
-// level), spectrum.csv (one row per energy, mesh, level and mode) and log-log plots
-// spectrum_<family>.png (each energy's largest error over λ₁ … λ_K against h).
+// The outputs of `flexure converge --measure modes` (optimize/studies/spectrum_study.h):
+// spectrum.md (the orders and finest errors per energy and family, also printed), spectrum.json
+// (every λ of every level), spectrum.csv (one row per energy, mesh, level and mode) and log-log
+// plots spectrum_<family>.png (each energy's largest error over λ₁ … λ_K against h).
 #pragma once
 
 #include <string>
 
 #include "cli/commands.h"
-#include "optimize/spectrum_study.h"
+#include "optimize/studies/spectrum_study.h"
 
 namespace flexure::cli {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "cli/commands.h"
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure::cli {
 

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "curvature/kernel_math.h"
+#include "modeling/mixed_area.h"
 
 namespace flexure::curvature {
 
@@ -67,33 +68,26 @@ T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, con
   return T(6.0) * dot(e, e) / (norm(cross(e, xk - xi)) + norm(cross(xl - xi, e)));
 }
 
-// The area of vertex x[0] with the closed ring x[1..k]: mixed Voronoi (Meyer et al. 2003, as
-// modeling/rest_state.h: a non-obtuse face gives v its Voronoi region, an obtuse one A/2 at an
-// obtuse v and A/4 otherwise) or barycentric (a third of each face).
+// The area of vertex x[0] with the closed ring x[1..k]: mixed Voronoi (modeling/mixed_area.h,
+// the rest state's formula on the current positions) or barycentric (a third of each face).
 template <class T>
 T currentVertexArea(T const* const* x, int k, bool voronoi) {
   const Vec3<T> center = load(x[0]);
   T area(0.0);
   for (int j = 0; j < k; ++j) {
+    // The face (center, a, b) with a, b relative to the center.
     const Vec3<T> a = load(x[1 + j]) - center, b = load(x[1 + (j + 1) % k]) - center;
     const T twiceArea = norm(cross(a, b));
     if (!voronoi) {
       area += twiceArea / T(6.0);
       continue;
     }
-    // Signs of the cosines at v, at a and at b.
-    const double atV = scalarPart(dot(a, b)), atA = scalarPart(dot(T(-1.0) * a, b - a)),
-                 atB = scalarPart(dot(T(-1.0) * b, a - b));
-    if (atV < 0.0) {
-      area += twiceArea / T(4.0);
-    } else if (atA < 0.0 || atB < 0.0) {
-      area += twiceArea / T(8.0);
-    } else {
-      // (|a|² cot∠b + |b|² cot∠a) / 8, cot∠b = (−b)·(a − b) / 2A, cot∠a = (−a)·(b − a) / 2A.
-      const T cotB = dot(T(-1.0) * b, a - b) / twiceArea,
-              cotA = dot(T(-1.0) * a, b - a) / twiceArea;
-      area += (dot(a, a) * cotB + dot(b, b) * cotA) / T(8.0);
-    }
+    // cot of the angles at the center, at a and at b; squared lengths of the edges opposite them
+    // (the center's own share does not read the first).
+    const T cotangents[3] = {dot(a, b) / twiceArea, dot(T(-1.0) * a, b - a) / twiceArea,
+                             dot(T(-1.0) * b, a - b) / twiceArea};
+    const T squaredLengths[3] = {T(0.0), dot(b, b), dot(a, a)};
+    area += modeling::mixedVoronoiShare(twiceArea, cotangents, squaredLengths, 0);
   }
   return area;
 }

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "modeling/mixed_area.h"
+
 namespace flexure::curvature {
 
 template <class T>
@@ -66,14 +68,7 @@ inline void addScaled(Sym2<T>& s, const T& c, const Sym2<U>& t) {
 
 namespace flexure::curvature {
 
-// The value part of a scalar: itself for double, the real part for a ceres::Jet.
-inline double scalarPart(double v) {
-  return v;
-}
-template <class J>
-inline auto scalarPart(const J& v) -> decltype(v.a) {
-  return v.a;
-}
+using modeling::scalarPart;  // the value part of a double or a jet (modeling/mixed_area.h)
 template <class T>
 inline bool isFiniteScalar(const T& v) {
   return std::isfinite(scalarPart(v));

@@ -85,31 +85,6 @@ double faceUpdate(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
   return std::hypot(cx - sx, cy + sy);
 }
 
-// #V: the connected component of every vertex (through edges).
-std::vector<int> components(const Stencils& s) {
-  std::vector<int> component(s.vertexCount(), -1);
-  std::vector<int> stack;
-  int count = 0;
-  for (int seed = 0; seed < s.vertexCount(); ++seed) {
-    if (component[seed] >= 0) continue;
-    component[seed] = count;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      for (int r = s.oneRingOffsets[v]; r < s.oneRingOffsets[v + 1]; ++r) {
-        const int w = s.oneRingVertices[r];
-        if (component[w] < 0) {
-          component[w] = count;
-          stack.push_back(w);
-        }
-      }
-    }
-    ++count;
-  }
-  return component;
-}
-
 }  // namespace
 
 std::vector<bool> parseRegion(const std::string& spec, const Mesh& mesh, const Stencils& stencils) {
@@ -254,7 +229,7 @@ void requireFairableRegion(const Stencils& stencils, const std::vector<bool>& re
                        std::to_string(heldRings) + " rings inside the boundary");
     }
   }
-  const std::vector<int> component = components(stencils);
+  const std::vector<int> component = vertexComponents(stencils);
   std::vector<char> held(stencils.vertexCount(), 0);  // per component: has a vertex outside R
   for (int v = 0; v < stencils.vertexCount(); ++v)
     if (!region[v]) held[component[v]] = 1;

@@ -8,34 +8,6 @@
 #include "modeling/stencils.h"
 
 namespace flexure::modeling {
-namespace {
-
-int countComponents(const Stencils& s) {
-  std::vector<int> component(s.vertexCount(), -1);
-  std::vector<int> stack;
-  int count = 0;
-  for (int seed = 0; seed < s.vertexCount(); ++seed) {
-    if (component[seed] >= 0) continue;
-    component[seed] = count;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      for (int r = s.oneRingOffsets[v]; r < s.oneRingOffsets[v + 1]; ++r) {
-        const int w = s.oneRingVertices[r];
-        if (component[w] < 0) {
-          component[w] = count;
-          stack.push_back(w);
-        }
-      }
-    }
-    ++count;
-  }
-  return count;
-}
-
-}  // namespace
-
 MeshInfo describeMesh(const Mesh& mesh) {
   const Stencils s = compileStencils(mesh);
   const RestState rest = precomputeRestState(s, mesh.positions);
@@ -43,7 +15,9 @@ MeshInfo describeMesh(const Mesh& mesh) {
   info.vertices = s.vertexCount();
   info.faces = s.faceCount();
   info.edges = s.edgeCount();
-  info.components = countComponents(s);
+  const std::vector<int> component = vertexComponents(s);
+  info.components =
+      component.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;
   info.eulerCharacteristic = info.vertices - info.edges + info.faces;
   for (const auto& loop : boundaryLoops(s))
     info.boundaryLoopLengths.push_back(static_cast<int>(loop.size()));

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "modeling/errors.h"
+#include "modeling/mixed_area.h"
 
 namespace flexure::modeling {
 
@@ -50,14 +51,7 @@ RestState precomputeRestState(const Stencils& s, const Positions& rest) {
     for (int i = 0; i < 3; ++i) {
       const int v = s.faces(f, i);
       r.vertexBarycentricAreas[v] += area / 3.0;
-      if (cot[0] < 0.0 || cot[1] < 0.0 || cot[2] < 0.0) {
-        r.vertexVoronoiAreas[v] += cot[i] < 0.0 ? area / 2.0 : area / 4.0;
-      } else {
-        // The edges at v are edge i+1 (opposite vertex i+1, angle cot[i+1]) and edge i+2.
-        r.vertexVoronoiAreas[v] += (lengthSquared[(i + 1) % 3] * cot[(i + 1) % 3] +
-                                    lengthSquared[(i + 2) % 3] * cot[(i + 2) % 3]) /
-                                   8.0;
-      }
+      r.vertexVoronoiAreas[v] += mixedVoronoiShare(twiceArea, cot, lengthSquared, i);
     }
   }
 

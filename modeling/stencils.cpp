@@ -106,4 +106,28 @@ Stencils compileStencils(const Mesh& mesh) {
   return s;
 }
 
+std::vector<int> vertexComponents(const Stencils& s) {
+  std::vector<int> component(s.vertexCount(), -1);
+  std::vector<int> stack;
+  int count = 0;
+  for (int seed = 0; seed < s.vertexCount(); ++seed) {
+    if (component[seed] >= 0) continue;
+    component[seed] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (int r = s.oneRingOffsets[v]; r < s.oneRingOffsets[v + 1]; ++r) {
+        const int w = s.oneRingVertices[r];
+        if (component[w] < 0) {
+          component[w] = count;
+          stack.push_back(w);
+        }
+      }
+    }
+    ++count;
+  }
+  return component;
+}
+
 }  // namespace flexure::modeling

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "modeling/mesh.h"
 
@@ -50,5 +51,9 @@ struct Stencils {
 
 // `mesh` must pass checkMesh() (every Mesh from readMesh() or a generator does).
 Stencils compileStencils(const Mesh& mesh);
+
+// #V: the connected component (through edges) of every vertex, numbered 0, 1, … in the order of
+// each component's smallest vertex.
+std::vector<int> vertexComponents(const Stencils& stencils);
 
 }  // namespace flexure::modeling

@@ -100,7 +100,7 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
   const Eigen::Vector3d gravity = options.load.gravity.value_or(Eigen::Vector3d::Zero());
   if (options.load.gravity || !options.obstacles.empty()) {
     const Eigen::VectorXd mass =
-        lumpedVertexMasses(p.rest, options.load.mass, options.load.density);
+        modeling::lumpedVertexMasses(p.rest, options.load.mass, options.load.density);
     if (options.load.gravity) p.externalForce = mass * gravity.transpose();
     if (!options.obstacles.empty())
       p.obstacles = makeObstacleBarrier(options.obstacles, p.rest, mass, gravity);

@@ -16,10 +16,10 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/minimize.h"
-#include "optimize/obstacles.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 
@@ -28,7 +28,7 @@ namespace flexure::optimize {
 struct LoadOptions {
   std::optional<Eigen::Vector3d> gravity;  // g; empty: no load
   double density = 1.0;                    // ρ, mass per unit rest area
-  MassLumping mass = MassLumping::Barycentric;
+  modeling::MassLumping mass = modeling::MassLumping::Barycentric;
 };
 
 struct ProblemOptions {

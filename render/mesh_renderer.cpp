@@ -12,6 +12,7 @@
 
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
+#include "modeling/vertex_quantities.h"
 #include "render/cairo_image.h"
 #include "render/colour_map.h"
 #include "render/offscreen_context.h"
@@ -117,30 +118,14 @@ Camera frameCamera(const modeling::Mesh& mesh, const RenderOptions& o, int width
   return camera;
 }
 
-// Unit area-weighted vertex normals (see the header), #V by 3.
-Eigen::MatrixX3d vertexNormals(const modeling::Mesh& mesh) {
-  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.vertexCount(), 3);
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    const auto t = mesh.triangles.row(f);
-    const Eigen::Vector3d x0 = mesh.positions.row(t(0)), x1 = mesh.positions.row(t(1)),
-                          x2 = mesh.positions.row(t(2));
-    const Eigen::RowVector3d areaNormal = (x1 - x0).cross(x2 - x0).transpose();
-    for (int k = 0; k < 3; ++k) normals.row(t(k)) += areaNormal;
-  }
-  for (int v = 0; v < normals.rows(); ++v) {
-    const double length = normals.row(v).norm();
-    if (length > 0.0) normals.row(v) /= length;
-  }
-  return normals;
-}
-
 // One record per triangle corner (no index buffer, so flat normals and the edge overlay's
 // barycentric coordinates come free): frame position (3), frame normal (3), scalar (1).
 constexpr int kFloatsPerCorner = 7;
 
 std::vector<float> cornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smooth,
                               const std::vector<double>& scalars) {
-  const Eigen::MatrixX3d normals = smooth ? vertexNormals(mesh) : Eigen::MatrixX3d();
+  const Eigen::MatrixX3d normals =
+      smooth ? modeling::vertexNormals(mesh.positions, mesh.triangles) : Eigen::MatrixX3d();
   std::vector<float> soup;
   soup.reserve(static_cast<std::size_t>(mesh.faceCount()) * 3 * kFloatsPerCorner);
   for (int f = 0; f < mesh.faceCount(); ++f) {

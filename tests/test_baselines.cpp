@@ -6,8 +6,8 @@
 #include "modeling/cgal_fair.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
-#include "optimize/biharmonic.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/linear/biharmonic.h"
 
 namespace flexure {
 namespace {

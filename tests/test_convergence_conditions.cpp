@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "modeling/generators.h"
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure {
 namespace {

@@ -1,6 +1,6 @@
-// The convergence study (optimize/convergence_study.h): the spec's C1/C2 table both ways through
-// the study API, nonlinear C2 orders, refinement orders and stalls, the quadrature, the fits and
-// verdicts, option checks, and results that do not depend on the thread count.
+// The convergence study (optimize/studies/convergence_study.h): the spec's C1/C2 table both ways
+// through the study API, nonlinear C2 orders, refinement orders and stalls, the quadrature, the
+// fits and verdicts, option checks, and results that do not depend on the thread count.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 
 #include "modeling/errors.h"
 #include "modeling/generators.h"
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure {
 namespace {

@@ -15,7 +15,7 @@
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
 #include "modeling/willmore_surfaces.h"
-#include "optimize/fairing.h"
+#include "optimize/fairing/fairing.h"
 
 namespace flexure {
 namespace {

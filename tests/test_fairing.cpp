@@ -17,7 +17,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_sets.h"
-#include "optimize/fairing.h"
+#include "optimize/fairing/fairing.h"
 #include "support/input_error.h"
 
 namespace flexure {
@@ -190,9 +190,9 @@ TEST(Fairing, LionRegionBeatsInputAndCgalFair) {
   EXPECT_GT(faired.quality.minAngleDegrees, 1.0);
 }
 
-// The checks a result passes before it is called converged (optimize/fairing.h): the input itself
-// passes; a face reflected across one of its edges is inverted; one moved onto a
-// neighbour makes them degenerate; a gradient above 1e-3 of the start's fails.
+// The checks a result passes before it is called converged (optimize/fairing/fairing.h): the input
+// itself passes; a face reflected across one of its edges is inverted; one moved onto a neighbour
+// makes them degenerate; a gradient above 1e-3 of the start's fails.
 TEST(FairingChecks, CatchInvertedAndDegenerateFacesAndALargeGradient) {
   const Mesh lion = cgalMesh("lion-head.off");
   const modeling::Stencils s = modeling::compileStencils(lion);

@@ -1,5 +1,5 @@
-// Exact Hessians (curvature/element_hessian.h, optimize/hessian_assembly.h) of every bending
-// energy and membrane:
+// Exact Hessians (curvature/element_hessian.h, optimize/solvers/hessian_assembly.h) of every
+// bending energy and membrane:
 // 1. against central differences of the exact gradient (Ceres' autodiff, energyGradient):
 //    column k of ∇²E is (∇E(u + h e_k) − ∇E(u − h e_k)) / 2h + O(h²) + O(ε |∇E| / h), on curved
 //    rest shells and irregular meshes, in xyz and height mode, at cotan valences 3 to 11 and
@@ -21,8 +21,8 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/generators.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/hessian_assembly.h"
 #include "support/energy_fixtures.h"
 #include "support/small_meshes.h"
 

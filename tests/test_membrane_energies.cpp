@@ -15,7 +15,7 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
-#include "optimize/energy_evaluation.h"
+#include "optimize/solvers/energy_evaluation.h"
 #include "support/energy_fixtures.h"
 
 namespace flexure {

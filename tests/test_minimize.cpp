@@ -19,9 +19,9 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
-#include "optimize/elimination_order.h"
-#include "optimize/heap_reuse.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/heap_reuse.h"
+#include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/elimination_order.h"
 #include "support/test_problem.h"
 
 namespace flexure {
@@ -263,8 +263,9 @@ TEST(NonlinearMinimize, NewtonAndCeresAgreeInXyzModeWithMembranes) {
 }
 
 // From kNestedDissectionMinBlocks free vertex blocks on, Ceres solves on a nested-dissection
-// order (optimize/elimination_order.h): every block in one of 256 groups, the free vertices spread
-// evenly in METIS order. A free scalar block (a midedge ξ) or a small problem keeps Ceres' AMD.
+// order (optimize/solvers/elimination_order.h): every block in one of 256 groups, the free vertices
+// spread evenly in METIS order. A free scalar block (a midedge ξ) or a small problem keeps Ceres'
+// AMD.
 TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
   const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Patch48, 150, 1, {}});
   const testing::TestProblem problem(mesh, energy(Discretization::Hinge));
@@ -488,7 +489,7 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
 }
 
 // Before reuseFreedMemory a 64 MB buffer is a fresh mapping of its own (glibc's mmap threshold);
-// after it, such a buffer comes from the heap (optimize/heap_reuse.h).
+// after it, such a buffer comes from the heap (optimize/linear/heap_reuse.h).
 TEST(HeapReuse, LargeBuffersComeFromTheHeap) {
 #if defined(__SANITIZE_ADDRESS__)
   // AddressSanitizer replaces glibc's malloc: no mmap threshold to move, mallinfo2 reports 0.

@@ -1,6 +1,7 @@
-// Obstacles (optimize/obstacles.h): the barrier's derivatives against finite differences, the
-// closed-form contact times, the adaptive stiffness, a sheet dropped on a plane that comes to rest
-// on it without a vertex ever inside, and a static minimizer under gravity held up by a sphere.
+// Obstacles (optimize/dynamics/obstacles.h): the barrier's derivatives against finite differences,
+// the closed-form contact times, the adaptive stiffness, a sheet dropped on a plane that comes to
+// rest on it without a vertex ever inside, and a static minimizer under gravity held up by a
+// sphere.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,10 +9,10 @@
 #include <random>
 
 #include "modeling/errors.h"
-#include "optimize/hessian_assembly.h"
-#include "optimize/minimize.h"
-#include "optimize/obstacles.h"
-#include "optimize/time_stepping.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 
 namespace flexure {

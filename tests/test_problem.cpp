@@ -151,7 +151,7 @@ TEST(Problem, BoundaryValuesAndLoads) {
   EXPECT_EQ(ringed.boundary.fixedVertex, optimize::fixedRings(ringed.stencils, 1));
   EXPECT_EQ(ringed.boundary.start, given);
   const Eigen::VectorXd mass =
-      optimize::lumpedVertexMasses(ringed.rest, optimize::MassLumping::Barycentric, o.load.density);
+      modeling::lumpedVertexMasses(ringed.rest, modeling::MassLumping::Barycentric, o.load.density);
   ASSERT_EQ(ringed.externalForce.rows(), mesh.vertexCount());
   EXPECT_EQ(ringed.externalForce.col(2), -9.81 * mass);
   EXPECT_EQ(ringed.externalForce.col(0).cwiseAbs().maxCoeff(), 0.0);

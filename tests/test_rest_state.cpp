@@ -7,7 +7,9 @@
 
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "modeling/mixed_area.h"
 #include "modeling/polynomial_surface.h"
+#include "modeling/vertex_quantities.h"
 #include "support/small_meshes.h"
 
 namespace flexure::modeling {
@@ -121,6 +123,39 @@ TEST(RestState, ZeroAreaRestFaceIsReportedById) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("rest face 0 (vertices 0, 1, 2) has zero area"));
   }
+}
+
+// The mixed Voronoi share by hand: the right isosceles triangle is not obtuse, so each corner
+// takes its Voronoi region; the three shares sum to the area. An obtuse one gives A/2 and A/4.
+TEST(MixedArea, SharesByHandAndSumToTheArea) {
+  // (0,0), (1,0), (0,1): cot 0 at the right angle, cot 1 at the two 45° corners.
+  const double cot[3] = {0.0, 1.0, 1.0}, squared[3] = {2.0, 1.0, 1.0};
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(1.0, cot, squared, 0), (1.0 * 1.0 + 1.0 * 1.0) / 8.0);
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(1.0, cot, squared, 1), (1.0 * 1.0 + 2.0 * 0.0) / 8.0);
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) sum += mixedVoronoiShare(1.0, cot, squared, i);
+  EXPECT_DOUBLE_EQ(sum, 0.5);
+  const double obtuse[3] = {-0.5, 2.0, 3.0};
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(0.8, obtuse, squared, 0), 0.2);
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(0.8, obtuse, squared, 2), 0.1);
+}
+
+TEST(VertexQuantities, NormalsOfAFlatPatchAndOfATetrahedron) {
+  const Mesh flat = flexure::testing::twoTriangleSquare();
+  const Eigen::MatrixX3d up = vertexNormals(flat.positions, flat.triangles);
+  for (int v = 0; v < 4; ++v) EXPECT_TRUE(up.row(v).isApprox(Eigen::RowVector3d(0, 0, 1)));
+  // The tetrahedron's corner at the origin: three unit right triangles, normals −x, −y, −z.
+  const Mesh t = tetrahedron();
+  const Eigen::MatrixX3d n = vertexNormals(t.positions, t.triangles);
+  EXPECT_TRUE(n.row(0).isApprox(-Eigen::RowVector3d(1, 1, 1).normalized()));
+  for (int v = 0; v < 4; ++v) EXPECT_NEAR(n.row(v).norm(), 1.0, 1e-15);
+}
+
+TEST(VertexQuantities, LumpedMassesSumToDensityTimesArea) {
+  const Mesh m = generateMesh({MeshFamily::Delaunay, 6, 3, {}});
+  const RestState r = restOf(m);
+  for (MassLumping lumping : {MassLumping::Barycentric, MassLumping::Voronoi})
+    EXPECT_NEAR(lumpedVertexMasses(r, lumping, 2.5).sum(), 2.5 * r.faceAreas.sum(), 1e-13);
 }
 
 }  // namespace

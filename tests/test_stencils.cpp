@@ -1,5 +1,6 @@
 #include "modeling/stencils.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <set>
@@ -143,6 +144,19 @@ TEST(Stencils, Patch48InteriorFacesAndHinges) {
   int interiorFaces = 0;
   for (int f = 0; f < s.faceCount(); ++f) interiorFaces += s.faceIsInterior(f);
   EXPECT_EQ(interiorFaces, 2 * n * n - 4 * n);  // every boundary cell has one boundary face
+}
+
+TEST(Stencils, ComponentsOfTwoSeparateSquares) {
+  // Two copies of the two-triangle square, the second's vertices numbered 4..7.
+  Mesh m = flexure::testing::twoTriangleSquare();
+  Mesh two;
+  two.positions.resize(8, 3);
+  two.positions << m.positions, m.positions.rowwise() + Eigen::RowVector3d(3, 0, 0);
+  two.triangles.resize(4, 3);
+  two.triangles << m.triangles, m.triangles.array() + 4;
+  const std::vector<int> component = vertexComponents(compileStencils(two));
+  EXPECT_THAT(component, ::testing::ElementsAre(0, 0, 0, 0, 1, 1, 1, 1));
+  EXPECT_THAT(vertexComponents(compileStencils(m)), ::testing::Each(0));
 }
 
 }  // namespace

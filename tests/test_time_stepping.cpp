@@ -1,6 +1,6 @@
-// Shell dynamics (optimize/time_stepping.h) against known answers: undamped Newmark conserves
-// energy, backward Euler dissipates it, a clamped plate released from its first mode oscillates
-// with the mode's period, a damped plate under gravity comes to rest in equilibrium.
+// Shell dynamics (optimize/dynamics/time_stepping.h) against known answers: undamped Newmark
+// conserves energy, backward Euler dissipates it, a clamped plate released from its first mode
+// oscillates with the mode's period, a damped plate under gravity comes to rest in equilibrium.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,10 +14,10 @@
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/minimize.h"
-#include "optimize/time_stepping.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "optimize/modes/vibration_modes.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 
 namespace flexure {

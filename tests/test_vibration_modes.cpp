@@ -1,4 +1,4 @@
-// Vibration modes (optimize/vibration_modes.h) judged by known spectra: the simply supported
+// Vibration modes (optimize/modes/vibration_modes.h) judged by known spectra: the simply supported
 // square (exact λ_mn = π²(m² + n²)), the clamped square (Leissa's tables), the free plate's
 // rigid zero modes, residuals of every returned pair, and the nodal lines of the (1,2)/(2,1)
 // pair.
@@ -14,8 +14,8 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
-#include "optimize/spectrum_study.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/modes/vibration_modes.h"
+#include "optimize/studies/spectrum_study.h"
 #include "support/plate.h"
 
 namespace flexure {

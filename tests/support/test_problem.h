@@ -2,7 +2,7 @@
 // fixed rings) with its solves and C2 through the library's helpers.
 #pragma once
 
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure::testing {
 

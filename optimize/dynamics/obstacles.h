@@ -48,7 +48,7 @@
 #include <vector>
 
 #include "modeling/rest_state.h"
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 

@@ -1,4 +1,4 @@
-#include "optimize/spectrum_study.h"
+#include "optimize/studies/spectrum_study.h"
 
 #include <algorithm>
 #include <cmath>

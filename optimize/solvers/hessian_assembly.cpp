@@ -1,4 +1,4 @@
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 #include <cholmod.h>
 
@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "modeling/errors.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 namespace {

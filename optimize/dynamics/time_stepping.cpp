@@ -1,4 +1,4 @@
-#include "optimize/time_stepping.h"
+#include "optimize/dynamics/time_stepping.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "modeling/errors.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 

@@ -1,4 +1,4 @@
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/linear_algebra_threads.h"
 
 #include <dlfcn.h>
 

@@ -1,12 +1,12 @@
-#include "optimize/elimination_order.h"
+#include "optimize/solvers/elimination_order.h"
 
 #include <algorithm>
 #include <unordered_map>
 #include <vector>
 
 #include "modeling/errors.h"
-#include "optimize/cholmod_view.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/cholmod_view.h"
+#include "optimize/linear/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 namespace {

@@ -1,4 +1,4 @@
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
 
 #include <algorithm>
 #include <cmath>

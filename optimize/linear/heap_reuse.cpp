@@ -1,4 +1,4 @@
-#include "optimize/heap_reuse.h"
+#include "optimize/linear/heap_reuse.h"
 
 #include <malloc.h>
 

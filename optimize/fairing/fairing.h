@@ -20,7 +20,7 @@
 #include "curvature/bending_energy.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/fairing_region.h"
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 

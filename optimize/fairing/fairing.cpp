@@ -1,4 +1,4 @@
-#include "optimize/fairing.h"
+#include "optimize/fairing/fairing.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -16,8 +16,8 @@
 #include "modeling/errors.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/biharmonic.h"
-#include "optimize/energy_evaluation.h"
+#include "optimize/linear/biharmonic.h"
+#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
 namespace {

@@ -1,4 +1,4 @@
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 #include <ceres/ceres.h>
 
@@ -6,10 +6,10 @@
 #include <cstdio>
 
 #include "modeling/errors.h"
-#include "optimize/elimination_order.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/linear_algebra_threads.h"
-#include "optimize/newton_solver.h"
+#include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/elimination_order.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/newton_solver.h"
 
 namespace flexure::optimize {
 namespace {

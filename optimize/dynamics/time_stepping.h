@@ -32,8 +32,8 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/obstacles.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/dynamics/obstacles.h"
+#include "optimize/modes/vibration_modes.h"
 
 namespace flexure::optimize {
 

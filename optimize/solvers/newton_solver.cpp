@@ -1,4 +1,4 @@
-#include "optimize/newton_solver.h"
+#include "optimize/solvers/newton_solver.h"
 
 #include <chrono>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <limits>
 
 #include "modeling/errors.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/hessian_assembly.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 namespace {

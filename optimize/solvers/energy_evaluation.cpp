@@ -1,4 +1,4 @@
-#include "optimize/energy_evaluation.h"
+#include "optimize/solvers/energy_evaluation.h"
 
 #include <ceres/problem.h>
 
@@ -8,9 +8,9 @@
 #include <thread>
 
 #include "modeling/errors.h"
-#include "optimize/cholmod_view.h"
-#include "optimize/elimination_order.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/cholmod_view.h"
+#include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/elimination_order.h"
 
 namespace flexure::optimize {
 namespace {

@@ -1,9 +1,9 @@
-#include "optimize/biharmonic.h"
+#include "optimize/linear/biharmonic.h"
 
 #include <Eigen/CholmodSupport>
 
 #include "modeling/errors.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/linear_algebra_threads.h"
 
 namespace flexure::optimize {
 

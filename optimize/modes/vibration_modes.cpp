@@ -1,4 +1,4 @@
-#include "optimize/vibration_modes.h"
+#include "optimize/modes/vibration_modes.h"
 
 #include <Spectra/SymEigsShiftSolver.h>
 #include <Eigen/CholmodSupport>
@@ -12,8 +12,8 @@
 
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
-#include "optimize/hessian_assembly.h"
-#include "optimize/linear_algebra_threads.h"
+#include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 
@@ -129,22 +129,6 @@ const char* massLumpingName(MassLumping mass) {
   return mass == MassLumping::Barycentric ? "barycentric" : "voronoi";
 }
 
-Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
-                                   const modeling::RestState& rest) {
-  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(stencils.vertexCount(), 3);
-  for (int f = 0; f < stencils.faceCount(); ++f)
-    for (int i = 0; i < 3; ++i)
-      normals.row(stencils.faces(f, i)) += rest.faceAreas[f] * rest.faceNormals.row(f);
-  normals.rowwise().normalize();
-  return normals;
-}
-
-Eigen::VectorXd lumpedVertexMasses(const modeling::RestState& rest, MassLumping lumping,
-                                   double density) {
-  return density * (lumping == MassLumping::Barycentric ? rest.vertexBarycentricAreas
-                                                        : rest.vertexVoronoiAreas);
-}
-
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra) {
   int rings = 0;
@@ -158,7 +142,7 @@ std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Suppo
 
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
     const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape) {
-  const Eigen::MatrixX3d normals = restVertexNormals(stencils, rest);
+  const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
   Eigen::VectorXd s = (shape.array() * normals.array()).rowwise().sum();
   const double floor = kNodalFloor * s.cwiseAbs().maxCoeff();
   for (double& value : s)

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "curvature/energy_term.h"
-#include "optimize/elimination_order.h"
+#include "optimize/solvers/elimination_order.h"
 
 namespace flexure::optimize {
 

@@ -23,7 +23,7 @@
 
 #include <vector>
 
-#include "optimize/minimize.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 

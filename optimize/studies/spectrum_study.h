@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "modeling/generators.h"
-#include "optimize/convergence_study.h"
-#include "optimize/vibration_modes.h"
+#include "optimize/modes/vibration_modes.h"
+#include "optimize/studies/convergence_study.h"
 
 namespace flexure::optimize {
 

@@ -1,4 +1,4 @@
-#include "optimize/convergence_study.h"
+#include "optimize/studies/convergence_study.h"
 
 #include <algorithm>
 #include <atomic>

@@ -14,7 +14,7 @@
 
 #include "curvature/energy_term.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/obstacles.h"
+#include "optimize/dynamics/obstacles.h"
 
 namespace flexure::optimize {
 

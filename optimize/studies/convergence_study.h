@@ -33,8 +33,8 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/energy_evaluation.h"
-#include "optimize/minimize.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 

@@ -24,7 +24,8 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/minimize.h"
+#include "modeling/vertex_quantities.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 
@@ -39,7 +40,7 @@ enum class Support { Clamped, SimplySupported, Free };
 // face's free vertex that keeps the normal at the edge midpoint at its rest direction
 // (curvature::linearizedClampedBoundaryXi with a flat boundary surface).
 enum class Clamp { Rings, Normals };
-enum class MassLumping { Barycentric, Voronoi };
+using modeling::MassLumping;
 
 // "clamped" | "simply-supported" | "free"; "rings" | "normals"; "barycentric" | "voronoi".
 // InputError listing the names otherwise.
@@ -101,17 +102,9 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
                            const modeling::Stencils& stencils, const modeling::RestState& rest,
                            const Eigen::VectorXd& restXi, const ModesOptions& options);
 
-// #V: m_v = ρh × the vertex's rest area (barycentric: Σ incident Ā_T / 3; or mixed Voronoi).
-Eigen::VectorXd lumpedVertexMasses(const modeling::RestState& rest, MassLumping lumping,
-                                   double density);
-
 // The held vertices for a support (and Clamp::Rings / Normals), with `extra` added.
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra);
-
-// #V by 3: n̄_v, the normalized sum of the incident rest faces' area-weighted unit normals.
-Eigen::MatrixX3d restVertexNormals(const modeling::Stencils& stencils,
-                                   const modeling::RestState& rest);
 
 // The nodal lines of a mode: the zero set of the normal displacement s_v = v_v · n̄_v (n̄_v the
 // area-weighted rest vertex normal), linear over each rest face, as segments (pairs of rest-space
