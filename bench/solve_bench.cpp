@@ -17,7 +17,8 @@
 //   <energy>   newton (flexure's Newton on the exact Hessian, the default solver), ceres
 //              (Ceres' LM, the reference) and linearized: what `flexure minimize` pays after
 //              reading the mesh.
-//              seconds.setup = makeBendingEnergy (+ midedgeRestXi) + surfaceBoundary;
+//              seconds.setup = optimize::buildProblem on the compiled mesh (makeBendingEnergy,
+//              midedge's ξ̄, surfaceBoundary);
 //              seconds.minimize = optimize::minimize (default MinimizeOptions, 2 threads, no
 //              progress) with its report's split: evaluation (residuals + Jacobians; linearized:
 //              the rest Jacobian), linear_solver, ordering (the METIS order handed to Ceres), and
@@ -69,6 +70,7 @@
 #include "optimize/linear/biharmonic.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/modes/vibration_modes.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
 
 namespace {
@@ -103,46 +105,23 @@ struct Case {
   std::string energy, mode;
 };
 
-// The test problem of one n, built inside the child.
-struct Problem {
-  modeling::Mesh mesh;
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::vector<bool> fixed;
-  int freeVertices = 0;
-  double meshSeconds = 0.0;
-};
-
-Problem buildProblem(int n) {
-  Problem p;
-  const auto start = Clock::now();
-  p.mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
-  p.stencils = modeling::compileStencils(p.mesh);
-  p.rest = modeling::precomputeRestState(p.stencils, p.mesh.positions);
-  p.fixed = optimize::fixedRings(p.stencils, kFixedRings);
-  p.meshSeconds = secondsSince(start);
-  for (bool f : p.fixed) p.freeVertices += !f;
-  return p;
-}
-
-json runFloor(const Problem& p, const modeling::PolynomialSurface& surface) {
-  const optimize::Positions lifted =
-      optimize::boundaryFromSurface(p.rest.positions, p.fixed, surface);
+json runFloor(const modeling::Stencils& stencils, const modeling::RestState& rest,
+              const std::vector<bool>& fixed, const modeling::PolynomialSurface& surface) {
+  const optimize::Positions lifted = optimize::boundaryFromSurface(rest.positions, fixed, surface);
   const Eigen::VectorXd z = lifted.col(2);
 
   // The library's floor in one figure.
   auto start = Clock::now();
-  const Eigen::VectorXd solved = optimize::solveBiharmonic(p.stencils, p.rest, p.fixed, z);
+  const Eigen::VectorXd solved = optimize::solveBiharmonic(stencils, rest, fixed, z);
   const double total = secondsSince(start);
 
   // The same steps as solveBiharmonic, timed apart.
   start = Clock::now();
-  const optimize::BiharmonicSystem floor =
-      optimize::assembleBiharmonic(p.stencils, p.rest, p.fixed, z);
+  const optimize::BiharmonicSystem floor = optimize::assembleBiharmonic(stencils, rest, fixed, z);
   const Eigen::SparseMatrix<double>& system = floor.matrix;
   const Eigen::VectorXd& rhs = floor.rhs;
   const std::vector<int>& index = floor.freeIndex;
-  const int vertexCount = p.stencils.vertexCount();
+  const int vertexCount = stencils.vertexCount();
   const int freeCount = static_cast<int>(rhs.size());
   const double assembly = secondsSince(start);
   start = Clock::now();
@@ -159,47 +138,36 @@ json runFloor(const Problem& p, const modeling::PolynomialSurface& surface) {
     if (index[v] >= 0) difference = std::max(difference, std::abs(freeZ[index[v]] - solved[v]));
   optimize::Positions result = lifted;
   result.col(2) = solved;
-  return {{"seconds",
-           {{"total", total},
-            {"assembly", assembly},
-            {"factor", factor},
-            {"solve", solve},
-            {"factor_solve", factor + solve}}},
-          {"split_max_difference", difference},
-          {"unknowns", freeCount},
-          {"nonzeros", system.nonZeros()},
-          {"reproduction_error",
-           optimize::reproductionError(p.rest.positions, result, p.fixed, surface)}};
+  return {
+      {"seconds",
+       {{"total", total},
+        {"assembly", assembly},
+        {"factor", factor},
+        {"solve", solve},
+        {"factor_solve", factor + solve}}},
+      {"split_max_difference", difference},
+      {"unknowns", freeCount},
+      {"nonzeros", system.nonZeros()},
+      {"reproduction_error", optimize::reproductionError(rest.positions, result, fixed, surface)}};
 }
 
-// A bending energy on the problem's rest state, with its rest ξ̄ (midedge; else empty).
-struct BendingTerm {
-  std::unique_ptr<curvature::EnergyTerm> term;
-  Eigen::VectorXd restXi;
-};
-BendingTerm makeBendingTerm(const Problem& p, const curvature::BendingOptions& bending) {
-  BendingTerm b{curvature::makeBendingEnergy(p.stencils, p.rest, bending), {}};
-  if (b.term->usesEdgeUnknowns())
-    b.restXi = curvature::midedgeRestXi(p.stencils, p.rest, bending.restCurvature);
-  return b;
-}
-
-json runCgalFair(const Problem& p, const modeling::PolynomialSurface& surface) {
-  modeling::Mesh lifted = p.mesh;
-  lifted.positions = optimize::boundaryFromSurface(p.rest.positions, p.fixed, surface);
-  std::vector<bool> freeVertex(p.fixed.size());
-  for (size_t v = 0; v < p.fixed.size(); ++v) freeVertex[v] = !p.fixed[v];
+json runCgalFair(const modeling::Mesh& mesh, const std::vector<bool>& fixed,
+                 const modeling::PolynomialSurface& surface) {
+  modeling::Mesh lifted = mesh;
+  lifted.positions = optimize::boundaryFromSurface(mesh.positions, fixed, surface);
+  std::vector<bool> freeVertex(fixed.size());
+  for (size_t v = 0; v < fixed.size(); ++v) freeVertex[v] = !fixed[v];
   const auto start = Clock::now();
   const optimize::Positions result = modeling::cgalFair(lifted, freeVertex);
   const double total = secondsSince(start);
-  return {{"seconds", {{"total", total}}},
-          {"reproduction_error",
-           optimize::reproductionError(p.rest.positions, result, p.fixed, surface)}};
+  return {
+      {"seconds", {{"total", total}}},
+      {"reproduction_error", optimize::reproductionError(mesh.positions, result, fixed, surface)}};
 }
 
-json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, const Case& c) {
-  curvature::BendingOptions bending;
-  bending.discretization = curvature::parseDiscretization(c.energy);
+json runEnergy(modeling::Stencils stencils, modeling::RestState rest,
+               const std::vector<bool>& fixed, const modeling::PolynomialSurface& surface,
+               const Case& c) {
   optimize::MinimizeOptions options;
   options.linearized = c.mode == "linearized";
   options.solver = c.mode == "newton" ? optimize::Solver::Newton : optimize::Solver::Ceres;
@@ -207,15 +175,18 @@ json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, con
   options.threads = kThreads;
   options.progress = false;
 
+  optimize::ProblemOptions problemOptions;
+  problemOptions.bending.discretization = curvature::parseDiscretization(c.energy);
+  problemOptions.fixedVertex = fixed;
+  problemOptions.boundarySurface = surface;
+  problemOptions.boundaryNormals = optimize::BoundaryNormals::Clamped;
+  problemOptions.linearizedClamp = options.linearized;
+
   const auto start = Clock::now();
-  const BendingTerm bendingTerm = makeBendingTerm(p, bending);
-  const auto& [term, restXi] = bendingTerm;
-  const optimize::BoundaryConditions bc =
-      optimize::surfaceBoundary(p.stencils, p.rest.positions, restXi, p.fixed, surface,
-                                optimize::BoundaryNormals::Clamped, options.linearized);
+  const optimize::Problem problem =
+      optimize::buildProblem(std::move(stencils), std::move(rest), problemOptions);
   const double setup = secondsSince(start);
-  const optimize::MinimizeResult result =
-      optimize::minimize({term.get()}, bc, p.rest.positions, restXi, options);
+  const optimize::MinimizeResult result = optimize::minimize(problem, options);
   const optimize::MinimizeReport& r = result.report;
   const double minimizeSeconds = secondsSince(start) - setup;
   return {{"seconds",
@@ -237,24 +208,27 @@ json runEnergy(const Problem& p, const modeling::PolynomialSurface& surface, con
           {"unknowns", r.unknowns},
           {"residuals", r.residuals},
           {"reproduction_error",
-           optimize::reproductionError(p.rest.positions, result.positions, p.fixed, surface)}};
+           optimize::reproductionError(problem.rest.positions, result.positions, fixed, surface)}};
 }
 
 constexpr int kVibrationModes = 12;
 
-json runVibration(const Problem& p, const Case& c) {
-  curvature::BendingOptions bending;
-  bending.discretization = curvature::parseDiscretization(c.energy);
+// The problem holds nothing: the support is ModesOptions'.
+json runVibration(modeling::Stencils stencils, modeling::RestState rest, const Case& c) {
+  optimize::ProblemOptions problemOptions;
+  problemOptions.bending.discretization = curvature::parseDiscretization(c.energy);
+  problemOptions.fixedRings = 0;
+  problemOptions.boundaryNormals = optimize::BoundaryNormals::Free;
   const auto start = Clock::now();
-  const BendingTerm bendingTerm = makeBendingTerm(p, bending);
-  const auto& [term, restXi] = bendingTerm;
+  const optimize::Problem problem =
+      optimize::buildProblem(std::move(stencils), std::move(rest), problemOptions);
   const double setup = secondsSince(start);
   optimize::ModesOptions options;
   options.count = kVibrationModes;
   options.support = optimize::Support::Clamped;
-  options.clamp = term->usesEdgeUnknowns() ? optimize::Clamp::Normals : optimize::Clamp::Rings;
-  const optimize::ModesResult r =
-      optimize::vibrationModes({term.get()}, p.stencils, p.rest, restXi, options);
+  options.clamp = problem.usesEdgeUnknowns() ? optimize::Clamp::Normals : optimize::Clamp::Rings;
+  const optimize::ModesResult r = optimize::vibrationModes(problem.termPointers(), problem.stencils,
+                                                           problem.rest, problem.restXi, options);
   double worstResidual = 0.0;
   for (const auto& mode : r.modes) worstResidual = std::max(worstResidual, mode.residual);
   return {{"seconds",
@@ -272,17 +246,25 @@ json runVibration(const Problem& p, const Case& c) {
           {"unknowns", r.unknowns}};
 }
 
-// Runs in the child: the whole case, mesh included, as one JSON record.
+// Runs in the child: the whole case, mesh included, as one JSON record. mesh_seconds: the mesh
+// generated and compiled (stencils, rest state) and its fixed rings found.
 json runCase(int n, const Case& c, const std::string& boundary) {
   const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(boundary);
-  const Problem p = buildProblem(n);
-  json record = c.kind == "floor"       ? runFloor(p, surface)
-                : c.kind == "cgal_fair" ? runCgalFair(p, surface)
-                : c.mode == "vibration" ? runVibration(p, c)
-                                        : runEnergy(p, surface, c);
-  record["mesh_seconds"] = p.meshSeconds;
-  record["vertices"] = p.stencils.vertexCount();
-  record["free_vertices"] = p.freeVertices;
+  const auto start = Clock::now();
+  const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
+  modeling::Stencils stencils = modeling::compileStencils(mesh);
+  modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
+  const std::vector<bool> fixed = optimize::fixedRings(stencils, kFixedRings);
+  const double meshSeconds = secondsSince(start);
+  const int vertexCount = stencils.vertexCount();
+  json record = c.kind == "floor"       ? runFloor(stencils, rest, fixed, surface)
+                : c.kind == "cgal_fair" ? runCgalFair(mesh, fixed, surface)
+                : c.mode == "vibration"
+                    ? runVibration(std::move(stencils), std::move(rest), c)
+                    : runEnergy(std::move(stencils), std::move(rest), fixed, surface, c);
+  record["mesh_seconds"] = meshSeconds;
+  record["vertices"] = vertexCount;
+  record["free_vertices"] = std::count(fixed.begin(), fixed.end(), false);
   return record;
 }
 

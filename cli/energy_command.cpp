@@ -2,7 +2,6 @@
 // discretizations, nonlinear or linearized (docs/energies.md).
 #include <cstdio>
 #include <iostream>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -16,6 +15,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::cli {
@@ -57,11 +57,13 @@ struct EnergyResult {
 };
 
 // Midedge: E is the minimum over the free ξ; boundary ξ are clamped to the surface or free.
-EnergyResult evaluate(const EnergyCommandOptions& o, const modeling::Stencils& stencils,
-                      const modeling::RestState& rest, const curvature::EnergyTerm& term,
-                      const curvature::BendingOptions& b, const modeling::Positions& current) {
-  const std::vector<const curvature::EnergyTerm*> terms = {&term};
-  const Eigen::VectorXd restXi = curvature::midedgeRestXi(stencils, rest, b.restCurvature);
+EnergyResult evaluate(const EnergyCommandOptions& o, const optimize::Problem& problem,
+                      const modeling::Positions& current) {
+  const modeling::Stencils& stencils = problem.stencils;
+  const modeling::RestState& rest = problem.rest;
+  const curvature::EnergyTerm& term = problem.bending();
+  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
+  const Eigen::VectorXd& restXi = problem.restXi;
   std::optional<modeling::PolynomialSurface> surface;
   if (!o.boundarySurface.empty()) surface = modeling::PolynomialSurface::parse(o.boundarySurface);
   const std::vector<bool> onBoundary = curvature::boundaryEdges(stencils);
@@ -101,11 +103,14 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
   const modeling::Mesh current = modeling::readMesh(o.currentFile);
   requireSameConnectivity(o, restMesh, current);
 
-  const modeling::Stencils stencils = modeling::compileStencils(restMesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  const std::unique_ptr<curvature::EnergyTerm> term =
-      curvature::makeBendingEnergy(stencils, rest, b);
-  const EnergyResult result = evaluate(o, stencils, rest, *term, b, current.positions);
+  // The energy of a configuration: nothing held; midedge's boundary ξ are set in evaluate.
+  optimize::ProblemOptions options;
+  options.bending = b;
+  options.fixedRings = 0;
+  options.boundaryNormals = optimize::BoundaryNormals::Free;
+  const optimize::Problem problem = optimize::buildProblem(restMesh, options);
+  const curvature::EnergyTerm* term = &problem.bending();
+  const EnergyResult result = evaluate(o, problem, current.positions);
   const double perArea = term->coveredArea() > 0 ? result.energy / term->coveredArea() : 0.0;
 
   nlohmann::json report = {

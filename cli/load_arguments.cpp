@@ -5,9 +5,7 @@
 #include <sstream>
 
 #include "cli/command_files.h"
-#include "cli/mode_arguments.h"
 #include "modeling/errors.h"
-#include "modeling/vertex_quantities.h"
 
 namespace flexure::cli {
 
@@ -52,13 +50,15 @@ std::vector<optimize::Obstacle> obstacleList(const LoadArguments& a) {
 }
 
 optimize::MassLumping massLumping(const LoadArguments& a) {
-  return parseMassLumping(a.mass);
+  return optimize::parseMassLumping(a.mass);
 }
 
-modeling::Positions gravityLoad(const LoadArguments& a, const modeling::RestState& rest) {
-  if (a.gravity.empty()) return {};
-  const Eigen::VectorXd mass = modeling::lumpedVertexMasses(rest, massLumping(a), a.density);
-  return mass * gravityVector(a).transpose();
+optimize::LoadOptions loadOptions(const LoadArguments& a) {
+  optimize::LoadOptions load;
+  if (!a.gravity.empty()) load.gravity = gravityVector(a);
+  load.density = a.density;
+  load.mass = massLumping(a);
+  return load;
 }
 
 }  // namespace flexure::cli

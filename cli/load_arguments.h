@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "modeling/rest_state.h"
 #include "optimize/dynamics/obstacles.h"
 #include "optimize/modes/vibration_modes.h"
+#include "optimize/problem.h"
 
 namespace flexure::cli {
 
@@ -33,7 +33,7 @@ optimize::MassLumping massLumping(const LoadArguments& arguments);
 // The parsed --obstacle specs (InputError on a malformed one).
 std::vector<optimize::Obstacle> obstacleList(const LoadArguments& arguments);
 
-// #V by 3: the weights m_v g of the lumped masses (empty when --gravity is not given).
-modeling::Positions gravityLoad(const LoadArguments& arguments, const modeling::RestState& rest);
+// The load of a problem: g (none when --gravity is not given), ρ and the lumping.
+optimize::LoadOptions loadOptions(const LoadArguments& arguments);
 
 }  // namespace flexure::cli

@@ -21,9 +21,7 @@ void addMembraneArguments(CLI::App& sub, MembraneArguments& a, const std::string
       ->check(positive());
 }
 
-std::vector<std::unique_ptr<curvature::EnergyTerm>> makeMembrane(const MembraneArguments& a,
-                                                                 const modeling::Stencils& stencils,
-                                                                 const modeling::RestState& rest) {
+curvature::MembraneOptions membraneOptions(const MembraneArguments& a) {
   curvature::MembraneOptions m;
   m.model = curvature::parseMembraneModel(a.model);
   m.young = a.young;
@@ -31,7 +29,13 @@ std::vector<std::unique_ptr<curvature::EnergyTerm>> makeMembrane(const MembraneA
   m.lengthStiffness = a.lengthStiffness;
   m.areaStiffness = a.areaStiffness;
   m.shapeStiffness = a.shapeStiffness;
-  return curvature::makeMembraneEnergy(stencils, rest, m);
+  return m;
+}
+
+std::vector<std::unique_ptr<curvature::EnergyTerm>> makeMembrane(const MembraneArguments& a,
+                                                                 const modeling::Stencils& stencils,
+                                                                 const modeling::RestState& rest) {
+  return curvature::makeMembraneEnergy(stencils, rest, membraneOptions(a));
 }
 
 }  // namespace flexure::cli

@@ -22,6 +22,9 @@ struct MembraneArguments {
 // --shape-stiffness.
 void addMembraneArguments(CLI::App& sub, MembraneArguments& arguments, const std::string& help);
 
+// The membrane's options (InputError for an unknown model).
+curvature::MembraneOptions membraneOptions(const MembraneArguments& arguments);
+
 // The membrane's terms on the rest state (InputError for an unknown model).
 std::vector<std::unique_ptr<curvature::EnergyTerm>> makeMembrane(const MembraneArguments& arguments,
                                                                  const modeling::Stencils& stencils,

@@ -21,7 +21,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
-#include "modeling/vertex_quantities.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
@@ -84,6 +84,31 @@ optimize::Start parseStart(const MinimizeCommandOptions& o) {
   throw InputError("--start " + name + ": expected linearized or given");
 }
 
+// Boundary data too large for double precision (quadratic:1e300,0,1) overflows in the solve: an
+// energy of inf, or edges of infinite length that read as degenerate. The kernels take fourth
+// powers of lengths (squared areas), which stay finite up to |x| = 1e75 (1e300 < 1.8e308); the
+// first energy evaluation catches what overflows sooner. Lifting moves only z, so a finite start
+// has no degenerate element: a failure here is the data's size.
+void requireFiniteStartEnergy(const MinimizeCommandOptions& o, const optimize::Problem& problem) {
+  const optimize::BoundaryConditions& bc = problem.boundary;
+  const double largest = bc.start.cwiseAbs().maxCoeff();
+  double startEnergy = std::numeric_limits<double>::infinity();
+  if (largest <= 1e75) {
+    try {
+      startEnergy = problem.bending().energy(bc.start, bc.xi);
+    } catch (const NumericalError&) {
+    }
+  }
+  if (!std::isfinite(startEnergy)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  ": the lifted boundary reaches |z| = %.3g, too large for double precision "
+                  "(the energy overflows; keep values below 1e75); scale the surface down",
+                  largest);
+    throw InputError("--boundary " + o.boundary + text);
+  }
+}
+
 nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::BendingOptions& b,
                           const optimize::MinimizeResult& result, bool meshWritten) {
   const optimize::MinimizeReport& r = result.report;
@@ -130,110 +155,89 @@ nlohmann::json reportJson(const MinimizeCommandOptions& o, const curvature::Bend
   return report;
 }
 
-void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
-  const curvature::BendingOptions b = bendingOptions(o.bending);
-  const bool midedge = b.discretization == curvature::Discretization::Midedge;
-  optimize::MinimizeOptions solver = o.solver;
-  applySolverArguments(o.solverArguments, solver);
-  solver.linearized = o.linearized;
-  solver.start = parseStart(o);
-  solver.progress = !global.quiet && !o.linearized;
+// --dof, with the membrane it needs (xyz) or refuses (height).
+optimize::DofMode parseDof(const MinimizeCommandOptions& o) {
   if (o.dof == "height") {
-    solver.dof = optimize::DofMode::Height;
     if (!o.membrane.model.empty())
       throw InputError("--membrane applies to --dof xyz (height mode keeps x and y at rest)");
-  } else if (o.dof == "xyz") {
-    solver.dof = optimize::DofMode::Xyz;
+    return optimize::DofMode::Height;
+  }
+  if (o.dof == "xyz") {
     if (o.membrane.model.empty()) {
       throw InputError(
           "--dof xyz needs a membrane (--membrane stvk|springs): bending alone has "
           "no stiffness against sliding in the surface");
     }
-  } else {
-    throw InputError("--dof " + o.dof + ": expected height or xyz");
+    return optimize::DofMode::Xyz;
   }
+  throw InputError("--dof " + o.dof + ": expected height or xyz");
+}
+
+// The problem's options from the command's, on the compiled rest mesh (the fixed set and the
+// boundary data are checked against it).
+optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
+                                        const curvature::BendingOptions& b, optimize::DofMode dof,
+                                        const modeling::Mesh& restMesh,
+                                        const modeling::Stencils& stencils,
+                                        const GlobalOptions& global) {
+  optimize::ProblemOptions p;
+  p.bending = b;
+  p.dof = dof;
+  if (!o.membrane.model.empty()) p.membrane = membraneOptions(o.membrane);
+  p.fixedVertex = optimize::parseFixedSet("--fix", o.fix, stencils, restMesh.positions);
+  if (!o.boundary.empty()) p.boundarySurface = modeling::PolynomialSurface::parse(o.boundary);
+  const std::optional<modeling::PolynomialSurface>& surface = p.boundarySurface;
+  const bool midedge = b.discretization == curvature::Discretization::Midedge;
+  p.boundaryNormals = boundaryNormals(o, surface.has_value(), midedge, global);
+  p.linearizedClamp = o.linearized;
+  p.load = loadOptions(o.load);
+
+  // Boundary data that overflows fails here, as bad input, rather than as a failed solve.
+  const modeling::Positions& rest = restMesh.positions;
+  for (Eigen::Index v = 0; surface && v < rest.rows(); ++v) {
+    const double x = rest(v, 0), y = rest(v, 1);
+    if (p.fixedVertex[v] &&
+        !(std::isfinite(surface->height(x, y)) && surface->gradient(x, y).allFinite()))
+      throw InputError("--boundary " + o.boundary + ": vertex " + std::to_string(v) +
+                       " gets a non-finite height or slope (overflow); scale the surface down");
+  }
+  if (!surface) {
+    const modeling::Mesh init = modeling::readMesh(o.initFile);
+    requireSameConnectivity(o.initFile, init, o.restFile, restMesh);
+    p.boundaryPositions = init.positions;
+  }
+  return p;
+}
+
+void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
+  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  const curvature::BendingOptions b = bendingOptions(o.bending);
+  optimize::MinimizeOptions solver = o.solver;
+  applySolverArguments(o.solverArguments, solver);
+  solver.linearized = o.linearized;
+  solver.start = parseStart(o);
+  solver.progress = !global.quiet && !o.linearized;
+  const optimize::DofMode dof = parseDof(o);
   if (!o.initFile.empty() && !o.boundary.empty())
     throw InputError("give either --init or --boundary, not both");
   if (o.initFile.empty() && o.boundary.empty())
     throw InputError(
         "the fixed vertices need values: give --boundary quadratic:a,b,c or --init FILE");
-
   std::vector<optimize::Obstacle> obstacles = obstacleList(o.load);
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
-  const modeling::Stencils stencils = modeling::compileStencils(restMesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  const std::unique_ptr<curvature::EnergyTerm> bending =
-      curvature::makeBendingEnergy(stencils, rest, b);
-  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  if (!o.membrane.model.empty()) membrane = makeMembrane(o.membrane, stencils, rest);
-  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
-  for (const auto& term : membrane) terms.push_back(term.get());
-
-  const Eigen::VectorXd restXi =
-      midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
-  const std::vector<bool> fixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
-  std::optional<modeling::PolynomialSurface> surface;
-  if (!o.boundary.empty()) surface = modeling::PolynomialSurface::parse(o.boundary);
-  const optimize::BoundaryNormals normals =
-      boundaryNormals(o, surface.has_value(), midedge, global);
-
-  // Boundary data that overflows fails here, as bad input, rather than as a failed solve.
-  for (Eigen::Index v = 0; surface && v < rest.positions.rows(); ++v) {
-    const double x = rest.positions(v, 0), y = rest.positions(v, 1);
-    if (fixed[v] && !(std::isfinite(surface->height(x, y)) && surface->gradient(x, y).allFinite()))
-      throw InputError("--boundary " + o.boundary + ": vertex " + std::to_string(v) +
-                       " gets a non-finite height or slope (overflow); scale the surface down");
-  }
-  optimize::BoundaryConditions bc;
-  if (surface) {
-    bc = optimize::surfaceBoundary(stencils, rest.positions, restXi, fixed, *surface, normals,
-                                   o.linearized);
-  } else {
-    const modeling::Mesh init = modeling::readMesh(o.initFile);
-    requireSameConnectivity(o.initFile, init, o.restFile, restMesh);
-    bc.fixedVertex = fixed;
-    bc.start = init.positions;
-    bc.xi = restXi;
-    bc.fixedEdge.assign(restXi.size(), false);
-  }
-
-  if (surface) {
-    // Boundary data too large for double precision (quadratic:1e300,0,1) overflows in the solve:
-    // an energy of inf, or edges of infinite length that read as degenerate. The kernels take
-    // fourth powers of lengths (squared areas), which stay finite up to |x| = 1e75 (1e300 <
-    // 1.8e308); the first energy evaluation catches what overflows sooner. Lifting moves only z,
-    // so a finite start has no degenerate element: a failure here is the data's size.
-    const double largest = bc.start.cwiseAbs().maxCoeff();
-    double startEnergy = std::numeric_limits<double>::infinity();
-    if (largest <= 1e75) {
-      try {
-        startEnergy = bending->energy(bc.start, bc.xi);
-      } catch (const NumericalError&) {
-      }
-    }
-    if (!std::isfinite(startEnergy)) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    ": the lifted boundary reaches |z| = %.3g, too large for double precision "
-                    "(the energy overflows; keep values below 1e75); scale the surface down",
-                    largest);
-      throw InputError("--boundary " + o.boundary + text);
-    }
-  }
-  solver.externalForce = gravityLoad(o.load, rest);
-  if (!obstacles.empty())
-    solver.obstacles = optimize::makeObstacleBarrier(
-        std::move(obstacles), rest,
-        modeling::lumpedVertexMasses(rest, massLumping(o.load), o.load.density),
-        gravityVector(o.load));
-  const optimize::MinimizeResult result =
-      optimize::minimize(terms, bc, rest.positions, restXi, solver);
+  modeling::Stencils stencils = modeling::compileStencils(restMesh);
+  modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
+  optimize::ProblemOptions options = problemOptions(o, b, dof, restMesh, stencils, global);
+  options.obstacles = std::move(obstacles);
+  const optimize::Problem problem =
+      optimize::buildProblem(std::move(stencils), std::move(rest), options);
+  if (options.boundarySurface) requireFiniteStartEnergy(o, problem);
+  const optimize::MinimizeResult result = optimize::minimize(problem, solver);
   nlohmann::json report = reportJson(o, b, result, result.report.converged);
-  if (!solver.obstacles.empty()) {
-    report["obstacle_layer"] = solver.obstacles.layer();
-    report["smallest_obstacle_distance"] = solver.obstacles.smallestDistance(result.positions);
+  if (!problem.obstacles.empty()) {
+    report["obstacle_layer"] = problem.obstacles.layer();
+    report["smallest_obstacle_distance"] = problem.obstacles.smallestDistance(result.positions);
   }
   if (!result.report.converged) {
     if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);

@@ -28,6 +28,7 @@
 #include "modeling/vertex_quantities.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/modes/vibration_modes.h"
+#include "optimize/problem.h"
 #include "optimize/studies/convergence_study.h"
 #include "optimize/studies/spectrum_study.h"
 #include "render/field_map.h"
@@ -149,21 +150,21 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     if (o.length > 0.0 && std::abs(o.length - extent.x()) > 1e-9 * extent.x())
       throw InputError("--reference " + o.reference + ": --length must be the square's side");
   }
-  std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  if (!o.membrane.model.empty()) membrane = makeMembrane(o.membrane, stencils, rest);
+  // One problem per energy, with nothing held and no boundary values: the support and the clamp
+  // are ModesOptions'.
+  optimize::ProblemOptions problemOptions;
+  problemOptions.dof = base.dof;
+  if (!o.membrane.model.empty()) problemOptions.membrane = membraneOptions(o.membrane);
+  problemOptions.fixedRings = 0;
+  problemOptions.boundaryNormals = optimize::BoundaryNormals::Free;
 
   for (EnergyRun& run : runs) {
-    const std::unique_ptr<curvature::EnergyTerm> bending =
-        curvature::makeBendingEnergy(stencils, rest, run.bending);
-    std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
-    for (const auto& term : membrane) terms.push_back(term.get());
-    const Eigen::VectorXd restXi =
-        run.bending.discretization == curvature::Discretization::Midedge
-            ? curvature::midedgeRestXi(stencils, rest, run.bending.restCurvature)
-            : Eigen::VectorXd();
+    problemOptions.bending = run.bending;
+    const optimize::Problem problem = optimize::buildProblem(stencils, rest, problemOptions);
     optimize::ModesOptions options = base;
     options.clamp = run.clamp;
-    run.result = optimize::vibrationModes(terms, stencils, rest, restXi, options);
+    run.result = optimize::vibrationModes(problem.termPointers(), problem.stencils, problem.rest,
+                                          problem.restXi, options);
     if (!global.quiet) {
       const optimize::ModesResult& r = run.result;
       std::cerr << commandName << ": " << run.spec << ": " << counted(r.flexibleModes, "mode")

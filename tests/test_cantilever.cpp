@@ -13,13 +13,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "curvature/bending_energy.h"
-#include "curvature/midedge_boundary.h"
-#include "modeling/rest_state.h"
-#include "modeling/stencils.h"
-#include "optimize/boundary_conditions.h"
-#include "optimize/modes/vibration_modes.h"
-#include "optimize/solvers/minimize.h"
+#include "optimize/problem.h"
 
 namespace flexure {
 namespace {
@@ -47,24 +41,14 @@ modeling::Mesh strip(int n, double length, double width) {
 // The tip deflection (mean over the column x = L) of the strip at refinement n under gravity g.
 double tipDeflection(int n, double length, double width, double g) {
   const modeling::Mesh mesh = strip(n, length, width);
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
-  curvature::BendingOptions b;
-  b.discretization = curvature::Discretization::Midedge;
-  b.poisson = 0.0;
-  const auto bending = curvature::makeBendingEnergy(stencils, rest, b);
-  optimize::BoundaryConditions bc;
-  bc.fixedVertex.assign(mesh.vertexCount(), false);
-  for (int v = 0; v < mesh.vertexCount(); ++v) bc.fixedVertex[v] = mesh.positions(v, 0) <= 1e-12;
-  bc.start = mesh.positions;
-  bc.xi = curvature::midedgeRestXi(stencils, rest, b.restCurvature);
-  bc.fixedEdge.assign(bc.xi.size(), false);
-  optimize::MinimizeOptions o;
-  o.externalForce = modeling::Positions::Zero(mesh.vertexCount(), 3);
-  o.externalForce.col(2) =
-      modeling::lumpedVertexMasses(rest, optimize::MassLumping::Barycentric, 1.0) * g;
-  const optimize::MinimizeResult r =
-      optimize::minimize({bending.get()}, bc, mesh.positions, bc.xi, o);
+  optimize::ProblemOptions p;
+  p.bending.discretization = curvature::Discretization::Midedge;
+  p.bending.poisson = 0.0;
+  p.boundaryNormals = optimize::BoundaryNormals::Free;
+  p.fixedVertex.assign(mesh.vertexCount(), false);
+  for (int v = 0; v < mesh.vertexCount(); ++v) p.fixedVertex[v] = mesh.positions(v, 0) <= 1e-12;
+  p.load.gravity = Eigen::Vector3d(0.0, 0.0, g);  // ρ = 1, barycentric masses
+  const optimize::MinimizeResult r = optimize::minimize(optimize::buildProblem(mesh, p), {});
   EXPECT_TRUE(r.report.converged) << r.report.termination;
   double sum = 0.0;
   int count = 0;

@@ -226,7 +226,7 @@ TEST(Obstacles, StaticMinimizerUnderGravityStaysOutsideASphere) {
   bc.start = plate.rest.positions;
   const Eigen::Vector3d g(0.0, 0.0, -300.0);
   const Eigen::VectorXd mass =
-      modeling::lumpedVertexMasses(plate.rest, optimize::MassLumping::Barycentric, 1.0);
+      modeling::lumpedVertexMasses(plate.rest, modeling::MassLumping::Barycentric, 1.0);
   optimize::MinimizeOptions o;
   o.externalForce = mass * g.transpose();
   const optimize::MinimizeResult sagging =

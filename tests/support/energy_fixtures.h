@@ -12,6 +12,7 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::testing {
@@ -31,20 +32,30 @@ inline BendingOptions bendingOptions(Discretization d,
   return o;
 }
 
-// One bending term on a rest mesh, with its rest ξ̄ (zero unless midedge on a curved rest).
+// A problem with nothing held: one bending term on a rest mesh (optimize::buildProblem), with its
+// rest ξ̄ (midedge; else empty).
+inline optimize::ProblemOptions unheldProblem(const BendingOptions& options) {
+  optimize::ProblemOptions o;
+  o.bending = options;
+  o.fixedRings = 0;
+  o.boundaryNormals = optimize::BoundaryNormals::Free;
+  return o;
+}
+
+// Built in place (its references point into `problem`).
 struct BendingSetup {
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::unique_ptr<curvature::EnergyTerm> term;
-  Eigen::VectorXd restXi;
+  optimize::Problem problem;
+  const modeling::Stencils& stencils = problem.stencils;
+  const modeling::RestState& rest = problem.rest;
+  const std::unique_ptr<curvature::EnergyTerm>& term = problem.terms.front();
+  const Eigen::VectorXd& restXi = problem.restXi;  // #E (midedge), else empty
 
   BendingSetup(const modeling::Mesh& restMesh, const BendingOptions& options)
-      : stencils(modeling::compileStencils(restMesh)),
-        rest(modeling::precomputeRestState(stencils, restMesh.positions)),
-        term(curvature::makeBendingEnergy(stencils, rest, options)),
-        restXi(curvature::midedgeRestXi(stencils, rest, options.restCurvature)) {}
+      : problem(optimize::buildProblem(restMesh, unheldProblem(options))) {}
+  BendingSetup(const BendingSetup&) = delete;
+  BendingSetup& operator=(const BendingSetup&) = delete;
 
-  std::vector<const curvature::EnergyTerm*> terms() const { return {term.get()}; }
+  std::vector<const curvature::EnergyTerm*> terms() const { return problem.termPointers(); }
 
   // ξ minimizing E at positions x over every edge (boundary edges free); ξ̄ for other terms.
   Eigen::VectorXd minimizedXi(const Positions& x) const {
