@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli/command_files.h"
+#include "cli/mode_arguments.h"
 #include "modeling/errors.h"
 
 namespace flexure::cli {
@@ -50,7 +51,7 @@ std::vector<optimize::Obstacle> obstacleList(const LoadArguments& a) {
 }
 
 optimize::MassLumping massLumping(const LoadArguments& a) {
-  return optimize::parseMassLumping(a.mass);
+  return parseMassLumping(a.mass);
 }
 
 optimize::LoadOptions loadOptions(const LoadArguments& a) {
