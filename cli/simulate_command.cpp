@@ -17,6 +17,7 @@
 #include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/dynamics_arguments.h"
 #include "cli/load_arguments.h"
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
@@ -119,37 +120,27 @@ void removeStaleFrames(const std::filesystem::path& frameDir,
 struct Run {
   int steps = 0, newtonIterations = 0, maxNewtonIterations = 0, halvings = 0;
   double smallestStep = 0.0;
+  double seconds = 0.0;  // wall time of the stepping
+  std::string failure;   // where a step failed even at the smallest step; empty: completed
+
+  double newtonIterationsPerStep() const { return steps ? double(newtonIterations) / steps : 0.0; }
 };
 
-void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
-  namespace fs = std::filesystem;
-  // Every option first, then the inputs; nothing is written before the run ends well.
+// The time options checked; the smallest step a failing step is halved to.
+double checkedMinDt(const SimulateOptions& o) {
   if (!(o.dt > 0.0)) throw InputError("--dt: expected a time step > 0");
   if (!(o.duration >= o.dt)) throw InputError("--duration: expected at least one --dt");
   if (o.duration / o.dt > 1e7) throw InputError("--duration / --dt: more than 10^7 steps");
   if (!(o.fps > 0.0)) throw InputError("--fps: expected a value > 0");
   const double minDt = o.minDt > 0.0 ? o.minDt : o.dt / 64.0;
   if (minDt > o.dt) throw InputError("--min-dt: expected at most --dt");
-  if (o.membrane.model.empty())
-    throw InputError(
-        "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
-        "conformal); bending alone has no stiffness against stretching");
-  optimize::DynamicsOptions dynamics;
-  dynamics.integrator = optimize::parseIntegrator(o.integrator);
-  dynamics.beta = o.beta;
-  dynamics.gamma = o.gamma;
-  dynamics.density = o.load.density;
-  dynamics.mass = massLumping(o.load);
-  dynamics.gravity = gravityVector(o.load);
-  dynamics.obstacles = obstacleList(o.load);
-  if (!o.pinMotion.empty()) {
-    if (o.pin == "none")
-      throw InputError("--pin-motion " + o.pinMotion +
-                       ": moves the pinned vertices; give them with --pin");
-    dynamics.pinMotion = optimize::parsePinMotion(o.pinMotion);
-  }
+  return minDt;
+}
+
+// --damping rayleigh:α,β and/or bend:c, each at most once.
+void parseDamping(const std::vector<std::string>& specs, optimize::DynamicsOptions& dynamics) {
   bool rayleigh = false, bend = false;
-  for (const std::string& damping : o.damping) {
+  for (const std::string& damping : specs) {
     if (damping.rfind("rayleigh:", 0) == 0 && !rayleigh) {
       const std::vector<double> ab = parseNumbers("--damping", damping.substr(9), 2);
       dynamics.rayleighMass = ab[0];
@@ -163,7 +154,31 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                        ": expected rayleigh:alpha,beta or bend:c (each at most once)");
     }
   }
-  const curvature::BendingOptions b = bendingOptions(o.bending);
+}
+
+// The integrator, load, pin motion and damping (the held edges come with the body).
+optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
+  optimize::DynamicsOptions dynamics;
+  dynamics.integrator = parseIntegrator(o.integrator);
+  dynamics.beta = o.beta;
+  dynamics.gamma = o.gamma;
+  dynamics.density = o.load.density;
+  dynamics.mass = massLumping(o.load);
+  dynamics.gravity = gravityVector(o.load);
+  dynamics.obstacles = obstacleList(o.load);
+  if (!o.pinMotion.empty()) {
+    if (o.pin == "none")
+      throw InputError("--pin-motion " + o.pinMotion +
+                       ": moves the pinned vertices; give them with --pin");
+    dynamics.pinMotion = parsePinMotion(o.pinMotion);
+  }
+  parseDamping(o.damping, dynamics);
+  return dynamics;
+}
+
+// How the frame images look (none with --render-style none), and the --video checks.
+std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
+  namespace fs = std::filesystem;
   std::optional<render::RenderOptions> look;
   if (o.renderStyle != "none") {
     look.emplace();
@@ -187,49 +202,73 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
           ": ffmpeg is not installed (Debian package ffmpeg, which scripts/install-deps "
           "installs); run without --video, or install it");
   }
-  // A missing OSMesa fails here, before the simulation.
-  std::unique_ptr<render::OffscreenContext> context;
-  if (look) context = std::make_unique<render::OffscreenContext>();
+  return look;
+}
 
-  const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
-  const modeling::Stencils stencils = modeling::compileStencils(restMesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  modeling::Positions start = restMesh.positions;
-  if (!o.initFile.empty()) {
-    const modeling::Mesh init = modeling::readMesh(o.initFile);
-    if (init.vertexCount() != restMesh.vertexCount() || init.triangles != restMesh.triangles)
-      throw InputError(o.initFile + ": does not share the connectivity of " + o.restFile +
-                       ": --init must be the rest mesh in other positions");
-    start = init.positions;
+modeling::Positions startPositions(const SimulateOptions& o, const modeling::Mesh& restMesh) {
+  if (o.initFile.empty()) return restMesh.positions;
+  const modeling::Mesh init = modeling::readMesh(o.initFile);
+  if (init.vertexCount() != restMesh.vertexCount() || init.triangles != restMesh.triangles)
+    throw InputError(o.initFile + ": does not share the connectivity of " + o.restFile +
+                     ": --init must be the rest mesh in other positions");
+  return init.positions;
+}
+
+// The simulated body: the rest mesh and its precomputation, the start positions, the pinned
+// vertices, the energy terms (bending, then the membrane's) and midedge's rest ξ. Built in
+// place: the terms refer to the stencils and rest state.
+struct Body {
+  const modeling::Mesh restMesh;
+  const modeling::Stencils stencils;
+  const modeling::RestState rest;
+  const modeling::Positions start;
+  const std::vector<bool> pinned;
+  const std::unique_ptr<curvature::EnergyTerm> bending;
+  const std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
+  const Eigen::VectorXd restXi;  // empty unless the bending term has edge unknowns
+
+  Body(const SimulateOptions& o, const curvature::BendingOptions& b)
+      : restMesh(modeling::readMesh(o.restFile)),
+        stencils(modeling::compileStencils(restMesh)),
+        rest(modeling::precomputeRestState(stencils, restMesh.positions)),
+        start(startPositions(o, restMesh)),
+        pinned(o.pin == "none" ? std::vector<bool>(restMesh.vertexCount(), false)
+                               : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions)),
+        bending(curvature::makeBendingEnergy(stencils, rest, b)),
+        membrane(makeMembrane(o.membrane, stencils, rest)),
+        restXi(bending->usesEdgeUnknowns()
+                   ? curvature::midedgeRestXi(stencils, rest, b.restCurvature)
+                   : Eigen::VectorXd()) {}
+  Body(const Body&) = delete;
+  Body& operator=(const Body&) = delete;
+
+  std::vector<const curvature::EnergyTerm*> terms() const {
+    std::vector<const curvature::EnergyTerm*> all = {bending.get()};
+    for (const auto& term : membrane) all.push_back(term.get());
+    return all;
   }
-  const std::vector<bool> pinned =
-      o.pin == "none" ? std::vector<bool>(restMesh.vertexCount(), false)
-                      : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions);
-  const std::unique_ptr<curvature::EnergyTerm> bending =
-      curvature::makeBendingEnergy(stencils, rest, b);
-  const auto membrane = makeMembrane(o.membrane, stencils, rest);
-  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
-  for (const auto& term : membrane) terms.push_back(term.get());
-  const bool midedge = bending->usesEdgeUnknowns();
-  const Eigen::VectorXd restXi =
-      midedge ? curvature::midedgeRestXi(stencils, rest, b.restCurvature) : Eigen::VectorXd();
-  if (midedge) dynamics.heldEdges = optimize::clampedBoundaryEdges(o.pin, stencils);
-  optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, dynamics);
-  stepper.start(start, modeling::Positions::Zero(restMesh.vertexCount(), 3), Eigen::VectorXd());
+};
 
-  // Frames every 1/fps of simulated time (and the last state); the energies after every step.
-  const fs::path dir(o.outputDir);
+// What a run records: the energies after every step (as the CSV text and as rows for the plot),
+// the frame meshes, and the smallest distance to an obstacle over the samples.
+struct Recording {
   std::vector<std::string> termNames;
-  for (const curvature::EnergyTerm* term : terms) termNames.push_back(term->name());
+  bool contact = false;  // obstacles: a contact column
   std::ostringstream csv;
-  csv << "time,kinetic";
-  for (const std::string& name : termNames) csv << ',' << name;
-  const bool contact = !dynamics.obstacles.empty();
-  csv << ",gravity" << (contact ? ",contact" : "") << ",total\n";
-  // per sample: time, kinetic, terms…, gravity, (contact,) total
-  std::vector<std::vector<double>> history;
-  double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle, any step
-  auto sample = [&] {
+  std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity,
+                                             // (contact,) total
+  std::vector<std::pair<std::string, modeling::Mesh>> frames;
+  double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
+
+  Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact)
+      : contact(withContact) {
+    for (const curvature::EnergyTerm* term : terms) termNames.push_back(term->name());
+    csv << "time,kinetic";
+    for (const std::string& name : termNames) csv << ',' << name;
+    csv << ",gravity" << (contact ? ",contact" : "") << ",total\n";
+  }
+
+  void sample(const optimize::TimeStepper& stepper) {
     const optimize::EnergySample e = stepper.energies();
     std::vector<double> row = {e.time, e.kinetic};
     row.insert(row.end(), e.terms.begin(), e.terms.end());
@@ -247,147 +286,202 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     }
     csv << '\n';
     history.push_back(std::move(row));
-  };
-  std::vector<std::pair<std::string, modeling::Mesh>> frames;
-  auto frame = [&] {
+  }
+
+  void frame(const optimize::TimeStepper& stepper, const modeling::Mesh& restMesh) {
     char name[32];
     std::snprintf(name, sizeof name, "frame-%05zu.obj", frames.size());
     modeling::Mesh m = restMesh;
     m.positions = stepper.positions();
     frames.emplace_back(name, std::move(m));
-  };
-  sample();
-  frame();
+  }
+};
 
+// One step of h, halved (recursively, down to minDt) while Newton fails, counted into `run`;
+// false (and run.failure says where) when it fails even at minDt.
+bool advance(optimize::TimeStepper& stepper, double h, double minDt, Run& run) {
+  const optimize::TimeStepper::Advance a = stepper.advance(h, minDt);
+  run.steps += a.steps;
+  run.newtonIterations += a.newtonIterations;
+  run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
+  run.halvings += a.halvings;
+  run.smallestStep = std::min(run.smallestStep, a.smallestStep);
+  if (a.completed) return true;
+  char text[160];
+  std::snprintf(text, sizeof text, "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g",
+                a.failedTime, a.failedStep, a.failure.failure.c_str(), minDt);
+  run.failure = std::string(text) + " stops the halving";
+  return false;
+}
+
+// Steps of --dt to --duration: the energies after every step, a frame every 1/fps of simulated
+// time and at the last step, progress on stderr unless quiet.
+Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeStepper& stepper,
+             const modeling::Mesh& restMesh, Recording& recording) {
   Run run;
   run.smallestStep = o.dt;
   const auto clock = std::chrono::steady_clock::now();
   const long steps = std::lround(o.duration / o.dt);
   const double frameInterval = 1.0 / o.fps;
   double nextFrame = frameInterval;
-  std::string failure;
-  // One step of h, halved (recursively, down to --min-dt) while Newton fails.
-  auto advance = [&](double h) {
-    const optimize::TimeStepper::Advance a = stepper.advance(h, minDt);
-    run.steps += a.steps;
-    run.newtonIterations += a.newtonIterations;
-    run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
-    run.halvings += a.halvings;
-    run.smallestStep = std::min(run.smallestStep, a.smallestStep);
-    if (a.completed) return true;
-    char text[160];
-    std::snprintf(text, sizeof text, "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g",
-                  a.failedTime, a.failedStep, a.failure.failure.c_str(), minDt);
-    failure = std::string(text) + " stops the halving";
-    return false;
-  };
-  for (long k = 1; k <= steps && failure.empty(); ++k) {
-    if (!advance(o.dt)) break;
-    sample();
+  for (long k = 1; k <= steps && run.failure.empty(); ++k) {
+    if (!advance(stepper, o.dt, minDt, run)) break;
+    recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
-      frame();
+      recording.frame(stepper, restMesh);
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
-    if (!global.quiet && (k % std::max(1L, steps / 20) == 0 || k == steps)) {
+    if (!quiet && (k % std::max(1L, steps / 20) == 0 || k == steps)) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
       std::fprintf(stderr, "flexure simulate: t = %.4g / %.4g s, %.1f steps/s\n", stepper.time(),
                    o.duration, run.steps / std::max(seconds, 1e-9));
     }
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
-  const std::vector<double>& last = history.back();
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+  return run;
+}
+
+nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
+                                const optimize::DynamicsOptions& dynamics,
+                                const optimize::TimeStepper& stepper, const Run& run,
+                                const Recording& recording, int vertexCount) {
+  const std::vector<double>& last = recording.history.back();
   nlohmann::json report = {
       {"rest", o.restFile},
-      {"energy_name", std::string(curvature::discretizationName(b.discretization))},
+      {"energy_name", energyName},
       {"membrane", o.membrane.model},
       {"integrator", optimize::integratorName(dynamics.integrator)},
       {"dt", o.dt},
       {"duration", o.duration},
       {"reached_time", stepper.time()},
-      {"completed", failure.empty()},
-      {"failure", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)},
+      {"completed", run.failure.empty()},
+      {"failure", run.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.failure)},
       {"steps", run.steps},
       {"step_halvings", run.halvings},
       {"smallest_step", run.smallestStep},
       {"newton_iterations",
        {{"total", run.newtonIterations},
-        {"per_step", run.steps ? double(run.newtonIterations) / run.steps : 0.0},
+        {"per_step", run.newtonIterationsPerStep()},
         {"max", run.maxNewtonIterations}}},
-      {"seconds", seconds},
-      {"steps_per_second", run.steps / std::max(seconds, 1e-9)},
-      {"vertices", restMesh.vertexCount()},
+      {"seconds", run.seconds},
+      {"steps_per_second", run.steps / std::max(run.seconds, 1e-9)},
+      {"vertices", vertexCount},
       {"pinned", o.pin},
       {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
       {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
       {"density", o.load.density},
       {"damping", o.damping},
-      {"frames", frames.size()},
+      {"frames", recording.frames.size()},
       {"obstacles", o.load.obstacles},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
-  if (contact) {
+  if (recording.contact) {
     report["obstacle_layer"] = stepper.barrier().layer();
-    report["smallest_obstacle_distance"] = smallestDistance;
+    report["smallest_obstacle_distance"] = recording.smallestDistance;
   }
-  if (!failure.empty()) {
-    fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
-    writeFailureReport((dir / "report.json").string(), report);
-    throw NumericalError("the simulation could not proceed " + failure + "; see " +
-                         (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
-  }
+  return report;
+}
 
-  // The energy history as a plot: each energy against time.
+// The energy history as a plot: each energy against time.
+render::LinePlot energyPlot(const Recording& recording, const std::string& title) {
   render::LinePlot plot;
-  plot.title = "Energies: " + std::string(curvature::discretizationName(b.discretization)) + " + " +
-               o.membrane.model + ", " + optimize::integratorName(dynamics.integrator);
+  plot.title = title;
   plot.xLabel = "time";
   plot.yLabel = "energy";
   std::vector<std::string> labels = {"kinetic"};
-  labels.insert(labels.end(), termNames.begin(), termNames.end());
+  labels.insert(labels.end(), recording.termNames.begin(), recording.termNames.end());
   labels.push_back("gravity");
-  if (contact) labels.push_back("contact");
+  if (recording.contact) labels.push_back("contact");
   labels.push_back("total");
   for (size_t c = 0; c < labels.size(); ++c) {
     render::PlotSeries series{labels[c], {}, {}};
-    for (const auto& row : history) {
+    for (const auto& row : recording.history) {
       series.x.push_back(row[0]);
       series.y.push_back(row[c + 1]);
     }
     plot.series.push_back(std::move(series));
   }
-  modeling::createOutputDirectory(dir.string());
-  for (const auto& [name, mesh] : frames) modeling::writeMesh((dir / name).string(), mesh);
-  if (look) {
-    // One camera for the whole run, framed on every frame's vertices.
-    look->framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * restMesh.vertexCount(),
-                               3);
-    for (size_t f = 0; f < frames.size(); ++f)
-      look->framingPoints.middleRows(f * restMesh.vertexCount(), restMesh.vertexCount()) =
-          frames[f].second.positions;
-    // The images in DIR/frames/; the earlier runs' images there that this one did not write go.
-    const fs::path frameDir = dir / "frames";
-    modeling::createOutputDirectory(frameDir.string());
-    std::vector<std::string> pngs, names;
-    for (const auto& [name, mesh] : frames) {
-      names.push_back(name.substr(0, name.size() - 4) + ".png");
-      pngs.push_back(render::encodePng(render::renderMesh(*context, mesh, *look)));
-      modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
-    }
-    removeStaleFrames(frameDir, names);
-    if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
-  } else {
-    removeStaleFrames(dir / "frames", {});
+  return plot;
+}
+
+// The frames rendered with one camera for the whole run, framed on every frame's vertices, in
+// DIR/frames/ (the earlier runs' images there that this one did not write go), and the video.
+void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
+                      render::OffscreenContext& context, const Recording& recording,
+                      int vertexCount, const std::filesystem::path& dir) {
+  const auto& frames = recording.frames;
+  look.framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * vertexCount, 3);
+  for (size_t f = 0; f < frames.size(); ++f)
+    look.framingPoints.middleRows(f * vertexCount, vertexCount) = frames[f].second.positions;
+  const std::filesystem::path frameDir = dir / "frames";
+  modeling::createOutputDirectory(frameDir.string());
+  std::vector<std::string> pngs, names;
+  for (const auto& [name, mesh] : frames) {
+    names.push_back(name.substr(0, name.size() - 4) + ".png");
+    pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
+    modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
   }
-  modeling::writeFileAtomically((dir / "energies.csv").string(), csv.str());
+  removeStaleFrames(frameDir, names);
+  if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
+}
+
+void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  // Every option first, then the inputs; nothing is written before the run ends well.
+  const double minDt = checkedMinDt(o);
+  if (o.membrane.model.empty())
+    throw InputError(
+        "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
+        "conformal); bending alone has no stiffness against stretching");
+  optimize::DynamicsOptions dynamics = dynamicsOptions(o);
+  const curvature::BendingOptions b = bendingOptions(o.bending);
+  const std::optional<render::RenderOptions> look = frameLook(o);
+  // A missing OSMesa fails here, before the simulation.
+  std::unique_ptr<render::OffscreenContext> context;
+  if (look) context = std::make_unique<render::OffscreenContext>();
+
+  const Body body(o, b);
+  if (body.bending->usesEdgeUnknowns())
+    dynamics.heldEdges = optimize::clampedBoundaryEdges(o.pin, body.stencils);
+  optimize::TimeStepper stepper(body.terms(), body.stencils, body.rest, body.restXi, body.pinned,
+                                dynamics);
+  const int vertexCount = body.restMesh.vertexCount();
+  stepper.start(body.start, modeling::Positions::Zero(vertexCount, 3), Eigen::VectorXd());
+
+  Recording recording(body.terms(), !dynamics.obstacles.empty());
+  recording.sample(stepper);
+  recording.frame(stepper, body.restMesh);
+  const Run run = simulate(o, minDt, global.quiet, stepper, body.restMesh, recording);
+  const std::string energyName(curvature::discretizationName(b.discretization));
+  const nlohmann::json report =
+      simulationReport(o, energyName, dynamics, stepper, run, recording, vertexCount);
+  const fs::path dir(o.outputDir);
+  if (!run.failure.empty()) {
+    fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
+    writeFailureReport((dir / "report.json").string(), report);
+    throw NumericalError("the simulation could not proceed " + run.failure + "; see " +
+                         (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
+  }
+
+  const render::LinePlot plot =
+      energyPlot(recording, "Energies: " + energyName + " + " + o.membrane.model + ", " +
+                                optimize::integratorName(dynamics.integrator));
+  modeling::createOutputDirectory(dir.string());
+  for (const auto& [name, mesh] : recording.frames)
+    modeling::writeMesh((dir / name).string(), mesh);
+  if (look)
+    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
+  else
+    removeStaleFrames(dir / "frames", {});
+  modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
   render::writeLinePlot(plot, (dir / "energies.png").string());
   writeJsonFile((dir / "report.json").string(), report);
   if (!global.quiet) {
     std::fprintf(stderr,
                  "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
                  "to %s (%d steps, %.2f Newton iterations per step, %d halvings, %.1f s)\n",
-                 frames.size(), dir.string().c_str(), run.steps,
-                 run.steps ? double(run.newtonIterations) / run.steps : 0.0, run.halvings, seconds);
+                 recording.frames.size(), dir.string().c_str(), run.steps,
+                 run.newtonIterationsPerStep(), run.halvings, run.seconds);
   }
 }
 

@@ -63,6 +63,12 @@ run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --d
   --duration 0.1 --pin-motion rotate:0,0,0,0,0,0,1 -o bad; stderr_has "the axis is zero"; absent bad
 run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
   --duration 0.1 --pin-motion twist:1 -o bad; stderr_has "--pin-motion twist:1: expected"; absent bad
+# Too few numbers, a number that is not finite: the count is named.
+for spec in rotate:0,0,1,0,0,0 translate:1,2 translate:1,2,inf; do
+  run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --pin rings:1 --dt 0.01 \
+    --duration 0.1 --pin-motion "$spec" -o bad; stderr_has "--pin-motion $spec: expected"
+  stderr_has "finite numbers)"; absent bad
+done
 
 # --video: an MP4 of the frames when ffmpeg is installed, else exit 2 saying so, nothing written.
 if command -v ffmpeg >/dev/null; then
@@ -117,7 +123,7 @@ run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --durat
   --integrator central-difference --damping rayleigh:1,0 -o bad; stderr_has "central-difference"
 absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
-  --integrator leapfrog -o bad; stderr_has "leapfrog"; absent bad
+  --integrator leapfrog -o bad; stderr_has "--integrator leapfrog: expected newmark"; absent bad
 run 2 simulate --rest plate.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
   --pin box:5,6,0,1,0,1 -o bad; stderr_has "--pin box:5,6,0,1,0,1: the box holds no vertex"
 absent bad

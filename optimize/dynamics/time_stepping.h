@@ -42,9 +42,7 @@ namespace flexure::optimize {
 struct NewtonResult;
 
 enum class Integrator { Newmark, BackwardEuler, CentralDifference };
-Integrator parseIntegrator(
-    const std::string& name);  // newmark | backward-euler | central-difference
-const char* integratorName(Integrator integrator);
+const char* integratorName(Integrator integrator);  // newmark | backward-euler | central-difference
 
 // A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
 //   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
@@ -62,9 +60,6 @@ struct PinMotion {
   Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
 };
-// rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz (InputError naming the pin motion
-// otherwise: a zero axis, a number that is not finite).
-PinMotion parsePinMotion(const std::string& spec);
 
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
