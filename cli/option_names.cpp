@@ -26,7 +26,6 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"BoundaryConditions.fixedVertex", "--fix"},
       // dynamics, modes, spectra, obstacles
       {"DynamicsOptions.integrator", "--integrator"},
-      {"DynamicsOptions.pinMotion", "--pin-motion"},
       {"DynamicsOptions.beta", "--beta"},
       {"DynamicsOptions.gamma", "--gamma"},
       {"DynamicsOptions.density", "--density"},
