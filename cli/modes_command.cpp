@@ -315,6 +315,20 @@ void addRun(const EnergyRun& run, optimize::Support support, const ModeContext& 
   out.energies.push_back(energyReport(run, support, modes));
 }
 
+// The reference λ₁ … λ_K (Leissa tabulates six for the clamped square), or none.
+std::vector<double> referenceLambdas(const ModesOptions& o, optimize::Support support) {
+  if (o.reference.empty()) return {};
+  return optimize::squarePlateLambdas(
+      support, support == optimize::Support::Clamped ? std::min(o.count, 6) : o.count);
+}
+
+std::string figureTitle(const optimize::ModesOptions& base, const Plate& plate) {
+  const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
+  return std::string(optimize::supportName(base.support)) + " plate" +
+         (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " + plate.source +
+         ": vibration modes, nodal lines black";
+}
+
 void printTableHeader(const std::vector<EnergyRun>& runs, bool withReference) {
   std::printf("%-10s", "mode");
   for (const EnergyRun& run : runs) std::printf(" %12s", run.spec.c_str());
@@ -380,17 +394,9 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   solveRuns(runs, stencils, rest, base, o, global, commandName);
 
   // The report, the table and the figure.
-  const std::vector<double> reference =
-      o.reference.empty()
-          ? std::vector<double>()
-          : optimize::squarePlateLambdas(base.support, base.support == optimize::Support::Clamped
-                                                           ? std::min(o.count, 6)
-                                                           : o.count);
+  const std::vector<double> reference = referenceLambdas(o, base.support);
   ModesOutputs out;
-  const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
-  out.grid.title = std::string(optimize::supportName(base.support)) + " plate" +
-                   (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " +
-                   plate.source + ": vibration modes, nodal lines black";
+  out.grid.title = figureTitle(base, plate);
   for (int k = 1; k <= o.count; ++k) out.grid.columnLabels.push_back("mode " + std::to_string(k));
   out.table.resize(o.count);
   printTableHeader(runs, !reference.empty());
