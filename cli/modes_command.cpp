@@ -57,11 +57,8 @@ std::string lambdaText(double lambda) {
   return text;
 }
 
-}  // namespace
-
-void runModes(const ModesOptions& o, const GlobalOptions& global, const std::string& commandName) {
-  namespace fs = std::filesystem;
-  // Every option and input is checked before the first solve.
+// The library's options from the command's, every flag combination checked.
+optimize::ModesOptions libraryModesOptions(const ModesOptions& o) {
   if (o.meshFile.empty() == o.family.empty())
     throw InputError("give the plate as --mesh FILE or as --family F --n N (one of the two)");
   if (o.energies.empty()) throw InputError("--energy: give at least one energy");
@@ -88,6 +85,12 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   } else {
     throw InputError("--dof " + o.dof + ": expected height or xyz");
   }
+  return base;
+}
+
+// One run per --energy, with its bending options and its clamp (normals for midedge unless
+// --clamp says otherwise).
+std::vector<EnergyRun> energyRuns(const ModesOptions& o, optimize::Support support) {
   std::vector<EnergyRun> runs;
   for (const std::string& spec : o.energies) {
     if (spec.find(':') != std::string::npos && spec.rfind("midedge", 0) == 0)
@@ -105,59 +108,80 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     const bool midedge = run.bending.discretization == curvature::Discretization::Midedge;
     run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
                                 : parseClamp(o.clamp);
-    if (run.clamp == optimize::Clamp::Normals && !midedge &&
-        base.support == optimize::Support::Clamped)
+    if (run.clamp == optimize::Clamp::Normals && !midedge && support == optimize::Support::Clamped)
       throw InputError("--clamp normals holds the midedge normals: " + spec +
                        " has none; use --clamp rings or --energy midedge");
     runs.push_back(std::move(run));
   }
-  if (!o.reference.empty() && o.reference != "square-simply-supported" &&
-      o.reference != "square-clamped")
-    throw InputError("--reference " + o.reference +
-                     ": expected square-simply-supported or square-clamped");
-  if (o.reference == "square-simply-supported" &&
-      base.support != optimize::Support::SimplySupported)
-    throw InputError("--reference square-simply-supported needs --support simply-supported");
-  if (o.reference == "square-clamped" && base.support != optimize::Support::Clamped)
-    throw InputError("--reference square-clamped needs --support clamped");
+  return runs;
+}
 
+void checkReferenceName(const std::string& reference, optimize::Support support) {
+  if (!reference.empty() && reference != "square-simply-supported" && reference != "square-clamped")
+    throw InputError("--reference " + reference +
+                     ": expected square-simply-supported or square-clamped");
+  if (reference == "square-simply-supported" && support != optimize::Support::SimplySupported)
+    throw InputError("--reference square-simply-supported needs --support simply-supported");
+  if (reference == "square-clamped" && support != optimize::Support::Clamped)
+    throw InputError("--reference square-clamped needs --support clamped");
+}
+
+struct Plate {
   modeling::Mesh mesh;
-  std::string source;
+  std::string source;  // the file, or the family and n
+};
+
+Plate readOrGeneratePlate(const ModesOptions& o) {
+  Plate plate;
   if (!o.meshFile.empty()) {
-    mesh = modeling::readMesh(o.meshFile);
-    source = o.meshFile;
-  } else {
-    modeling::GeneratorOptions generator;
-    generator.family = modeling::parseMeshFamily(o.family);
-    generator.n = o.n;
-    generator.seed = o.seed;
-    mesh = modeling::generateMesh(generator);
-    source =
-        std::string(modeling::meshFamilyName(generator.family)) + " n = " + std::to_string(o.n);
+    plate.mesh = modeling::readMesh(o.meshFile);
+    plate.source = o.meshFile;
+    return plate;
   }
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
-  if (!o.fix.empty())
-    base.extraFixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
-  if (!o.reference.empty()) {
-    const Eigen::Vector3d extent =
-        mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff();
-    if (extent.z() != 0.0 || std::abs(extent.x() - extent.y()) > 1e-9 * extent.maxCoeff())
-      throw InputError("--reference " + o.reference + ": " + source +
-                       " is not a flat square plate (bounding box " + std::to_string(extent.x()) +
-                       " x " + std::to_string(extent.y()) + " x " + std::to_string(extent.z()) +
-                       ")");
-    if (o.length > 0.0 && std::abs(o.length - extent.x()) > 1e-9 * extent.x())
-      throw InputError("--reference " + o.reference + ": --length must be the square's side");
-  }
-  // One problem per energy, with nothing held and no boundary values: the support and the clamp
-  // are ModesOptions'.
+  modeling::GeneratorOptions generator;
+  generator.family = modeling::parseMeshFamily(o.family);
+  generator.n = o.n;
+  generator.seed = o.seed;
+  plate.mesh = modeling::generateMesh(generator);
+  plate.source =
+      std::string(modeling::meshFamilyName(generator.family)) + " n = " + std::to_string(o.n);
+  return plate;
+}
+
+// The tabulated references are for a flat square plate of side L.
+void checkReferencePlate(const ModesOptions& o, const Plate& plate) {
+  if (o.reference.empty()) return;
+  const Eigen::Vector3d extent =
+      plate.mesh.positions.colwise().maxCoeff() - plate.mesh.positions.colwise().minCoeff();
+  if (extent.z() != 0.0 || std::abs(extent.x() - extent.y()) > 1e-9 * extent.maxCoeff())
+    throw InputError("--reference " + o.reference + ": " + plate.source +
+                     " is not a flat square plate (bounding box " + std::to_string(extent.x()) +
+                     " x " + std::to_string(extent.y()) + " x " + std::to_string(extent.z()) + ")");
+  if (o.length > 0.0 && std::abs(o.length - extent.x()) > 1e-9 * extent.x())
+    throw InputError("--reference " + o.reference + ": --length must be the square's side");
+}
+
+void printSolveLine(const EnergyRun& run, const std::string& commandName) {
+  const optimize::ModesResult& r = run.result;
+  std::cerr << commandName << ": " << run.spec << ": " << counted(r.flexibleModes, "mode") << " in "
+            << lambdaText(r.totalSeconds) << " s (" << counted(r.operations, "solve")
+            << " with one factor)";
+  if (r.rigidModes > 0) std::cerr << ", " << counted(r.rigidModes, "rigid mode");
+  if (r.spuriousZeroModes > 0)
+    std::cerr << ", " << counted(r.spuriousZeroModes, "spurious zero mode");
+  std::cerr << '\n';
+}
+
+// Each run's modes, through one problem per energy with nothing held and no boundary values: the
+// support and the clamp are ModesOptions'.
+void solveRuns(std::vector<EnergyRun>& runs, const modeling::Stencils& stencils,
+               const modeling::RestState& rest, const optimize::ModesOptions& base,
+               const ModesOptions& o, const GlobalOptions& global, const std::string& commandName) {
   optimize::ProblemOptions problemOptions;
   problemOptions.dof = base.dof;
   if (!o.membrane.model.empty()) problemOptions.membrane = membraneOptions(o.membrane);
   problemOptions.fixedRings = 0;
   problemOptions.boundaryNormals = optimize::BoundaryNormals::Free;
-
   for (EnergyRun& run : runs) {
     problemOptions.bending = run.bending;
     const optimize::Problem problem = optimize::buildProblem(stencils, rest, problemOptions);
@@ -165,140 +189,173 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     options.clamp = run.clamp;
     run.result = optimize::vibrationModes(problem.termPointers(), problem.stencils, problem.rest,
                                           problem.restXi, options);
-    if (!global.quiet) {
-      const optimize::ModesResult& r = run.result;
-      std::cerr << commandName << ": " << run.spec << ": " << counted(r.flexibleModes, "mode")
-                << " in " << lambdaText(r.totalSeconds) << " s (" << counted(r.operations, "solve")
-                << " with one factor)";
-      if (r.rigidModes > 0) std::cerr << ", " << counted(r.rigidModes, "rigid mode");
-      if (r.spuriousZeroModes > 0)
-        std::cerr << ", " << counted(r.spuriousZeroModes, "spurious zero mode");
-      std::cerr << '\n';
-    }
+    if (!global.quiet) printSolveLine(run, commandName);
   }
+}
 
-  // The report, the table and the figure.
-  const std::vector<double> reference =
-      o.reference.empty()
-          ? std::vector<double>()
-          : optimize::squarePlateLambdas(base.support, base.support == optimize::Support::Clamped
-                                                           ? std::min(o.count, 6)
-                                                           : o.count);
-  const double length = runs.front().result.length;
-  nlohmann::json energies = nlohmann::json::array();
+// What the runs add up to: the figure, the λ table (a row per flexible mode, a column per
+// energy), the shapes to write and the per-energy reports.
+struct ModesOutputs {
   render::FigureGrid grid;
-  const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
-  grid.title = std::string(optimize::supportName(base.support)) + " plate" +
-               (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " + source +
-               ": vibration modes, nodal lines black";
-  for (int k = 1; k <= o.count; ++k) grid.columnLabels.push_back("mode " + std::to_string(k));
+  std::vector<std::vector<double>> table;
   std::vector<std::pair<std::string, modeling::Mesh>> shapes;
+  nlohmann::json energies = nlohmann::json::array();
+};
+
+// What every mode's outputs need besides the mode.
+struct ModeContext {
+  const ModesOptions& o;
+  const Plate& plate;
+  const modeling::Stencils& stencils;
+  const modeling::RestState& rest;
+  const Eigen::MatrixX3d& normals;  // the rest vertex normals
+  const std::vector<double>& reference;
+  double length;  // L
+};
+
+// The normal displacement, whose zero set the nodal lines are, with the lines.
+render::Image modePanel(const optimize::VibrationMode& mode, const ModeContext& c) {
+  render::FieldMap map;
+  map.mesh = &c.plate.mesh;
+  for (int v = 0; v < c.plate.mesh.vertexCount(); ++v)
+    map.values.push_back(mode.shape.row(v).dot(c.normals.row(v)));
+  map.lines = optimize::nodalSegments(c.stencils, c.rest, mode.shape);
+  map.size = c.o.size;
+  return render::renderFieldMap(map);
+}
+
+// The rest mesh displaced by the mode, its largest displacement scale × L; returns its file name.
+std::string addShape(const optimize::VibrationMode& mode, const std::string& spec, int index,
+                     const ModeContext& c, ModesOutputs& out) {
+  // The spec as a file-name part: "hinge:tan" → "hinge_tan".
+  std::string stem = spec;
+  for (char& ch : stem)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  const std::string name = "mode-" + stem + "-" + std::to_string(index) + ".obj";
+  modeling::Mesh shaped = c.plate.mesh;
+  const double largest = mode.shape.rowwise().norm().maxCoeff();
+  shaped.positions += (c.o.scale * c.length / largest) * mode.shape;
+  out.shapes.emplace_back(name, std::move(shaped));
+  return name;
+}
+
+// The flexible mode `index` (from 1): its column of the table, its panel, its shape.
+void addFlexibleMode(const optimize::VibrationMode& mode, int index, const EnergyRun& run,
+                     const ModeContext& c, nlohmann::json& m, ModesOutputs& out) {
+  m["kind"] = "flexible";
+  m["index"] = index;
+  out.table[index - 1].push_back(mode.lambda);
+  if (index <= static_cast<int>(c.reference.size())) {
+    m["reference"] = c.reference[index - 1];
+    m["relative_error"] = mode.lambda / c.reference[index - 1] - 1.0;
+  }
+  out.grid.panels.back().push_back(modePanel(mode, c));
+  out.grid.panelTitles.back().push_back(
+      "λ" + std::to_string(index) + " = " + lambdaText(mode.lambda) +
+      (mode.multiplicity > 1 ? " (×" + std::to_string(mode.multiplicity) + ")" : ""));
+  if (c.o.writeShapes) m["shape"] = addShape(mode, run.spec, index, c, out);
+}
+
+nlohmann::json energyReport(const EnergyRun& run, optimize::Support support,
+                            const nlohmann::json& modes) {
+  const optimize::ModesResult& r = run.result;
+  return {{"energy", run.spec},
+          {"poisson", curvature::effectivePoisson(run.bending)},
+          {"clamp", support == optimize::Support::Clamped
+                        ? nlohmann::json(optimize::clampName(run.clamp))
+                        : nlohmann::json(nullptr)},
+          {"rigid_modes", r.rigidModes},
+          {"spurious_zero_modes", r.spuriousZeroModes},
+          {"zero_modes", r.zeroModes},
+          {"unknowns", r.unknowns},
+          {"vertex_unknowns", r.massUnknowns},
+          {"fixed_vertices", r.fixedVertices},
+          {"lanczos", {{"solves", r.operations}, {"restarts", r.restarts}}},
+          {"seconds",
+           {{"assembly", r.assemblySeconds},
+            {"factorization", r.factorSeconds},
+            {"eigensolve", r.eigenSeconds},
+            {"total", r.totalSeconds}}},
+          {"modes", modes}};
+}
+
+// One energy's row of the figure and column of the table, its shapes and its report.
+void addRun(const EnergyRun& run, optimize::Support support, const ModeContext& c,
+            ModesOutputs& out) {
+  const optimize::ModesResult& r = run.result;
+  nlohmann::json modes = nlohmann::json::array();
+  out.grid.rowLabels.push_back(run.spec);
+  out.grid.panels.emplace_back();
+  out.grid.panelTitles.emplace_back();
+  int flexible = 0, zero = 0;
+  for (const optimize::VibrationMode& mode : r.modes) {
+    nlohmann::json m = {{"lambda", mode.lambda},
+                        {"omega", mode.omega},
+                        {"omega_squared", mode.omegaSquared},
+                        {"multiplicity", mode.multiplicity},
+                        {"residual", mode.residual},
+                        {"nodal_length", mode.nodalLength}};
+    if (mode.zero) {
+      m["kind"] = ++zero <= r.rigidModes ? "rigid" : "spurious zero";
+      modes.push_back(m);
+      continue;
+    }
+    if (flexible == c.o.count) continue;
+    addFlexibleMode(mode, ++flexible, run, c, m, out);
+    modes.push_back(m);
+  }
+  for (int k = flexible; k < c.o.count; ++k) {  // spurious zero modes took these places
+    out.table[k].push_back(std::nan(""));
+    render::Image blank;
+    blank.width = blank.height = c.o.size;
+    blank.rgba.assign(4 * c.o.size * c.o.size, 255);
+    out.grid.panels.back().push_back(blank);
+    out.grid.panelTitles.back().push_back("(not computed)");
+  }
+  out.energies.push_back(energyReport(run, support, modes));
+}
+
+// The reference λ₁ … λ_K (Leissa tabulates six for the clamped square), or none.
+std::vector<double> referenceLambdas(const ModesOptions& o, optimize::Support support) {
+  if (o.reference.empty()) return {};
+  return optimize::squarePlateLambdas(
+      support, support == optimize::Support::Clamped ? std::min(o.count, 6) : o.count);
+}
+
+std::string figureTitle(const optimize::ModesOptions& base, const Plate& plate) {
+  const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
+  return std::string(optimize::supportName(base.support)) + " plate" +
+         (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " + plate.source +
+         ": vibration modes, nodal lines black";
+}
+
+void printTableHeader(const std::vector<EnergyRun>& runs, bool withReference) {
   std::printf("%-10s", "mode");
   for (const EnergyRun& run : runs) std::printf(" %12s", run.spec.c_str());
-  if (!reference.empty()) std::printf(" %12s", "reference");
+  if (withReference) std::printf(" %12s", "reference");
   std::printf("\n");
-  std::vector<std::vector<double>> table(o.count);
-  const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
-  for (const EnergyRun& run : runs) {
-    const optimize::ModesResult& r = run.result;
-    nlohmann::json modes = nlohmann::json::array();
-    grid.rowLabels.push_back(run.spec);
-    grid.panels.emplace_back();
-    grid.panelTitles.emplace_back();
-    int flexible = 0, zero = 0;
-    for (const optimize::VibrationMode& mode : r.modes) {
-      nlohmann::json m = {{"lambda", mode.lambda},
-                          {"omega", mode.omega},
-                          {"omega_squared", mode.omegaSquared},
-                          {"multiplicity", mode.multiplicity},
-                          {"residual", mode.residual},
-                          {"nodal_length", mode.nodalLength}};
-      if (mode.zero) {
-        m["kind"] = ++zero <= r.rigidModes ? "rigid" : "spurious zero";
-        modes.push_back(m);
-        continue;
-      }
-      if (flexible == o.count) continue;
-      const int index = ++flexible;
-      m["kind"] = "flexible";
-      m["index"] = index;
-      table[index - 1].push_back(mode.lambda);
-      if (index <= static_cast<int>(reference.size())) {
-        m["reference"] = reference[index - 1];
-        m["relative_error"] = mode.lambda / reference[index - 1] - 1.0;
-      }
-      // The normal displacement, whose zero set the nodal lines are.
-      render::FieldMap map;
-      map.mesh = &mesh;
-      for (int v = 0; v < mesh.vertexCount(); ++v)
-        map.values.push_back(mode.shape.row(v).dot(normals.row(v)));
-      map.lines = optimize::nodalSegments(stencils, rest, mode.shape);
-      map.size = o.size;
-      grid.panels.back().push_back(render::renderFieldMap(map));
-      grid.panelTitles.back().push_back(
-          "λ" + std::to_string(index) + " = " + lambdaText(mode.lambda) +
-          (mode.multiplicity > 1 ? " (×" + std::to_string(mode.multiplicity) + ")" : ""));
-      if (o.writeShapes) {
-        // The spec as a file-name part: "hinge:tan" → "hinge_tan".
-        std::string stem = run.spec;
-        for (char& ch : stem)
-          if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-        const std::string name = "mode-" + stem + "-" + std::to_string(index) + ".obj";
-        modeling::Mesh shaped = mesh;
-        const double largest = mode.shape.rowwise().norm().maxCoeff();
-        shaped.positions += (o.scale * length / largest) * mode.shape;
-        m["shape"] = name;
-        shapes.emplace_back(name, std::move(shaped));
-      }
-      modes.push_back(m);
-    }
-    for (int k = flexible; k < o.count; ++k) {  // spurious zero modes took these places
-      table[k].push_back(std::nan(""));
-      render::Image blank;
-      blank.width = blank.height = o.size;
-      blank.rgba.assign(4 * o.size * o.size, 255);
-      grid.panels.back().push_back(blank);
-      grid.panelTitles.back().push_back("(not computed)");
-    }
-    energies.push_back({{"energy", run.spec},
-                        {"poisson", curvature::effectivePoisson(run.bending)},
-                        {"clamp", base.support == optimize::Support::Clamped
-                                      ? nlohmann::json(optimize::clampName(run.clamp))
-                                      : nlohmann::json(nullptr)},
-                        {"rigid_modes", r.rigidModes},
-                        {"spurious_zero_modes", r.spuriousZeroModes},
-                        {"zero_modes", r.zeroModes},
-                        {"unknowns", r.unknowns},
-                        {"vertex_unknowns", r.massUnknowns},
-                        {"fixed_vertices", r.fixedVertices},
-                        {"lanczos", {{"solves", r.operations}, {"restarts", r.restarts}}},
-                        {"seconds",
-                         {{"assembly", r.assemblySeconds},
-                          {"factorization", r.factorSeconds},
-                          {"eigensolve", r.eigenSeconds},
-                          {"total", r.totalSeconds}}},
-                        {"modes", modes}});
-  }
-  for (int k = 0; k < o.count; ++k) {
-    std::printf("%-10d", k + 1);
+}
+
+void printTableRows(const std::vector<std::vector<double>>& table,
+                    const std::vector<double>& reference) {
+  for (size_t k = 0; k < table.size(); ++k) {
+    std::printf("%-10d", static_cast<int>(k + 1));
     for (double lambda : table[k]) std::printf(" %12.6g", lambda);
-    if (k < static_cast<int>(reference.size())) {
+    if (k < reference.size()) {
       std::printf(" %12.6g", reference[k]);
       for (double lambda : table[k]) std::printf("  %+.2e", lambda / reference[k] - 1.0);
     }
     std::printf("\n");
   }
-  const render::Image figure = render::composeFigureGrid(grid);
+}
 
-  const fs::path dir(o.outputDir);
-  modeling::createOutputDirectory(dir.string());
-  render::writePng((dir / "chladni.png").string(), figure);
-  for (const auto& [name, shaped] : shapes) modeling::writeMesh((dir / name).string(), shaped);
-  const optimize::ModesResult& first = runs.front().result;
+nlohmann::json modesReport(const ModesOptions& o, const optimize::ModesOptions& base,
+                           const Plate& plate, const optimize::ModesResult& first,
+                           const nlohmann::json& energies) {
   nlohmann::json report = {
-      {"plate", source},
-      {"vertices", mesh.vertexCount()},
-      {"faces", mesh.faceCount()},
+      {"plate", plate.source},
+      {"vertices", plate.mesh.vertexCount()},
+      {"faces", plate.mesh.faceCount()},
       {"support", optimize::supportName(base.support)},
       {"dof", o.dof},
       {"mass", optimize::massLumpingName(base.mass)},
@@ -316,11 +373,51 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
     report["reference"] = {{"name", o.reference},
                            {"source", optimize::squarePlateSource(base.support)}};
   }
-  writeJsonFile((dir / "modes.json").string(), report);
+  return report;
+}
+
+}  // namespace
+
+void runModes(const ModesOptions& o, const GlobalOptions& global, const std::string& commandName) {
+  namespace fs = std::filesystem;
+  // Every option and input is checked before the first solve.
+  optimize::ModesOptions base = libraryModesOptions(o);
+  std::vector<EnergyRun> runs = energyRuns(o, base.support);
+  checkReferenceName(o.reference, base.support);
+  const Plate plate = readOrGeneratePlate(o);
+  const modeling::Stencils stencils = modeling::compileStencils(plate.mesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, plate.mesh.positions);
+  if (!o.fix.empty())
+    base.extraFixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
+  checkReferencePlate(o, plate);
+
+  solveRuns(runs, stencils, rest, base, o, global, commandName);
+
+  // The report, the table and the figure.
+  const std::vector<double> reference = referenceLambdas(o, base.support);
+  ModesOutputs out;
+  out.grid.title = figureTitle(base, plate);
+  for (int k = 1; k <= o.count; ++k) out.grid.columnLabels.push_back("mode " + std::to_string(k));
+  out.table.resize(o.count);
+  printTableHeader(runs, !reference.empty());
+  const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
+  const ModeContext context{
+      o, plate, stencils, rest, normals, reference, runs.front().result.length};
+  for (const EnergyRun& run : runs) addRun(run, base.support, context, out);
+  printTableRows(out.table, reference);
+  const render::Image figure = render::composeFigureGrid(out.grid);
+
+  const fs::path dir(o.outputDir);
+  modeling::createOutputDirectory(dir.string());
+  render::writePng((dir / "chladni.png").string(), figure);
+  for (const auto& [name, shaped] : out.shapes) modeling::writeMesh((dir / name).string(), shaped);
+  writeJsonFile((dir / "modes.json").string(),
+                modesReport(o, base, plate, runs.front().result, out.energies));
   if (!global.quiet) {
     std::cerr << commandName << ": wrote " << (dir / "chladni.png").string() << " (" << figure.width
               << " x " << figure.height << "), modes.json"
-              << (shapes.empty() ? "" : " and " + counted(shapes.size(), "mode shape")) << '\n';
+              << (out.shapes.empty() ? "" : " and " + counted(out.shapes.size(), "mode shape"))
+              << '\n';
   }
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include "curvature/midedge_boundary.h"
@@ -92,6 +93,292 @@ class ShiftInvertOperator {
   mutable int operations_ = 0;
 };
 
+// Clamp::Normals holds the midedge normals of a flat plate's boundary.
+void checkNormalsClamp(const ModesOptions& o, bool withXi, const Positions& rest) {
+  if (o.clamp != Clamp::Normals || o.support != Support::Clamped) return;
+  if (!withXi)
+    throw InputError(
+        "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
+  if (o.dof != DofMode::Height || !restIsFlat(rest))
+    throw InputError(
+        "ModesOptions.clamp normals: needs a flat plate in height mode (use ModesOptions.clamp "
+        "rings)");
+}
+
+// The held vertices' count, the rigid modes, L, D = 2 k_B and the shift σ.
+void setSupportAndScales(ModesResult& result, const Positions& rest, const std::vector<bool>& fixed,
+                         const ModesOptions& o) {
+  result.fixedVertices = static_cast<int>(std::count(fixed.begin(), fixed.end(), true));
+  result.rigidModes = rigidMotionCount(rest, fixed, o.dof);
+  const Eigen::Vector3d extent = rest.colwise().maxCoeff() - rest.colwise().minCoeff();
+  result.length = o.length > 0.0 ? o.length : extent.maxCoeff();
+  result.flexuralRigidity = 2.0 * o.bendingStiffness;
+  // λ² = 1: far below every flexible mode (the first of a free square plate has λ ≈ 13), above
+  // the rigid ones' ω² = 0, so K − σM is positive definite.
+  result.shift = -result.flexuralRigidity / (o.density * std::pow(result.length, 4));
+}
+
+// The unknowns: free vertex coordinates, then the ξ (all free but the clamped boundary ones
+// of Clamp::Rings, which stay at rest with their faces).
+std::vector<bool> freeUnknowns(const std::vector<bool>& fixed,
+                               const std::vector<bool>& boundaryEdge, int vertexCount, int xiCount,
+                               const ModesOptions& o) {
+  const bool clampRings = o.support == Support::Clamped && o.clamp == Clamp::Rings;
+  std::vector<bool> free(3 * vertexCount + xiCount, false);
+  for (int v = 0; v < vertexCount; ++v)
+    for (int c = o.dof == DofMode::Height ? 2 : 0; c < 3 && !fixed[v]; ++c) free[3 * v + c] = true;
+  for (int e = 0; e < xiCount; ++e) free[3 * vertexCount + e] = !(clampRings && boundaryEdge[e]);
+  return free;
+}
+
+// K = ∇²E at rest = JᵀJ (every residual vanishes there), both triangles.
+Sparse stiffnessAtRest(const HessianAssembly& assembly, const Positions& rest,
+                       const Eigen::VectorXd& restXi) {
+  const int n = assembly.size();
+  const HessianEvaluation at = assembly.evaluate(rest, restXi, HessianProjection::Exact, nullptr,
+                                                 curvature::SecondDerivatives::GaussNewton);
+  const Eigen::Map<const Sparse> upper(n, n, static_cast<int>(at.values.size()),
+                                       assembly.columnStart().data(), assembly.rowIndex().data(),
+                                       at.values.data());
+  return Sparse(upper.selfadjointView<Eigen::Upper>());
+}
+
+// The reduced index of each assembly unknown, −1 for the boundary ξ a normals clamp constrains.
+std::vector<int> reducedIndices(const std::vector<int>& freeUnknowns, bool clampNormals,
+                                const std::vector<bool>& boundaryEdge, int vertexCount) {
+  const int n = static_cast<int>(freeUnknowns.size());
+  std::vector<int> reducedIndex(n, -1);
+  int reduced = 0;
+  for (int k = 0; k < n; ++k) {
+    const int unknown = freeUnknowns[k];
+    const bool constrained =
+        clampNormals && unknown >= 3 * vertexCount && boundaryEdge[unknown - 3 * vertexCount];
+    if (!constrained) reducedIndex[k] = reduced++;
+  }
+  return reducedIndex;
+}
+
+// Clamp::Normals: ξ_e of a boundary edge = Σ_c g_{e,c} δ_{o,c}, o the boundary face's vertex
+// opposite e (its other two are held), g from the linearized clamp probed with a unit move of
+// coordinate c at every free vertex — each boundary ξ sees one free vertex, so one probe per
+// coordinate separates them. P maps the reduced unknowns to the assembly's.
+Sparse normalsClampMap(const modeling::Stencils& stencils, const Positions& rest,
+                       const std::vector<int>& freeUnknowns, const std::vector<bool>& free,
+                       const std::vector<bool>& boundaryEdge, const std::vector<int>& reducedIndex,
+                       int reduced) {
+  const int vertexCount = stencils.vertexCount();
+  const int n = static_cast<int>(freeUnknowns.size());
+  std::vector<int> assemblyIndex(free.size(), -1);
+  for (int k = 0; k < n; ++k) assemblyIndex[freeUnknowns[k]] = k;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int k = 0; k < n; ++k)
+    if (reducedIndex[k] >= 0) entries.emplace_back(k, reducedIndex[k], 1.0);
+  const modeling::PolynomialSurface flat = modeling::PolynomialSurface::quadratic(0, 0, 0);
+  for (int c = 0; c < 3; ++c) {
+    Positions probe = Positions::Zero(vertexCount, 3);
+    bool any = false;
+    for (int v = 0; v < vertexCount; ++v)
+      if (free[3 * v + c]) probe(v, c) = 1.0, any = true;
+    if (!any) continue;
+    const Eigen::VectorXd g = curvature::linearizedClampedBoundaryXi(stencils, rest, probe, flat);
+    for (int f = 0; f < stencils.faceCount(); ++f) {
+      for (int i = 0; i < 3; ++i) {
+        const int e = stencils.faceEdges(f, i), o3 = 3 * stencils.faces(f, i) + c;
+        if (!boundaryEdge[e] || assemblyIndex[o3] < 0 || g[e] == 0.0) continue;
+        entries.emplace_back(assemblyIndex[3 * vertexCount + e], reducedIndex[assemblyIndex[o3]],
+                             g[e]);
+      }
+    }
+  }
+  Sparse p(n, reduced);
+  p.setFromTriplets(entries.begin(), entries.end());
+  return p;
+}
+
+struct ReducedMasses {
+  Eigen::VectorXd mass;               // per reduced unknown: m_v on a vertex coordinate, 0 on ξ
+  std::vector<int> massive;           // the reduced unknowns with mass, ascending
+  std::vector<int> unknownOfReduced;  // the assembly's unknown of each reduced one
+};
+
+ReducedMasses reducedMasses(const modeling::RestState& rest, const ModesOptions& o,
+                            const std::vector<int>& freeUnknowns,
+                            const std::vector<int>& reducedIndex, int reduced, int vertexCount) {
+  const Eigen::VectorXd vertexMass = modeling::lumpedVertexMasses(rest, o.mass, o.density);
+  ReducedMasses masses;
+  masses.mass = Eigen::VectorXd::Zero(reduced);
+  masses.unknownOfReduced.resize(reduced);
+  for (size_t k = 0; k < reducedIndex.size(); ++k) {
+    if (reducedIndex[k] < 0) continue;
+    const int unknown = freeUnknowns[k];
+    masses.unknownOfReduced[reducedIndex[k]] = unknown;
+    if (unknown < 3 * vertexCount) {
+      masses.mass[reducedIndex[k]] = vertexMass[unknown / 3];
+      masses.massive.push_back(reducedIndex[k]);
+    }
+  }
+  return masses;
+}
+
+void checkModeCount(int count, int wanted, const ModesResult& result) {
+  if (wanted < result.massUnknowns) return;
+  throw InputError("ModesOptions.count " + std::to_string(count) + ": the problem has only " +
+                   std::to_string(result.massUnknowns) + " vertex unknowns (" +
+                   std::to_string(result.rigidModes) +
+                   " rigid modes); ask for fewer modes or refine the mesh");
+}
+
+// The factor of K − σM; called under SingleThreadedLinearAlgebra.
+std::unique_ptr<CholeskyFactor> factorShifted(const Sparse& stiffness, const Eigen::VectorXd& mass,
+                                              double shift) {
+  const int reduced = static_cast<int>(stiffness.rows());
+  Sparse shifted = stiffness;
+  for (int k = 0; k < reduced; ++k) shifted.coeffRef(k, k) -= shift * mass[k];
+  // The upper triangle of K − σM, supernodal, on AMD. Measured at n = 256 (one run each, a loaded
+  // machine): midedge's factor 4.5 s on AMD against 7.3 on METIS, 7.8 on CHOLMOD's nested
+  // dissection and 6.3 on CHOLMOD's default choice; hinge and cotan within 10 % of each other on
+  // all four.
+  shifted.makeCompressed();
+  CholeskyOptions choleskyOptions;
+  choleskyOptions.matrix = CholeskyMatrix::SymmetricUpper;
+  choleskyOptions.cholmodWarnings = false;
+  auto factor = std::make_unique<CholeskyFactor>(
+      reduced, std::vector<int>(shifted.outerIndexPtr(), shifted.outerIndexPtr() + reduced + 1),
+      std::vector<int>(shifted.innerIndexPtr(), shifted.innerIndexPtr() + shifted.nonZeros()),
+      std::vector<int>{}, choleskyOptions);
+  if (!factor->factor(shifted.valuePtr())) {
+    throw NumericalError(
+        "K - sigma M is not positive definite: the energy's Hessian at rest has an eigenvalue "
+        "below the shift (a rest state that is not a minimum?)");
+  }
+  return factor;
+}
+
+struct Eigenpairs {
+  Eigen::VectorXd values;   // ω², in Spectra's order
+  Eigen::MatrixXd vectors;  // u = M^{1/2} v on the massive unknowns, one column each
+};
+
+// The smallest `pairs` eigenpairs of C among its m; the restarts are added to `restarts`.
+Eigenpairs lanczos(ShiftInvertOperator& op, int pairs, int m, double shift, int& restarts) {
+  const int ncv = std::min(m, std::max(2 * pairs + 1, pairs + 20));
+  Spectra::SymEigsShiftSolver<ShiftInvertOperator> eigs(op, pairs, ncv, shift);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful) {
+    throw NumericalError("the Lanczos iteration did not converge to " + std::to_string(pairs) +
+                         " eigenpairs in 1000 restarts");
+  }
+  restarts += static_cast<int>(eigs.num_iterations());
+  return {eigs.eigenvalues(), eigs.eigenvectors()};
+}
+
+// The eigenvalues of (S, M) below τ, by Sylvester's law of inertia: the negative pivots of an
+// LDLᵀ of K − τM (the massless ξ block of K is positive definite and adds none); `fallback` when
+// that factorization fails.
+int eigenvaluesBelow(const Sparse& stiffness, const Eigen::VectorXd& mass, double tau,
+                     int fallback) {
+  Sparse below = stiffness;
+  for (int k = 0; k < below.rows(); ++k) below.coeffRef(k, k) -= tau * mass[k];
+  Eigen::SimplicialLDLT<Sparse, Eigen::Upper> ldlt(below);
+  if (ldlt.info() != Eigen::Success) return fallback;
+  return static_cast<int>((ldlt.vectorD().array() < 0.0).count());
+}
+
+// The smallest `wanted` eigenpairs, then as many more as there are zero modes beyond the rigid
+// ones: they take the place of flexible modes, and Lanczos may return fewer copies of a repeated
+// zero eigenvalue than there are, so they are counted exactly. Sets result.zeroModes and
+// result.restarts.
+Eigenpairs smallestEigenpairs(ShiftInvertOperator& op, const Sparse& stiffness,
+                              const Eigen::VectorXd& mass, int count, int wanted,
+                              double zeroOmegaSquared, ModesResult& result) {
+  const int m = result.massUnknowns;
+  Eigenpairs pairs = lanczos(op, wanted, m, result.shift, result.restarts);
+  const int zerosFound = static_cast<int>((pairs.values.array() < zeroOmegaSquared).count());
+  result.zeroModes =
+      zerosFound > 0 ? eigenvaluesBelow(stiffness, mass, zeroOmegaSquared, zerosFound) : 0;
+  if (count + result.zeroModes > wanted && wanted < m - 1) {
+    try {
+      pairs =
+          lanczos(op, std::min(m - 1, count + result.zeroModes), m, result.shift, result.restarts);
+    } catch (const NumericalError&) {  // a long run of equal eigenvalues: keep the first answer
+    }
+  }
+  return pairs;
+}
+
+std::vector<int> ascendingOrder(const Eigen::VectorXd& values) {
+  std::vector<int> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
+  return order;
+}
+
+double infinityNorm(const Sparse& matrix) {  // the largest absolute row sum
+  Eigen::VectorXd rows = Eigen::VectorXd::Zero(matrix.rows());
+  for (int k = 0; k < matrix.outerSize(); ++k)
+    for (Sparse::InnerIterator it(matrix, k); it; ++it) rows[it.row()] += std::abs(it.value());
+  return rows.maxCoeff();
+}
+
+// ω², ω and λ = ω L² √(ρh / D) of an eigenvalue.
+VibrationMode modeFrequency(double omegaSquared, double lambdaScale) {
+  VibrationMode mode;
+  mode.omegaSquared = omegaSquared;
+  mode.omega = std::sqrt(std::max(mode.omegaSquared, 0.0));
+  mode.lambda = mode.omega * lambdaScale;
+  mode.zero = mode.lambda < kZeroModeLambda;
+  return mode;
+}
+
+struct ModeRecovery {
+  const CholeskyFactor& factor;  // of K − σM
+  const Sparse& stiffness;
+  const ReducedMasses& masses;
+  const Eigen::VectorXd& rootMass;  // √m of each massive unknown
+  double stiffnessNorm;             // ‖K‖∞
+  double shift;
+  int vertexCount;
+};
+
+// The whole eigenvector, ξ included, from u = M^{1/2} v on the massive unknowns:
+// (ω² − σ) (K − σM)⁻¹ M v solves the ξ rows exactly and returns v where v is an eigenvector.
+// Sets the M-normalized shape and the residual.
+void recoverShape(VibrationMode& mode, const ModeRecovery& r, const Eigen::VectorXd& u) {
+  const std::vector<int>& massive = r.masses.massive;
+  const Eigen::VectorXd& mass = r.masses.mass;
+  const Eigen::Index reduced = mass.size();
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(reduced);
+  for (size_t j = 0; j < massive.size(); ++j)
+    b[massive[j]] = r.rootMass[j] * u[j];  // M (M^{-1/2} u)
+  Eigen::VectorXd y = (mode.omegaSquared - r.shift) * r.factor.solve(b);
+  double norm = 0.0;
+  for (int j : massive) norm += mass[j] * y[j] * y[j];
+  y /= std::sqrt(norm);
+  const Eigen::VectorXd ky = r.stiffness * y;
+  const Eigen::VectorXd residual = ky - mode.omegaSquared * mass.cwiseProduct(y);
+  mode.residual = mode.zero ? ky.norm() / (r.stiffnessNorm * y.norm())
+                            : residual.norm() / std::max(ky.norm(), 1e-300);
+  mode.shape = Positions::Zero(r.vertexCount, 3);
+  for (Eigen::Index k = 0; k < reduced; ++k) {
+    const int unknown = r.masses.unknownOfReduced[k];
+    if (unknown < 3 * r.vertexCount) mode.shape(unknown / 3, unknown % 3) = y[k];
+  }
+}
+
+// Multiplicities: runs of modes whose λ agree to kDegenerateTolerance; the zero modes are one.
+void setMultiplicities(std::vector<VibrationMode>& modes) {
+  for (size_t i = 0; i < modes.size();) {
+    size_t j = i + 1;
+    while (j < modes.size() && (modes[i].zero ? modes[j].zero
+                                              : std::abs(modes[j].lambda - modes[j - 1].lambda) <=
+                                                    kDegenerateTolerance * modes[j].lambda))
+      ++j;
+    for (size_t k = i; k < j; ++k) modes[k].multiplicity = static_cast<int>(j - i);
+    i = j;
+  }
+}
+
 }  // namespace
 
 void ModesOptions::validate() const {
@@ -172,245 +459,71 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   const int vertexCount = stencils.vertexCount();
   const bool withXi = restXi.size() > 0;
   o.validate();
-  if (o.clamp == Clamp::Normals && o.support == Support::Clamped) {
-    if (!withXi)
-      throw InputError(
-          "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
-    if (o.dof != DofMode::Height || !restIsFlat(rest.positions))
-      throw InputError(
-          "ModesOptions.clamp normals: needs a flat plate in height mode (use ModesOptions.clamp "
-          "rings)");
-  }
+  checkNormalsClamp(o, withXi, rest.positions);
 
   ModesResult result;
   const std::vector<bool> fixed = supportFixedVertices(stencils, o.support, o.clamp, o.extraFixed);
-  result.fixedVertices = static_cast<int>(std::count(fixed.begin(), fixed.end(), true));
-  result.rigidModes = rigidMotionCount(rest.positions, fixed, o.dof);
-  const Eigen::Vector3d extent =
-      rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff();
-  result.length = o.length > 0.0 ? o.length : extent.maxCoeff();
-  result.flexuralRigidity = 2.0 * o.bendingStiffness;
-  // λ² = 1: far below every flexible mode (the first of a free square plate has λ ≈ 13), above
-  // the rigid ones' ω² = 0, so K − σM is positive definite.
-  result.shift = -result.flexuralRigidity / (o.density * std::pow(result.length, 4));
+  setSupportAndScales(result, rest.positions, fixed, o);
 
-  // The unknowns: free vertex coordinates, then the ξ (all free but the clamped boundary ones
-  // of Clamp::Rings, which stay at rest with their faces).
   const std::vector<bool> boundaryEdge =
       withXi ? curvature::boundaryEdges(stencils) : std::vector<bool>();
-  const bool clampRings = o.support == Support::Clamped && o.clamp == Clamp::Rings;
-  const bool clampNormals = o.support == Support::Clamped && o.clamp == Clamp::Normals;
-  std::vector<bool> free(3 * vertexCount + restXi.size(), false);
-  for (int v = 0; v < vertexCount; ++v)
-    for (int c = o.dof == DofMode::Height ? 2 : 0; c < 3 && !fixed[v]; ++c) free[3 * v + c] = true;
-  for (int e = 0; e < restXi.size(); ++e)
-    free[3 * vertexCount + e] = !(clampRings && boundaryEdge[e]);
-
+  const std::vector<bool> free =
+      freeUnknowns(fixed, boundaryEdge, vertexCount, static_cast<int>(restXi.size()), o);
   const HessianAssembly assembly(
       terms, free, vertexCount,
       o.dof == DofMode::Height ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All);
   const int n = assembly.size();
-  const HessianEvaluation at =
-      assembly.evaluate(rest.positions, restXi, HessianProjection::Exact, nullptr,
-                        curvature::SecondDerivatives::GaussNewton);
-  const Eigen::Map<const Sparse> upper(n, n, static_cast<int>(at.values.size()),
-                                       assembly.columnStart().data(), assembly.rowIndex().data(),
-                                       at.values.data());
-  Sparse stiffness = upper.selfadjointView<Eigen::Upper>();
-
-  // Clamp::Normals: ξ_e of a boundary edge = Σ_c g_{e,c} δ_{o,c}, o the boundary face's vertex
-  // opposite e (its other two are held), g from the linearized clamp probed with a unit move of
-  // coordinate c at every free vertex — each boundary ξ sees one free vertex, so one probe per
-  // coordinate separates them. P maps the reduced unknowns to the assembly's.
-  std::vector<int> assemblyIndex(free.size(), -1);
-  for (int k = 0; k < n; ++k) assemblyIndex[assembly.freeUnknowns()[k]] = k;
-  std::vector<int> reducedIndex(n, -1);
-  int reduced = 0;
-  for (int k = 0; k < n; ++k) {
-    const int unknown = assembly.freeUnknowns()[k];
-    const bool constrained =
-        clampNormals && unknown >= 3 * vertexCount && boundaryEdge[unknown - 3 * vertexCount];
-    if (!constrained) reducedIndex[k] = reduced++;
-  }
+  Sparse stiffness = stiffnessAtRest(assembly, rest.positions, restXi);
+  const bool clampNormals = o.support == Support::Clamped && o.clamp == Clamp::Normals;
+  const std::vector<int> reducedIndex =
+      reducedIndices(assembly.freeUnknowns(), clampNormals, boundaryEdge, vertexCount);
+  const int reduced =
+      n - static_cast<int>(std::count(reducedIndex.begin(), reducedIndex.end(), -1));
   if (reduced < n) {
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int k = 0; k < n; ++k)
-      if (reducedIndex[k] >= 0) entries.emplace_back(k, reducedIndex[k], 1.0);
-    const modeling::PolynomialSurface flat = modeling::PolynomialSurface::quadratic(0, 0, 0);
-    for (int c = 0; c < 3; ++c) {
-      Positions probe = Positions::Zero(vertexCount, 3);
-      bool any = false;
-      for (int v = 0; v < vertexCount; ++v)
-        if (free[3 * v + c]) probe(v, c) = 1.0, any = true;
-      if (!any) continue;
-      const Eigen::VectorXd g =
-          curvature::linearizedClampedBoundaryXi(stencils, rest.positions, probe, flat);
-      for (int f = 0; f < stencils.faceCount(); ++f) {
-        for (int i = 0; i < 3; ++i) {
-          const int e = stencils.faceEdges(f, i), o3 = 3 * stencils.faces(f, i) + c;
-          if (!boundaryEdge[e] || assemblyIndex[o3] < 0 || g[e] == 0.0) continue;
-          entries.emplace_back(assemblyIndex[3 * vertexCount + e], reducedIndex[assemblyIndex[o3]],
-                               g[e]);
-        }
-      }
-    }
-    Sparse p(n, reduced);
-    p.setFromTriplets(entries.begin(), entries.end());
+    const Sparse p = normalsClampMap(stencils, rest.positions, assembly.freeUnknowns(), free,
+                                     boundaryEdge, reducedIndex, reduced);
     stiffness = Sparse(p.transpose() * stiffness * p);
   }
-
-  // Masses on the reduced unknowns: m_v on each free vertex coordinate, 0 on ξ.
-  const Eigen::VectorXd vertexMass = modeling::lumpedVertexMasses(rest, o.mass, o.density);
-  Eigen::VectorXd mass = Eigen::VectorXd::Zero(reduced);
-  std::vector<int> massive;
-  std::vector<int> unknownOfReduced(reduced);
-  for (int k = 0; k < n; ++k) {
-    if (reducedIndex[k] < 0) continue;
-    const int unknown = assembly.freeUnknowns()[k];
-    unknownOfReduced[reducedIndex[k]] = unknown;
-    if (unknown < 3 * vertexCount) {
-      mass[reducedIndex[k]] = vertexMass[unknown / 3];
-      massive.push_back(reducedIndex[k]);
-    }
-  }
+  const ReducedMasses masses =
+      reducedMasses(rest, o, assembly.freeUnknowns(), reducedIndex, reduced, vertexCount);
   result.unknowns = reduced;
-  result.massUnknowns = static_cast<int>(massive.size());
+  result.massUnknowns = static_cast<int>(masses.massive.size());
   const int wanted = o.count + result.rigidModes;
-  if (wanted >= result.massUnknowns) {
-    throw InputError("ModesOptions.count " + std::to_string(o.count) + ": the problem has only " +
-                     std::to_string(result.massUnknowns) + " vertex unknowns (" +
-                     std::to_string(result.rigidModes) +
-                     " rigid modes); ask for fewer modes or refine the mesh");
-  }
+  checkModeCount(o.count, wanted, result);
   result.assemblySeconds = secondsSince(start);
 
   const auto factorStart = Clock::now();
-  Sparse shifted = stiffness;
-  for (int k = 0; k < reduced; ++k) shifted.coeffRef(k, k) -= result.shift * mass[k];
   const SingleThreadedLinearAlgebra oneThread;  // the factor and every shift-invert solve
-  // The upper triangle of K − σM, supernodal, on AMD. Measured at n = 256 (one run each, a loaded
-  // machine): midedge's factor 4.5 s on AMD against 7.3 on METIS, 7.8 on CHOLMOD's nested
-  // dissection and 6.3 on CHOLMOD's default choice; hinge and cotan within 10 % of each other on
-  // all four.
-  shifted.makeCompressed();
-  CholeskyOptions choleskyOptions;
-  choleskyOptions.matrix = CholeskyMatrix::SymmetricUpper;
-  choleskyOptions.cholmodWarnings = false;
-  CholeskyFactor factor(
-      reduced, std::vector<int>(shifted.outerIndexPtr(), shifted.outerIndexPtr() + reduced + 1),
-      std::vector<int>(shifted.innerIndexPtr(), shifted.innerIndexPtr() + shifted.nonZeros()), {},
-      choleskyOptions);
-  if (!factor.factor(shifted.valuePtr())) {
-    throw NumericalError(
-        "K - sigma M is not positive definite: the energy's Hessian at rest has an eigenvalue "
-        "below the shift (a rest state that is not a minimum?)");
-  }
+  const std::unique_ptr<CholeskyFactor> factor =
+      factorShifted(stiffness, masses.mass, result.shift);
   result.factorSeconds = secondsSince(factorStart);
 
   const auto eigenStart = Clock::now();
-  Eigen::VectorXd rootMass(massive.size());
-  for (size_t j = 0; j < massive.size(); ++j) rootMass[j] = std::sqrt(mass[massive[j]]);
-  ShiftInvertOperator op(factor, massive, rootMass, reduced, result.shift);
+  Eigen::VectorXd rootMass(masses.massive.size());
+  for (size_t j = 0; j < masses.massive.size(); ++j)
+    rootMass[j] = std::sqrt(masses.mass[masses.massive[j]]);
+  ShiftInvertOperator op(*factor, masses.massive, rootMass, reduced, result.shift);
   const double lambdaScale =
       std::pow(result.length, 2) * std::sqrt(o.density / result.flexuralRigidity);
   const double zeroOmegaSquared = std::pow(kZeroModeLambda / lambdaScale, 2);
-  const int m = result.massUnknowns;
-  // The smallest `pairs` eigenpairs.
-  Eigen::VectorXd values;
-  Eigen::MatrixXd vectors;
-  auto lanczos = [&](int pairs) {
-    const int ncv = std::min(m, std::max(2 * pairs + 1, pairs + 20));
-    Spectra::SymEigsShiftSolver<ShiftInvertOperator> eigs(op, pairs, ncv, result.shift);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
-    if (eigs.info() != Spectra::CompInfo::Successful) {
-      throw NumericalError("the Lanczos iteration did not converge to " + std::to_string(pairs) +
-                           " eigenpairs in 1000 restarts");
-    }
-    result.restarts += static_cast<int>(eigs.num_iterations());
-    values = eigs.eigenvalues();
-    vectors = eigs.eigenvectors();
-  };
-  lanczos(wanted);
-  // Zero modes beyond the rigid ones take the place of flexible modes, and Lanczos may return
-  // fewer copies of a repeated zero eigenvalue than there are. Count them exactly, by Sylvester's
-  // law of inertia: the eigenvalues of (S, M) below τ are the negative pivots of an LDLᵀ of
-  // K − τM (the massless ξ block of K is positive definite and adds none); then ask for that
-  // many more.
-  const int zerosFound = static_cast<int>((values.array() < zeroOmegaSquared).count());
-  result.zeroModes = zerosFound;
-  if (zerosFound > 0) {
-    Sparse below = stiffness;
-    for (int k = 0; k < reduced; ++k) below.coeffRef(k, k) -= zeroOmegaSquared * mass[k];
-    Eigen::SimplicialLDLT<Sparse, Eigen::Upper> ldlt(below);
-    if (ldlt.info() == Eigen::Success)
-      result.zeroModes = static_cast<int>((ldlt.vectorD().array() < 0.0).count());
-  }
-  if (o.count + result.zeroModes > wanted && wanted < m - 1) {
-    const Eigen::VectorXd firstValues = values;
-    const Eigen::MatrixXd firstVectors = vectors;
-    try {
-      lanczos(std::min(m - 1, o.count + result.zeroModes));
-    } catch (const NumericalError&) {  // a long run of equal eigenvalues: keep the first answer
-      values = firstValues;
-      vectors = firstVectors;
-    }
-  }
-  std::vector<int> order(values.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
+  const Eigenpairs pairs =
+      smallestEigenpairs(op, stiffness, masses.mass, o.count, wanted, zeroOmegaSquared, result);
 
-  const double stiffnessNorm = [&] {  // ‖K‖∞, the largest absolute row sum
-    Eigen::VectorXd rows = Eigen::VectorXd::Zero(reduced);
-    for (int k = 0; k < stiffness.outerSize(); ++k)
-      for (Sparse::InnerIterator it(stiffness, k); it; ++it) rows[it.row()] += std::abs(it.value());
-    return rows.maxCoeff();
-  }();
-  int zerosReturned = 0, flexibleReturned = 0;
-  for (int index : order) {
-    VibrationMode mode;
-    mode.omegaSquared = values[index];
-    mode.omega = std::sqrt(std::max(mode.omegaSquared, 0.0));
-    mode.lambda = mode.omega * lambdaScale;
-    mode.zero = mode.lambda < kZeroModeLambda;
+  const ModeRecovery recovery{*factor,      stiffness,  masses, rootMass, infinityNorm(stiffness),
+                              result.shift, vertexCount};
+  int flexibleReturned = 0;
+  for (int index : ascendingOrder(pairs.values)) {
+    VibrationMode mode = modeFrequency(pairs.values[index], lambdaScale);
     if (!mode.zero && flexibleReturned == o.count) break;
-    zerosReturned += mode.zero;
     flexibleReturned += !mode.zero;
-    // The whole eigenvector, ξ included: (ω² − σ) (K − σM)⁻¹ M v solves the ξ rows exactly and
-    // returns v where v is an eigenvector.
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(reduced);
-    for (size_t j = 0; j < massive.size(); ++j)
-      b[massive[j]] = rootMass[j] * vectors(j, index);  // M (M^{-1/2} u)
-    Eigen::VectorXd y = (mode.omegaSquared - result.shift) * factor.solve(b);
-    double norm = 0.0;
-    for (int j : massive) norm += mass[j] * y[j] * y[j];
-    y /= std::sqrt(norm);
-    const Eigen::VectorXd ky = stiffness * y;
-    const Eigen::VectorXd r = ky - mode.omegaSquared * mass.cwiseProduct(y);
-    mode.residual =
-        mode.zero ? ky.norm() / (stiffnessNorm * y.norm()) : r.norm() / std::max(ky.norm(), 1e-300);
-    mode.shape = Positions::Zero(vertexCount, 3);
-    for (int k = 0; k < reduced; ++k) {
-      const int unknown = unknownOfReduced[k];
-      if (unknown < 3 * vertexCount) mode.shape(unknown / 3, unknown % 3) = y[k];
-    }
-    for (const auto& [a, b2] : nodalSegments(stencils, rest, mode.shape))
-      mode.nodalLength += (b2 - a).norm();
+    recoverShape(mode, recovery, pairs.vectors.col(index));
+    for (const auto& [a, b] : nodalSegments(stencils, rest, mode.shape))
+      mode.nodalLength += (b - a).norm();
     result.modes.push_back(std::move(mode));
   }
   result.spuriousZeroModes = std::max(0, result.zeroModes - result.rigidModes);
   result.flexibleModes = flexibleReturned;
-  // Multiplicities: runs of modes whose λ agree to kDegenerateTolerance; the zero modes are one.
-  for (size_t i = 0; i < result.modes.size();) {
-    size_t j = i + 1;
-    while (j < result.modes.size() &&
-           (result.modes[i].zero ? result.modes[j].zero
-                                 : std::abs(result.modes[j].lambda - result.modes[j - 1].lambda) <=
-                                       kDegenerateTolerance * result.modes[j].lambda))
-      ++j;
-    for (size_t k = i; k < j; ++k) result.modes[k].multiplicity = static_cast<int>(j - i);
-    i = j;
-  }
+  setMultiplicities(result.modes);
   result.operations = op.operations();
   result.eigenSeconds = secondsSince(eigenStart);
   result.totalSeconds = secondsSince(start);
