@@ -40,12 +40,8 @@ bool isCompareFile(const std::string& name) {
   return false;
 }
 
-}  // namespace
-
-void runCompare(const CompareOptions& o, const GlobalOptions& global,
-                const std::string& commandName) {
-  namespace fs = std::filesystem;
-  // Every option is checked, and every mesh generated, before anything is written.
+// The options that need no mesh: both lists given, the sizes and the solve kind.
+void checkCompareOptions(const CompareOptions& o) {
   if (o.families.empty()) throw InputError("--families: give at least one mesh family");
   if (o.energies.empty()) throw InputError("--energies: give at least one energy");
   if (o.size < 64 || o.size > 4096)
@@ -53,8 +49,16 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   if (o.solve != "linearized" && o.solve != "nonlinear")
     throw InputError("--solve " + o.solve + ": expected linearized or nonlinear");
   if (o.n < 4) throw InputError("--n " + std::to_string(o.n) + ": expected at least 4");
+}
+
+// The rows: one generated mesh per family, with the family's name.
+struct CompareFamilies {
   std::vector<modeling::Mesh> meshes;
-  std::vector<std::string> familyNames;
+  std::vector<std::string> names;
+};
+
+CompareFamilies generateFamilies(const CompareOptions& o) {
+  CompareFamilies families;
   for (const std::string& name : o.families) {
     modeling::GeneratorOptions generator;
     try {
@@ -63,9 +67,13 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
       throw InputError(std::string("--families: ") + e.what());
     }
     generator.n = o.n;
-    meshes.push_back(modeling::generateMesh(generator));
-    familyNames.push_back(std::string(modeling::meshFamilyName(generator.family)));
+    families.meshes.push_back(modeling::generateMesh(generator));
+    families.names.push_back(std::string(modeling::meshFamilyName(generator.family)));
   }
+  return families;
+}
+
+std::vector<optimize::EnergyVariant> parseVariants(const CompareOptions& o) {
   std::vector<optimize::EnergyVariant> variants;
   for (const std::string& spec : o.energies) {
     try {
@@ -74,7 +82,11 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
       throw InputError(std::string("--energies: ") + e.what());
     }
   }
-  // Panels are named <family>-<energy spec>.png: a repeated row or column would overwrite one.
+  return variants;
+}
+
+// Panels are named <family>-<energy spec>.png: a repeated row or column would overwrite one.
+void requireDistinct(const CompareOptions& o, const std::vector<std::string>& familyNames) {
   for (size_t i = 0; i < o.families.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (familyNames[i] == familyNames[j])
@@ -83,7 +95,10 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
     for (size_t j = 0; j < i; ++j)
       if (o.energies[i] == o.energies[j])
         throw InputError("--energies: " + o.energies[i] + " is given twice");
-  const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(o.boundary);
+}
+
+render::RenderOptions compareLook(const CompareOptions& o,
+                                  const modeling::PolynomialSurface& surface) {
   render::RenderOptions look;
   look.style = render::parseRenderStyle(o.style);
   look.width = look.height = o.size;
@@ -92,90 +107,141 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
     look.surface = surface;
     look.width += render::kLegendWidth;
   }
+  return look;
+}
 
-  optimize::MinimizeOptions solver;
-  solver.threads = o.threads;
-  applySolverArguments(o.solver, solver);
-  render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
-  const fs::path dir(o.outputDir);
-  const bool linearized = o.solve == "linearized";
+// "patch48-midedge_free.png": the family and the energy spec, other characters as '_'.
+std::string panelFileName(const std::string& familyName, const std::string& energySpec) {
+  std::string name = familyName + "-" + energySpec;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+  return name + ".png";
+}
+
+// What the grid, the panel files and compare.json collect, row by row.
+struct CompareOutputs {
   render::FigureGrid grid;
-  grid.title = std::string(linearized ? "Linearized" : "Nonlinear") +
-               " minimizers, boundary rings on z = p(x, y), p = " + o.boundary +
-               " (n = " + std::to_string(o.n) + ", " +
-               std::string(render::renderStyleName(look.style)) +
-               "). Over each panel its C2 error: max |z - p| / max |p| over the free vertices";
-  grid.rowLabels = familyNames;
-  grid.columnLabels.push_back("exact p (reference)");
-  for (const auto& v : variants) grid.columnLabels.push_back(v.label);
   nlohmann::json panels = nlohmann::json::array();
   std::vector<std::pair<std::string, render::Image>> files;
-  for (size_t f = 0; f < meshes.size(); ++f) {
-    grid.panels.emplace_back();
-    grid.panelTitles.emplace_back();
-    // The reference every panel is judged against: p sampled at the mesh's vertices, z = p(x, y).
-    modeling::Mesh exact = meshes[f];
-    modeling::applyHeightField(surface, exact.positions);
-    render::Image reference = render::renderMesh(context, exact, look);
-    grid.panelTitles.back().push_back("C2 = 0 (z = p exactly)");
-    grid.panels.back().push_back(reference);
-    files.emplace_back(familyNames[f] + "-exact.png", std::move(reference));
-    for (size_t k = 0; k < variants.size(); ++k) {
-      const optimize::EnergyVariant& variant = variants[k];
-      const optimize::FlatPlateProblem problem(meshes[f], variant.bending);
-      const optimize::MinimizeResult result =
-          optimize::solveWithSurfaceBoundary(problem, surface, variant.normals, linearized, solver);
-      const double error = optimize::reproductionError(problem.rest.positions, result.positions,
-                                                       problem.fixedVertex, surface);
-      modeling::Mesh minimizer = meshes[f];
-      minimizer.positions = result.positions;
-      render::Image image = render::renderMesh(context, minimizer, look);
-      std::string name = familyNames[f] + "-" + o.energies[k];
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
-      name += ".png";
-      panels.push_back({{"family", familyNames[f]},
-                        {"energy", variant.label},
-                        {"n", o.n},
-                        {"vertices", minimizer.vertexCount()},
-                        {"converged", result.report.converged},
-                        {"solver", result.report.solver},
-                        {"iterations", result.report.iterations},
-                        {"final_energy", result.report.finalEnergy},
-                        {"c2_error", error},
-                        {"image", name}});
-      grid.panelTitles.back().push_back("C2 " + formatError(error) +
-                                        (result.report.converged ? "" : " (not converged)"));
-      grid.panels.back().push_back(image);
-      files.emplace_back(name, std::move(image));
-      if (!global.quiet) {
-        std::cerr << commandName << ": " << familyNames[f] << " " << variant.label << ": C2 "
-                  << formatError(error) << ", " << counted(result.report.iterations, "iteration")
-                  << '\n';
-      }
+};
+
+// What every panel of the grid shares.
+struct PanelSettings {
+  const std::vector<optimize::EnergyVariant>& variants;  // the columns after the reference
+  const modeling::PolynomialSurface& surface;            // the boundary data p
+  const render::RenderOptions& look;
+  const optimize::MinimizeOptions& solver;
+};
+
+// One row: the exact sample of p, then every energy's minimizer on the family's mesh.
+void compareRow(const CompareOptions& o, const GlobalOptions& global,
+                const std::string& commandName, render::OffscreenContext& context,
+                const modeling::Mesh& mesh, const std::string& familyName,
+                const PanelSettings& settings, CompareOutputs& out) {
+  const auto& [variants, surface, look, solver] = settings;
+  const bool linearized = o.solve == "linearized";
+  out.grid.panels.emplace_back();
+  out.grid.panelTitles.emplace_back();
+  // The reference every panel is judged against: p sampled at the mesh's vertices, z = p(x, y).
+  modeling::Mesh exact = mesh;
+  modeling::applyHeightField(surface, exact.positions);
+  render::Image reference = render::renderMesh(context, exact, look);
+  out.grid.panelTitles.back().push_back("C2 = 0 (z = p exactly)");
+  out.grid.panels.back().push_back(reference);
+  out.files.emplace_back(familyName + "-exact.png", std::move(reference));
+  for (size_t k = 0; k < variants.size(); ++k) {
+    const optimize::EnergyVariant& variant = variants[k];
+    const optimize::FlatPlateProblem problem(mesh, variant.bending);
+    const optimize::MinimizeResult result =
+        optimize::solveWithSurfaceBoundary(problem, surface, variant.normals, linearized, solver);
+    const double error = optimize::reproductionError(problem.rest.positions, result.positions,
+                                                     problem.fixedVertex, surface);
+    modeling::Mesh minimizer = mesh;
+    minimizer.positions = result.positions;
+    render::Image image = render::renderMesh(context, minimizer, look);
+    const std::string name = panelFileName(familyName, o.energies[k]);
+    out.panels.push_back({{"family", familyName},
+                          {"energy", variant.label},
+                          {"n", o.n},
+                          {"vertices", minimizer.vertexCount()},
+                          {"converged", result.report.converged},
+                          {"solver", result.report.solver},
+                          {"iterations", result.report.iterations},
+                          {"final_energy", result.report.finalEnergy},
+                          {"c2_error", error},
+                          {"image", name}});
+    out.grid.panelTitles.back().push_back("C2 " + formatError(error) +
+                                          (result.report.converged ? "" : " (not converged)"));
+    out.grid.panels.back().push_back(image);
+    out.files.emplace_back(name, std::move(image));
+    if (!global.quiet) {
+      std::cerr << commandName << ": " << familyName << " " << variant.label << ": C2 "
+                << formatError(error) << ", " << counted(result.report.iterations, "iteration")
+                << '\n';
     }
   }
-  const render::Image figure = render::composeFigureGrid(grid);
+}
+
+void writeCompareFiles(const CompareOptions& o, const std::string& styleName,
+                       const std::vector<std::string>& familyNames, const CompareOutputs& out,
+                       const render::Image& figure) {
+  namespace fs = std::filesystem;
+  const fs::path dir(o.outputDir);
   nlohmann::json references = nlohmann::json::array();
   for (const std::string& family : familyNames)
     references.push_back({{"family", family}, {"image", family + "-exact.png"}});
-
   modeling::createOutputDirectory(dir.string());
-  for (const auto& [name, image] : files) render::writePng((dir / name).string(), image);
+  for (const auto& [name, image] : out.files) render::writePng((dir / name).string(), image);
   render::writePng((dir / "compare.png").string(), figure);
   writeJsonFile((dir / "compare.json").string(),
                 {{"boundary", o.boundary},
                  {"n", o.n},
                  {"solve", o.solve},
-                 {"style", std::string(render::renderStyleName(look.style))},
+                 {"style", styleName},
                  {"references", references},
                  {"size", o.size},
                  {"error", "c2: max over the free vertices of |z - p(x, y)| / max |p(x, y)|"},
                  {"figure", "compare.png"},
-                 {"panels", panels}});
+                 {"panels", out.panels}});
+}
+
+}  // namespace
+
+void runCompare(const CompareOptions& o, const GlobalOptions& global,
+                const std::string& commandName) {
+  // Every option is checked, and every mesh generated, before anything is written.
+  checkCompareOptions(o);
+  const CompareFamilies families = generateFamilies(o);
+  const std::vector<optimize::EnergyVariant> variants = parseVariants(o);
+  requireDistinct(o, families.names);
+  const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(o.boundary);
+  const render::RenderOptions look = compareLook(o, surface);
+  const std::string styleName(render::renderStyleName(look.style));
+
+  optimize::MinimizeOptions solver;
+  solver.threads = o.threads;
+  applySolverArguments(o.solver, solver);
+  render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
+  const PanelSettings settings{variants, surface, look, solver};
+  CompareOutputs out;
+  out.grid.title = std::string(o.solve == "linearized" ? "Linearized" : "Nonlinear") +
+                   " minimizers, boundary rings on z = p(x, y), p = " + o.boundary +
+                   " (n = " + std::to_string(o.n) + ", " + styleName +
+                   "). Over each panel its C2 error: max |z - p| / max |p| over the free vertices";
+  out.grid.rowLabels = families.names;
+  out.grid.columnLabels.push_back("exact p (reference)");
+  for (const auto& v : variants) out.grid.columnLabels.push_back(v.label);
+  for (size_t f = 0; f < families.meshes.size(); ++f) {
+    compareRow(o, global, commandName, context, families.meshes[f], families.names[f], settings,
+               out);
+  }
+  const render::Image figure = render::composeFigureGrid(out.grid);
+  writeCompareFiles(o, styleName, families.names, out, figure);
   if (!global.quiet) {
+    const std::filesystem::path dir(o.outputDir);
     std::cerr << commandName << ": wrote " << (dir / "compare.png").string() << " (" << figure.width
-              << " x " << figure.height << "), compare.json and " << files.size() << " panels\n";
+              << " x " << figure.height << "), compare.json and " << out.files.size()
+              << " panels\n";
   }
 }
 

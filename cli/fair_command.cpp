@@ -386,30 +386,264 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
   return render::composeFigureGrid(grid);
 }
 
-void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
-  const auto start = Clock::now();
+// The method, energies and solver that the options name, each checked before any work.
+struct FairSettings {
+  bool cgal = false;  // --method cgal: CGAL's fair is the result
+  optimize::MinimizeOptions solver;
+  curvature::BendingOptions bending;
+  std::string energyName;
+  curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
+  optimize::FairingOptions defaults;  // for the chosen metric
+  double membraneWeight = 0.0;
+};
+
+FairSettings fairSettings(const FairCommandOptions& o) {
   modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
   if (o.method != "flexure" && o.method != "cgal")
     throw InputError("--method " + o.method + ": expected flexure or cgal");
   if (o.renderSize < kMinRenderSize || o.renderSize > 4096)
     throw InputError("--render-size must be in [" + std::to_string(kMinRenderSize) +
                      ", 4096] (got " + std::to_string(o.renderSize) + ")");
-  const bool cgal = o.method == "cgal";
-  optimize::MinimizeOptions solver = o.solver;
-  applySolverArguments(o.solverArguments, solver);
+  FairSettings s;
+  s.cgal = o.method == "cgal";
+  s.solver = o.solver;
+  applySolverArguments(o.solverArguments, s.solver);
   if (o.start != "best" && o.start != "biharmonic" && o.start != "input")
     throw InputError("--start " + o.start + ": expected best, biharmonic or input");
   if (o.metric != "input" && o.metric != "current")
     throw InputError("--metric " + o.metric + ": expected input or current");
   BendingArguments bendingArguments = o.bending;
   bendingArguments.flatRest = true;
-  const curvature::BendingOptions bending = bendingOptions(bendingArguments);
-  const std::string energyName(curvature::discretizationName(bending.discretization));
-  const curvature::MembraneModel membrane = curvature::parseMembraneModel(o.membrane);
-  const optimize::FairingOptions defaults = optimize::defaultFairingOptions(
+  s.bending = bendingOptions(bendingArguments);
+  s.energyName = curvature::discretizationName(s.bending.discretization);
+  s.membrane = curvature::parseMembraneModel(o.membrane);
+  s.defaults = optimize::defaultFairingOptions(
       o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
-  const double membraneWeight = o.membraneWeight.value_or(defaults.membraneWeight);
-  if (!cgal) optimize::fairingMembrane(membrane, membraneWeight, 1.0, 1.0);  // checks w
+  s.membraneWeight = o.membraneWeight.value_or(s.defaults.membraneWeight);
+  if (!s.cgal) optimize::fairingMembrane(s.membrane, s.membraneWeight, 1.0, 1.0);  // checks w
+  return s;
+}
+
+optimize::FairingOptions flexureFairingOptions(const FairCommandOptions& o, const FairSettings& s,
+                                               bool quiet) {
+  optimize::FairingOptions options = s.defaults;
+  options.bending = s.bending;
+  if (o.bending.vertexArea.empty()) options.bending.vertexArea = s.defaults.bending.vertexArea;
+  options.membrane = s.membrane;
+  options.membraneWeight = s.membraneWeight;
+  options.start = o.start == "input"        ? optimize::FairingStart::Input
+                  : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
+                                            : optimize::FairingStart::Best;
+  options.angleBarrier = !o.allowSlivers;
+  options.solver = s.solver;
+  options.solver.progress = !quiet;
+  return options;
+}
+
+// The patch faired by flexure (unless --method cgal) and by CGAL, measured and checked.
+struct FairOutcome {
+  optimize::FairingMeasures before, cgalMeasures, after;
+  modeling::Positions patchAfter;  // the method's result
+  modeling::Positions cgalPatch;
+  std::optional<optimize::MinimizeReport> solve;
+  std::optional<optimize::FairingResult> fairing;
+  std::string startUsed;                         // "input" or "biharmonic" (flexure only)
+  double solveSeconds = 0.0, cgalSeconds = 0.0;  // solveSeconds: the method's own
+  optimize::FairingChecks checks;
+  SliverCheck slivers;
+  bool sliversPassed = false, solverConverged = false, converged = false;
+};
+
+FairOutcome fairPatch(const FairCommandOptions& o, const FairSettings& s,
+                      const modeling::FairingPatch& patch, bool quiet) {
+  FairOutcome r;
+  r.before = optimize::measureFairing(patch, patch.mesh.positions, s.bending);
+  const auto solveStart = Clock::now();
+  if (!s.cgal) {
+    r.fairing = optimize::fairNonlinear(patch, flexureFairingOptions(o, s, quiet));
+    r.patchAfter = r.fairing->positions;
+    r.solve = r.fairing->report;
+    r.startUsed = r.fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
+  }
+  const double flexureSeconds = secondsSince(solveStart);
+  // CGAL's fair always: the result with --method cgal, the baseline beside flexure's otherwise.
+  const auto cgalStart = Clock::now();
+  r.cgalPatch = optimize::fairCgal(patch);
+  r.cgalSeconds = secondsSince(cgalStart);
+  r.solveSeconds = s.cgal ? r.cgalSeconds : flexureSeconds;
+  if (s.cgal) r.patchAfter = r.cgalPatch;
+  r.cgalMeasures = optimize::measureFairing(patch, r.cgalPatch, s.bending);
+  r.after = s.cgal ? r.cgalMeasures : optimize::measureFairing(patch, r.patchAfter, s.bending);
+  r.checks = optimize::checkFairing(patch, r.patchAfter, r.fairing ? &*r.fairing : nullptr);
+  r.slivers = {r.checks.inputMinAngleDegrees, r.cgalMeasures.quality.minAngleDegrees,
+               r.checks.resultMinAngleDegrees};
+  // The rule judges flexure's result (CGAL's own angle is one of the two it compares with).
+  r.sliversPassed = s.cgal || r.slivers.passed();
+  r.solverConverged = !r.solve || r.solve->converged;
+  r.converged = r.solverConverged && r.checks.passed() && (r.sliversPassed || o.allowSlivers);
+  return r;
+}
+
+// The failed checks in words, each with its numbers and threshold ("" when all passed).
+std::string fairingFailure(const FairCommandOptions& o, const FairOutcome& r) {
+  std::string failure = r.checks.failure();
+  if (!r.sliversPassed && !o.allowSlivers)
+    failure += (failure.empty() ? "" : "; ") + r.slivers.failure();
+  return failure;
+}
+
+std::vector<MeasureColumn> measureColumns(const RegionChoice& choice, const FairSettings& s,
+                                          const FairOutcome& r) {
+  std::vector<MeasureColumn> columns = {
+      {"input", choice.filled ? "holes filled" : "input", r.before},
+      {"cgal", "CGAL fair", r.cgalMeasures}};
+  if (!s.cgal) columns.push_back({"flexure", "flexure " + s.energyName, r.after});
+  return columns;
+}
+
+nlohmann::json holesJson(const modeling::FilledMesh& filled) {
+  nlohmann::json holes = nlohmann::json::array();
+  for (const modeling::FilledHole& h : filled.holes) {
+    holes.push_back({{"boundary_edges", h.boundaryEdges},
+                     {"vertex", h.loopVertex},
+                     {"new_faces", h.newFaces},
+                     {"new_vertices", h.newVertices}});
+  }
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const modeling::SkippedHole& h : filled.skipped) {
+    skipped.push_back(
+        {{"boundary_edges", h.boundaryEdges}, {"vertex", h.loopVertex}, {"reason", h.reason}});
+  }
+  return {{"filled", holes}, {"skipped", skipped}, {"loops_left", filled.loopsLeft}};
+}
+
+// flexure's own part of the report: the energy, the membrane, the start and the solver.
+void addFlexureReport(const FairCommandOptions& o, const FairSettings& s, const FairOutcome& r,
+                      nlohmann::json& report) {
+  report["energy_name"] = s.energyName;
+  report["poisson"] = curvature::effectivePoisson(s.bending);
+  report["stiffness"] = s.bending.stiffness;
+  report["membrane"] = {{"model", o.membrane}, {"weight", s.membraneWeight}};
+  report["start"] = r.startUsed;
+  report["metric"] = o.metric;
+  const optimize::MinimizeReport& solve = *r.solve;
+  report["solver"] = {{"name", solve.solver},
+                      {"factorizations", solve.factorizations},
+                      {"converged", solve.converged},
+                      {"termination", solve.termination},
+                      {"iterations", solve.iterations},
+                      {"initial_energy", solve.initialEnergy},
+                      {"final_energy", solve.finalEnergy},
+                      {"final_gradient_norm", solve.gradientNorm},
+                      {"unknowns", solve.unknowns}};
+}
+
+// The JSON report without its "seconds".
+nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
+                          const RegionChoice& choice, const modeling::FairingPatch& patch,
+                          const FairOutcome& r, const std::vector<MeasureColumn>& columns) {
+  nlohmann::json measures = nlohmann::json::object();
+  for (const MeasureColumn& c : columns) measures[c.key] = measuresJson(c.measures);
+  nlohmann::json checksReport = checksJson(r.checks);
+  if (!s.cgal) {
+    checksReport["min_angle_degrees"] = {
+        {"input", r.slivers.inputDegrees},      {"cgal", r.slivers.cgalDegrees},
+        {"result", r.slivers.resultDegrees},    {"limit", r.slivers.limitDegrees()},
+        {"tolerance", kSliverToleranceDegrees}, {"passed", r.slivers.passed()},
+        {"allow_slivers", o.allowSlivers}};
+  }
+  nlohmann::json report = {
+      {"input", o.input},
+      {"output", r.converged ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
+      {"method", o.method},
+      {"region",
+       {{"spec", o.region},
+        {"vertices", modeling::countVertices(choice.region)},
+        {"held_rings", modeling::kHeldRings},
+        {"patch_vertices", patch.mesh.vertexCount()},
+        {"patch_faces", patch.mesh.faceCount()}}},
+      // Side by side: the input (for holes, CGAL's fill), CGAL's fair and flexure's result (with
+      // --method flexure); "result" names the column that was written.
+      {"measures", measures},
+      {"result", s.cgal ? "cgal" : "flexure"},
+      {"converged", r.converged},
+      {"checks", checksReport},
+  };
+  const std::string failure = fairingFailure(o, r);
+  if (!failure.empty()) report["failed_check"] = failure;
+  if (!s.cgal) addFlexureReport(o, s, r, report);
+  if (choice.filled) report["holes"] = holesJson(*choice.filled);
+  nlohmann::json errors = nlohmann::json::object();
+  for (const optimize::EnergyMeasure& e : r.before.bending)
+    if (!e.error.empty()) errors[e.energy] = e.error;
+  if (!errors.empty()) report["energy_errors"] = errors;
+  return report;
+}
+
+// An unconverged fair: the report (when asked for) without a mesh, and the error saying why.
+[[noreturn]] void failUnconverged(const FairCommandOptions& o, const FairSettings& s,
+                                  const FairOutcome& r, const nlohmann::json& report) {
+  if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
+  const std::string notWritten =
+      o.output + " not written" + (o.reportFile.empty() ? "" : ", see " + o.reportFile);
+  if (r.solverConverged) {
+    const bool onlySlivers = r.checks.passed();
+    throw NumericalError(
+        std::string(s.cgal ? "CGAL's fair" : "the fairing solve") +
+        " ended at a result that fails its checks: " + fairingFailure(o, r) + "; " + notWritten +
+        (s.cgal        ? ""
+         : onlySlivers ? "; try a larger --membrane-weight, or pass --allow-slivers to accept it"
+                       : "; try a larger --membrane-weight, another --energy or a smaller region"));
+  }
+  throw NumericalError("the fairing solve did not converge (" + r.solve->termination + "); " +
+                       notWritten + "; " + solverAdvice(*r.solve, o.solver) +
+                       " (or lower --membrane-weight)");
+}
+
+// The render: the input, CGAL's fair and (with --method flexure) flexure's result and its signed
+// distance from CGAL's, each titled with its energy.
+render::Image fairFigure(const FairCommandOptions& o, const FairSettings& s,
+                         const RegionChoice& choice, const modeling::Stencils& stencils,
+                         const modeling::FairingPatch& patch, const FairOutcome& r,
+                         const modeling::Positions& faired, bool quiet) {
+  const modeling::Mesh& mesh = choice.mesh;
+  const auto title = [&](const optimize::FairingMeasures& m) {
+    char text[96];
+    std::snprintf(text, sizeof text, "E_%s = %.4g", s.energyName.c_str(),
+                  measuredEnergy(m, s.energyName));
+    return std::string(text);
+  };
+  const modeling::Positions cgalFaired =
+      modeling::scatterPatchPositions(mesh.positions, patch, r.cgalPatch);
+  std::vector<FigurePanel> panels = {{choice.filled ? "holes filled (CGAL)" : "input",
+                                      title(r.before),
+                                      mesh.positions,
+                                      {},
+                                      {},
+                                      {}},
+                                     {"CGAL fair", title(r.cgalMeasures), cgalFaired, {}, {}, {}}};
+  if (!s.cgal) {
+    panels.push_back({"flexure " + s.energyName, title(r.after), faired, {}, {}, {}});
+    // The fourth panel: where and how far flexure's surface leaves CGAL's (the reflection
+    // lines of the two often look alike; this map shows the difference itself). CGAL's
+    // normals need its faces non-degenerate; without them the panel is left out.
+    try {
+      panels.push_back({"flexure - CGAL", "signed distance, flexure - CGAL", cgalFaired,
+                        signedDistanceFromCgal(mesh, patch, r.patchAfter, r.cgalPatch),
+                        "distance of flexure's result from CGAL's fair", "d"});
+    } catch (const InputError& e) {
+      if (!quiet)
+        std::cerr << "flexure fair: no signed-distance panel: CGAL's fair has a degenerate "
+                     "face ("
+                  << e.what() << ")\n";
+    }
+  }
+  return beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
+}
+
+void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
+  const auto start = Clock::now();
+  const FairSettings s = fairSettings(o);
   if (!o.renderFile.empty()) render::OffscreenContext();  // a missing OSMesa fails before any solve
 
   std::vector<std::string> notices;
@@ -422,195 +656,34 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   modeling::requireFairableRegion(stencils, choice.region, o.input + ": --region " + o.region);
   const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, choice.region);
-  const int regionVertices = modeling::countVertices(choice.region);
   if (!global.quiet) {
-    std::cerr << "flexure fair: region " << counted(regionVertices, "vertex", "vertices")
-              << ", patch " << counted(patch.mesh.vertexCount(), "vertex", "vertices") << " and "
+    std::cerr << "flexure fair: region "
+              << counted(modeling::countVertices(choice.region), "vertex", "vertices") << ", patch "
+              << counted(patch.mesh.vertexCount(), "vertex", "vertices") << " and "
               << counted(patch.mesh.faceCount(), "face") << " (" << modeling::kHeldRings
               << " held rings)\n";
   }
 
-  const optimize::FairingMeasures before =
-      optimize::measureFairing(patch, patch.mesh.positions, bending);
-  const auto solveStart = Clock::now();
-  modeling::Positions patchAfter;
-  std::optional<optimize::MinimizeReport> solve;
-  std::optional<optimize::FairingResult> fairing;
-  std::string startUsed;
-  if (!cgal) {
-    optimize::FairingOptions options = defaults;
-    options.bending = bending;
-    if (o.bending.vertexArea.empty()) options.bending.vertexArea = defaults.bending.vertexArea;
-    options.membrane = membrane;
-    options.membraneWeight = membraneWeight;
-    options.start = o.start == "input"        ? optimize::FairingStart::Input
-                    : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
-                                              : optimize::FairingStart::Best;
-    options.angleBarrier = !o.allowSlivers;
-    options.solver = solver;
-    options.solver.progress = !global.quiet;
-    fairing = optimize::fairNonlinear(patch, options);
-    patchAfter = fairing->positions;
-    solve = fairing->report;
-    startUsed = fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
-  }
-  const double flexureSeconds = secondsSince(solveStart);
-  // CGAL's fair always: the result with --method cgal, the baseline beside flexure's otherwise.
-  const auto cgalStart = Clock::now();
-  const modeling::Positions cgalPatch = optimize::fairCgal(patch);
-  const double cgalSeconds = secondsSince(cgalStart);
-  const double solveSeconds = cgal ? cgalSeconds : flexureSeconds;  // the method's own
-  if (cgal) patchAfter = cgalPatch;
-  const optimize::FairingMeasures cgalMeasures =
-      optimize::measureFairing(patch, cgalPatch, bending);
-  const optimize::FairingMeasures after =
-      cgal ? cgalMeasures : optimize::measureFairing(patch, patchAfter, bending);
-  const optimize::FairingChecks checks =
-      optimize::checkFairing(patch, patchAfter, fairing ? &*fairing : nullptr);
-  const SliverCheck slivers{checks.inputMinAngleDegrees, cgalMeasures.quality.minAngleDegrees,
-                            checks.resultMinAngleDegrees};
-  // The rule judges flexure's result (CGAL's own angle is one of the two it compares with).
-  const bool sliversPassed = cgal || slivers.passed();
-  const bool solverConverged = !solve || solve->converged;
-  const bool converged = solverConverged && checks.passed() && (sliversPassed || o.allowSlivers);
+  const FairOutcome r = fairPatch(o, s, patch, global.quiet);
   const modeling::Positions faired =
-      modeling::scatterPatchPositions(mesh.positions, patch, patchAfter);
-
-  std::vector<MeasureColumn> columns = {{"input", choice.filled ? "holes filled" : "input", before},
-                                        {"cgal", "CGAL fair", cgalMeasures}};
-  if (!cgal) columns.push_back({"flexure", "flexure " + energyName, after});
-  nlohmann::json measures = nlohmann::json::object();
-  for (const MeasureColumn& c : columns) measures[c.key] = measuresJson(c.measures);
-  nlohmann::json checksReport = checksJson(checks);
-  if (!cgal) {
-    checksReport["min_angle_degrees"] = {
-        {"input", slivers.inputDegrees},        {"cgal", slivers.cgalDegrees},
-        {"result", slivers.resultDegrees},      {"limit", slivers.limitDegrees()},
-        {"tolerance", kSliverToleranceDegrees}, {"passed", slivers.passed()},
-        {"allow_slivers", o.allowSlivers}};
-  }
-  nlohmann::json report = {
-      {"input", o.input},
-      {"output", converged ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
-      {"method", o.method},
-      {"region",
-       {{"spec", o.region},
-        {"vertices", regionVertices},
-        {"held_rings", modeling::kHeldRings},
-        {"patch_vertices", patch.mesh.vertexCount()},
-        {"patch_faces", patch.mesh.faceCount()}}},
-      // Side by side: the input (for holes, CGAL's fill), CGAL's fair and flexure's result (with
-      // --method flexure); "result" names the column that was written.
-      {"measures", measures},
-      {"result", cgal ? "cgal" : "flexure"},
-      {"converged", converged},
-      {"checks", checksReport},
-  };
-  // The failed checks in words, each with its numbers and threshold ("" when all passed).
-  std::string failure = checks.failure();
-  if (!sliversPassed && !o.allowSlivers)
-    failure += (failure.empty() ? "" : "; ") + slivers.failure();
-  if (!failure.empty()) report["failed_check"] = failure;
-  if (!cgal) {
-    report["energy_name"] = energyName;
-    report["poisson"] = curvature::effectivePoisson(bending);
-    report["stiffness"] = bending.stiffness;
-    report["membrane"] = {{"model", o.membrane}, {"weight", membraneWeight}};
-    report["start"] = startUsed;
-    report["metric"] = o.metric;
-    report["solver"] = {{"name", solve->solver},
-                        {"factorizations", solve->factorizations},
-                        {"converged", solve->converged},
-                        {"termination", solve->termination},
-                        {"iterations", solve->iterations},
-                        {"initial_energy", solve->initialEnergy},
-                        {"final_energy", solve->finalEnergy},
-                        {"final_gradient_norm", solve->gradientNorm},
-                        {"unknowns", solve->unknowns}};
-  }
-  if (choice.filled) {
-    nlohmann::json holes = nlohmann::json::array();
-    for (const modeling::FilledHole& h : choice.filled->holes) {
-      holes.push_back({{"boundary_edges", h.boundaryEdges},
-                       {"vertex", h.loopVertex},
-                       {"new_faces", h.newFaces},
-                       {"new_vertices", h.newVertices}});
-    }
-    nlohmann::json skipped = nlohmann::json::array();
-    for (const modeling::SkippedHole& h : choice.filled->skipped) {
-      skipped.push_back(
-          {{"boundary_edges", h.boundaryEdges}, {"vertex", h.loopVertex}, {"reason", h.reason}});
-    }
-    report["holes"] = {
-        {"filled", holes}, {"skipped", skipped}, {"loops_left", choice.filled->loopsLeft}};
-  }
-  nlohmann::json errors = nlohmann::json::object();
-  for (const optimize::EnergyMeasure& e : before.bending)
-    if (!e.error.empty()) errors[e.energy] = e.error;
-  if (!errors.empty()) report["energy_errors"] = errors;
+      modeling::scatterPatchPositions(mesh.positions, patch, r.patchAfter);
+  const std::vector<MeasureColumn> columns = measureColumns(choice, s, r);
+  nlohmann::json report = fairReport(o, s, choice, patch, r, columns);
   if (!global.quiet) printSideBySide(columns);
 
   const auto seconds = [&] {
     return nlohmann::json{
-        {"solve", solveSeconds}, {"cgal", cgalSeconds}, {"total", secondsSince(start)}};
+        {"solve", r.solveSeconds}, {"cgal", r.cgalSeconds}, {"total", secondsSince(start)}};
   };
-  if (!converged) {
+  if (!r.converged) {
     report["seconds"] = seconds();
-    if (!o.reportFile.empty()) writeFailureReport(o.reportFile, report);
+    failUnconverged(o, s, r, report);
   }
-  const std::string notWritten =
-      o.output + " not written" + (o.reportFile.empty() ? "" : ", see " + o.reportFile);
-  if (solverConverged && !converged) {
-    const bool onlySlivers = checks.passed();
-    throw NumericalError(
-        std::string(cgal ? "CGAL's fair" : "the fairing solve") +
-        " ended at a result that fails its checks: " + failure + "; " + notWritten +
-        (cgal          ? ""
-         : onlySlivers ? "; try a larger --membrane-weight, or pass --allow-slivers to accept it"
-                       : "; try a larger --membrane-weight, another --energy or a smaller region"));
-  }
-  if (!converged) {
-    throw NumericalError("the fairing solve did not converge (" + solve->termination + "); " +
-                         notWritten + "; " + solverAdvice(*solve, o.solver) +
-                         " (or lower --membrane-weight)");
-  }
-  if (!sliversPassed && !global.quiet)
-    std::cerr << "flexure fair: --allow-slivers: accepting " << slivers.failure() << '\n';
+  if (!r.sliversPassed && !global.quiet)
+    std::cerr << "flexure fair: --allow-slivers: accepting " << r.slivers.failure() << '\n';
   std::optional<render::Image> figure;
-  if (!o.renderFile.empty()) {
-    const auto title = [&](const optimize::FairingMeasures& m) {
-      char text[96];
-      std::snprintf(text, sizeof text, "E_%s = %.4g", energyName.c_str(),
-                    measuredEnergy(m, energyName));
-      return std::string(text);
-    };
-    const modeling::Positions cgalFaired =
-        modeling::scatterPatchPositions(mesh.positions, patch, cgalPatch);
-    std::vector<FigurePanel> panels = {{choice.filled ? "holes filled (CGAL)" : "input",
-                                        title(before),
-                                        mesh.positions,
-                                        {},
-                                        {},
-                                        {}},
-                                       {"CGAL fair", title(cgalMeasures), cgalFaired, {}, {}, {}}};
-    if (!cgal) {
-      panels.push_back({"flexure " + energyName, title(after), faired, {}, {}, {}});
-      // The fourth panel: where and how far flexure's surface leaves CGAL's (the reflection
-      // lines of the two often look alike; this map shows the difference itself). CGAL's
-      // normals need its faces non-degenerate; without them the panel is left out.
-      try {
-        panels.push_back({"flexure - CGAL", "signed distance, flexure - CGAL", cgalFaired,
-                          signedDistanceFromCgal(mesh, patch, patchAfter, cgalPatch),
-                          "distance of flexure's result from CGAL's fair", "d"});
-      } catch (const InputError& e) {
-        if (!global.quiet)
-          std::cerr << "flexure fair: no signed-distance panel: CGAL's fair has a degenerate "
-                       "face ("
-                    << e.what() << ")\n";
-      }
-    }
-    figure = beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
-  }
+  if (!o.renderFile.empty())
+    figure = fairFigure(o, s, choice, stencils, patch, r, faired, global.quiet);
   modeling::Mesh out = mesh;
   out.positions = faired;
   modeling::writeMesh(o.output, out);
@@ -618,11 +691,11 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   report["seconds"] = seconds();
   if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
   if (!global.quiet) {
-    std::cerr << "flexure fair: wrote " << o.output << " (E_" << energyName << " "
-              << measuredEnergy(before, energyName) << " -> " << measuredEnergy(after, energyName)
-              << ", max displacement " << after.maxDisplacement << ", smallest angle "
-              << checks.inputMinAngleDegrees << " -> " << checks.resultMinAngleDegrees << " deg, "
-              << solveSeconds << " s)\n";
+    std::cerr << "flexure fair: wrote " << o.output << " (E_" << s.energyName << " "
+              << measuredEnergy(r.before, s.energyName) << " -> "
+              << measuredEnergy(r.after, s.energyName) << ", max displacement "
+              << r.after.maxDisplacement << ", smallest angle " << r.checks.inputMinAngleDegrees
+              << " -> " << r.checks.resultMinAngleDegrees << " deg, " << r.solveSeconds << " s)\n";
   }
 }
 

@@ -277,11 +277,17 @@ bool isGenerated(const StudyOptions& o, const std::string& family) {
                      [&](modeling::MeshFamily f) { return modeling::meshFamilyName(f) == family; });
 }
 
-std::string summaryMarkdown(const StudyOptions& o, const StudySummary& s,
-                            const std::vector<std::string>& plots) {
-  std::ostringstream md;
-  md << "# Convergence study\n\n";
-  std::string energies, meshes, quadratics, levels;
+// "16, 32, 64": the generated meshes' cells per side, coarsest first.
+std::string levelsText(const StudyOptions& o) {
+  std::string levels;
+  for (int l = 0; l < o.levels; ++l) levels += (l ? ", " : "") + std::to_string(o.baseN << l);
+  return levels;
+}
+
+// The study's settings as a list: energies, Poisson's ratio, meshes, quadratics, amplitudes and
+// the plate solution.
+void writeSettingsList(const StudyOptions& o, std::ostringstream& md) {
+  std::string energies, meshes, quadratics;
   for (const auto& v : o.energies) energies += (energies.empty() ? "" : ", ") + v.label;
   for (const auto f : o.families) {
     meshes += (meshes.empty() ? "" : ", ") + std::string(modeling::meshFamilyName(f));
@@ -296,23 +302,19 @@ std::string summaryMarkdown(const StudyOptions& o, const StudySummary& s,
     quadratics += (quadratics.empty() ? "(" : ", (") + format("%g", q.a) + ", " +
                   format("%g", q.b) + ", " + format("%g", q.c) + ")";
   }
-  for (int l = 0; l < o.levels; ++l) levels += (l ? ", " : "") + std::to_string(o.baseN << l);
-  const bool anyPoisson = std::any_of(o.energies.begin(), o.energies.end(), [](const auto& v) {
-    return curvature::effectivePoisson(v.bending) != 1.0;
-  });
   md << "- energies: " << energies << "\n";
-  if (anyPoisson) {
-    for (const auto& v : o.energies) {
-      const double nu = curvature::effectivePoisson(v.bending);
-      if (nu != 1.0) {
-        md << "- Poisson's ratio ν = " << format("%g", nu)
-           << " for the energies that take one (hinge and cotan are ν = 1 models)\n";
-        break;
-      }
+  // The first energy that takes a Poisson's ratio names it (hinge and cotan are ν = 1).
+  for (const auto& v : o.energies) {
+    const double nu = curvature::effectivePoisson(v.bending);
+    if (nu != 1.0) {
+      md << "- Poisson's ratio ν = " << format("%g", nu)
+         << " for the energies that take one (hinge and cotan are ν = 1 models)\n";
+      break;
     }
   }
   md << "- meshes: " << meshes;
-  if (!o.families.empty()) md << "; generated on [−½, ½]² with n = " << levels << " cells per side";
+  if (!o.families.empty())
+    md << "; generated on [−½, ½]² with n = " << levelsText(o) << " cells per side";
   md << "\n- quadratics (a, b, c) of p = a x² + b xy + c y²: " << quadratics << "\n";
   if (o.amplitudes > 0) {
     md << "- nonlinear C2 at ε = 1/2 … " << amplitudeText(std::ldexp(1.0, -o.amplitudes))
@@ -320,9 +322,10 @@ std::string summaryMarkdown(const StudyOptions& o, const StudySummary& s,
   }
   if (!o.solution.empty() && !o.families.empty())
     md << "- refinement data: the plate solution u = " << o.solution << "\n";
+}
 
-  const int base = o.baseN;
-  md << "\n## C1 and C2 (linearized, n = " << base << ")\n\n"
+void writeReproductionTable(const StudyOptions& o, const StudySummary& s, std::ostringstream& md) {
+  md << "\n## C1 and C2 (linearized, n = " << o.baseN << ")\n\n"
      << "C1 = |E_lin(p)/A_cov − Ψ_ν(∇²p)| / |∇²p|², C2 = max over the free vertices |z − p| / max "
         "|p| with rings 0 and 1 fixed on p (midedge: boundary ξ clamped, or free). Each cell: the "
         "verdict on the worst error over the quadratics"
@@ -343,66 +346,80 @@ std::string summaryMarkdown(const StudyOptions& o, const StudySummary& s,
     }
     md << markdownRow(row);
   }
+}
 
+void writeNonlinearOrderTable(const StudyOptions& o, const StudySummary& s,
+                              std::ostringstream& md) {
   std::vector<std::string> familyHeader = {"energy"};
   for (const auto& f : s.families) familyHeader.push_back(f);
-  if (o.amplitudes >= 2) {
-    md << "\n## Nonlinear C2: order in ε\n\n"
-       << "The full energy's minimizer with boundary data εp, ε = 1/2 … "
-       << amplitudeText(std::ldexp(1.0, -o.amplitudes))
-       << ": the least-squares order of max |z − εp| ∝ ε^order, smallest over the quadratics. "
-          "About 1 "
-          "where linearized C2 fails; where it passes the minimizer is odd in ε (a flat rest "
-          "mirrors z → −z), so the order is 3. \"exact\": every error is round-off.\n\n"
-       << markdownHeader(familyHeader);
-    for (size_t e = 0; e < s.energies.size(); ++e) {
-      std::vector<std::string> row = {s.energies[e]};
-      for (const auto& c : s.cells[e]) {
-        std::string cell = c.nonlinearOrder ? order(*c.nonlinearOrder) : "exact";
-        if (!c.nonlinearConverged) cell += " (a solve did not converge)";
-        row.push_back(cell);
-      }
-      md << markdownRow(row);
+  md << "\n## Nonlinear C2: order in ε\n\n"
+     << "The full energy's minimizer with boundary data εp, ε = 1/2 … "
+     << amplitudeText(std::ldexp(1.0, -o.amplitudes))
+     << ": the least-squares order of max |z − εp| ∝ ε^order, smallest over the quadratics. "
+        "About 1 "
+        "where linearized C2 fails; where it passes the minimizer is odd in ε (a flat rest "
+        "mirrors z → −z), so the order is 3. \"exact\": every error is round-off.\n\n"
+     << markdownHeader(familyHeader);
+  for (size_t e = 0; e < s.energies.size(); ++e) {
+    std::vector<std::string> row = {s.energies[e]};
+    for (const auto& c : s.cells[e]) {
+      std::string cell = c.nonlinearOrder ? order(*c.nonlinearOrder) : "exact";
+      if (!c.nonlinearConverged) cell += " (a solve did not converge)";
+      row.push_back(cell);
     }
+    md << markdownRow(row);
   }
+}
 
-  const bool refinement = !o.solution.empty() && !o.families.empty() && o.levels >= 2;
-  if (refinement) {
-    std::vector<std::string> generatedHeader = {"energy"};
-    for (const auto& f : s.families)
-      if (isGenerated(o, f)) generatedHeader.push_back(f);
-    const auto table = [&](bool energy) {
-      md << markdownHeader(generatedHeader);
-      for (size_t e = 0; e < s.energies.size(); ++e) {
-        std::vector<std::string> row = {s.energies[e]};
-        for (size_t f = 0; f < s.families.size(); ++f) {
-          if (!isGenerated(o, s.families[f])) continue;
-          const auto& c = s.cells[e][f];
-          row.push_back(energy
-                            ? refinementCell(c.energyRefinement, c.energyOrder, c.finestEnergyError)
-                            : refinementCell(c.refinement, c.refinementOrder, c.finestError));
-        }
-        md << markdownRow(row);
-      }
-    };
-    const int finest = o.baseN << (o.levels - 1);
-    md << "\n## Refinement: the minimizer against u = " << o.solution << "\n\n"
-       << "Linearized minimizer with rings 0 and 1 on u, n = " << levels
-       << ". Each cell: the least-squares order of max interior |z − u| / max |u| in h = 1/n, and "
-          "(in parentheses) that error at n = "
-       << finest
-       << ". \"does not converge\": the error at the finest level is not below 0.7 × the one "
-          "before; \"exact\": the coarsest error is below 1e-9 (u is reproduced; finer levels show "
-          "only round-off).\n\n";
-    table(false);
-    md << "\n## Refinement: the energy against ∫ Ψ_ν(∇²u)\n\n"
-       << "|E_lin(z) − ∫ Ψ_ν(∇²u) dA| / ∫ |∇²u|² dA, the integrals over the whole square (an "
-          "energy "
-          "whose elements leave out a boundary strip carries that O(h) deficit); order in h and "
-          "(in parentheses) the error at n = "
-       << finest << ".\n\n";
-    table(true);
+// One refinement table over the generated families: the minimizer's error against u, or (energy)
+// the energy's.
+void writeRefinementTable(const StudyOptions& o, const StudySummary& s, bool energy,
+                          std::ostringstream& md) {
+  std::vector<std::string> generatedHeader = {"energy"};
+  for (const auto& f : s.families)
+    if (isGenerated(o, f)) generatedHeader.push_back(f);
+  md << markdownHeader(generatedHeader);
+  for (size_t e = 0; e < s.energies.size(); ++e) {
+    std::vector<std::string> row = {s.energies[e]};
+    for (size_t f = 0; f < s.families.size(); ++f) {
+      if (!isGenerated(o, s.families[f])) continue;
+      const auto& c = s.cells[e][f];
+      row.push_back(energy ? refinementCell(c.energyRefinement, c.energyOrder, c.finestEnergyError)
+                           : refinementCell(c.refinement, c.refinementOrder, c.finestError));
+    }
+    md << markdownRow(row);
   }
+}
+
+void writeRefinementSections(const StudyOptions& o, const StudySummary& s, std::ostringstream& md) {
+  const int finest = o.baseN << (o.levels - 1);
+  md << "\n## Refinement: the minimizer against u = " << o.solution << "\n\n"
+     << "Linearized minimizer with rings 0 and 1 on u, n = " << levelsText(o)
+     << ". Each cell: the least-squares order of max interior |z − u| / max |u| in h = 1/n, and "
+        "(in parentheses) that error at n = "
+     << finest
+     << ". \"does not converge\": the error at the finest level is not below 0.7 × the one "
+        "before; \"exact\": the coarsest error is below 1e-9 (u is reproduced; finer levels show "
+        "only round-off).\n\n";
+  writeRefinementTable(o, s, false, md);
+  md << "\n## Refinement: the energy against ∫ Ψ_ν(∇²u)\n\n"
+     << "|E_lin(z) − ∫ Ψ_ν(∇²u) dA| / ∫ |∇²u|² dA, the integrals over the whole square (an "
+        "energy "
+        "whose elements leave out a boundary strip carries that O(h) deficit); order in h and "
+        "(in parentheses) the error at n = "
+     << finest << ".\n\n";
+  writeRefinementTable(o, s, true, md);
+}
+
+std::string summaryMarkdown(const StudyOptions& o, const StudySummary& s,
+                            const std::vector<std::string>& plots) {
+  std::ostringstream md;
+  md << "# Convergence study\n\n";
+  writeSettingsList(o, md);
+  writeReproductionTable(o, s, md);
+  if (o.amplitudes >= 2) writeNonlinearOrderTable(o, s, md);
+  if (!o.solution.empty() && !o.families.empty() && o.levels >= 2)
+    writeRefinementSections(o, s, md);
   if (!plots.empty()) {
     md << "\n## Plots\n\n";
     for (const std::string& p : plots) md << "- [" << p << "](" << p << ")\n";

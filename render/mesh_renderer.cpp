@@ -317,19 +317,9 @@ GLuint linkProgram(const GlFunctions& gl) {
   return program;
 }
 
-// Draws the mesh with GL into an image of `width` × `height` (the whole image, or the part left
-// of the legend).
-Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const RenderOptions& o,
-                int width, int height, const std::vector<double>& scalars, double scalarMin,
-                double scalarMax, const ColourMap& map, RenderTimings* timings = nullptr) {
-  using Clock = std::chrono::steady_clock;
-  const auto seconds = [](Clock::time_point from) {
-    return std::chrono::duration<double>(Clock::now() - from).count();
-  };
-  const Clock::time_point start = Clock::now();
-  context.makeCurrent();
-  const GlFunctions& gl = context.gl();
-  gl.GetError();  // start clean
+// The samples per pixel (kRequestedSamples, or fewer if the renderer has fewer); throws for an
+// image larger than the renderer's largest renderbuffer.
+GLsizei multisampleCount(const GlFunctions& gl, int width, int height) {
   GLint maxSamples = 1, maxRenderbuffer = 0;
   gl.GetIntegerv(GL_MAX_SAMPLES, &maxSamples);
   gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbuffer);
@@ -337,9 +327,13 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
     throw InputError("render: " + std::to_string(width) + " x " + std::to_string(height) +
                      " pixels exceed the renderer's limit of " + std::to_string(maxRenderbuffer));
   }
-  const GLsizei samples = std::max(1, std::min<GLint>(kRequestedSamples, maxSamples));
+  return std::max(1, std::min<GLint>(kRequestedSamples, maxSamples));
+}
 
-  GlObjects objects(gl);
+// The multisampled framebuffer (colour and depth) and the single-sampled one its samples resolve
+// into, width × height pixels.
+void createFramebuffers(const GlFunctions& gl, GlObjects& objects, int width, int height,
+                        GLsizei samples) {
   gl.GenFramebuffers(2, objects.framebuffers);
   gl.GenRenderbuffers(3, objects.renderbuffers);
   gl.BindRenderbuffer(GL_RENDERBUFFER, objects.renderbuffers[0]);
@@ -363,10 +357,10 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
     throw RenderError("OSMesa: the resolve framebuffer is incomplete");
   }
   throwOnGlError(gl, "creating the framebuffers");
+}
 
-  const Camera camera = frameCamera(mesh, o, width, height);
-  const std::vector<float> soup = cornerSoup(mesh, camera, o.smoothNormals, scalars);
-  objects.program = linkProgram(gl);
+// The corner soup into a vertex buffer: position (3), normal (3) and scalar (1) per corner.
+void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vector<float>& soup) {
   gl.GenVertexArrays(1, &objects.vertexArray);
   gl.BindVertexArray(objects.vertexArray);
   gl.GenBuffers(1, &objects.buffer);
@@ -381,8 +375,10 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
                          reinterpret_cast<const void*>(6 * sizeof(float)));
   for (GLuint attribute = 0; attribute < 3; ++attribute) gl.EnableVertexAttribArray(attribute);
   throwOnGlError(gl, "uploading the mesh");
+}
 
-  const GLuint program = objects.program;
+void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
+                 const RenderOptions& o, double scalarMin, double scalarMax, const ColourMap& map) {
   gl.UseProgram(program);
   const auto uniform = [&](const char* name) { return gl.GetUniformLocation(program, name); };
   Eigen::Matrix4f clip = camera.frameToClip.cast<float>();  // column-major, as GL expects
@@ -413,7 +409,10 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.Uniform1i(uniform("stopCount"), static_cast<GLint>(map.stops.size()));
   gl.Uniform3fv(uniform("stops"), static_cast<GLsizei>(map.stops.size()), stops.data());
   throwOnGlError(gl, "setting the shader uniforms");
+}
 
+void drawTriangles(const GlFunctions& gl, const GlObjects& objects, const RenderOptions& o,
+                   int width, int height, GLsizei faceCount) {
   gl.BindFramebuffer(GL_FRAMEBUFFER, objects.framebuffers[0]);
   gl.Viewport(0, 0, width, height);
   gl.Enable(GL_DEPTH_TEST);
@@ -422,16 +421,13 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.ClearColor(static_cast<float>(o.background.r), static_cast<float>(o.background.g),
                 static_cast<float>(o.background.b), 1.0f);
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  gl.DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(3 * mesh.faceCount()));
+  gl.DrawArrays(GL_TRIANGLES, 0, 3 * faceCount);
   throwOnGlError(gl, "drawing the mesh");
-  Clock::time_point readStart = Clock::now();
-  if (timings) {
-    gl.Finish();  // llvmpipe draws lazily: without this the draw would be timed as the readback
-    readStart = Clock::now();
-    timings->uploadDraw = std::chrono::duration<double>(readStart - start).count();
-  }
+}
 
-  // Resolve the samples (their average per pixel) and read back, bottom row first in GL.
+// Resolve the samples (their average per pixel) and read back, bottom row first in GL.
+std::vector<std::uint8_t> readResolvedPixels(const GlFunctions& gl, const GlObjects& objects,
+                                             int width, int height) {
   gl.BindFramebuffer(GL_READ_FRAMEBUFFER, objects.framebuffers[0]);
   gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, objects.framebuffers[1]);
   gl.BlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -442,8 +438,11 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottomUp.data());
   gl.Finish();
   throwOnGlError(gl, "reading the image back");
-  if (timings) timings->readback = seconds(readStart);
+  return bottomUp;
+}
 
+// GL's rows (bottom first) as an image (top row first).
+Image imageFromBottomUp(const std::vector<std::uint8_t>& bottomUp, int width, int height) {
   Image image;
   image.width = width;
   image.height = height;
@@ -454,6 +453,40 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
                 rowBytes, image.rgba.begin() + static_cast<std::ptrdiff_t>(y * rowBytes));
   }
   return image;
+}
+
+// Draws the mesh with GL into an image of `width` × `height` (the whole image, or the part left
+// of the legend).
+Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const RenderOptions& o,
+                int width, int height, const std::vector<double>& scalars, double scalarMin,
+                double scalarMax, const ColourMap& map, RenderTimings* timings = nullptr) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point from) {
+    return std::chrono::duration<double>(Clock::now() - from).count();
+  };
+  const Clock::time_point start = Clock::now();
+  context.makeCurrent();
+  const GlFunctions& gl = context.gl();
+  gl.GetError();  // start clean
+  const GLsizei samples = multisampleCount(gl, width, height);
+  GlObjects objects(gl);
+  createFramebuffers(gl, objects, width, height, samples);
+
+  const Camera camera = frameCamera(mesh, o, width, height);
+  const std::vector<float> soup = cornerSoup(mesh, camera, o.smoothNormals, scalars);
+  objects.program = linkProgram(gl);
+  uploadCornerSoup(gl, objects, soup);
+  setUniforms(gl, objects.program, camera, o, scalarMin, scalarMax, map);
+  drawTriangles(gl, objects, o, width, height, static_cast<GLsizei>(mesh.faceCount()));
+  Clock::time_point readStart = Clock::now();
+  if (timings) {
+    gl.Finish();  // llvmpipe draws lazily: without this the draw would be timed as the readback
+    readStart = Clock::now();
+    timings->uploadDraw = std::chrono::duration<double>(readStart - start).count();
+  }
+  const std::vector<std::uint8_t> bottomUp = readResolvedPixels(gl, objects, width, height);
+  if (timings) timings->readback = seconds(readStart);
+  return imageFromBottomUp(bottomUp, width, height);
 }
 
 // A tick's label: fixed-point with as many decimals as the tick step needs (0.2 → "0.4"), or

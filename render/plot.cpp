@@ -201,6 +201,275 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
   return CAIRO_STATUS_SUCCESS;
 }
 
+// The axes around the drawable points of `plot`, and (for the reference slopes) the mean of their
+// log10 x and log10 y.
+struct PlotData {
+  Axis x, y;
+  double sumLogX = 0.0, sumLogY = 0.0;
+  int drawn = 0;  // drawable points
+  bool drawable(double px, double py) const { return x.drawable(px) && y.drawable(py); }
+};
+
+PlotData plotData(const LogLogPlot& plot, bool logarithmic) {
+  PlotData data;
+  data.x.log = data.y.log = logarithmic;
+  const double infinity = std::numeric_limits<double>::infinity();
+  double minX = infinity, maxX = -infinity, minY = infinity, maxY = -infinity;
+  for (const PlotSeries& s : plot.series) {
+    for (size_t k = 0; k < std::min(s.x.size(), s.y.size()); ++k) {
+      if (!data.drawable(s.x[k], s.y[k])) continue;
+      minX = std::min(minX, s.x[k]);
+      maxX = std::max(maxX, s.x[k]);
+      minY = std::min(minY, s.y[k]);
+      maxY = std::max(maxY, s.y[k]);
+      if (logarithmic) {
+        data.sumLogX += std::log10(s.x[k]);
+        data.sumLogY += std::log10(s.y[k]);
+      }
+      ++data.drawn;
+    }
+  }
+  if (logarithmic) {
+    data.x = axisAround(minX, maxX);
+    data.y = axisAround(minY, maxY);
+  } else {
+    data.x = linearAxisAround(minX, maxX);
+    data.y = linearAxisAround(minY, maxY);
+  }
+  return data;
+}
+
+// The plot area in pixels, and the width of the legend column right of it (0: no legend).
+struct PlotFrame {
+  double left = 0.0, right = 0.0, top = 0.0, bottom = 0.0;
+  double legendWidth = 0.0;
+};
+
+// Layout: title band, legend column on the right, tick labels and axis labels left and below.
+// Sets the axes' pixel ends.
+PlotFrame plotFrame(cairo_t* cr, const LogLogPlot& plot, PlotData& data) {
+  PlotFrame frame;
+  for (const PlotSeries& s : plot.series)
+    frame.legendWidth = std::max(frame.legendWidth, textWidth(cr, s.label, kTextSize));
+  for (const ReferenceSlope& r : plot.referenceSlopes)
+    frame.legendWidth = std::max(frame.legendWidth, textWidth(cr, r.label, kTextSize));
+  frame.legendWidth = frame.legendWidth > 0.0 ? frame.legendWidth + 56.0 : 0.0;
+  const Axis& yAxis = data.y;
+  double tickLabelWidth = 0.0;
+  if (yAxis.log) {
+    for (int k = yAxis.firstDecade(); k <= yAxis.lastDecade(); ++k)
+      tickLabelWidth =
+          std::max(tickLabelWidth, powerLabelWidth(cr, yAxis.labelsMinor() ? 5 : 1, k));
+  } else {
+    for (double v = yAxis.lo; v <= yAxis.hi + 1e-9 * yAxis.step; v += yAxis.step)
+      tickLabelWidth =
+          std::max(tickLabelWidth, textWidth(cr, linearLabel(v, yAxis.step), kTextSize));
+  }
+  frame.left = tickLabelWidth + 46.0, frame.top = 44.0, frame.bottom = plot.height - 58.0;
+  frame.right = std::max(frame.left + 60.0, plot.width - 16.0 - frame.legendWidth);
+  data.x.pixelLo = frame.left;
+  data.x.pixelHi = frame.right;
+  data.y.pixelLo = frame.bottom;
+  data.y.pixelHi = frame.top;
+  return frame;
+}
+
+void drawTitleAndAxisLabels(cairo_t* cr, const LogLogPlot& plot, const PlotFrame& f) {
+  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo_set_font_size(cr, kTitleSize);
+  cairo_move_to(
+      cr, std::max(8.0, (f.left + f.right) / 2 - textWidth(cr, plot.title, kTitleSize) / 2), 26.0);
+  cairo_show_text(cr, plot.title.c_str());
+  cairo_set_font_size(cr, kTextSize);
+  cairo_move_to(cr, (f.left + f.right) / 2 - textWidth(cr, plot.xLabel, kTextSize) / 2,
+                plot.height - 12.0);
+  cairo_show_text(cr, plot.xLabel.c_str());
+  cairo_save(cr);
+  cairo_move_to(cr, 18.0, (f.top + f.bottom) / 2 + textWidth(cr, plot.yLabel, kTextSize) / 2);
+  cairo_rotate(cr, -std::acos(-1.0) / 2);
+  cairo_show_text(cr, plot.yLabel.c_str());
+  cairo_restore(cr);
+}
+
+// A linear axis: a labelled grid line at every step.
+void drawLinearGrid(cairo_t* cr, const Axis& axis, bool vertical, const PlotFrame& f) {
+  const long count = std::lround((axis.hi - axis.lo) / axis.step);
+  for (long k = 0; k <= count; ++k) {
+    const double value = axis.lo + k * axis.step;
+    const double p = std::round(axis.pixel(value)) + 0.5;
+    cairo_set_source_rgb(cr, 0.87, 0.87, 0.87);
+    cairo_move_to(cr, vertical ? p : f.left, vertical ? f.top : p);
+    cairo_line_to(cr, vertical ? p : f.right, vertical ? f.bottom : p);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    const std::string label = linearLabel(value, axis.step);
+    cairo_set_font_size(cr, kTextSize);
+    cairo_move_to(cr,
+                  vertical ? p - textWidth(cr, label, kTextSize) / 2
+                           : f.left - 10.0 - textWidth(cr, label, kTextSize),
+                  vertical ? f.bottom + 20.0 : p + 4.5);
+    cairo_show_text(cr, label.c_str());
+  }
+}
+
+// A log axis: grid lines and ticks at m × 10^k, decades labelled, and 2 and 5 on short axes.
+void drawLogGrid(cairo_t* cr, const Axis& axis, bool vertical, const PlotFrame& f) {
+  for (int k = axis.firstDecade(); k <= axis.lastDecade(); ++k) {
+    for (int m = 1; m <= 9; ++m) {
+      const double value = m * std::pow(10.0, k);
+      if (!axis.contains(value)) continue;
+      const double p = std::round(axis.pixel(value)) + 0.5;
+      const double grey = m == 1 ? 0.82 : 0.93;
+      const double tick = m == 1 ? 7.0 : 4.0;
+      cairo_set_source_rgb(cr, grey, grey, grey);
+      if (vertical) {
+        cairo_move_to(cr, p, f.top);
+        cairo_line_to(cr, p, f.bottom);
+      } else {
+        cairo_move_to(cr, f.left, p);
+        cairo_line_to(cr, f.right, p);
+      }
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      if (vertical) {
+        cairo_move_to(cr, p, f.bottom);
+        cairo_line_to(cr, p, f.bottom + tick);
+      } else {
+        cairo_move_to(cr, f.left - tick, p);
+        cairo_line_to(cr, f.left, p);
+      }
+      cairo_stroke(cr);
+      if (m == 1 || (axis.labelsMinor() && (m == 2 || m == 5))) {
+        if (vertical) {
+          drawPowerLabel(cr, m, k, p - powerLabelWidth(cr, m, k) / 2, f.bottom + 24.0);
+        } else {
+          drawPowerLabel(cr, m, k, f.left - 10.0 - powerLabelWidth(cr, m, k), p + 4.5);
+        }
+      }
+    }
+  }
+}
+
+// The grids (all linear ones first), the frame, and a note when nothing is drawable.
+void drawGridAndFrame(cairo_t* cr, const PlotData& data, const PlotFrame& f) {
+  cairo_set_line_width(cr, 1.0);
+  for (const bool vertical : {true, false}) {
+    const Axis& axis = vertical ? data.x : data.y;
+    if (!axis.log) drawLinearGrid(cr, axis, vertical, f);
+  }
+  for (const bool vertical : {true, false}) {
+    const Axis& axis = vertical ? data.x : data.y;
+    if (axis.log) drawLogGrid(cr, axis, vertical, f);
+  }
+  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo_set_line_width(cr, 1.2);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_stroke(cr);
+  if (data.drawn == 0) {
+    const char* empty = data.x.log ? "no positive values to plot" : "no values to plot";
+    cairo_set_font_size(cr, kTextSize);
+    cairo_move_to(cr, (f.left + f.right) / 2 - textWidth(cr, empty, kTextSize) / 2,
+                  (f.top + f.bottom) / 2);
+    cairo_show_text(cr, empty);
+  }
+}
+
+// Reference slopes (log-log only): dashed lines of slope p through the data's centre in log
+// coordinates.
+void drawReferenceSlopes(cairo_t* cr, const LogLogPlot& plot, const PlotData& data) {
+  const Axis &xAxis = data.x, &yAxis = data.y;
+  const double centreX = data.sumLogX / data.drawn, centreY = data.sumLogY / data.drawn;
+  const double dashes[] = {6.0, 4.0};
+  for (size_t r = 0; r < plot.referenceSlopes.size(); ++r) {
+    const double slope = plot.referenceSlopes[r].slope;
+    const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
+    cairo_set_source_rgb(cr, grey, grey, grey);
+    cairo_set_dash(cr, dashes, 2, 0.0);
+    cairo_set_line_width(cr, 1.3);
+    const double x0 = std::log10(xAxis.lo), x1 = std::log10(xAxis.hi);
+    cairo_move_to(cr, xAxis.pixel(xAxis.lo),
+                  yAxis.pixel(std::pow(10.0, centreY + slope * (x0 - centreX))));
+    cairo_line_to(cr, xAxis.pixel(xAxis.hi),
+                  yAxis.pixel(std::pow(10.0, centreY + slope * (x1 - centreX))));
+    cairo_stroke(cr);
+  }
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+}
+
+// Series s: a line through its drawable points (broken at the others) and its markers.
+void drawSeries(cairo_t* cr, const PlotSeries& series, size_t s, const PlotData& data) {
+  const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
+  cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+  cairo_set_line_width(cr, 2.0);
+  bool penDown = false;
+  for (size_t k = 0; k < std::min(series.x.size(), series.y.size()); ++k) {
+    if (!data.drawable(series.x[k], series.y[k])) {
+      penDown = false;
+      continue;
+    }
+    const double px = data.x.pixel(series.x[k]), py = data.y.pixel(series.y[k]);
+    if (penDown) {
+      cairo_line_to(cr, px, py);
+    } else {
+      cairo_move_to(cr, px, py);
+    }
+    penDown = true;
+  }
+  cairo_stroke(cr);
+  cairo_set_line_width(cr, 1.8);
+  for (size_t k = 0;
+       series.x.size() <= kMostMarkers && k < std::min(series.x.size(), series.y.size()); ++k) {
+    if (data.drawable(series.x[k], series.y[k]))
+      drawMarker(cr, static_cast<int>(s), data.x.pixel(series.x[k]), data.y.pixel(series.y[k]),
+                 4.5);
+  }
+}
+
+// Legend: a sample line with the marker per series, a dashed sample per reference slope.
+void drawLegend(cairo_t* cr, const LogLogPlot& plot, const PlotFrame& f) {
+  const double x = f.right + 14.0, rowHeight = 20.0;
+  double y = f.top + 14.0;
+  cairo_set_font_size(cr, kTextSize);
+  for (size_t s = 0; s < plot.series.size(); ++s, y += rowHeight) {
+    const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
+    cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + 30.0, y);
+    cairo_stroke(cr);
+    cairo_set_line_width(cr, 1.8);
+    drawMarker(cr, static_cast<int>(s), x + 15.0, y, 4.5);
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    cairo_move_to(cr, x + 38.0, y + 4.5);
+    cairo_show_text(cr, plot.series[s].label.c_str());
+  }
+  const double dashes[] = {6.0, 4.0};
+  for (size_t r = 0; r < plot.referenceSlopes.size(); ++r, y += rowHeight) {
+    const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
+    cairo_set_source_rgb(cr, grey, grey, grey);
+    cairo_set_dash(cr, dashes, 2, 0.0);
+    cairo_set_line_width(cr, 1.3);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + 30.0, y);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0.0);
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    cairo_move_to(cr, x + 38.0, y + 4.5);
+    cairo_show_text(cr, plot.referenceSlopes[r].label.c_str());
+  }
+}
+
+std::string encodePng(cairo_surface_t* surface) {
+  cairo_surface_flush(surface);
+  std::string png;
+  const cairo_status_t status = cairo_surface_write_to_png_stream(surface, appendToString, &png);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    throw std::runtime_error(std::string("render plot: cairo could not encode the PNG: ") +
+                             cairo_status_to_string(status));
+  }
+  return png;
+}
+
 // The common drawing of both kinds: `plot` with log or linear axes (reference slopes only on
 // log-log ones).
 std::string renderPlot(const LogLogPlot& plot, bool logarithmic) {
@@ -217,244 +486,19 @@ std::string renderPlot(const LogLogPlot& plot, bool logarithmic) {
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
   cairo_paint(cr);
 
-  // Data range over the drawable points.
-  Axis xAxis, yAxis;
-  xAxis.log = yAxis.log = logarithmic;
-  const auto drawable = [&](double x, double y) { return xAxis.drawable(x) && yAxis.drawable(y); };
-  const double infinity = std::numeric_limits<double>::infinity();
-  double minX = infinity, maxX = -infinity, minY = infinity, maxY = -infinity;
-  double sumLogX = 0.0, sumLogY = 0.0;
-  int drawn = 0;
-  for (const PlotSeries& s : plot.series) {
-    for (size_t k = 0; k < std::min(s.x.size(), s.y.size()); ++k) {
-      if (!drawable(s.x[k], s.y[k])) continue;
-      minX = std::min(minX, s.x[k]);
-      maxX = std::max(maxX, s.x[k]);
-      minY = std::min(minY, s.y[k]);
-      maxY = std::max(maxY, s.y[k]);
-      if (logarithmic) {
-        sumLogX += std::log10(s.x[k]);
-        sumLogY += std::log10(s.y[k]);
-      }
-      ++drawn;
-    }
-  }
-  if (logarithmic) {
-    xAxis = axisAround(minX, maxX);
-    yAxis = axisAround(minY, maxY);
-  } else {
-    xAxis = linearAxisAround(minX, maxX);
-    yAxis = linearAxisAround(minY, maxY);
-  }
-
-  // Layout: title band, legend column on the right, tick labels and axis labels left and below.
-  double legendWidth = 0.0;
-  for (const PlotSeries& s : plot.series)
-    legendWidth = std::max(legendWidth, textWidth(cr, s.label, kTextSize));
-  for (const ReferenceSlope& r : plot.referenceSlopes)
-    legendWidth = std::max(legendWidth, textWidth(cr, r.label, kTextSize));
-  legendWidth = legendWidth > 0.0 ? legendWidth + 56.0 : 0.0;
-  double tickLabelWidth = 0.0;
-  if (logarithmic) {
-    for (int k = yAxis.firstDecade(); k <= yAxis.lastDecade(); ++k)
-      tickLabelWidth =
-          std::max(tickLabelWidth, powerLabelWidth(cr, yAxis.labelsMinor() ? 5 : 1, k));
-  } else {
-    for (double v = yAxis.lo; v <= yAxis.hi + 1e-9 * yAxis.step; v += yAxis.step)
-      tickLabelWidth =
-          std::max(tickLabelWidth, textWidth(cr, linearLabel(v, yAxis.step), kTextSize));
-  }
-  const double left = tickLabelWidth + 46.0, top = 44.0, bottom = plot.height - 58.0;
-  const double right = std::max(left + 60.0, plot.width - 16.0 - legendWidth);
-  xAxis.pixelLo = left;
-  xAxis.pixelHi = right;
-  yAxis.pixelLo = bottom;
-  yAxis.pixelHi = top;
-
-  // Title and axis labels.
-  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-  cairo_set_font_size(cr, kTitleSize);
-  cairo_move_to(cr, std::max(8.0, (left + right) / 2 - textWidth(cr, plot.title, kTitleSize) / 2),
-                26.0);
-  cairo_show_text(cr, plot.title.c_str());
-  cairo_set_font_size(cr, kTextSize);
-  cairo_move_to(cr, (left + right) / 2 - textWidth(cr, plot.xLabel, kTextSize) / 2,
-                plot.height - 12.0);
-  cairo_show_text(cr, plot.xLabel.c_str());
-  cairo_save(cr);
-  cairo_move_to(cr, 18.0, (top + bottom) / 2 + textWidth(cr, plot.yLabel, kTextSize) / 2);
-  cairo_rotate(cr, -std::acos(-1.0) / 2);
-  cairo_show_text(cr, plot.yLabel.c_str());
-  cairo_restore(cr);
-
-  cairo_set_line_width(cr, 1.0);
-  // Linear axes: a labelled grid line at every step.
-  for (const bool vertical : {true, false}) {
-    const Axis& axis = vertical ? xAxis : yAxis;
-    if (axis.log) continue;
-    const long count = std::lround((axis.hi - axis.lo) / axis.step);
-    for (long k = 0; k <= count; ++k) {
-      const double value = axis.lo + k * axis.step;
-      const double p = std::round(axis.pixel(value)) + 0.5;
-      cairo_set_source_rgb(cr, 0.87, 0.87, 0.87);
-      cairo_move_to(cr, vertical ? p : left, vertical ? top : p);
-      cairo_line_to(cr, vertical ? p : right, vertical ? bottom : p);
-      cairo_stroke(cr);
-      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-      const std::string label = linearLabel(value, axis.step);
-      cairo_set_font_size(cr, kTextSize);
-      cairo_move_to(cr,
-                    vertical ? p - textWidth(cr, label, kTextSize) / 2
-                             : left - 10.0 - textWidth(cr, label, kTextSize),
-                    vertical ? bottom + 20.0 : p + 4.5);
-      cairo_show_text(cr, label.c_str());
-    }
-  }
-  // Log axes: grid lines and ticks at m × 10^k, decades labelled, and 2 and 5 on short axes.
-  for (const bool vertical : {true, false}) {
-    const Axis& axis = vertical ? xAxis : yAxis;
-    if (!axis.log) continue;
-    for (int k = axis.firstDecade(); k <= axis.lastDecade(); ++k) {
-      for (int m = 1; m <= 9; ++m) {
-        const double value = m * std::pow(10.0, k);
-        if (!axis.contains(value)) continue;
-        const double p = std::round(axis.pixel(value)) + 0.5;
-        const double grey = m == 1 ? 0.82 : 0.93;
-        const double tick = m == 1 ? 7.0 : 4.0;
-        cairo_set_source_rgb(cr, grey, grey, grey);
-        if (vertical) {
-          cairo_move_to(cr, p, top);
-          cairo_line_to(cr, p, bottom);
-        } else {
-          cairo_move_to(cr, left, p);
-          cairo_line_to(cr, right, p);
-        }
-        cairo_stroke(cr);
-        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-        if (vertical) {
-          cairo_move_to(cr, p, bottom);
-          cairo_line_to(cr, p, bottom + tick);
-        } else {
-          cairo_move_to(cr, left - tick, p);
-          cairo_line_to(cr, left, p);
-        }
-        cairo_stroke(cr);
-        if (m == 1 || (axis.labelsMinor() && (m == 2 || m == 5))) {
-          if (vertical) {
-            drawPowerLabel(cr, m, k, p - powerLabelWidth(cr, m, k) / 2, bottom + 24.0);
-          } else {
-            drawPowerLabel(cr, m, k, left - 10.0 - powerLabelWidth(cr, m, k), p + 4.5);
-          }
-        }
-      }
-    }
-  }
-  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-  cairo_set_line_width(cr, 1.2);
-  cairo_rectangle(cr, left, top, right - left, bottom - top);
-  cairo_stroke(cr);
-  if (drawn == 0) {
-    const char* empty = logarithmic ? "no positive values to plot" : "no values to plot";
-    cairo_set_font_size(cr, kTextSize);
-    cairo_move_to(cr, (left + right) / 2 - textWidth(cr, empty, kTextSize) / 2, (top + bottom) / 2);
-    cairo_show_text(cr, empty);
-  }
-
+  PlotData data = plotData(plot, logarithmic);
+  const PlotFrame frame = plotFrame(cr, plot, data);
+  drawTitleAndAxisLabels(cr, plot, frame);
+  drawGridAndFrame(cr, data, frame);
   // Reference slopes (dashed, clipped to the plot area), then the series on top.
   cairo_save(cr);
-  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_rectangle(cr, frame.left, frame.top, frame.right - frame.left, frame.bottom - frame.top);
   cairo_clip(cr);
-  if (drawn > 0 && logarithmic) {
-    const double centreX = sumLogX / drawn, centreY = sumLogY / drawn;
-    const double dashes[] = {6.0, 4.0};
-    for (size_t r = 0; r < plot.referenceSlopes.size(); ++r) {
-      const double slope = plot.referenceSlopes[r].slope;
-      const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
-      cairo_set_source_rgb(cr, grey, grey, grey);
-      cairo_set_dash(cr, dashes, 2, 0.0);
-      cairo_set_line_width(cr, 1.3);
-      const double x0 = std::log10(xAxis.lo), x1 = std::log10(xAxis.hi);
-      cairo_move_to(cr, xAxis.pixel(xAxis.lo),
-                    yAxis.pixel(std::pow(10.0, centreY + slope * (x0 - centreX))));
-      cairo_line_to(cr, xAxis.pixel(xAxis.hi),
-                    yAxis.pixel(std::pow(10.0, centreY + slope * (x1 - centreX))));
-      cairo_stroke(cr);
-    }
-    cairo_set_dash(cr, nullptr, 0, 0.0);
-  }
-  for (size_t s = 0; s < plot.series.size(); ++s) {
-    const PlotSeries& series = plot.series[s];
-    const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
-    cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
-    cairo_set_line_width(cr, 2.0);
-    bool penDown = false;
-    for (size_t k = 0; k < std::min(series.x.size(), series.y.size()); ++k) {
-      if (!drawable(series.x[k], series.y[k])) {
-        penDown = false;
-        continue;
-      }
-      const double px = xAxis.pixel(series.x[k]), py = yAxis.pixel(series.y[k]);
-      if (penDown) {
-        cairo_line_to(cr, px, py);
-      } else {
-        cairo_move_to(cr, px, py);
-      }
-      penDown = true;
-    }
-    cairo_stroke(cr);
-    cairo_set_line_width(cr, 1.8);
-    for (size_t k = 0;
-         series.x.size() <= kMostMarkers && k < std::min(series.x.size(), series.y.size()); ++k) {
-      if (drawable(series.x[k], series.y[k]))
-        drawMarker(cr, static_cast<int>(s), xAxis.pixel(series.x[k]), yAxis.pixel(series.y[k]),
-                   4.5);
-    }
-  }
+  if (data.drawn > 0 && logarithmic) drawReferenceSlopes(cr, plot, data);
+  for (size_t s = 0; s < plot.series.size(); ++s) drawSeries(cr, plot.series[s], s, data);
   cairo_restore(cr);
-
-  // Legend: a sample line with the marker per series, a dashed sample per reference slope.
-  if (legendWidth > 0.0) {
-    const double x = right + 14.0, rowHeight = 20.0;
-    double y = top + 14.0;
-    cairo_set_font_size(cr, kTextSize);
-    for (size_t s = 0; s < plot.series.size(); ++s, y += rowHeight) {
-      const Rgb colour = kPalette[s % (sizeof kPalette / sizeof kPalette[0])];
-      cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
-      cairo_set_line_width(cr, 2.0);
-      cairo_move_to(cr, x, y);
-      cairo_line_to(cr, x + 30.0, y);
-      cairo_stroke(cr);
-      cairo_set_line_width(cr, 1.8);
-      drawMarker(cr, static_cast<int>(s), x + 15.0, y, 4.5);
-      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-      cairo_move_to(cr, x + 38.0, y + 4.5);
-      cairo_show_text(cr, plot.series[s].label.c_str());
-    }
-    const double dashes[] = {6.0, 4.0};
-    for (size_t r = 0; r < plot.referenceSlopes.size(); ++r, y += rowHeight) {
-      const double grey = 0.35 + 0.2 * static_cast<double>(r % 2);
-      cairo_set_source_rgb(cr, grey, grey, grey);
-      cairo_set_dash(cr, dashes, 2, 0.0);
-      cairo_set_line_width(cr, 1.3);
-      cairo_move_to(cr, x, y);
-      cairo_line_to(cr, x + 30.0, y);
-      cairo_stroke(cr);
-      cairo_set_dash(cr, nullptr, 0, 0.0);
-      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-      cairo_move_to(cr, x + 38.0, y + 4.5);
-      cairo_show_text(cr, plot.referenceSlopes[r].label.c_str());
-    }
-  }
-
-  cairo_surface_flush(surface.get());
-  std::string png;
-  const cairo_status_t status =
-      cairo_surface_write_to_png_stream(surface.get(), appendToString, &png);
-  if (status != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(std::string("render plot: cairo could not encode the PNG: ") +
-                             cairo_status_to_string(status));
-  }
-  return png;
+  if (frame.legendWidth > 0.0) drawLegend(cr, plot, frame);
+  return encodePng(surface.get());
 }
 
 }  // namespace
