@@ -155,7 +155,7 @@ void compareRow(const CompareOptions& o, const GlobalOptions& global,
     const optimize::MinimizeResult result =
         optimize::solveWithSurfaceBoundary(problem, surface, variant.normals, linearized, solver);
     const double error = optimize::reproductionError(problem.rest.positions, result.positions,
-                                                     problem.fixedVertex, surface);
+                                                     problem.boundary.fixedVertex, surface);
     modeling::Mesh minimizer = mesh;
     minimizer.positions = result.positions;
     render::Image image = render::renderMesh(context, minimizer, look);

@@ -133,7 +133,7 @@ void expectSolvesEqualMinimize(const char* energy, BoundaryNormals normals, Mesh
         << energy << " " << p.spec();
   }
   EXPECT_EQ(solves.factorizations(), 1) << energy;
-  EXPECT_EQ(energyPerArea.factorizations(), problem.term->usesEdgeUnknowns() ? 1 : 0) << energy;
+  EXPECT_EQ(energyPerArea.factorizations(), problem.bending().usesEdgeUnknowns() ? 1 : 0) << energy;
 }
 
 TEST(LinearizedSolver, ReusedFactorGivesTheOneOffSolvesBitForBit) {
@@ -165,14 +165,14 @@ TEST(LinearizedSolver, HeightFieldSolverRefusesInPlaneBoundaryMoves) {
   const FlatPlateProblem problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
                                  optimize::parseEnergyVariant("hinge").bending);
   optimize::LinearizedUnknowns unknowns;
-  unknowns.fixedVertex = problem.fixedVertex;
-  const optimize::LinearizedSolver solver({problem.term.get()}, problem.rest.positions,
+  unknowns.fixedVertex = problem.boundary.fixedVertex;
+  const optimize::LinearizedSolver solver({&problem.bending()}, problem.rest.positions,
                                           problem.restXi, unknowns);
   optimize::BoundaryConditions bc;
-  bc.fixedVertex = problem.fixedVertex;
+  bc.fixedVertex = problem.boundary.fixedVertex;
   bc.start = problem.rest.positions;
   bc.start(0, 0) += 0.1;  // vertex 0 is on the boundary
-  ASSERT_TRUE(problem.fixedVertex[0]);
+  ASSERT_TRUE(problem.boundary.fixedVertex[0]);
   EXPECT_THROW(solver.solve(bc), InputError);
 }
 

@@ -249,7 +249,7 @@ TEST(NonlinearMinimize, NewtonAndCeresAgreeInXyzModeWithMembranes) {
           10.0;
       const auto membraneTerms =
           curvature::makeMembraneEnergy(problem.stencils, problem.rest, membrane);
-      std::vector<const curvature::EnergyTerm*> terms = {problem.term.get()};
+      std::vector<const curvature::EnergyTerm*> terms = {&problem.bending()};
       for (const auto& t : membraneTerms) terms.push_back(t.get());
       const optimize::BoundaryConditions bc =
           optimize::surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi,
@@ -300,7 +300,7 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
       ++freeCount;
     }
   }
-  problem.term->addResidualBlocks(ceresProblem, x.data(), nullptr, curvature::Derivatives::All);
+  problem.bending().addResidualBlocks(ceresProblem, x.data(), nullptr, curvature::Derivatives::All);
   ASSERT_GE(freeCount, optimize::kNestedDissectionMinBlocks);
   const auto ordering = optimize::nestedDissectionGroups(ceresProblem);
   ASSERT_NE(ordering, nullptr);
@@ -321,7 +321,7 @@ TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {
                                    energy(Discretization::Hinge));
   modeling::Positions y = small.rest.positions;
   ceres::Problem smallProblem;
-  small.term->addResidualBlocks(smallProblem, y.data(), nullptr, curvature::Derivatives::All);
+  small.bending().addResidualBlocks(smallProblem, y.data(), nullptr, curvature::Derivatives::All);
   EXPECT_EQ(optimize::nestedDissectionGroups(smallProblem), nullptr);
 
   // Same minimizer on either order (Ceres' solves: the order is handed to Ceres); only the
@@ -464,7 +464,7 @@ TEST(NonlinearMinimize, FoldedSheetWithMembraneReturnsFlat) {
   optimize::MinimizeOptions options;
   options.dof = optimize::DofMode::Xyz;
   options.start = optimize::Start::AsGiven;  // from the fold, not the linearized predictor
-  const auto r = optimize::minimize({problem.term.get(), membraneTerms[0].get()}, bc,
+  const auto r = optimize::minimize({&problem.bending(), membraneTerms[0].get()}, bc,
                                     problem.rest.positions, problem.restXi, options);
   ASSERT_TRUE(r.report.converged) << r.report.termination;
   EXPECT_GT(r.report.initialEnergy, 1e-2);
@@ -480,7 +480,7 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
       PolynomialSurface::quadratic(1, 0, 0), BoundaryNormals::Clamped, false);
   const auto expectRefusal = [&](const optimize::BoundaryConditions& c, const char* reason) {
     try {
-      optimize::minimize({problem.term.get()}, c, problem.rest.positions, problem.restXi, {});
+      optimize::minimize({&problem.bending()}, c, problem.rest.positions, problem.restXi, {});
       ADD_FAILURE() << "expected InputError: " << reason;
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), ::testing::HasSubstr(reason));
@@ -501,7 +501,7 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
       PolynomialSurface::quadratic(1, 0, 0), BoundaryNormals::Clamped, false);
   loose.fixedVertex[0] = false;  // a corner: its one face has two boundary edges
   try {
-    optimize::minimize({triavg.term.get()}, loose, triavg.rest.positions, triavg.restXi, {});
+    optimize::minimize({&triavg.bending()}, loose, triavg.rest.positions, triavg.restXi, {});
     ADD_FAILURE() << "expected InputError for an untouched free vertex";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("free vertex 0 is touched by no element"));

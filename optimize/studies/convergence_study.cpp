@@ -152,7 +152,7 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
   const FlatPlateProblem problem(studyMesh.mesh, variant.bending);
   const double poisson = curvature::effectivePoisson(variant.bending);
   const bool freeNormals =
-      problem.term->usesEdgeUnknowns() && variant.normals == BoundaryNormals::Free;
+      problem.bending().usesEdgeUnknowns() && variant.normals == BoundaryNormals::Free;
   MinimizeOptions solver;
   solver.threads = 1;  // cases run in parallel; one thread each keeps every sum in one order
   solver.solver = options.solver;
@@ -166,8 +166,8 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
   base.level = studyMesh.level;
   base.h = studyMesh.h;
   base.vertices = studyMesh.mesh.vertexCount();
-  base.freeVertices =
-      static_cast<int>(std::count(problem.fixedVertex.begin(), problem.fixedVertex.end(), false));
+  base.freeVertices = static_cast<int>(
+      std::count(problem.boundary.fixedVertex.begin(), problem.boundary.fixedVertex.end(), false));
 
   const bool refinement = studyMesh.n && !options.solution.empty();
   const bool nonlinear = studyMesh.level == 0 && options.amplitudes > 0;
@@ -207,7 +207,7 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     const PolynomialSurface p = options.quadratics[k].surface();
     announce("C1 and C2, " + p.spec());
     records[k].c2Error = reproductionError(problem.rest.positions, linear.surface(p).positions,
-                                           problem.fixedVertex, p);
+                                           problem.boundary.fixedVertex, p);
   }
   records.front().factorizations += linear.factorizations();
   if (nonlinear) {
@@ -229,8 +229,8 @@ std::vector<StudyRecord> runCase(const StudyOptions& options, int energyIndex,
     r.kind = RecordKind::Refinement;
     r.data = u.spec();
     const LinearizedSolution result = linear.surface(u);
-    r.solutionError =
-        reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, u);
+    r.solutionError = reproductionError(problem.rest.positions, result.positions,
+                                        problem.boundary.fixedVertex, u);
     r.discreteEnergy = result.energy;
     r.exactEnergy = squarePlateEnergy(u, poisson);
     r.energyError = std::abs(r.discreteEnergy - r.exactEnergy) / squarePlateEnergy(u, 0.0);
@@ -300,16 +300,22 @@ std::optional<double> seriesOrder(const std::vector<double>& h, const std::vecto
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+
+ProblemOptions flatPlateOptions(const curvature::BendingOptions& bending, int fixedRingCount) {
+  ProblemOptions options;
+  options.bending = bending;
+  options.fixedRings = fixedRingCount;
+  options.boundaryNormals = BoundaryNormals::Free;  // no surface yet to clamp to
+  return options;
+}
+
+}  // namespace
+
 FlatPlateProblem::FlatPlateProblem(const modeling::Mesh& flat,
                                    const curvature::BendingOptions& options, int fixedRingCount)
-    : stencils(modeling::compileStencils(flat)),
-      rest(modeling::precomputeRestState(stencils, flat.positions)),
-      term(curvature::makeBendingEnergy(stencils, rest, options)),
-      restXi(term->usesEdgeUnknowns()
-                 ? curvature::midedgeRestXi(stencils, rest, options.restCurvature)
-                 : Eigen::VectorXd()),
-      fixedVertex(fixedRings(stencils, fixedRingCount)),
-      restJacobian(residualJacobian({term.get()}, rest.positions, restXi)) {}
+    : Problem(buildProblem(flat, flatPlateOptions(options, fixedRingCount))),
+      restJacobian(residualJacobian(termPointers(), rest.positions, restXi)) {}
 
 double linearizedEnergyPerArea(const FlatPlateProblem& problem, const PolynomialSurface& p) {
   const modeling::Positions& rest = problem.rest.positions;
@@ -318,13 +324,13 @@ double linearizedEnergyPerArea(const FlatPlateProblem& problem, const Polynomial
   // Midedge: the boundary ξ clamped to p (linearized), the interior ξ free.
   Eigen::VectorXd deltaXi;
   std::vector<bool> freeEdge;
-  if (problem.term->usesEdgeUnknowns()) {
+  if (problem.bending().usesEdgeUnknowns()) {
     deltaXi = curvature::linearizedClampedBoundaryXi(problem.stencils, rest, delta, p);
     freeEdge = curvature::boundaryEdges(problem.stencils);
     freeEdge.flip();
   }
   return linearizedEnergyOfDisplacement(problem.restJacobian, rest, delta, deltaXi, freeEdge) /
-         problem.term->coveredArea();
+         problem.bending().coveredArea();
 }
 
 double plateDensity(const PolynomialSurface& p, double poisson, double x, double y) {
@@ -344,9 +350,9 @@ MinimizeResult solveWithSurfaceBoundary(const FlatPlateProblem& problem, const P
                                         MinimizeOptions options) {
   options.linearized = linearized;
   const BoundaryConditions bc =
-      surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi, problem.fixedVertex,
-                      u, normals, linearized);
-  return minimize({problem.term.get()}, bc, problem.rest.positions, problem.restXi, options);
+      surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi,
+                      problem.boundary.fixedVertex, u, normals, linearized);
+  return minimize(problem.termPointers(), bc, problem.rest.positions, problem.restXi, options);
 }
 
 double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
@@ -354,7 +360,8 @@ double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
   MinimizeOptions options;
   options.threads = 1;
   const MinimizeResult result = solveWithSurfaceBoundary(problem, p, normals, true, options);
-  return reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, p);
+  return reproductionError(problem.rest.positions, result.positions, problem.boundary.fixedVertex,
+                           p);
 }
 
 namespace {
@@ -363,7 +370,7 @@ namespace {
 // the boundary when clamped (surfaceBoundary). The data move the fixed vertices in z only.
 LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNormals normals) {
   LinearizedUnknowns unknowns;
-  unknowns.fixedVertex = problem.fixedVertex;
+  unknowns.fixedVertex = problem.boundary.fixedVertex;
   unknowns.fixedEdge.assign(problem.restXi.size(), false);
   if (problem.restXi.size() > 0 && normals == BoundaryNormals::Clamped)
     unknowns.fixedEdge = curvature::boundaryEdges(problem.stencils);
@@ -375,10 +382,10 @@ LinearizedUnknowns surfaceUnknowns(const FlatPlateProblem& problem, BoundaryNorm
 
 FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormals normals)
     : problem_(problem), normals_(normals) {
-  std::vector<bool> touched(problem.fixedVertex.size(), false);
-  problem.term->markTouchedVertices(touched);
+  std::vector<bool> touched(problem.boundary.fixedVertex.size(), false);
+  problem.bending().markTouchedVertices(touched);
   for (size_t v = 0; v < touched.size(); ++v) {
-    if (!problem.fixedVertex[v] && !touched[v])
+    if (!problem.boundary.fixedVertex[v] && !touched[v])
       throw InputError("free vertex " + std::to_string(v) +
                        " is touched by no element of the energy, so nothing determines it");
   }
@@ -396,7 +403,7 @@ FlatPlateSolves::~FlatPlateSolves() = default;
 
 LinearizedSolution FlatPlateSolves::surface(const PolynomialSurface& u) const {
   return solver_->solve(surfaceBoundary(problem_.stencils, problem_.rest.positions, problem_.restXi,
-                                        problem_.fixedVertex, u, normals_, true));
+                                        problem_.boundary.fixedVertex, u, normals_, true));
 }
 
 int FlatPlateSolves::factorizations() const {
@@ -405,7 +412,7 @@ int FlatPlateSolves::factorizations() const {
 
 FlatPlateEnergyPerArea::FlatPlateEnergyPerArea(const FlatPlateProblem& problem)
     : problem_(problem) {
-  if (!problem.term->usesEdgeUnknowns()) return;
+  if (!problem.bending().usesEdgeUnknowns()) return;
   // linearizedEnergyOfDisplacement: positions given, the interior ξ free.
   const int positionCount = static_cast<int>(problem.rest.positions.size());
   std::vector<bool> free(problem.restJacobian.cols(), false);
@@ -426,7 +433,7 @@ double FlatPlateEnergyPerArea::operator()(const PolynomialSurface& p) const {
   modeling::Positions delta = Eigen::Map<const modeling::Positions>(u.data(), rest.rows(), 3);
   u.tail(u.size() - positionCount) =
       curvature::linearizedClampedBoundaryXi(problem_.stencils, rest, delta, p);
-  return interiorXi_->energy(interiorXi_->solve(u)) / problem_.term->coveredArea();
+  return interiorXi_->energy(interiorXi_->solve(u)) / problem_.bending().coveredArea();
 }
 
 int FlatPlateEnergyPerArea::factorizations() const {
@@ -444,8 +451,8 @@ NonlinearC2Series nonlinearC2(const FlatPlateProblem& problem, const PolynomialS
     const MinimizeResult result = solveWithSurfaceBoundary(problem, data, normals, false, options);
     series.converged = series.converged && result.report.converged;
     series.factorizations += result.report.factorizations;
-    const double error =
-        reproductionError(problem.rest.positions, result.positions, problem.fixedVertex, data);
+    const double error = reproductionError(problem.rest.positions, result.positions,
+                                           problem.boundary.fixedVertex, data);
     series.amplitudes.push_back(eps);
     series.errors.push_back(error);
     if (error > kRoundOff) {

@@ -34,6 +34,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/linear/linearized_solver.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/minimize.h"
 
@@ -42,15 +43,12 @@ namespace flexure::optimize {
 // ---------------------------------------------------------------------------------------------
 // The test problem and the conditions, one function each
 
-// The slides' test problem: a flat mesh (z = 0), one bending energy bound to its rest state, the
-// vertices of rings 0 .. fixedRingCount − 1 held, and the residual Jacobian at rest (E_lin).
-struct FlatPlateProblem {
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::unique_ptr<curvature::EnergyTerm> term;
-  Eigen::VectorXd restXi;         // #E for midedge (0 on a flat rest), else empty
-  std::vector<bool> fixedVertex;  // #V: rings 0 .. fixedRingCount − 1
-  SparseMatrix restJacobian;      // J at rest: columns 3 #V positions (+ #E ξ for midedge)
+// The slides' test problem: a flat mesh (z = 0) built by buildProblem with one bending energy
+// bound to its rest state, the vertices of rings 0 .. fixedRingCount − 1 held at rest (every
+// ξ free: each case sets its own boundary through surfaceBoundary), and the residual Jacobian at
+// rest (E_lin), which only the study needs.
+struct FlatPlateProblem : Problem {
+  SparseMatrix restJacobian;  // J at rest: columns 3 #V positions (+ #E ξ for midedge)
 
   // Throws InputError (naming the element) for a rest element the energy cannot use.
   FlatPlateProblem(const modeling::Mesh& flat, const curvature::BendingOptions& options,

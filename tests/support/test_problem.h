@@ -7,10 +7,10 @@
 namespace flexure::testing {
 
 struct TestProblem : optimize::FlatPlateProblem {
-  std::vector<bool> fixed;  // = fixedVertex
+  std::vector<bool> fixed;  // = boundary.fixedVertex
 
   TestProblem(const modeling::Mesh& flat, const curvature::BendingOptions& options, int rings = 2)
-      : FlatPlateProblem(flat, options, rings), fixed(fixedVertex) {}
+      : FlatPlateProblem(flat, options, rings), fixed(boundary.fixedVertex) {}
 
   optimize::MinimizeResult solve(
       const modeling::PolynomialSurface& p, bool linearized,
