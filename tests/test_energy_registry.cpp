@@ -241,7 +241,9 @@ TEST(EnergyRegistry, TestEnergyMinimizesToThePlane) {
         optimize::minimize(terms, bc, setup.rest.positions,
                            Eigen::VectorXd::Zero(setup.stencils.edgeCount()), options);
     ASSERT_TRUE(result.report.converged) << result.report.termination;
-    if (!linearized) EXPECT_GE(result.report.iterations, 1);
+    if (!linearized) {
+      EXPECT_GE(result.report.iterations, 1);
+    }
     EXPECT_LT((result.positions - expected).cwiseAbs().maxCoeff(), 1e-10)
         << (linearized ? "linearized" : "newton");
     EXPECT_NEAR(setup.term->energy(result.positions, Eigen::VectorXd()),
