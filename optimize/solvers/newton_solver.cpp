@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "modeling/errors.h"
+#include "optimize/linear/linearized_solver.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/newton_loop.h"
@@ -144,24 +145,19 @@ class NewtonSolver {
   }
 
   // The minimizer of the linearized energy ½ |J (u − ū)|² (minimize.h) over the free unknowns, J
-  // the residual Jacobian at rest with all derivatives, u's fixed entries the boundary values.
-  void predictLinearized(const Positions& move, Configuration& result) {
-    auto t = Clock::now();
-    const SparseMatrix jacobian =
-        residualJacobian(terms_, rest_, restXi_, curvature::Derivatives::All);
-    report_.evaluationSeconds += secondsSince(t);
-    const long positions = rest_.size();
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
-    u.head(positions) = Eigen::Map<const Eigen::VectorXd>(move.data(), positions);
-    if (withXi_) u.tail(restXi_.size()) = bc_.xi - restXi_;
-    std::vector<bool> free(jacobian.cols(), false);
-    for (size_t k = 0; k < free_.size() && k < free.size(); ++k) free[k] = free_[k];
-    t = Clock::now();
-    u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free, rest_);
-    report_.linearSolverSeconds += secondsSince(t);
-    ++report_.factorizations;
-    result.positions = rest_ + Eigen::Map<const Positions>(u.data(), rest_.rows(), 3);
-    if (withXi_) result.xi = restXi_ + u.tail(restXi_.size());
+  // the residual Jacobian at rest with all derivatives (the fixed vertices move in x, y too), u's
+  // fixed entries the boundary values: the linearized solve of minimize() itself.
+  void predictLinearized(Configuration& result) {
+    const auto t = Clock::now();
+    LinearizedUnknowns unknowns{bc_.fixedVertex, bc_.fixedEdge, true};
+    unknowns.fixedMoveInPlane = true;
+    const LinearizedSolver solver(terms_, rest_, restXi_, unknowns);
+    LinearizedSolution solution = solver.solve(bc_);
+    report_.evaluationSeconds += solver.jacobianSeconds();
+    report_.linearSolverSeconds += secondsSince(t) - solver.jacobianSeconds();
+    report_.factorizations += solver.factorizations();
+    result.positions = std::move(solution.positions);
+    if (withXi_) result.xi = std::move(solution.xi);
   }
 
   // The Gauss–Newton step from the rest state with the fixed unknowns moved to their values:
@@ -173,7 +169,7 @@ class NewtonSolver {
     if (options_.dof == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
       // x, y moved in height mode: the z-only Hessian has no coupling to them. Start from the
       // linearized minimizer with all derivatives (one least-squares solve) instead.
-      predictLinearized(move, result);
+      predictLinearized(result);
       return true;
     }
     const Eigen::VectorXd fixedMove = unknownVector(
