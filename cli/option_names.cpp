@@ -16,6 +16,17 @@ struct FieldFlag {
 const std::vector<FieldFlag>& fieldFlags() {
   static const std::vector<FieldFlag> rows = {
       // minimize, energies, membranes
+      {"ProblemOptions.dof", "--dof"},
+      {"ProblemOptions.membrane", "--membrane"},
+      {"ProblemOptions.fixedRings", "--fix rings:K"},
+      {"ProblemOptions.fixedVertex", "--fix"},
+      {"ProblemOptions.boundarySurface", "--boundary"},
+      {"ProblemOptions.boundaryPositions", "--init"},
+      {"ProblemOptions.boundaryNormals", "--boundary-normals"},
+      {"ProblemOptions.linearizedClamp", "--linearized"},
+      {"ProblemOptions.load.gravity", "--gravity"},
+      {"ProblemOptions.load.density", "--density"},
+      {"ProblemOptions.obstacles", "--obstacle"},
       {"BendingOptions.poisson", "--poisson"},
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.dof", "--dof"},
@@ -73,7 +84,6 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"RenderOptions.errorMax", "--error-max"},
       {"RenderOptions.curvatureMax", "--curvature-max"},
       {"RenderOptions.background", "--background"},
-      // solvers, linear algebra
   };
   return rows;
 }

@@ -176,6 +176,30 @@ TEST(LinearizedSolver, HeightFieldSolverRefusesInPlaneBoundaryMoves) {
   EXPECT_THROW(solver.solve(bc), InputError);
 }
 
+TEST(LinearizedSolver, RefusesBoundaryConditionsItWasNotFactoredFor) {
+  const FlatPlateProblem problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
+                                 optimize::parseEnergyVariant("cotan").bending);
+  optimize::LinearizedUnknowns unknowns;
+  unknowns.fixedVertex = problem.boundary.fixedVertex;
+  const optimize::LinearizedSolver solver({&problem.bending()}, problem.rest.positions,
+                                          problem.restXi, unknowns);
+  optimize::BoundaryConditions bc;
+  bc.fixedVertex = problem.boundary.fixedVertex;
+  bc.start = problem.rest.positions;
+  bc.start.col(2).array() += 0.25;  // a lifted boundary: the factored masks, a proper solve
+  const optimize::LinearizedSolution s = solver.solve(bc);
+  EXPECT_GT(s.initialGradientNorm, 0.0);
+  EXPECT_LT(s.gradientNorm, 1e-10 * s.initialGradientNorm);
+  // Another held set, or other sizes, would be solved with the wrong factor.
+  int interior = 0;
+  while (bc.fixedVertex[interior]) ++interior;
+  bc.fixedVertex[interior] = true;
+  EXPECT_THROW(solver.solve(bc), InputError);
+  bc.fixedVertex[interior] = false;
+  bc.start.conservativeResize(bc.start.rows() - 1, 3);
+  EXPECT_THROW(solver.solve(bc), InputError);
+}
+
 TEST(Study, EachCaseFactorsItsLinearizedSystemOnce) {
   optimize::StudyOptions o;
   o.energies = {optimize::parseEnergyVariant("cotan"), optimize::parseEnergyVariant("midedge")};

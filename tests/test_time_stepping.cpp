@@ -500,6 +500,12 @@ TEST(TimeStepping, AdvanceHalvesFailedStepsAsStepByStepDoes) {
   EXPECT_NE(refused.failure.stop, optimize::NewtonStop::Converged);
   EXPECT_FALSE(refused.failure.failure.empty());
   EXPECT_EQ((advanced.positions() - before).cwiseAbs().maxCoeff(), 0.0);
+
+  // A halving bound that is not positive (it would halve without end) or above h is refused.
+  EXPECT_THROW(advanced.advance(h, 0.0), InputError);
+  EXPECT_THROW(advanced.advance(h, -1.0), InputError);
+  EXPECT_THROW(advanced.advance(h, 2.0 * h), InputError);
+  EXPECT_EQ((advanced.positions() - before).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(TimeStepping, RefusesUnusableOptions) {

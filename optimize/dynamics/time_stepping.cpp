@@ -254,6 +254,12 @@ TimeStepper::Outcome TimeStepper::step(double h) {
 }
 
 TimeStepper::Advance TimeStepper::advance(double h, double minStep) {
+  // A bound below which halving stops must be positive, or a step that keeps failing would be
+  // halved without end.
+  if (!(h > 0.0) || !(minStep > 0.0) || !(minStep <= h) || !std::isfinite(h)) {
+    throw InputError("TimeStepper::advance: expected 0 < minStep <= h (got h = " +
+                     std::to_string(h) + ", minStep = " + std::to_string(minStep) + ")");
+  }
   Advance advance;
   advance.smallestStep = h;
   advanceInto(h, minStep, advance);

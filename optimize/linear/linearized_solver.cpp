@@ -171,7 +171,26 @@ Eigen::VectorXd LinearizedSolver::solve(Eigen::VectorXd u, const Eigen::VectorXd
   return u;
 }
 
+// The held vertices and ξ of `bc` must be those the solver was factored for.
+void LinearizedSolver::requireFactoredMasks(const BoundaryConditions& bc) const {
+  const int vertexCount = static_cast<int>(rest_.rows());
+  const bool sizes =
+      bc.start.rows() == vertexCount && static_cast<int>(bc.fixedVertex.size()) == vertexCount &&
+      (restXi_.size() == 0 ||
+       (bc.xi.size() == restXi_.size() && bc.fixedEdge.size() == size_t(restXi_.size())));
+  bool same = sizes;
+  for (int v = 0; same && v < vertexCount; ++v) same = free_[3 * v + 2] == !bc.fixedVertex[v];
+  for (Eigen::Index e = 0; same && e < restXi_.size(); ++e)
+    same = free_[3 * vertexCount + e] == !bc.fixedEdge[e];
+  if (!same) {
+    throw InputError(
+        "linearized solve: the boundary conditions hold other vertices or ξ (or have other sizes) "
+        "than the solver was factored for; precompute a solver for them");
+  }
+}
+
 LinearizedSolution LinearizedSolver::solve(const BoundaryConditions& bc) const {
+  requireFactoredMasks(bc);
   const int positionCount = static_cast<int>(rest_.size());
   const Positions displacement = bc.start - rest_;
   if (checkInPlane_ && displacement.leftCols(2).cwiseAbs().maxCoeff() != 0.0)
@@ -183,16 +202,23 @@ LinearizedSolution LinearizedSolver::solve(const BoundaryConditions& bc) const {
   if (restXi_.size() > 0) u.tail(restXi_.size()) = bc.xi - restXi_;
   LinearizedSolution out;
   out.initialEnergy = energy(u);
+  Eigen::VectorXd atRest = u;  // the free unknowns at rest
+  for (int c : freeColumns_) atRest[c] = 0.0;
+  out.initialGradientNorm = freeGradientNorm(atRest);
   u = solve(u);
   out.energy = energy(u);
+  out.gradientNorm = freeGradientNorm(u);
+  out.positions = rest_ + Eigen::Map<const Positions>(u.data(), rest_.rows(), 3);
+  if (restXi_.size() > 0) out.xi = restXi_ + u.tail(restXi_.size());
+  return out;
+}
+
+double LinearizedSolver::freeGradientNorm(const Eigen::VectorXd& u) const {
   const Eigen::VectorXd gradient = jacobian_->transpose() * (*jacobian_ * u);
   double squared = 0.0;
   for (int k = 0; k < gradient.size(); ++k)
     if (free_[k]) squared += gradient[k] * gradient[k];
-  out.gradientNorm = std::sqrt(squared);
-  out.positions = rest_ + Eigen::Map<const Positions>(u.data(), rest_.rows(), 3);
-  if (restXi_.size() > 0) out.xi = restXi_ + u.tail(restXi_.size());
-  return out;
+  return std::sqrt(squared);
 }
 
 double LinearizedSolver::energy(const Eigen::VectorXd& u) const {

@@ -39,6 +39,9 @@ struct LinearizedSolution {
   double initialEnergy = 0.0;  // E_lin of the boundary values with the free unknowns at rest
   double energy = 0.0;         // E_lin of the minimizer
   double gradientNorm = 0.0;   // |Jᵀ J u| over the free unknowns (2-norm)
+  // The same at the start (the free unknowns at rest, the fixed ones at their values): the
+  // scale a solve's remaining gradient is judged against.
+  double initialGradientNorm = 0.0;
 };
 
 class LinearizedSolver {
@@ -67,7 +70,7 @@ class LinearizedSolver {
   // empty (zero).
   Eigen::VectorXd solve(Eigen::VectorXd u, const Eigen::VectorXd& r0 = Eigen::VectorXd()) const;
   // The minimizer for boundary conditions (fixed vertices at bc.start, held ξ at bc.xi; the
-  // masks must be those of the precompute). Needs the terms' constructor.
+  // masks must be those of the precompute: InputError otherwise). Needs the terms' constructor.
   LinearizedSolution solve(const BoundaryConditions& bc) const;
 
   double energy(const Eigen::VectorXd& u) const;  // ½ |J u|²
@@ -95,9 +98,12 @@ class LinearizedSolver {
   std::unique_ptr<CholeskyFactor> factor_;
   Positions rest_;
   Eigen::VectorXd restXi_;
-  bool checkInPlane_ = false;
-  double jacobianSeconds_ = 0.0,
-         factorSeconds_ = 0.0;  // solve(bc) refuses fixed x, y moves J was not evaluated for
+  bool checkInPlane_ = false;  // solve(bc) refuses fixed x, y moves J was not evaluated for
+  double jacobianSeconds_ = 0.0, factorSeconds_ = 0.0;
+  // |Jᵀ J u| over the free unknowns.
+  double freeGradientNorm(const Eigen::VectorXd& u) const;
+  // InputError when `bc` holds other unknowns (or has other sizes) than the factored masks.
+  void requireFactoredMasks(const BoundaryConditions& bc) const;
 };
 
 }  // namespace flexure::optimize
