@@ -15,6 +15,7 @@
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
 #include "cli/solver_arguments.h"
+#include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
@@ -187,7 +188,8 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
   p.fixedVertex = optimize::parseFixedSet("--fix", o.fix, stencils, restMesh.positions);
   if (!o.boundary.empty()) p.boundarySurface = modeling::PolynomialSurface::parse(o.boundary);
   const std::optional<modeling::PolynomialSurface>& surface = p.boundarySurface;
-  const bool midedge = b.discretization == curvature::Discretization::Midedge;
+  // An energy that owns edge unknowns (midedge's ξ) has boundary normals to hold or free.
+  const bool midedge = static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
   p.boundaryNormals = boundaryNormals(o, surface.has_value(), midedge, global);
   p.linearizedClamp = o.linearized;
   p.load = loadOptions(o.load);

@@ -20,6 +20,7 @@
 #include "cli/mesh_json.h"
 #include "cli/mode_arguments.h"
 #include "curvature/bending_energy.h"
+#include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
@@ -105,7 +106,9 @@ std::vector<EnergyRun> energyRuns(const ModesOptions& o, optimize::Support suppo
     }
     run.bending.stiffness = o.stiffness;
     curvature::effectivePoisson(run.bending);  // a ν the energy does not take fails here
-    const bool midedge = run.bending.discretization == curvature::Discretization::Midedge;
+    // Clamp::Normals holds the edge unknowns (midedge's ξ) of an energy that owns them.
+    const bool midedge =
+        static_cast<bool>(curvature::energyEntry(run.bending.discretization).restEdgeUnknowns);
     run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
                                 : parseClamp(o.clamp);
     if (run.clamp == optimize::Clamp::Normals && !midedge && support == optimize::Support::Clamped)

@@ -9,6 +9,11 @@
 namespace flexure::curvature {
 namespace {
 
+// The name users type and the element the energy sums over: the registry entry and the term
+// read these, so they cannot disagree.
+constexpr const char* kName = "cotan";
+constexpr ElementKind kElementKind = ElementKind::Vertex;
+
 using modeling::RestState;
 using modeling::Stencils;
 
@@ -39,20 +44,21 @@ std::unique_ptr<EnergyTerm> makeCotan(const Stencils& s, const RestState& rest,
     covered += areas[v];
   }
   return std::make_unique<ElementTerm<CotanMeanCurvatureResidual>>(
-      "cotan", "vertex", std::move(elements), std::move(ids), covered, false);
+      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
+      covered, false);
 }
 
 }  // namespace
 
 EnergyEntry cotanEnergyEntry() {
   EnergyEntry e;
-  e.name = "cotan";
+  e.name = kName;
   e.description = "cotangent mean curvature normal per interior vertex, over its vertex area";
   e.citation =
       "Meyer, Desbrun, Schröder, Barr 2003, Discrete Differential-Geometry Operators "
       "for Triangulated 2-Manifolds";
   e.poissonRule = PoissonRule::MeanCurvatureOnly;
-  e.elementKind = ElementKind::Vertex;
+  e.elementKind = kElementKind;
   e.make = makeCotan;
   e.readsVertexArea = true;
   e.studyBytesPerVertex = 3.5e3;

@@ -10,6 +10,11 @@
 namespace flexure::curvature {
 namespace {
 
+// The name users type and the element the energy sums over: the registry entry and the term
+// read these, so they cannot disagree.
+constexpr const char* kName = "hinge";
+constexpr ElementKind kElementKind = ElementKind::Edge;
+
 using modeling::RestState;
 using modeling::Stencils;
 
@@ -51,19 +56,20 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
     ids.push_back(e);
     covered += areas / 3.0;
   }
-  return std::make_unique<ElementTerm<HingeBendingResidual>>("hinge", "edge", std::move(elements),
-                                                             std::move(ids), covered, false);
+  return std::make_unique<ElementTerm<HingeBendingResidual>>(
+      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
+      covered, false);
 }
 
 }  // namespace
 
 EnergyEntry hingeEnergyEntry() {
   EnergyEntry e;
-  e.name = "hinge";
+  e.name = kName;
   e.description = "Discrete Shells: (θ_e − θ̄_e)² 3 ℓ̄_e² / (Ā_f + Ā_g) per interior edge";
   e.citation = "Grinspun, Hirani, Desbrun, Schröder 2003, Discrete Shells";
   e.poissonRule = PoissonRule::MeanCurvatureOnly;
-  e.elementKind = ElementKind::Edge;
+  e.elementKind = kElementKind;
   e.make = makeHinge;
   e.readsHingeAngle = true;
   e.studyBytesPerVertex = 3.5e3;

@@ -11,6 +11,11 @@
 namespace flexure::curvature {
 namespace {
 
+// The name users type and the element the energy sums over: the registry entry and the term
+// read these, so they cannot disagree.
+constexpr const char* kName = "midedge";
+constexpr ElementKind kElementKind = ElementKind::Face;
+
 using modeling::RestState;
 using modeling::Stencils;
 
@@ -50,8 +55,9 @@ std::unique_ptr<EnergyTerm> makeMidedge(const Stencils& s, const RestState& rest
     ids.push_back(f);
     covered += rest.faceAreas[f];
   }
-  return std::make_unique<ElementTerm<MidedgeResidual>>("midedge", "face", std::move(elements),
-                                                        std::move(ids), covered, true);
+  return std::make_unique<ElementTerm<MidedgeResidual>>(
+      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
+      covered, true);
 }
 
 }  // namespace
@@ -93,13 +99,13 @@ Eigen::VectorXd midedgeRestXi(const Stencils& s, const RestState& rest,
 
 EnergyEntry midedgeEnergyEntry() {
   EnergyEntry e;
-  e.name = "midedge";
+  e.name = kName;
   e.description = "midedge-normal shape operator with one unknown ξ per edge, on every face";
   e.citation =
       "Grinspun, Gingold, Reisman, Zorin 2006, Computing discrete shape operators on "
       "general meshes";
   e.poissonRule = PoissonRule::Koiter;
-  e.elementKind = ElementKind::Face;
+  e.elementKind = kElementKind;
   e.make = makeMidedge;
   e.restEdgeUnknowns = midedgeRestXi;
   e.takesBoundarySurface = true;

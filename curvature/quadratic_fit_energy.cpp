@@ -10,6 +10,11 @@
 namespace flexure::curvature {
 namespace {
 
+// The name users type and the element the energy sums over: the registry entry and the term
+// read these, so they cannot disagree.
+constexpr const char* kName = "quadfit";
+constexpr ElementKind kElementKind = ElementKind::Face;
+
 using modeling::RestState;
 using modeling::Stencils;
 
@@ -69,19 +74,20 @@ std::unique_ptr<EnergyTerm> makeQuadraticFit(const Stencils& s, const RestState&
                      " admit no unique quadratic (they lie on a conic); the quadratic fit is "
                      "undefined there");
   }
-  return std::make_unique<ElementTerm<QuadraticFitResidual>>("quadfit", "face", std::move(elements),
-                                                             std::move(ids), covered, false);
+  return std::make_unique<ElementTerm<QuadraticFitResidual>>(
+      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
+      covered, false);
 }
 
 }  // namespace
 
 EnergyEntry quadraticFitEnergyEntry() {
   EnergyEntry e;
-  e.name = "quadfit";
+  e.name = kName;
   e.description = "quadratic fit through the six points of each face with interior edges";
   e.citation = "the course slides' triangle quadratic fit (seed 000)";
   e.poissonRule = PoissonRule::Koiter;
-  e.elementKind = ElementKind::Face;
+  e.elementKind = kElementKind;
   e.make = makeQuadraticFit;
   e.studyBytesPerVertex = 6.5e3;
   e.studyVariants = {"quadfit"};

@@ -11,6 +11,11 @@
 namespace flexure::curvature {
 namespace {
 
+// The name users type and the element the energy sums over: the registry entry and the term
+// read these, so they cannot disagree.
+constexpr const char* kName = "triavg";
+constexpr ElementKind kElementKind = ElementKind::Face;
+
 using modeling::RestState;
 using modeling::Stencils;
 
@@ -45,14 +50,15 @@ std::unique_ptr<EnergyTerm> makeTriangleAveraged(const Stencils& s, const RestSt
     covered += area;
   }
   return std::make_unique<ElementTerm<TriangleAveragedResidual>>(
-      "triavg", "face", std::move(elements), std::move(ids), covered, false);
+      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
+      covered, false);
 }
 
 }  // namespace
 
 EnergyEntry triangleAveragedEnergyEntry() {
   EnergyEntry e;
-  e.name = "triavg";
+  e.name = kName;
   e.description =
       "triangle-averaged shape operator from 2 tan(θ/2) of the three edges, on faces whose edges "
       "are interior";
@@ -60,7 +66,7 @@ EnergyEntry triangleAveragedEnergyEntry() {
       "Gingold, Secord, Han, Grinspun, Zorin 2004, A Discrete Model for Inelastic "
       "Deformation of Thin Shells";
   e.poissonRule = PoissonRule::Koiter;
-  e.elementKind = ElementKind::Face;
+  e.elementKind = kElementKind;
   e.make = makeTriangleAveraged;
   e.studyBytesPerVertex = 6.5e3;
   e.studyVariants = {"triavg"};

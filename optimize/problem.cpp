@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 
 namespace flexure::optimize {
@@ -27,7 +28,7 @@ void ProblemOptions::validate() const {
         "vertices' values: give one");
   if (boundaryPositions.size() > 0 && !boundaryPositions.allFinite())
     throw InputError("ProblemOptions.boundaryPositions has a coordinate that is not finite");
-  if (bending.discretization == curvature::Discretization::Midedge &&
+  if (curvature::energyEntry(bending.discretization).takesBoundarySurface &&
       boundaryNormals == BoundaryNormals::Clamped && !boundarySurface)
     throw InputError(
         "ProblemOptions.boundaryNormals clamped takes the normals from "

@@ -135,9 +135,18 @@ TEST(MixedArea, SharesByHandAndSumToTheArea) {
   double sum = 0.0;
   for (int i = 0; i < 3; ++i) sum += mixedVoronoiShare(1.0, cot, squared, i);
   EXPECT_DOUBLE_EQ(sum, 0.5);
-  const double obtuse[3] = {-0.5, 2.0, 3.0};
-  EXPECT_DOUBLE_EQ(mixedVoronoiShare(0.8, obtuse, squared, 0), 0.2);
-  EXPECT_DOUBLE_EQ(mixedVoronoiShare(0.8, obtuse, squared, 2), 0.1);
+  // (0, 0), (2, 0), (−0.2, 0.5): 2A = 1, obtuse at corner 0 (its cotangent is −0.4).
+  const Eigen::Vector2d x[3] = {{0.0, 0.0}, {2.0, 0.0}, {-0.2, 0.5}};
+  double cotangents[3], lengths[3];
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d a = x[(i + 1) % 3] - x[i], b = x[(i + 2) % 3] - x[i];
+    cotangents[i] = a.dot(b) / 1.0;  // cot = a·b / |a × b|, |a × b| = 2A = 1
+    lengths[i] = (x[(i + 2) % 3] - x[(i + 1) % 3]).squaredNorm();
+  }
+  ASSERT_LT(cotangents[0], 0.0);
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(1.0, cotangents, lengths, 0), 0.25);   // A/2
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(1.0, cotangents, lengths, 1), 0.125);  // A/4
+  EXPECT_DOUBLE_EQ(mixedVoronoiShare(1.0, cotangents, lengths, 2), 0.125);
 }
 
 TEST(VertexQuantities, NormalsOfAFlatPatchAndOfATetrahedron) {

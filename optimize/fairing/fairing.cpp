@@ -11,6 +11,7 @@
 #include <sstream>
 #include <utility>
 
+#include "curvature/energy_registry.h"
 #include "curvature/kernel_math.h"
 #include "modeling/cgal_fair.h"
 #include "modeling/errors.h"
@@ -308,12 +309,15 @@ FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positi
                                const curvature::BendingOptions& material) {
   const CompiledPatch c = compilePatch(patch);
   FairingMeasures m;
-  for (curvature::Discretization d : curvature::kDiscretizations) {
+  // Every registered energy, with the ν its rule takes (a mean-curvature model takes none).
+  const int energies = static_cast<int>(curvature::registeredEnergies().size());
+  for (int index = 0; index < energies; ++index) {
+    const curvature::Discretization d(index);
     curvature::BendingOptions b = flatRest(material);
     b.discretization = d;
     b.vertexArea = material.vertexArea;
     b.hingeAngle = material.hingeAngle;
-    if (d == curvature::Discretization::Hinge || d == curvature::Discretization::Cotan)
+    if (curvature::energyEntry(d).poissonRule == curvature::PoissonRule::MeanCurvatureOnly)
       b.poisson.reset();
     for (auto metric : {curvature::CurvatureMetric::Rest, curvature::CurvatureMetric::Current}) {
       b.metric = metric;
