@@ -32,6 +32,7 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/linear/heap_reuse.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/hessian_assembly.h"
 
 namespace {
@@ -91,35 +92,31 @@ json iterationCosts(const std::vector<const curvature::EnergyTerm*>& terms,
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
                bool gaussNewton, bool drape, bool chordSteps, bool predict, bool trace,
                double tolerance) {
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
-  curvature::BendingOptions bending;
-  bending.discretization = curvature::parseDiscretization(energy);
-  const auto term = curvature::makeBendingEnergy(stencils, rest, bending);
-  const Eigen::VectorXd restXi =
-      term->usesEdgeUnknowns() ? curvature::midedgeRestXi(stencils, rest, bending.restCurvature)
-                               : Eigen::VectorXd();
+  optimize::ProblemOptions body;
+  body.bending.discretization = curvature::parseDiscretization(energy);
   curvature::MembraneOptions membrane;
   membrane.young = 1e3;
-  const auto membraneTerms = curvature::makeMembraneEnergy(stencils, rest, membrane);
-  std::vector<const curvature::EnergyTerm*> terms = {term.get()};
-  for (const auto& t : membraneTerms) terms.push_back(t.get());
+  body.membrane = membrane;
+  body.dof = optimize::DofMode::Xyz;
+  body.boundaryNormals = optimize::BoundaryNormals::Free;
   // Two corners of the square held: (−½, −½) and (½, −½).
-  std::vector<bool> pinned(mesh.vertexCount(), false);
+  body.fixedVertex.assign(mesh.vertexCount(), false);
   for (int v = 0; v < mesh.vertexCount() && !drape; ++v)
-    pinned[v] = std::abs(std::abs(mesh.positions(v, 0)) - 0.5) < 1e-12 &&
-                std::abs(mesh.positions(v, 1) + 0.5) < 1e-12;
+    body.fixedVertex[v] = std::abs(std::abs(mesh.positions(v, 0)) - 0.5) < 1e-12 &&
+                          std::abs(mesh.positions(v, 1) + 0.5) < 1e-12;
+  body.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  if (drape) body.obstacles = {optimize::parseObstacle("obstacle", "sphere:0,0,-0.35,0.3")};
   optimize::DynamicsOptions options;
-  options.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  if (drape) options.obstacles = {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.35,0.3")};
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
   if (tolerance > 0.0) options.tolerance = tolerance;
   options.predictAcceleration = predict;
 
+  const optimize::Problem problem = optimize::buildProblem(mesh, body);
   auto start = Clock::now();
-  optimize::TimeStepper stepper(terms, stencils, rest, restXi, pinned, options);
-  stepper.start(rest.positions, modeling::Positions::Zero(mesh.vertexCount(), 3), restXi);
+  optimize::TimeStepper stepper(problem, options);
+  stepper.start(problem.rest.positions, modeling::Positions::Zero(mesh.vertexCount(), 3),
+                problem.restXi);
   const double setup = secondsSince(start);
   start = Clock::now();
   const auto first = stepper.step(dt);
@@ -146,7 +143,8 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   }
   const double seconds = secondsSince(start);
   const optimize::EnergySample e = stepper.energies();
-  const json floor = iterationCosts(terms, rest, restXi, stepper.masses(), dt);
+  const json floor =
+      iterationCosts(problem.termPointers(), problem.rest, problem.restXi, stepper.masses(), dt);
   return {{"energy", energy},
           {"scene", drape ? "drape" : "hang"},
           {"hessian", gaussNewton ? "gauss-newton" : "exact"},

@@ -27,6 +27,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ProblemOptions.load.gravity", "--gravity"},
       {"ProblemOptions.load.density", "--density"},
       {"ProblemOptions.obstacles", "--obstacle"},
+      {"ProblemOptions.fixedEdge", "--pin rings:K"},
       {"BendingOptions.poisson", "--poisson"},
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.dof", "--dof"},
@@ -39,8 +40,6 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"DynamicsOptions.integrator", "--integrator"},
       {"DynamicsOptions.beta", "--beta"},
       {"DynamicsOptions.gamma", "--gamma"},
-      {"DynamicsOptions.density", "--density"},
-      {"DynamicsOptions.obstacles", "--obstacle"},
       // the longer first: it starts with the next one
       {"DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping", "--damping"},
       {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},

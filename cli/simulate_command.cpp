@@ -156,16 +156,12 @@ void parseDamping(const std::vector<std::string>& specs, optimize::DynamicsOptio
   }
 }
 
-// The integrator, load, pin motion and damping (the held edges come with the body).
+// The integrator, pin motion and damping (the load and obstacles belong to the problem).
 optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   optimize::DynamicsOptions dynamics;
   dynamics.integrator = parseIntegrator(o.integrator);
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
-  dynamics.density = o.load.density;
-  dynamics.mass = massLumping(o.load);
-  dynamics.gravity = gravityVector(o.load);
-  dynamics.obstacles = obstacleList(o.load);
   if (!o.pinMotion.empty()) {
     if (o.pin == "none")
       throw InputError("--pin-motion " + o.pinMotion +
@@ -173,6 +169,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
   }
   parseDamping(o.damping, dynamics);
+  dynamics.validate();
   return dynamics;
 }
 
@@ -214,40 +211,35 @@ modeling::Positions startPositions(const SimulateOptions& o, const modeling::Mes
   return init.positions;
 }
 
-// The simulated body: the rest mesh and its precomputation, the start positions, the pinned
-// vertices, the energy terms (bending, then the membrane's) and midedge's rest ξ. Built in
-// place: the terms refer to the stencils and rest state.
-struct Body {
-  const modeling::Mesh restMesh;
-  const modeling::Stencils stencils;
-  const modeling::RestState rest;
-  const modeling::Positions start;
-  const std::vector<bool> pinned;
-  const std::unique_ptr<curvature::EnergyTerm> bending;
-  const std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane;
-  const Eigen::VectorXd restXi;  // empty unless the bending term has edge unknowns
+// What is simulated, before the mesh is read: the bending energy and membrane, every coordinate
+// free, the load and the obstacles (each checked here, before any work).
+optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::BendingOptions& b) {
+  optimize::ProblemOptions p;
+  p.bending = b;
+  p.membrane = membraneOptions(o.membrane);
+  p.dof = optimize::DofMode::Xyz;
+  p.fixedRings = 0;
+  p.boundaryNormals = optimize::BoundaryNormals::Free;
+  p.load = loadOptions(o.load);
+  p.obstacles = obstacleList(o.load);
+  p.validate();
+  return p;
+}
 
-  Body(const SimulateOptions& o, const curvature::BendingOptions& b)
-      : restMesh(modeling::readMesh(o.restFile)),
-        stencils(modeling::compileStencils(restMesh)),
-        rest(modeling::precomputeRestState(stencils, restMesh.positions)),
-        start(startPositions(o, restMesh)),
-        pinned(o.pin == "none" ? std::vector<bool>(restMesh.vertexCount(), false)
-                               : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions)),
-        bending(curvature::makeBendingEnergy(stencils, rest, b)),
-        membrane(makeMembrane(o.membrane, stencils, rest)),
-        restXi(bending->usesEdgeUnknowns()
-                   ? curvature::midedgeRestXi(stencils, rest, b.restCurvature)
-                   : Eigen::VectorXd()) {}
-  Body(const Body&) = delete;
-  Body& operator=(const Body&) = delete;
-
-  std::vector<const curvature::EnergyTerm*> terms() const {
-    std::vector<const curvature::EnergyTerm*> all = {bending.get()};
-    for (const auto& term : membrane) all.push_back(term.get());
-    return all;
-  }
-};
+// The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
+// (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
+optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions p,
+                                const modeling::Mesh& restMesh) {
+  modeling::Stencils stencils = modeling::compileStencils(restMesh);
+  modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
+  p.fixedVertex = o.pin == "none"
+                      ? std::vector<bool>(restMesh.vertexCount(), false)
+                      : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions);
+  p.boundaryPositions = startPositions(o, restMesh);
+  if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
+    p.fixedEdge = optimize::clampedBoundaryEdges(o.pin, stencils);
+  return optimize::buildProblem(std::move(stencils), std::move(rest), p);
+}
 
 // What a run records: the energies after every step (as the CSV text and as rows for the plot),
 // the frame meshes, and the smallest distance to an obstacle over the samples.
@@ -344,8 +336,8 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeS
 
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
                                 const optimize::DynamicsOptions& dynamics,
-                                const optimize::TimeStepper& stepper, const Run& run,
-                                const Recording& recording, int vertexCount) {
+                                const optimize::Problem& body, const optimize::TimeStepper& stepper,
+                                const Run& run, const Recording& recording, int vertexCount) {
   const std::vector<double>& last = recording.history.back();
   nlohmann::json report = {
       {"rest", o.restFile},
@@ -369,7 +361,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"vertices", vertexCount},
       {"pinned", o.pin},
       {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
-      {"gravity", {dynamics.gravity.x(), dynamics.gravity.y(), dynamics.gravity.z()}},
+      {"gravity", {body.gravity.x(), body.gravity.y(), body.gravity.z()}},
       {"density", o.load.density},
       {"damping", o.damping},
       {"frames", recording.frames.size()},
@@ -433,28 +425,27 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     throw InputError(
         "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
         "conformal); bending alone has no stiffness against stretching");
-  optimize::DynamicsOptions dynamics = dynamicsOptions(o);
+  const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
+  const optimize::ProblemOptions bodyBase = bodyOptions(o, b);
   const std::optional<render::RenderOptions> look = frameLook(o);
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
   if (look) context = std::make_unique<render::OffscreenContext>();
 
-  const Body body(o, b);
-  if (body.bending->usesEdgeUnknowns())
-    dynamics.heldEdges = optimize::clampedBoundaryEdges(o.pin, body.stencils);
-  optimize::TimeStepper stepper(body.terms(), body.stencils, body.rest, body.restXi, body.pinned,
-                                dynamics);
-  const int vertexCount = body.restMesh.vertexCount();
-  stepper.start(body.start, modeling::Positions::Zero(vertexCount, 3), Eigen::VectorXd());
+  const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
+  const optimize::Problem body = simulatedBody(o, bodyBase, restMesh);
+  optimize::TimeStepper stepper(body, dynamics);
+  const int vertexCount = restMesh.vertexCount();
+  stepper.start(body.boundary.start, modeling::Positions::Zero(vertexCount, 3), Eigen::VectorXd());
 
-  Recording recording(body.terms(), !dynamics.obstacles.empty());
+  Recording recording(body.termPointers(), !body.obstacles.empty());
   recording.sample(stepper);
-  recording.frame(stepper, body.restMesh);
-  const Run run = simulate(o, minDt, global.quiet, stepper, body.restMesh, recording);
+  recording.frame(stepper, restMesh);
+  const Run run = simulate(o, minDt, global.quiet, stepper, restMesh, recording);
   const std::string energyName(curvature::discretizationName(b.discretization));
   const nlohmann::json report =
-      simulationReport(o, energyName, dynamics, stepper, run, recording, vertexCount);
+      simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
   const fs::path dir(o.outputDir);
   if (!run.failure.empty()) {
     fs::create_directories(dir);  // the report outlives the failure; the frames do not exist

@@ -28,7 +28,15 @@ void ProblemOptions::validate() const {
         "vertices' values: give one");
   if (boundaryPositions.size() > 0 && !boundaryPositions.allFinite())
     throw InputError("ProblemOptions.boundaryPositions has a coordinate that is not finite");
-  if (curvature::energyEntry(bending.discretization).takesBoundarySurface &&
+  const curvature::EnergyEntry& entry = curvature::energyEntry(bending.discretization);
+  if (!fixedEdge.empty() && !entry.restEdgeUnknowns)
+    throw InputError("ProblemOptions.fixedEdge holds edge unknowns, which " + entry.name +
+                     " does not have");
+  if (!fixedEdge.empty() && boundarySurface)
+    throw InputError(
+        "ProblemOptions.fixedEdge and ProblemOptions.boundarySurface both give the held ξ: give "
+        "one");
+  if (entry.takesBoundarySurface && fixedEdge.empty() &&
       boundaryNormals == BoundaryNormals::Clamped && !boundarySurface)
     throw InputError(
         "ProblemOptions.boundaryNormals clamped takes the normals from "
@@ -70,6 +78,12 @@ BoundaryConditions boundaryConditions(const Problem& p, const ProblemOptions& o)
   }
   bc.xi = p.restXi;
   bc.fixedEdge.assign(p.restXi.size(), false);
+  if (!o.fixedEdge.empty()) {
+    if (o.fixedEdge.size() != bc.fixedEdge.size())
+      throw InputError("ProblemOptions.fixedEdge has " + std::to_string(o.fixedEdge.size()) +
+                       " entries, the mesh " + std::to_string(bc.fixedEdge.size()) + " edges");
+    bc.fixedEdge = o.fixedEdge;
+  }
   return bc;
 }
 
@@ -98,14 +112,11 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
       p.restXi = curvature::midedgeRestXi(p.stencils, p.rest, options.bending.restCurvature);
   p.boundary = boundaryConditions(p, options);
   p.linearizedClamp = options.linearizedClamp;
-  const Eigen::Vector3d gravity = options.load.gravity.value_or(Eigen::Vector3d::Zero());
-  if (options.load.gravity || !options.obstacles.empty()) {
-    const Eigen::VectorXd mass =
-        modeling::lumpedVertexMasses(p.rest, options.load.mass, options.load.density);
-    if (options.load.gravity) p.externalForce = mass * gravity.transpose();
-    if (!options.obstacles.empty())
-      p.obstacles = makeObstacleBarrier(options.obstacles, p.rest, mass, gravity);
-  }
+  p.gravity = options.load.gravity.value_or(Eigen::Vector3d::Zero());
+  p.mass = modeling::lumpedVertexMasses(p.rest, options.load.mass, options.load.density);
+  if (options.load.gravity) p.externalForce = p.mass * p.gravity.transpose();
+  if (!options.obstacles.empty())
+    p.obstacles = makeObstacleBarrier(options.obstacles, p.rest, p.mass, p.gravity);
   return p;
 }
 

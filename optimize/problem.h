@@ -49,6 +49,9 @@ struct ProblemOptions {
   // Midedge: boundary ξ clamped to `boundarySurface`'s normals (held), or free (natural). The
   // clamp is linearized about rest when `linearizedClamp` (for a linearized solve).
   BoundaryNormals boundaryNormals = BoundaryNormals::Clamped;
+  // Midedge without a boundary surface: the ξ held at their rest values ξ̄ (#E; empty: none), e.g.
+  // every boundary edge with two rings held, the clamp that keeps the rest boundary normals.
+  std::vector<bool> fixedEdge;
   bool linearizedClamp = false;
   LoadOptions load;
   std::vector<Obstacle> obstacles;  // the barrier of makeObstacleBarrier keeps vertices outside
@@ -69,6 +72,10 @@ struct Problem {
   BoundaryConditions boundary;
   bool linearizedClamp = false;  // the held ξ are the clamp linearized about rest
   Positions externalForce;       // #V by 3: m_v g; empty without a load
+  // The lumped vertex masses m_v = ρ × the vertex's rest area (#V, ProblemOptions.load's ρ and
+  // lumping) and the gravity g (zero without a load): the load's, the dynamics' inertia.
+  Eigen::VectorXd mass;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   ObstacleBarrier obstacles;  // the stated rule's barrier of ProblemOptions.obstacles; empty: none
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }

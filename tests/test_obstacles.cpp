@@ -180,14 +180,16 @@ TEST(Obstacles, MalformedSpecsAreRefused) {
 // it comes to rest (kinetic energy below 1e-12 of its peak), lying within the layer d̂ of the
 // plane.
 TEST(Obstacles, SheetDroppedOnAPlaneComesToRestOnIt) {
-  const testing::Plate plate(modeling::MeshFamily::Patch48, 6, Discretization::Hinge, 1e3);
+  const testing::Plate plate(
+      modeling::MeshFamily::Patch48, 6, Discretization::Hinge, 1e3,
+      [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+        p.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+        p.obstacles = {optimize::parseObstacle("obstacle", "plane:0,0,1,-0.1")};
+      });
   optimize::DynamicsOptions o;
   o.integrator = optimize::Integrator::BackwardEuler;
-  o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   o.rayleighMass = 10.0;
-  o.obstacles = {optimize::parseObstacle("--obstacle", "plane:0,0,1,-0.1")};
-  const std::vector<bool> pinned(plate.mesh.vertexCount(), false);
-  optimize::TimeStepper stepper(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, o);
+  optimize::TimeStepper stepper(plate.problem, o);
   stepper.start(plate.rest.positions, Positions::Zero(plate.mesh.vertexCount(), 3),
                 Eigen::VectorXd());
   const double layer = stepper.barrier().layer();

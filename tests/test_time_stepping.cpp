@@ -31,13 +31,20 @@ using optimize::TimeStepper;
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Rings 0 and 1 pinned, then `adjust`'s changes (a load, obstacles, held ξ).
+testing::AdjustProblem pinnedRings(const testing::AdjustProblem& adjust) {
+  return [adjust](optimize::ProblemOptions& o, const modeling::Stencils& stencils) {
+    o.fixedRings = 2;
+    if (adjust) adjust(o, stencils);
+  };
+}
+
 // A clamped square shell (rings 0 and 1 pinned): a bending energy + a StVK membrane, xyz.
 struct Shell : testing::Plate {
-  std::vector<bool> pinned;
+  const std::vector<bool>& pinned = problem.boundary.fixedVertex;
 
-  Shell(int n, Discretization d, double young = 1e3)
-      : testing::Plate(modeling::MeshFamily::Delaunay, n, d, young),
-        pinned(optimize::fixedRings(stencils, 2)) {}
+  Shell(int n, Discretization d, const testing::AdjustProblem& adjust = {})
+      : testing::Plate(modeling::MeshFamily::Delaunay, n, d, 1e3, pinnedRings(adjust)) {}
   // The first clamped mode of the same K and M (vibration_modes.h).
   optimize::VibrationMode firstMode() const {
     optimize::ModesOptions o;
@@ -47,6 +54,12 @@ struct Shell : testing::Plate {
     return optimize::vibrationModes(terms(), stencils, rest, restXi, o).modes.front();
   }
 };
+
+// The drape benchmark's scene: gravity, and a sphere 0.05 below the sheet.
+void onTheSphere(optimize::ProblemOptions& p, const modeling::Stencils&) {
+  p.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  p.obstacles = {optimize::parseObstacle("obstacle", "sphere:0,0,-0.35,0.3")};
+}
 
 // The mode's coordinate of a displacement: (φᵀ M u) for the M-normalized φ.
 double modalCoordinate(const optimize::VibrationMode& mode, const Eigen::VectorXd& mass,
@@ -58,13 +71,16 @@ double modalCoordinate(const optimize::VibrationMode& mode, const Eigen::VectorX
 
 TEST(TimeStepping, ReleasedFromTheFirstModeItOscillatesWithItsPeriod) {
   for (const Integrator integrator : {Integrator::Newmark, Integrator::CentralDifference}) {
-    const Shell shell(8, Discretization::Midedge);
+    // Boundary ξ held: clamped, as the modes.
+    const Shell shell(8, Discretization::Midedge,
+                      [](optimize::ProblemOptions& p, const modeling::Stencils& stencils) {
+                        p.fixedEdge = curvature::boundaryEdges(stencils);
+                      });
     const optimize::VibrationMode mode = shell.firstMode();
     const double period = 2.0 * kPi / mode.omega;
     DynamicsOptions o;
     o.integrator = integrator;
-    o.heldEdges = curvature::boundaryEdges(shell.stencils);  // clamped, as the modes
-    TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+    TimeStepper stepper(shell.problem, o);
     // A small amplitude: the linear regime, 1e-4 of the plate's size.
     const double amplitude = 1e-4 / mode.shape.cwiseAbs().maxCoeff();
     stepper.start(shell.rest.positions + amplitude * mode.shape,
@@ -110,7 +126,7 @@ TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
   for (const Integrator integrator : {Integrator::Newmark, Integrator::BackwardEuler}) {
     DynamicsOptions o;
     o.integrator = integrator;
-    TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+    TimeStepper stepper(shell.problem, o);
     stepper.start(start, modeling::Positions::Zero(shell.mesh.vertexCount(), 3), Eigen::VectorXd());
     const double initial = stepper.energies().total();
     double previous = initial, worst = 0.0;
@@ -139,13 +155,15 @@ TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
 // Under gravity with Rayleigh damping the plate comes to rest where the forces balance,
 // ∇E = M g on every free vertex: at the static minimizer of E − (M g)ᵀx.
 TEST(TimeStepping, DampedPlateUnderGravityComesToRestInEquilibrium) {
-  const Shell shell(8, Discretization::Midedge);
+  const Shell shell(8, Discretization::Midedge,
+                    [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                      p.load.gravity = Eigen::Vector3d(0.0, 0.0, -1.0);
+                    });
   DynamicsOptions o;
-  o.gravity = Eigen::Vector3d(0.0, 0.0, -1.0);
   // Modal damping ratio α/(2ω₁) + β ω₁/2 ≈ 0.8 for the first mode (ω₁ ≈ 65).
   o.rayleighMass = 100.0;
   o.rayleighStiffness = 1e-4;
-  TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  TimeStepper stepper(shell.problem, o);
   stepper.start(shell.rest.positions, modeling::Positions::Zero(shell.mesh.vertexCount(), 3),
                 Eigen::VectorXd());
   double peak = 0.0, kinetic = 0.0;
@@ -160,7 +178,7 @@ TEST(TimeStepping, DampedPlateUnderGravityComesToRestInEquilibrium) {
   double residual = 0.0, load = 0.0;
   for (int v = 0; v < shell.mesh.vertexCount(); ++v) {
     if (shell.pinned[v]) continue;
-    const double weight = stepper.masses()[v] * o.gravity.z();
+    const double weight = stepper.masses()[v] * shell.problem.gravity.z();
     load = std::max(load, std::abs(weight));
     for (int c = 0; c < 3; ++c)
       residual = std::max(residual, std::abs(e.gradient[3 * v + c] - (c == 2 ? weight : 0.0)));
@@ -179,7 +197,7 @@ TEST(TimeStepping, DampedPlateUnderGravityComesToRestInEquilibrium) {
   statics.start = optimize::Start::AsGiven;
   statics.externalForce = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
   for (int v = 0; v < shell.mesh.vertexCount(); ++v)
-    statics.externalForce.row(v) = stepper.masses()[v] * o.gravity.transpose();
+    statics.externalForce.row(v) = stepper.masses()[v] * shell.problem.gravity.transpose();
   const optimize::MinimizeResult minimizer =
       optimize::minimize(shell.terms(), bc, shell.rest.positions, shell.restXi, statics);
   ASSERT_TRUE(minimizer.report.converged) << minimizer.report.termination;
@@ -207,8 +225,7 @@ TEST(TimeStepping, BendingDampingDissipatesMonotonically) {
   const modeling::Positions still = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
   DynamicsOptions damped;
   damped.bendingDamping = 0.1 / mode.omega;
-  TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned,
-                      damped);
+  TimeStepper stepper(shell.problem, damped);
   stepper.start(start, still, Eigen::VectorXd());
   const double initial = stepper.energies().total();
   double previous = initial;
@@ -226,8 +243,8 @@ TEST(TimeStepping, BendingDampingDissipatesMonotonically) {
 
   DynamicsOptions none, zero;
   zero.bendingDamping = 0.0;
-  TimeStepper a(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, none);
-  TimeStepper b(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, zero);
+  TimeStepper a(shell.problem, none);
+  TimeStepper b(shell.problem, zero);
   a.start(start, still, Eigen::VectorXd());
   b.start(start, still, Eigen::VectorXd());
   for (int k = 0; k < 40; ++k) {
@@ -242,14 +259,13 @@ TEST(TimeStepping, BendingDampingDissipatesMonotonically) {
 // kinetic energy (K_B annihilates translations), where mass-proportional damping slows it.
 TEST(TimeStepping, BendingDampingLeavesRigidMotionAlone) {
   const testing::Plate plate(modeling::MeshFamily::Patch48, 6, Discretization::Hinge, 1e3);
-  const std::vector<bool> pinned(plate.mesh.vertexCount(), false);
   modeling::Positions v = modeling::Positions::Zero(plate.mesh.vertexCount(), 3);
   v.col(0).setConstant(0.3);
   v.col(2).setConstant(-0.1);
   for (const bool bend : {true, false}) {
     DynamicsOptions o;
     (bend ? o.bendingDamping : o.rayleighMass) = 1.0;
-    TimeStepper stepper(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, o);
+    TimeStepper stepper(plate.problem, o);
     stepper.start(plate.rest.positions, v, Eigen::VectorXd());
     const double initial = stepper.energies().kinetic;
     for (int k = 0; k < 50; ++k) ASSERT_TRUE(stepper.step(0.01).converged);
@@ -276,7 +292,7 @@ TEST(TimeStepping, PinnedVerticesFollowTheirRigidMotion) {
   o.pinMotion.axis = Eigen::Vector3d::UnitZ();
   o.pinMotion.point = p;
   o.pinMotion.omega = omega;
-  TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  TimeStepper stepper(shell.problem, o);
   stepper.start(shell.rest.positions, still, Eigen::VectorXd());
   double worst = 0.0, worstVelocity = 0.0;
   for (int k = 1; k <= 60; ++k) {
@@ -305,7 +321,7 @@ TEST(TimeStepping, PinnedVerticesFollowTheirRigidMotion) {
   DynamicsOptions t;
   t.pinMotion.kind = optimize::PinMotion::Kind::Translate;
   t.pinMotion.velocity = Eigen::Vector3d(0.5, 0.0, -0.25);
-  TimeStepper moving(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, t);
+  TimeStepper moving(shell.problem, t);
   moving.start(shell.rest.positions, still, Eigen::VectorXd());
   for (int k = 0; k < 20; ++k) ASSERT_TRUE(moving.step(h).converged);
   for (int v = 0; v < vertexCount; ++v) {
@@ -321,17 +337,19 @@ TEST(TimeStepping, PinnedVerticesFollowTheirRigidMotion) {
 // differences, its Hessian against the gradient's, at a point off the step's minimizer, for
 // Newmark and backward Euler.
 TEST(TimeStepping, StepObjectiveDerivativesMatchFiniteDifferences) {
-  const Shell shell(4, Discretization::Midedge);
+  const Shell shell(4, Discretization::Midedge,
+                    [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                      p.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+                      p.obstacles = {optimize::parseObstacle("obstacle", "plane:0.1,0,1,-0.08")};
+                    });
   const int vertexCount = shell.mesh.vertexCount();
   for (const Integrator integrator : {Integrator::Newmark, Integrator::BackwardEuler}) {
     DynamicsOptions o;
     o.integrator = integrator;
-    o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
     o.rayleighMass = 0.5;
     o.rayleighStiffness = 1e-3;
     o.bendingDamping = 1e-3;
-    o.obstacles = {optimize::parseObstacle("--obstacle", "plane:0.1,0,1,-0.08")};
-    TimeStepper stepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+    TimeStepper stepper(shell.problem, o);
     stepper.start(shell.rest.positions, modeling::Positions::Zero(vertexCount, 3),
                   Eigen::VectorXd());
     const double h = 0.01;
@@ -387,16 +405,13 @@ TEST(TimeStepping, StepObjectiveDerivativesMatchFiniteDifferences) {
 TEST(TimeStepping, ChordStepsFollowThePlainNewtonTrajectory) {
   for (const Discretization d :
        {Discretization::Hinge, Discretization::Cotan, Discretization::Midedge}) {
-    const testing::Plate plate(modeling::MeshFamily::Patch48, 8, d, 1e3);
-    const std::vector<bool> pinned(plate.mesh.vertexCount(), false);
+    const testing::Plate plate(modeling::MeshFamily::Patch48, 8, d, 1e3, onTheSphere);
     DynamicsOptions o;
-    o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-    o.obstacles = {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.35,0.3")};
     DynamicsOptions plain = o;
     plain.chordSteps = false;
     plain.predictAcceleration = false;
-    TimeStepper fast(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, o);
-    TimeStepper reference(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, plain);
+    TimeStepper fast(plate.problem, o);
+    TimeStepper reference(plate.problem, plain);
     const modeling::Positions still = modeling::Positions::Zero(plate.mesh.vertexCount(), 3);
     fast.start(plate.rest.positions, still, plate.restXi);
     reference.start(plate.rest.positions, still, plate.restXi);
@@ -431,12 +446,10 @@ TEST(TimeStepping, ChordStepsFollowThePlainNewtonTrajectory) {
 // fallback kept for the rest of a step, steps from 0.19 s on stalled at |δ| ≈ 1e-8 (30 Newton
 // steps) and had to be halved.
 TEST(TimeStepping, ContactStepsConvergeWhereTheExactHessianIsIndefinite) {
-  const testing::Plate plate(modeling::MeshFamily::Patch48, 49, Discretization::Cotan, 1e3);
-  const std::vector<bool> pinned(plate.mesh.vertexCount(), false);
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 49, Discretization::Cotan, 1e3,
+                             onTheSphere);
   DynamicsOptions o;
-  o.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  o.obstacles = {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.35,0.3")};
-  TimeStepper stepper(plate.terms(), plate.stencils, plate.rest, plate.restXi, pinned, o);
+  TimeStepper stepper(plate.problem, o);
   stepper.start(plate.rest.positions, modeling::Positions::Zero(plate.mesh.vertexCount(), 3),
                 plate.restXi);
   int factorizations = 0;
@@ -463,13 +476,15 @@ TEST(TimeStepping, ContactStepsConvergeWhereTheExactHessianIsIndefinite) {
 // unchanged, where halving would go below minStep. Two Newton steps per time step make a long
 // step fail.
 TEST(TimeStepping, AdvanceHalvesFailedStepsAsStepByStepDoes) {
-  const Shell shell(6, Discretization::Hinge);
+  const Shell shell(6, Discretization::Hinge,
+                    [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                      p.load.gravity = Eigen::Vector3d(0.0, 0.0, -50.0);
+                    });
   DynamicsOptions o;
-  o.gravity = Eigen::Vector3d(0.0, 0.0, -50.0);
   o.maxNewtonIterations = 2;
   const modeling::Positions still = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
-  TimeStepper advanced(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
-  TimeStepper byHand(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o);
+  TimeStepper advanced(shell.problem, o);
+  TimeStepper byHand(shell.problem, o);
   advanced.start(shell.rest.positions, still, Eigen::VectorXd());
   byHand.start(shell.rest.positions, still, Eigen::VectorXd());
   const double h = 0.2;
@@ -510,26 +525,39 @@ TEST(TimeStepping, AdvanceHalvesFailedStepsAsStepByStepDoes) {
 
 TEST(TimeStepping, RefusesUnusableOptions) {
   const Shell shell(4, Discretization::Hinge);
+  const auto refused = [&](const DynamicsOptions& o) {
+    try {
+      TimeStepper(shell.problem, o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
   DynamicsOptions o;
+  EXPECT_EQ(refused(o), "");
   o.beta = 0.0;
-  EXPECT_THROW(
-      TimeStepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o),
-      InputError);
+  EXPECT_NE(refused(o).find("DynamicsOptions.beta"), std::string::npos);
   o = DynamicsOptions();
   o.integrator = Integrator::CentralDifference;
   o.rayleighMass = 1.0;
-  EXPECT_THROW(
-      TimeStepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o),
-      InputError);
+  EXPECT_NE(refused(o).find("DynamicsOptions.rayleighMass"), std::string::npos);
   o = DynamicsOptions();
   o.bendingDamping = -1.0;
-  EXPECT_THROW(
-      TimeStepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, shell.pinned, o),
-      InputError);
+  EXPECT_NE(refused(o).find("DynamicsOptions.bendingDamping"), std::string::npos);
+  // What the problem holds: everything pinned, a height problem, obstacles with the explicit
+  // scheme.
+  const Shell all(4, Discretization::Hinge, [](optimize::ProblemOptions& p, const auto& stencils) {
+    p.fixedVertex.assign(stencils.vertexCount(), true);
+  });
+  EXPECT_THROW(TimeStepper(all.problem, DynamicsOptions()), InputError);
+  const testing::Plate height(modeling::MeshFamily::Delaunay, 4, Discretization::Hinge);
+  EXPECT_THROW(TimeStepper(height.problem, DynamicsOptions()), InputError);
+  const Shell sphere(4, Discretization::Hinge, onTheSphere);
   o = DynamicsOptions();
-  const std::vector<bool> all(shell.mesh.vertexCount(), true);
-  EXPECT_THROW(TimeStepper(shell.terms(), shell.stencils, shell.rest, shell.restXi, all, o),
-               InputError);
+  o.integrator = Integrator::CentralDifference;
+  EXPECT_THROW(TimeStepper(sphere.problem, o), InputError);
+  o.integrator = Integrator::Newmark;
+  EXPECT_NO_THROW(TimeStepper(sphere.problem, o));
 }
 
 }  // namespace

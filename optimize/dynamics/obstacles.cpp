@@ -105,6 +105,7 @@ ObstacleBarrier::ObstacleBarrier(std::vector<Obstacle> obstacles, double layer,
 
 void ObstacleBarrier::adapt(const Positions& x, const Positions& velocity,
                             const Eigen::VectorXd& mass) {
+  if (obstacles_.empty()) return;                                 // no stiffness to adapt
   const double absorb = 2.0 / (layer_ * layer_ * std::log(2.0));  // κ per m w²
   for (Eigen::Index v = 0; v < x.rows(); ++v) {
     // w over every obstacle, and over those within 2 d̂.

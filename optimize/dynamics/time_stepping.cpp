@@ -115,53 +115,50 @@ struct TimeStepper::Implicit {
   }
 };
 
-TimeStepper::TimeStepper(std::vector<const curvature::EnergyTerm*> terms,
-                         const modeling::Stencils& stencils, const modeling::RestState& rest,
-                         const Eigen::VectorXd& restXi, std::vector<bool> pinned,
-                         const DynamicsOptions& options)
-    : terms_(std::move(terms)), pinned_(std::move(pinned)), options_(options) {
-  const DynamicsOptions& o = options_;
-  if (o.integrator == Integrator::Newmark && !(o.beta > 0.0 && o.beta <= 0.5))
+void DynamicsOptions::validate() const {
+  if (integrator == Integrator::Newmark && !(beta > 0.0 && beta <= 0.5))
     throw InputError(
         "DynamicsOptions.beta: expected 0 < β ≤ 0.5 (β = 0 is DynamicsOptions.integrator "
         "central-difference)");
-  if (o.integrator == Integrator::Newmark && !(o.gamma >= 0.5 && o.gamma <= 1.0))
+  if (integrator == Integrator::Newmark && !(gamma >= 0.5 && gamma <= 1.0))
     throw InputError("DynamicsOptions.gamma: expected 0.5 ≤ γ ≤ 1");
-  if (o.integrator == Integrator::CentralDifference &&
-      (o.rayleighMass != 0.0 || o.rayleighStiffness != 0.0))
+  if (rayleighMass < 0.0 || rayleighStiffness < 0.0)
+    throw InputError("DynamicsOptions.rayleighMass|rayleighStiffness: expected α, β ≥ 0");
+  if (bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
+  if (integrator == Integrator::CentralDifference &&
+      (rayleighMass != 0.0 || rayleighStiffness != 0.0 || bendingDamping != 0.0))
     throw InputError(
         "DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping: the explicit "
         "central-difference scheme takes no damping; use "
         "newmark or backward-euler");
-  if (o.integrator == Integrator::CentralDifference && !o.obstacles.empty())
+}
+
+TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
+    : terms_(problem.termPointers()),
+      pinned_(problem.boundary.fixedVertex),
+      options_(options),
+      mass_(problem.mass),
+      gravity_(problem.gravity),
+      barrier_(problem.obstacles) {
+  const DynamicsOptions& o = options_;
+  o.validate();
+  if (problem.dof != DofMode::Xyz)
     throw InputError(
-        "DynamicsOptions.obstacles: the explicit central-difference scheme cannot keep vertices "
+        "TimeStepper moves every coordinate: expected a problem of ProblemOptions.dof xyz");
+  if (o.integrator == Integrator::CentralDifference && !barrier_.empty())
+    throw InputError(
+        "ProblemOptions.obstacles: the explicit central-difference scheme cannot keep vertices "
         "outside; use "
         "newmark or backward-euler");
-  if (!(o.density > 0.0)) throw InputError("DynamicsOptions.density: expected a value > 0");
-  if (o.rayleighMass < 0.0 || o.rayleighStiffness < 0.0)
-    throw InputError("DynamicsOptions.rayleighMass|rayleighStiffness: expected α, β ≥ 0");
-  if (o.bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
-  if (o.integrator == Integrator::CentralDifference && o.bendingDamping != 0.0)
-    throw InputError(
-        "DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping: the explicit "
-        "central-difference scheme takes no damping; use "
-        "newmark or backward-euler");
-  const int vertexCount = stencils.vertexCount();
-  if (static_cast<int>(pinned_.size()) != vertexCount)
-    throw InputError("pinned vertices: expected one flag per vertex");
+  const modeling::RestState& rest = problem.rest;
+  const Eigen::VectorXd& restXi = problem.restXi;
+  const int vertexCount = problem.stencils.vertexCount();
   if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
     throw InputError("every vertex is pinned: nothing can move");
-  mass_ = modeling::lumpedVertexMasses(rest, o.mass, o.density);
-  barrier_ = makeObstacleBarrier(o.obstacles, rest, mass_, o.gravity);
   length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
-  xi_ = restXi;
-  freeEdge_.assign(restXi.size(), true);
-  if (!o.heldEdges.empty()) {
-    if (o.heldEdges.size() != freeEdge_.size())
-      throw InputError("held edges: expected one flag per edge of a midedge energy");
-    for (size_t e = 0; e < freeEdge_.size(); ++e) freeEdge_[e] = !o.heldEdges[e];
-  }
+  xi_ = problem.boundary.xi;
+  freeEdge_.resize(problem.boundary.fixedEdge.size());
+  for (size_t e = 0; e < freeEdge_.size(); ++e) freeEdge_[e] = !problem.boundary.fixedEdge[e];
   if (o.integrator == Integrator::CentralDifference) return;
 
   std::vector<bool> free(3 * vertexCount + restXi.size(), false);
@@ -214,7 +211,7 @@ Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::V
   for (int v = 0; v < x.rows(); ++v) {
     if (pinned_[v]) continue;
     for (int c = 0; c < 3; ++c)
-      a(v, c) = options_.gravity[c] - (e.gradient[3 * v + c] + contact(v, c)) / mass_[v];
+      a(v, c) = gravity_[c] - (e.gradient[3 * v + c] + contact(v, c)) / mass_[v];
   }
   return a;
 }
@@ -328,9 +325,9 @@ class TimeStepper::IncrementalPotential : public Objective {
  public:
   IncrementalPotential(const Implicit& im, Configuration fixedPart,
                        const std::vector<const curvature::EnergyTerm*>& terms,
-                       const ObstacleBarrier& barrier, const DynamicsOptions& o, double h,
-                       const Positions& xHat, const Positions& vHat,
-                       std::vector<double> stiffnessDamping)
+                       const ObstacleBarrier& barrier, const Eigen::Vector3d& gravity,
+                       const DynamicsOptions& o, double h, const Positions& xHat,
+                       const Positions& vHat, std::vector<double> stiffnessDamping)
       : Objective(im.assembly, std::move(fixedPart)),
         im_(im),
         terms_(terms),
@@ -352,7 +349,7 @@ class TimeStepper::IncrementalPotential : public Objective {
       const bool vertex = u < positionCount;
       hat_[k] = vertex ? xHat.data()[u] : 0.0;
       vHatFree[k] = vertex ? vHat.data()[u] : 0.0;
-      gravityForce_[k] = vertex ? im.mass[k] * o.gravity[u % 3] : 0.0;
+      gravityForce_[k] = vertex ? im.mass[k] * gravity[u % 3] : 0.0;
     }
     dampingOfVHat_ = damping(vHatFree);
   }
@@ -491,8 +488,8 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
       return {false, 0, "pinned vertex " + std::to_string(vertex) + " is moved into an obstacle", 0,
               NewtonStop::Infeasible};
   }
-  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, o, h, xHat, vHat,
-                           stiffnessDamping());
+  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, gravity_, o, h, xHat,
+                           vHat, stiffnessDamping());
   if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
     const Eigen::VectorXd y = phi.freeValues(Configuration{*probe->x, *probe->xi});
     const HessianEvaluation at = phi.evaluate(y, curvature::SecondDerivatives::Exact);
@@ -560,7 +557,7 @@ EnergySample TimeStepper::energies() const {
   s.time = time_;
   for (int v = 0; v < x_.rows(); ++v) {
     s.kinetic += 0.5 * mass_[v] * v_.row(v).squaredNorm();
-    s.gravity -= mass_[v] * options_.gravity.dot(x_.row(v).transpose());
+    s.gravity -= mass_[v] * gravity_.dot(x_.row(v).transpose());
   }
   for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x_, xi_));
   s.contact = barrier_.energy(x_);

@@ -2,7 +2,11 @@
 // of flexure's energies. Every coordinate of every unpinned vertex moves; midedge ξ are massless
 // unknowns solved with each step.
 //
-// Equations of motion, lumped mass M (m_v = ρ × the vertex's rest area, vibration_modes.h),
+// What moves is a Problem (problem.h) in xyz: its terms, its held vertices (pinned) and held ξ, its
+// lumped masses M (m_v = ρ × the vertex's rest area) and gravity g, its obstacles. How it moves is
+// DynamicsOptions.
+//
+// Equations of motion, lumped mass M,
 // damping C = α M + β K̄ + c K_B(x_n) (Rayleigh's α, β with K̄ the Hessian at rest; c the bending
 // damping below; all on the vertex unknowns), gravity g:
 //
@@ -34,7 +38,7 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/dynamics/obstacles.h"
-#include "optimize/modes/vibration_modes.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/newton_stop.h"
 
 namespace flexure::optimize {
@@ -63,10 +67,7 @@ struct PinMotion {
 
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
-  double beta = 0.25, gamma = 0.5;  // Newmark's
-  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
-  double density = 1.0;  // ρ, mass per unit rest area
-  MassLumping mass = MassLumping::Barycentric;
+  double beta = 0.25, gamma = 0.5;                     // Newmark's
   double rayleighMass = 0.0, rayleighStiffness = 0.0;  // α, β of C = α M + β K̄
   // c of the bending damping force −c K_B(x_n) v: K_B = J_Bᵀ J_B is the Gauss–Newton Hessian of
   // the first term (the bending energy, as flexure simulate orders the terms) at the step's start,
@@ -78,15 +79,11 @@ struct DynamicsOptions {
   // dissipates; membrane stretching is not damped. Midedge's ξ rows are left out (massless,
   // solved with each step).
   double bendingDamping = 0.0;
-  // How the pinned vertices move (from where start() puts them). Damping acts on the free
-  // vertices' velocities only: a moving pin drags its neighbours through the elastic forces.
+  // How the pinned vertices (the problem's held ones) move from where start() puts them. Damping
+  // acts on the free vertices' velocities only: a moving pin drags its neighbours through the
+  // elastic forces. The problem's obstacles (their barrier B(x) joins Φ, and each Newton step is
+  // capped so that no vertex reaches one) need an implicit integrator.
   PinMotion pinMotion;
-  // #E or empty: midedge ξ held at their start values — a clamp's boundary normals, with the
-  // boundary faces pinned (as vibrationModes' Clamp::Rings and minimize's clamped rings:2).
-  std::vector<bool> heldEdges;
-  // Obstacles (obstacles.h): their barrier B(x) joins Φ, and each Newton step is capped so that no
-  // vertex reaches one; the implicit integrators only.
-  std::vector<Obstacle> obstacles;
   // At most this many Newton steps (iterations that factor the Hessian) per step, and 4 × as many
   // iterations with the chord steps.
   int maxNewtonIterations = 30;
@@ -104,6 +101,10 @@ struct DynamicsOptions {
   // Newton starts from x̂ + β h² a_n (the acceleration kept), and vertices within two barrier
   // layers of an obstacle from x_n, rather than everything from x̂ (a = 0).
   bool predictAcceleration = true;
+
+  // InputError naming the field for options no problem can satisfy (β outside (0, ½] for
+  // Newmark, γ outside [½, 1], negative damping, damping with the explicit scheme).
+  void validate() const;
 };
 
 // The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x, the
@@ -116,12 +117,11 @@ struct EnergySample {
 
 class TimeStepper {
  public:
-  // `pinned` vertices keep their start positions, or follow options.pinMotion from them. Throws
-  // InputError for a bad option (β outside [0, ½] for Newmark, γ ≠ ½ with β = 0, damping or
-  // obstacles with the explicit scheme, density ≤ 0, nothing free).
-  TimeStepper(std::vector<const curvature::EnergyTerm*> terms, const modeling::Stencils& stencils,
-              const modeling::RestState& rest, const Eigen::VectorXd& restXi,
-              std::vector<bool> pinned, const DynamicsOptions& options);
+  // `problem` (xyz; it outlives the stepper): its held vertices are pinned at their start
+  // positions, or follow options.pinMotion from them; its held ξ keep their values. Throws
+  // InputError for a bad option (DynamicsOptions::validate), obstacles with the explicit scheme,
+  // a height problem, or nothing free.
+  TimeStepper(const Problem& problem, const DynamicsOptions& options);
   ~TimeStepper();
   TimeStepper(const TimeStepper&) = delete;
   TimeStepper& operator=(const TimeStepper&) = delete;
@@ -203,6 +203,7 @@ class TimeStepper {
   std::vector<bool> pinned_;
   DynamicsOptions options_;
   Eigen::VectorXd mass_;
+  Eigen::Vector3d gravity_;
   double length_ = 1.0;
   std::vector<bool> freeEdge_;
   ObstacleBarrier barrier_;

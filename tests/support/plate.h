@@ -2,7 +2,9 @@
 // through optimize::buildProblem, nothing held: the set-up of the vibration and dynamics tests.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "curvature/bending_energy.h"
@@ -34,6 +36,19 @@ inline optimize::ProblemOptions plateProblem(curvature::Discretization d, double
   return o;
 }
 
+// Changes to a plate's problem options, made knowing the compiled mesh (e.g. which edges are on
+// the boundary).
+using AdjustProblem = std::function<void(optimize::ProblemOptions&, const modeling::Stencils&)>;
+
+inline optimize::Problem buildPlateProblem(const modeling::Mesh& mesh,
+                                           optimize::ProblemOptions options,
+                                           const AdjustProblem& adjust) {
+  modeling::Stencils stencils = modeling::compileStencils(mesh);
+  modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
+  if (adjust) adjust(options, stencils);
+  return optimize::buildProblem(std::move(stencils), std::move(rest), options);
+}
+
 // Built in place (its references point into `problem`).
 struct Plate {
   modeling::Mesh mesh;
@@ -42,9 +57,10 @@ struct Plate {
   const modeling::RestState& rest = problem.rest;
   const Eigen::VectorXd& restXi = problem.restXi;  // #E (midedge), else empty
 
-  Plate(modeling::MeshFamily family, int n, curvature::Discretization d, double young = 0.0)
+  Plate(modeling::MeshFamily family, int n, curvature::Discretization d, double young = 0.0,
+        const AdjustProblem& adjust = {})
       : mesh(generatedPlate(family, n)),
-        problem(optimize::buildProblem(mesh, plateProblem(d, young))) {}
+        problem(buildPlateProblem(mesh, plateProblem(d, young), adjust)) {}
   Plate(const Plate&) = delete;
   Plate& operator=(const Plate&) = delete;
 
