@@ -1,6 +1,7 @@
-// The five bending energies of docs/energies.md, each built once from the stencils and the rest
-// state into an EnergyTerm. The axes stay apart (libshell's lesson): discretization × material
-// (Poisson's ratio ν, stiffness k_B) × rest curvature (the rest mesh's, or flat for fairing).
+// The bending energies (the five of docs/energies.md, and any registered at run time:
+// energy_registry.h), each built once from the stencils and the rest state into an EnergyTerm. The
+// axes stay apart (libshell's lesson): discretization × material (Poisson's ratio ν, stiffness k_B)
+// × rest curvature (the rest mesh's, or flat for fairing).
 #pragma once
 
 #include <array>

@@ -26,6 +26,11 @@ void ProblemOptions::validate() const {
     throw InputError(
         "ProblemOptions.boundarySurface and ProblemOptions.boundaryPositions both give the held "
         "vertices' values: give one");
+  if (membraneRest.size() > 0 && !membrane)
+    throw InputError(
+        "ProblemOptions.membraneRest is the rest shape of a membrane, which is not given");
+  if (membraneRest.size() > 0 && !membraneRest.allFinite())
+    throw InputError("ProblemOptions.membraneRest has a coordinate that is not finite");
   if (boundaryPositions.size() > 0 && !boundaryPositions.allFinite())
     throw InputError("ProblemOptions.boundaryPositions has a coordinate that is not finite");
   const curvature::EnergyEntry& entry = curvature::energyEntry(bending.discretization);
@@ -103,8 +108,17 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
   p.rest = std::move(rest);
   p.dof = options.dof;
   p.terms.push_back(curvature::makeBendingEnergy(p.stencils, p.rest, options.bending));
+  if (options.membraneRest.size() > 0) {
+    if (options.membraneRest.rows() != p.rest.positions.rows())
+      throw InputError("ProblemOptions.membraneRest has " +
+                       std::to_string(options.membraneRest.rows()) + " rows, the mesh " +
+                       std::to_string(p.rest.positions.rows()) + " vertices");
+    p.membraneRest = std::make_unique<modeling::RestState>(
+        modeling::precomputeRestState(p.stencils, options.membraneRest));
+  }
   if (options.membrane)
-    for (auto& term : curvature::makeMembraneEnergy(p.stencils, p.rest, *options.membrane))
+    for (auto& term : curvature::makeMembraneEnergy(
+             p.stencils, p.membraneRest ? *p.membraneRest : p.rest, *options.membrane))
       p.terms.push_back(std::move(term));
   // The one place ξ̄ is computed: for the term that owns edge unknowns.
   for (const auto& term : p.terms)

@@ -34,6 +34,9 @@ struct LoadOptions {
 struct ProblemOptions {
   curvature::BendingOptions bending;
   std::optional<curvature::MembraneOptions> membrane;  // xyz mode only
+  // The membrane's rest shape (#V by 3) when it is not the rest mesh's (fairing keeps the start's
+  // triangles); empty: the rest mesh.
+  Positions membraneRest;
   // Height: z free, x and y held at rest. Xyz: every coordinate free (needs a membrane: bending
   // alone has no stiffness against sliding in the surface).
   DofMode dof = DofMode::Height;
@@ -64,7 +67,10 @@ struct Problem {
   modeling::Stencils stencils;
   modeling::RestState rest;  // rest.positions: #V by 3
   DofMode dof = DofMode::Height;
-  // The bending term first, then the membrane's (none, one or two).
+  // The membrane's rest state when ProblemOptions.membraneRest gives one (else null: `rest`).
+  std::unique_ptr<modeling::RestState> membraneRest;
+  // The bending term first, then the membrane's (none, one or two); a caller may append more (an
+  // angle barrier).
   std::vector<std::unique_ptr<curvature::EnergyTerm>> terms;
   // #E: ξ̄ when a term owns edge unknowns (midedge), else empty.
   Eigen::VectorXd restXi;

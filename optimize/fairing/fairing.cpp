@@ -18,6 +18,7 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/linear/biharmonic.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
@@ -32,22 +33,13 @@ double angleDegrees(const Eigen::Vector3d& m, const Eigen::Vector3d& n) {
          180.0 / kPi;
 }
 
-// The patch compiled once: its stencils and its rest state (the input's metric).
-struct CompiledPatch {
-  modeling::Stencils stencils;
-  modeling::RestState rest;
-  std::vector<int> regionFaces;  // faces touching a moving vertex
-};
-
-CompiledPatch compilePatch(const modeling::FairingPatch& patch) {
-  CompiledPatch c;
-  c.stencils = modeling::compileStencils(patch.mesh);
-  c.rest = modeling::precomputeRestState(c.stencils, patch.mesh.positions);
-  for (int f = 0; f < c.stencils.faceCount(); ++f) {
-    const auto t = c.stencils.faces.row(f);
-    if (patch.moves[t(0)] || patch.moves[t(1)] || patch.moves[t(2)]) c.regionFaces.push_back(f);
-  }
-  return c;
+// The faces touching a moving vertex.
+std::vector<int> regionFaces(const modeling::FairingPatch& patch) {
+  std::vector<int> faces;
+  const modeling::Triangles& t = patch.mesh.triangles;
+  for (int f = 0; f < t.rows(); ++f)
+    if (patch.moves[t(f, 0)] || patch.moves[t(f, 1)] || patch.moves[t(f, 2)]) faces.push_back(f);
+  return faces;
 }
 
 curvature::BendingOptions flatRest(curvature::BendingOptions b) {
@@ -56,21 +48,23 @@ curvature::BendingOptions flatRest(curvature::BendingOptions b) {
 }
 
 // E_bend of one discretization at `x`, midedge ξ minimized for x.
-double bendingEnergy(const CompiledPatch& c, const curvature::BendingOptions& b,
-                     const Positions& x) {
+double bendingEnergy(const modeling::Stencils& stencils, const modeling::RestState& rest,
+                     const curvature::BendingOptions& b, const Positions& x) {
   const std::unique_ptr<curvature::EnergyTerm> term =
-      curvature::makeBendingEnergy(c.stencils, c.rest, b);
-  return relaxedEnergy({term.get()}, x, Eigen::VectorXd::Zero(c.stencils.edgeCount()),
-                       std::vector<bool>(c.stencils.edgeCount(), true));
+      curvature::makeBendingEnergy(stencils, rest, b);
+  return relaxedEnergy({term.get()}, x, Eigen::VectorXd::Zero(stencils.edgeCount()),
+                       std::vector<bool>(stencils.edgeCount(), true));
 }
 
-TriangleQuality triangleQuality(const CompiledPatch& c, const Positions& x) {
+// The smallest angle and the shape measures of the region's faces at x.
+TriangleQuality triangleQuality(const modeling::FairingPatch& patch, const std::vector<int>& region,
+                                const Positions& x) {
   TriangleQuality q;
   q.minAngleDegrees = 180.0;
   q.minShape = 1.0;
   double shapeSum = 0.0;
-  for (int f : c.regionFaces) {
-    const auto t = c.stencils.faces.row(f);
+  for (int f : region) {
+    const auto t = patch.mesh.triangles.row(f);
     const Eigen::Vector3d p[3] = {x.row(t(0)), x.row(t(1)), x.row(t(2))};
     const double area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
     double squares = 0.0;
@@ -84,17 +78,47 @@ TriangleQuality triangleQuality(const CompiledPatch& c, const Positions& x) {
     q.minShape = std::min(q.minShape, shape);
     shapeSum += shape;
   }
-  q.meanShape = c.regionFaces.empty() ? 0.0 : shapeSum / static_cast<double>(c.regionFaces.size());
+  q.meanShape = region.empty() ? 0.0 : shapeSum / static_cast<double>(region.size());
   return q;
 }
 
 // The linear fair: each coordinate minimizes Σ_v (L x)_v² / Ā_v with the held vertices fixed.
-Positions fairBiharmonic(const modeling::FairingPatch& patch, const CompiledPatch& c) {
+Positions fairBiharmonic(const modeling::FairingPatch& patch, const modeling::Stencils& stencils,
+                         const modeling::RestState& rest) {
   std::vector<bool> held(patch.moves.size());
   for (std::size_t v = 0; v < held.size(); ++v) held[v] = !patch.moves[v];
   Positions x = patch.mesh.positions;
-  for (int k = 0; k < 3; ++k) x.col(k) = solveBiharmonic(c.stencils, c.rest, held, x.col(k));
+  for (int k = 0; k < 3; ++k) x.col(k) = solveBiharmonic(stencils, rest, held, x.col(k));
   return x;
+}
+
+// The start of the nonlinear fair (options.start; Best: the linear fair unless the input has the
+// lower energy or the linear fair fails the triangle checks), and which it is.
+std::pair<Positions, FairingStart> fairingStart(const modeling::FairingPatch& patch,
+                                                const modeling::Stencils& stencils,
+                                                const modeling::RestState& rest,
+                                                const curvature::BendingOptions& b,
+                                                FairingStart start) {
+  if (start == FairingStart::Input) return {patch.mesh.positions, start};
+  const Positions linear = fairBiharmonic(patch, stencils, rest);
+  if (start == FairingStart::Biharmonic) return {linear, start};
+  // The membrane keeps the start's triangles, so a linear fair with inverted or degenerate
+  // faces (three_peaks' all-interior: 13 faces turned over) is no start.
+  const bool inputLower = !checkFairing(patch, linear, nullptr).trianglesPassed() ||
+                          bendingEnergy(stencils, rest, b, patch.mesh.positions) <
+                              bendingEnergy(stencils, rest, b, linear);
+  if (inputLower) return {patch.mesh.positions, FairingStart::Input};
+  return {linear, FairingStart::Biharmonic};
+}
+
+// The angle barrier's floor (degrees): the smallest-angle rule's limit (kSliverToleranceDegrees
+// below the smaller of the input's and the linear fair's smallest angle — the linear fair is
+// CGAL's) raised by kAngleFloorMarginDegrees. Both starts are above it.
+double angleFloorDegrees(const modeling::FairingPatch& patch, const std::vector<int>& region,
+                         const Positions& linear) {
+  return std::min(triangleQuality(patch, region, patch.mesh.positions).minAngleDegrees,
+                  triangleQuality(patch, region, linear).minAngleDegrees) -
+         kSliverToleranceDegrees + kAngleFloorMarginDegrees;
 }
 
 }  // namespace
@@ -116,76 +140,46 @@ curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, doubl
 }
 
 Positions fairBiharmonic(const modeling::FairingPatch& patch) {
-  const CompiledPatch c = compilePatch(patch);
-  return fairBiharmonic(patch, c);
+  const modeling::Stencils stencils = modeling::compileStencils(patch.mesh);
+  return fairBiharmonic(patch, stencils,
+                        modeling::precomputeRestState(stencils, patch.mesh.positions));
 }
 
 FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOptions& options) {
-  const CompiledPatch c = compilePatch(patch);
+  modeling::Stencils stencils = modeling::compileStencils(patch.mesh);
+  modeling::RestState rest = modeling::precomputeRestState(stencils, patch.mesh.positions);
+  const std::vector<int> region = regionFaces(patch);
+  ProblemOptions p;
   // E_bend as minimized: flat rest, on the input's or the current metric.
-  curvature::BendingOptions b = flatRest(options.bending);
-  b.metric = options.metric == FairingMetric::Current ? curvature::CurvatureMetric::Current
-                                                      : curvature::CurvatureMetric::Rest;
-  BoundaryConditions bc;
-  FairingStart start = options.start;
-  if (start == FairingStart::Input) {
-    bc.start = patch.mesh.positions;
-  } else {
-    bc.start = fairBiharmonic(patch, c);
-    if (start == FairingStart::Best) {
-      // The membrane keeps the start's triangles, so a linear fair with inverted or degenerate
-      // faces (three_peaks' all-interior: 13 faces turned over) is no start.
-      const bool inputLower =
-          !checkFairing(patch, bc.start, nullptr).trianglesPassed() ||
-          bendingEnergy(c, b, patch.mesh.positions) < bendingEnergy(c, b, bc.start);
-      start = inputLower ? FairingStart::Input : FairingStart::Biharmonic;
-      if (inputLower) bc.start = patch.mesh.positions;
-    }
-  }
+  p.bending = flatRest(options.bending);
+  p.bending.metric = options.metric == FairingMetric::Current ? curvature::CurvatureMetric::Current
+                                                              : curvature::CurvatureMetric::Rest;
+  const auto [start, startKind] = fairingStart(patch, stencils, rest, p.bending, options.start);
   double edgeLengthSum = 0.0;
-  for (int f : c.regionFaces)
-    for (int i = 0; i < 3; ++i) edgeLengthSum += c.rest.edgeLengths[c.stencils.faceEdges(f, i)];
-  const double meanEdge = edgeLengthSum / (3.0 * static_cast<double>(c.regionFaces.size()));
-
-  bc.fixedVertex.resize(patch.moves.size());
-  for (std::size_t v = 0; v < patch.moves.size(); ++v) bc.fixedVertex[v] = !patch.moves[v];
-  MinimizeOptions solver = options.solver;
-  solver.dof = DofMode::Xyz;
-  solver.linearized = false;
-  solver.start = Start::AsGiven;
-  // The angle floor: the smallest-angle rule's limit (kSliverToleranceDegrees below the smaller of
-  // the input's and the linear fair's smallest angle — the linear fair is CGAL's) raised by
-  // kAngleFloorMarginDegrees, kept by the barrier. Both starts are above it.
-  std::unique_ptr<curvature::EnergyTerm> angleBarrier;
-  if (options.angleBarrier) {
-    const Positions linear =
-        start == FairingStart::Biharmonic ? bc.start : fairBiharmonic(patch, c);
-    const double floorDegrees = std::min(triangleQuality(c, patch.mesh.positions).minAngleDegrees,
-                                         triangleQuality(c, linear).minAngleDegrees) -
-                                kSliverToleranceDegrees + kAngleFloorMarginDegrees;
-    angleBarrier = curvature::makeAngleBarrier(c.stencils, c.regionFaces, bc.start, b.stiffness,
-                                               floorDegrees * kPi / 180.0,
-                                               kAngleBarrierBandDegrees * kPi / 180.0);
-  }
-  const std::unique_ptr<curvature::EnergyTerm> bending =
-      curvature::makeBendingEnergy(c.stencils, c.rest, b);
-  const std::vector<std::unique_ptr<curvature::EnergyTerm>> membrane =
-      curvature::makeMembraneEnergy(
-          c.stencils,
-          options.membraneShape == FairingShape::Input
-              ? c.rest
-              : modeling::precomputeRestState(c.stencils, bc.start),
-          fairingMembrane(options.membrane, options.membraneWeight, b.stiffness, meanEdge));
-  std::vector<const curvature::EnergyTerm*> terms = {bending.get()};
-  for (const auto& term : membrane) terms.push_back(term.get());
-  if (angleBarrier) terms.push_back(angleBarrier.get());
-  Eigen::VectorXd restXi;
-  if (bending->usesEdgeUnknowns()) {
-    restXi = Eigen::VectorXd::Zero(c.stencils.edgeCount());
-    bc.fixedEdge.assign(c.stencils.edgeCount(), false);
-    bc.xi = minimizeEdgeUnknowns(terms, bc.start, restXi,
-                                 std::vector<bool>(c.stencils.edgeCount(), true));
-  }
+  for (int f : region)
+    for (int i = 0; i < 3; ++i) edgeLengthSum += rest.edgeLengths[stencils.faceEdges(f, i)];
+  const double meanEdge = edgeLengthSum / (3.0 * static_cast<double>(region.size()));
+  p.membrane =
+      fairingMembrane(options.membrane, options.membraneWeight, p.bending.stiffness, meanEdge);
+  if (options.membraneShape == FairingShape::Start) p.membraneRest = start;
+  p.dof = DofMode::Xyz;
+  p.fixedVertex.resize(patch.moves.size());
+  for (std::size_t v = 0; v < patch.moves.size(); ++v) p.fixedVertex[v] = !patch.moves[v];
+  p.boundaryPositions = start;
+  p.boundaryNormals = BoundaryNormals::Free;
+  const Positions linear = options.angleBarrier && startKind != FairingStart::Biharmonic
+                               ? fairBiharmonic(patch, stencils, rest)
+                               : start;
+  Problem problem = buildProblem(std::move(stencils), std::move(rest), p);
+  if (options.angleBarrier)  // kept above the floor by the barrier
+    problem.terms.push_back(
+        curvature::makeAngleBarrier(problem.stencils, region, start, p.bending.stiffness,
+                                    angleFloorDegrees(patch, region, linear) * kPi / 180.0,
+                                    kAngleBarrierBandDegrees * kPi / 180.0));
+  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
+  if (problem.usesEdgeUnknowns())  // ξ start at their minimizer for the start
+    problem.boundary.xi = minimizeEdgeUnknowns(terms, start, problem.restXi,
+                                               std::vector<bool>(problem.restXi.size(), true));
   // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
   const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
     const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
@@ -194,9 +188,12 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
       if (patch.moves[static_cast<std::size_t>(v)]) squared += g.segment<3>(3 * v).squaredNorm();
     return std::sqrt(squared);
   };
-  const double startGradientNorm = freeGradientNorm(bc.start, bc.xi);
-  MinimizeResult result = minimize(terms, bc, c.rest.positions, restXi, solver);
-  FairingResult fairing{std::move(result.positions), result.report, start};
+  MinimizeOptions solver = options.solver;
+  solver.linearized = false;
+  solver.start = Start::AsGiven;
+  const double startGradientNorm = freeGradientNorm(start, problem.boundary.xi);
+  MinimizeResult result = minimize(problem, solver);
+  FairingResult fairing{std::move(result.positions), result.report, startKind};
   fairing.startGradientNorm = startGradientNorm;
   fairing.finalGradientNorm = freeGradientNorm(fairing.positions, result.xi);
   return fairing;
@@ -242,7 +239,8 @@ std::string FairingChecks::failure() const {
 
 FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions& positions,
                            const FairingResult* solve) {
-  const CompiledPatch c = compilePatch(patch);
+  const modeling::Triangles& faces = patch.mesh.triangles;
+  const std::vector<int> region = regionFaces(patch);
   FairingChecks checks;
   if (solve) {
     checks.gradientChecked = true;
@@ -256,19 +254,18 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
   };
   const Positions& input = patch.mesh.positions;
   // The faces at each face's edges: for face f, edge i (from corner i to i + 1) the face across.
-  std::vector<std::array<int, 3>> across(c.stencils.faceCount(), {-1, -1, -1});
+  std::vector<std::array<int, 3>> across(static_cast<int>(faces.rows()), {-1, -1, -1});
   {
     std::map<std::pair<int, int>, std::pair<int, int>> halfedge;  // (from, to) → (face, edge)
-    for (int f = 0; f < c.stencils.faceCount(); ++f)
-      for (int i = 0; i < 3; ++i)
-        halfedge[{c.stencils.faces(f, i), c.stencils.faces(f, (i + 1) % 3)}] = {f, i};
+    for (int f = 0; f < static_cast<int>(faces.rows()); ++f)
+      for (int i = 0; i < 3; ++i) halfedge[{faces(f, i), faces(f, (i + 1) % 3)}] = {f, i};
     for (const auto& [edge, at] : halfedge) {
       const auto twin = halfedge.find({edge.second, edge.first});
       if (twin != halfedge.end()) across[at.first][at.second] = twin->second.first;
     }
   }
-  for (int f : c.regionFaces) {
-    const auto t = c.stencils.faces.row(f);
+  for (int f : region) {
+    const auto t = faces.row(f);
     const int named[3] = {patch.inputVertex[t(0)], patch.inputVertex[t(1)],
                           patch.inputVertex[t(2)]};
     const Eigen::Vector3d before = areaNormal(input, t(0), t(1), t(2));
@@ -287,7 +284,7 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
     for (int i = 0; i < 3; ++i) {
       const int g = across[f][i];
       if (g < 0) continue;
-      const auto u = c.stencils.faces.row(g);
+      const auto u = faces.row(g);
       neighbourTurn =
           std::max(neighbourTurn, angleDegrees(after, areaNormal(positions, u(0), u(1), u(2))));
     }
@@ -296,8 +293,9 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
           {{named[0], named[1], named[2]}, angleDegrees(before, after), neighbourTurn});
     }
   }
-  checks.inputMinAngleDegrees = triangleQuality(c, patch.mesh.positions).minAngleDegrees;
-  checks.resultMinAngleDegrees = triangleQuality(c, positions).minAngleDegrees;
+  checks.inputMinAngleDegrees =
+      triangleQuality(patch, region, patch.mesh.positions).minAngleDegrees;
+  checks.resultMinAngleDegrees = triangleQuality(patch, region, positions).minAngleDegrees;
   return checks;
 }
 
@@ -307,7 +305,8 @@ Positions fairCgal(const modeling::FairingPatch& patch) {
 
 FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positions& positions,
                                const curvature::BendingOptions& material) {
-  const CompiledPatch c = compilePatch(patch);
+  const modeling::Stencils stencils = modeling::compileStencils(patch.mesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, patch.mesh.positions);
   FairingMeasures m;
   // Every registered energy, with the ν its rule takes (a mean-curvature model takes none).
   const int energies = static_cast<int>(curvature::registeredEnergies().size());
@@ -323,7 +322,7 @@ FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positi
       b.metric = metric;
       EnergyMeasure e{std::string(curvature::discretizationName(d)), 0.0, ""};
       try {
-        e.value = bendingEnergy(c, b, positions);
+        e.value = bendingEnergy(stencils, rest, b, positions);
       } catch (const std::exception& error) {
         e.value = std::numeric_limits<double>::quiet_NaN();
         e.error = error.what();
@@ -331,7 +330,7 @@ FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positi
       (metric == curvature::CurvatureMetric::Rest ? m.bending : m.bendingCurrent).push_back(e);
     }
   }
-  m.quality = triangleQuality(c, positions);
+  m.quality = triangleQuality(patch, regionFaces(patch), positions);
   m.maxDisplacement = (positions - patch.mesh.positions).rowwise().norm().maxCoeff();
   return m;
 }
