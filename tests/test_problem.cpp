@@ -11,6 +11,7 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "modeling/vertex_quantities.h"
 #include "optimize/problem.h"
 #include "support/energy_fixtures.h"
 
@@ -176,6 +177,39 @@ TEST(Problem, BoundaryValuesAndLoads) {
 }
 
 // A midedge clamp built for a nonlinear solve is refused by a linearized one, and the other way.
+// Held ξ by mask (at ξ̄) and a membrane whose rest shape is not the rest mesh's: its energy
+// vanishes there, not at rest; masses and gravity are the load's.
+TEST(Problem, HeldEdgesMembraneRestAndMasses) {
+  const Mesh mesh = curvedPatch();
+  ProblemOptions o = optionsFor(Discretization::Midedge, DofMode::Xyz);
+  o.boundarySurface.reset();
+  o.boundaryNormals = BoundaryNormals::Free;
+  const optimize::Problem free = optimize::buildProblem(mesh, o);
+  o.fixedEdge.assign(free.stencils.edgeCount(), false);
+  o.fixedEdge[2] = o.fixedEdge[5] = true;
+  Positions stretched = mesh.positions * 1.1;
+  o.membraneRest = stretched;
+  o.load.density = 3.0;
+  const optimize::Problem p = optimize::buildProblem(mesh, o);
+  EXPECT_EQ(p.boundary.fixedEdge, o.fixedEdge);
+  EXPECT_EQ(p.boundary.xi, p.restXi);
+  ASSERT_EQ(p.terms.size(), 2u);
+  EXPECT_GT(p.terms[1]->energy(mesh.positions, p.restXi), 1e-6);
+  EXPECT_LE(p.terms[1]->energy(stretched, p.restXi), 1e-20);
+  EXPECT_EQ(p.mass, modeling::lumpedVertexMasses(p.rest, modeling::MassLumping::Barycentric, 3.0));
+  EXPECT_EQ(p.gravity, Eigen::Vector3d::Zero());
+  EXPECT_EQ(p.externalForce.size(), 0);
+  o.fixedEdge.pop_back();
+  EXPECT_THAT(
+      [&] { optimize::buildProblem(mesh, o); },
+      ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("ProblemOptions.fixedEdge has")));
+  o.fixedEdge.clear();
+  o.membraneRest = stretched.topRows(3);
+  EXPECT_THAT([&] { optimize::buildProblem(mesh, o); },
+              ::testing::ThrowsMessage<InputError>(
+                  ::testing::HasSubstr("ProblemOptions.membraneRest has 3")));
+}
+
 TEST(Problem, MinimizeRefusesAClampForTheOtherSolve) {
   ProblemOptions o = optionsFor(Discretization::Midedge, DofMode::Height);
   const Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, 6, 1, {}});
@@ -220,6 +254,16 @@ TEST(Problem, BadOptionsNameTheField) {
   o = good;
   o.load.gravity = Eigen::Vector3d(0.0, 0.0, std::nan(""));
   EXPECT_THAT(whatOf(o), ::testing::HasSubstr("ProblemOptions.load.gravity"));
+  o = good;
+  o.fixedEdge = {true};
+  EXPECT_THAT(whatOf(o), ::testing::HasSubstr("ProblemOptions.fixedEdge and"));
+  o.boundarySurface.reset();
+  EXPECT_EQ(whatOf(o), "");  // held ξ without a surface: no clamp needed
+  o.bending.discretization = Discretization::Hinge;
+  EXPECT_THAT(whatOf(o), ::testing::HasSubstr("ProblemOptions.fixedEdge holds edge unknowns"));
+  o = good;
+  o.membraneRest = Positions::Zero(4, 3);
+  EXPECT_THAT(whatOf(o), ::testing::HasSubstr("ProblemOptions.membraneRest is the rest shape"));
   // buildProblem validates before compiling the mesh.
   o = good;
   o.dof = DofMode::Xyz;
