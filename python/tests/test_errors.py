@@ -58,7 +58,7 @@ def test_nan_and_inf(small):
     W[3, 2] = np.inf
     with pytest.raises(ValueError, match=r"^V_rest: vertex 3 coordinate 2 is infinite"):
         flexure.Problem(W, F)
-    problem = flexure.Problem(V, F, fixed_rings=1)
+    problem = flexure.Problem(V, F, energy="hinge", fixed_rings=1)
     x = problem.x0()
     x[0] = np.nan
     with pytest.raises(ValueError, match=r"^x: entry 0 is NaN"):
