@@ -21,18 +21,23 @@ x_flexure = problem.to_free(V_flexure, report["xi"])
 E_flexure = problem.energy(x_flexure)
 
 
-def hessian_product(x, p, cache={}):
-    """H(x) p, the Hessian (scipy csc) evaluated once per x."""
-    if cache.get("x") is None or not np.array_equal(cache["x"], x):
-        cache["x"], cache["H"] = x.copy(), problem.hessian(x)
-    return cache["H"] @ p
+class HessianProduct:
+    """H(x) p for trust-ncg's conjugate gradients: the Hessian (scipy csc) evaluated once per x."""
+
+    def __init__(self):
+        self.x = self.H = None
+
+    def __call__(self, x, p):
+        if self.x is None or not np.array_equal(self.x, x):
+            self.x, self.H = x.copy(), problem.hessian(x)
+        return self.H @ p
 
 
 # scipy on the free unknowns x (problem.free_unknowns: vertex z, then midedge ξ), from the start.
 x0 = problem.x0()
 runs = {
     "trust-ncg": scipy.optimize.minimize(
-        problem.energy, x0, jac=problem.gradient, hessp=hessian_product, method="trust-ncg",
+        problem.energy, x0, jac=problem.gradient, hessp=HessianProduct(), method="trust-ncg",
         options={"gtol": 1e-10, "maxiter": 200}),
     "L-BFGS-B": scipy.optimize.minimize(
         problem.energy, x0, jac=problem.gradient, method="L-BFGS-B",

@@ -56,6 +56,7 @@ struct BendingArguments {
   double stiffness = 1.0;
   std::string vertexArea = "voronoi";
   std::string hingeAngle = "theta";
+  bool flatRest = false;  // the rest mesh gives only the metric; rest curvature zero
 };
 
 curvature::BendingOptions bendingOptions(const BendingArguments& a) {
@@ -75,6 +76,7 @@ curvature::BendingOptions bendingOptions(const BendingArguments& a) {
     b.hingeAngle = curvature::HingeAngle::Tan;
   else
     throw InputError("hinge_angle " + a.hingeAngle + ": expected theta or tan");
+  if (a.flatRest) b.restCurvature = curvature::RestCurvature::Flat;
   curvature::effectivePoisson(b);  // the entry's ν rule, before any mesh work
   return b;
 }
@@ -493,7 +495,8 @@ PYBIND11_MODULE(_flexure, m) {
       .def_readwrite("poisson", &BendingArguments::poisson)
       .def_readwrite("stiffness", &BendingArguments::stiffness)
       .def_readwrite("vertex_area", &BendingArguments::vertexArea)
-      .def_readwrite("hinge_angle", &BendingArguments::hingeAngle);
+      .def_readwrite("hinge_angle", &BendingArguments::hingeAngle)
+      .def_readwrite("flat_rest", &BendingArguments::flatRest);
   m.def("energy", &energyOf);
 
   py::class_<ProblemArguments>(m, "ProblemArguments")

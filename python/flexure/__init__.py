@@ -83,18 +83,19 @@ def energies():
     return list(_flexure.energies())
 
 
-def _bending(energy, poisson, stiffness, vertex_area, hinge_angle):
+def _bending(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest):
     b = _flexure.BendingArguments()
     b.energy = str(energy)
     b.poisson = None if poisson is None else _checks.number(poisson, "poisson")
     b.stiffness = _checks.number(stiffness, "stiffness", positive=True)
     b.vertex_area = str(vertex_area)
     b.hinge_angle = str(hinge_angle)
+    b.flat_rest = bool(flat_rest)
     return b
 
 
 def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_area="voronoi",
-           hinge_angle="theta", boundary_surface=None, linearized=False):
+           hinge_angle="theta", flat_rest=False, boundary_surface=None, linearized=False):
     """The bending energy of the current positions V against the rest mesh (V_rest, F).
 
     The same computation and report as ``flexure energy --json``: nothing is held; midedge's edge
@@ -104,7 +105,8 @@ def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_a
 
     V_rest, V: #V×3 float64 (length L); F: #F×3 int32/int64. poisson: ν (None: the energy's rule,
     0.3 for the Koiter energies; hinge and cotan accept only 1); stiffness: k_B; vertex_area:
-    "voronoi" | "barycentric" (cotan); hinge_angle: "theta" | "tan" (hinge).
+    "voronoi" | "barycentric" (cotan); hinge_angle: "theta" | "tan" (hinge); flat_rest: take
+    only the metric from the rest mesh, its rest curvature zero (fairing).
 
     Returns a dict: energy (k_B units), energy_name, elements, element_kind, covered_area (L²),
     energy_per_area, poisson, stiffness, linearized, and vertex_area / hinge_angle / boundary_xi
@@ -112,7 +114,7 @@ def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_a
     """
     V_rest, F = _mesh_arrays(V_rest, F, "V_rest")
     V = _checks.positions(V, "V", rows=V_rest.shape[0])
-    b = _bending(energy, poisson, stiffness, vertex_area, hinge_angle)
+    b = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest)
     return dict(_flexure.energy(V_rest, F, V, b, boundary_surface, bool(linearized)))
 
 
@@ -125,16 +127,17 @@ class Problem:
     """A static problem: the rest mesh, its energy terms, the held unknowns and their values.
 
     Arguments: V_rest #V×3 float64, F #F×3 int; energy (a name of ``energies()``), poisson,
-    stiffness, vertex_area, hinge_angle as in ``energy``; dof: "height" (z free, x and y held at
-    rest) or "xyz" (needs ``membrane``); fixed: a #V boolean mask of held vertices, else
-    ``fixed_rings`` (rings 0 .. K−1 from the boundary; 2 holds positions and slopes); the held
-    values: ``boundary_positions`` (#V×3: held rows are the values, free rows the start) or
-    ``boundary_surface`` ("quadratic:a,b,c" or "polynomial:EXPR": held vertices lifted onto
-    z = p(x̄, ȳ)), neither: rest; boundary_normals (midedge): "clamped" (default with a surface)
-    | "free"; linearized_clamp: the clamp linearized about rest (for a linearized solve);
-    membrane: None, a model name ("stvk" | "springs" | "conformal" | "mips") or a dict with
-    "model" and young, poisson, length_stiffness, area_stiffness, shape_stiffness; gravity: a
-    3-vector g (load m_v g on the lumped masses, density ρ per unit rest area).
+    stiffness, vertex_area, hinge_angle, flat_rest as in ``energy``; dof: "height" (z free, x
+    and y held at rest) or "xyz" (needs ``membrane``); fixed: a #V boolean mask of held
+    vertices, else ``fixed_rings`` (rings 0 .. K−1 from the boundary; 2 holds positions and
+    slopes); the held values: ``boundary_positions`` (#V×3: held rows are the values, free rows
+    the start) or ``boundary_surface`` ("quadratic:a,b,c" or "polynomial:EXPR": held vertices
+    lifted onto z = p(x̄, ȳ)), neither: rest; boundary_normals (midedge): "clamped" (default
+    with a surface) | "free"; linearized_clamp: the clamp linearized about rest (for a
+    linearized solve); membrane: None, a model name ("stvk" | "springs" | "conformal" | "mips")
+    or a dict with "model" and young, poisson, length_stiffness, area_stiffness,
+    shape_stiffness; gravity: a 3-vector g (load m_v g on the lumped masses, density ρ per unit
+    rest area).
 
     The unknowns: coordinate c of vertex v is unknown 3v + c, midedge's ξ_e is 3 #V + e. The free
     ones (``free_unknowns``, n of them) in that order make the vector x (n,) that ``energy``,
@@ -143,14 +146,15 @@ class Problem:
     """
 
     def __init__(self, V_rest, F, energy="midedge", poisson=None, stiffness=1.0,
-                 vertex_area="voronoi", hinge_angle="theta", dof="height", fixed=None,
+                 vertex_area="voronoi", hinge_angle="theta", flat_rest=False, dof="height",
+                 fixed=None,
                  fixed_rings=2, boundary_positions=None, boundary_surface=None,
                  boundary_normals=None, linearized_clamp=False, membrane=None, gravity=None,
                  density=1.0):
         V_rest, F = _mesh_arrays(V_rest, F, "V_rest")
         n = V_rest.shape[0]
         a = _flexure.ProblemArguments()
-        a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle)
+        a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest)
         a.dof = str(dof)
         if fixed is not None:
             a.fixed = [bool(b) for b in _checks.mask(fixed, n, "fixed")]

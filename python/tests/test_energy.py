@@ -71,3 +71,19 @@ def test_energy_options_reach_the_library(plate):
     # Zero at rest, for every energy.
     for name in ENERGIES:
         assert flexure.energy(V_rest, F, V_rest, energy=name)["energy"] == pytest.approx(0, abs=1e-20)
+
+
+@pytest.mark.parametrize("name", ENERGIES)
+@pytest.mark.parametrize("flat_rest", [False, True])
+def test_curved_rest_energy_equals_cli(name, flat_rest, cli, tmp_path):
+    # A shell: the rest mesh is curved; flat_rest keeps only its metric.
+    V_flat, F = flexure.mesh("delaunay", 5, seed=2)
+    V_rest = bent(V_flat, seed=1, amplitude=0.01)
+    rest, current = tmp_path / "rest.off", tmp_path / "current.off"
+    flexure.write_mesh(rest, V_rest, F)
+    flexure.write_mesh(current, bent(V_rest, seed=9), F)
+    expected = cli.json("energy", "--energy", name, "--rest", rest, "--current", current, "--json",
+                        *(["--flat-rest"] if flat_rest else []))
+    got = flexure.energy(V_rest, F, flexure.read_mesh(current)[0], energy=name,
+                         flat_rest=flat_rest)
+    assert relative(got["energy"], expected["energy"]) <= 1e-14
