@@ -79,3 +79,33 @@ def test_linearized_solver_refuses_in_plane_moves_it_was_not_built_for():
         flexure.LinearizedSolver(problem).solve(B)
     V, info = flexure.LinearizedSolver(problem, in_plane=True).solve(B)
     assert V[0, 0] == B[0, 0]
+
+
+def test_minimize_with_gravity_equals_cli(cli, tmp_path):
+    V_rest, F = flexure.mesh("patch48", 8)
+    rest, out = tmp_path / "rest.obj", tmp_path / "out.obj"
+    flexure.write_mesh(rest, V_rest, F)
+    cli("minimize", "--quiet", "--rest", rest, "--energy", "triavg", "--boundary",
+        "quadratic:0.5,0,0", "--gravity", "0,0,-9.81", "-o", out)
+    V, report = flexure.minimize(V_rest, F, energy="triavg", boundary_surface="quadratic:0.5,0,0",
+                                 gravity=(0, 0, -9.81))
+    assert np.array_equal(V, flexure.read_mesh(out)[0])
+    no_load, _ = flexure.minimize(V_rest, F, energy="triavg", boundary_surface="quadratic:0.5,0,0")
+    free = ~flexure.Problem(V_rest, F, energy="triavg").fixed
+    assert np.all(V[free, 2] < no_load[free, 2])  # the load pulls the free vertices down
+
+
+def test_minimize_xyz_membrane_from_positions_equals_cli(cli, tmp_path):
+    V_rest, F = flexure.mesh("patch48", 6)
+    init = V_rest.copy()
+    init[:, :2] *= 0.9  # the held rings pushed inwards: the plate buckles
+    init[:, 2] = 0.05 * (0.25 - V_rest[:, 0] ** 2)
+    rest, start, out = tmp_path / "rest.obj", tmp_path / "init.obj", tmp_path / "out.obj"
+    flexure.write_mesh(rest, V_rest, F)
+    flexure.write_mesh(start, init, F)
+    cli("minimize", "--quiet", "--rest", rest, "--energy", "hinge", "--dof", "xyz", "--membrane",
+        "stvk", "--init", start, "-o", out)
+    V, report = flexure.minimize(V_rest, F, energy="hinge", dof="xyz", membrane="stvk",
+                                 boundary_positions=init, start="given")
+    assert report["dof"] == "xyz" and report["converged"]
+    assert np.array_equal(V, flexure.read_mesh(out)[0])
