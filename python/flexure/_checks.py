@@ -34,7 +34,8 @@ def faces(F, vertex_count, name="F"):
     """
     A = np.asarray(F)
     if A.dtype.kind not in "iu":
-        raise ValueError(f"{name}: dtype {A.dtype} is not an integer type (expected int32 or int64)")
+        raise ValueError(
+            f"{name}: dtype {A.dtype} is not an integer type (expected int32 or int64)")
     if A.ndim != 2 or A.shape[1] != 3:
         raise ValueError(f"{name}: shape {A.shape}, expected (#F, 3)")
     if A.size:
