@@ -1,0 +1,574 @@
+// flexure._flexure: the library's problem, energies and solvers for Python (pybind11). The
+// pure-Python package flexure/ on top validates arguments and documents every function; this
+// layer converts types and releases the GIL during long work.
+//
+// Arrays: V is bound as Eigen::Ref<const Positions> (#V by 3, row-major), which maps a
+// C-contiguous float64 numpy array without a copy (data_address shows it); F as
+// Eigen::Ref<const Triangles> (#F by 3 int32).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "curvature/energy_registry.h"
+#include "curvature/membrane_energy.h"
+#include "curvature/midedge_boundary.h"
+#include "modeling/errors.h"
+#include "modeling/generators.h"
+#include "modeling/mesh_check.h"
+#include "modeling/mesh_io.h"
+#include "modeling/polynomial_surface.h"
+#include "optimize/linear/linearized_solver.h"
+#include "optimize/problem.h"
+#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/static_energy.h"
+
+namespace py = pybind11;
+
+namespace flexure::python {
+namespace {
+
+using modeling::Positions;
+using modeling::Triangles;
+using PositionsRef = Eigen::Ref<const Positions>;
+using TrianglesRef = Eigen::Ref<const Triangles>;
+
+// A checked mesh from V (#V by 3) and F (#F by 3); InputError names `source` and the element.
+modeling::Mesh checkedMesh(const PositionsRef& V, const TrianglesRef& F,
+                           const std::string& source) {
+  modeling::Mesh mesh;
+  mesh.positions = V;
+  mesh.triangles = F;
+  modeling::requireValidMesh(mesh, source);
+  return mesh;
+}
+
+// The bending options as Python names them (the strings are the registry's and the CLI's values).
+struct BendingArguments {
+  std::string energy = "hinge";
+  std::optional<double> poisson;
+  double stiffness = 1.0;
+  std::string vertexArea = "voronoi";
+  std::string hingeAngle = "theta";
+  bool flatRest = false;  // the rest mesh gives only the metric; rest curvature zero
+};
+
+curvature::BendingOptions bendingOptions(const BendingArguments& a) {
+  curvature::BendingOptions b;
+  b.discretization = curvature::parseDiscretization(a.energy);
+  b.poisson = a.poisson;
+  b.stiffness = a.stiffness;
+  if (a.vertexArea == "voronoi")
+    b.vertexArea = curvature::VertexArea::Voronoi;
+  else if (a.vertexArea == "barycentric")
+    b.vertexArea = curvature::VertexArea::Barycentric;
+  else
+    throw InputError("vertex_area " + a.vertexArea + ": expected voronoi or barycentric");
+  if (a.hingeAngle == "theta")
+    b.hingeAngle = curvature::HingeAngle::Theta;
+  else if (a.hingeAngle == "tan")
+    b.hingeAngle = curvature::HingeAngle::Tan;
+  else
+    throw InputError("hinge_angle " + a.hingeAngle + ": expected theta or tan");
+  if (a.flatRest) b.restCurvature = curvature::RestCurvature::Flat;
+  curvature::effectivePoisson(b);  // the entry's ν rule, before any mesh work
+  return b;
+}
+
+py::dict bendingReport(const curvature::BendingOptions& b) {
+  py::dict d;
+  d["energy_name"] = std::string(curvature::discretizationName(b.discretization));
+  d["poisson"] = curvature::effectivePoisson(b);
+  d["stiffness"] = b.stiffness;
+  const curvature::EnergyEntry& entry = curvature::energyEntry(b.discretization);
+  if (entry.readsVertexArea)
+    d["vertex_area"] = b.vertexArea == curvature::VertexArea::Voronoi ? "voronoi" : "barycentric";
+  if (entry.readsHingeAngle)
+    d["hinge_angle"] = b.hingeAngle == curvature::HingeAngle::Theta ? "theta" : "tan";
+  return d;
+}
+
+// The bending energy of V against the rest mesh (V_rest, F), as `flexure energy` computes it:
+// nothing held; midedge's ξ minimized over, the boundary ones clamped to `boundarySurface`'s
+// normals when it is given.
+py::dict energyOf(const PositionsRef& restV, const TrianglesRef& F, const PositionsRef& V,
+                  const BendingArguments& arguments, const std::optional<std::string>& surfaceSpec,
+                  bool linearized) {
+  const curvature::BendingOptions b = bendingOptions(arguments);
+  std::optional<modeling::PolynomialSurface> surface;
+  if (surfaceSpec) {
+    if (!curvature::energyEntry(b.discretization).takesBoundarySurface)
+      throw InputError("boundary_surface applies to energy midedge only");
+    surface = modeling::PolynomialSurface::parse(*surfaceSpec);
+  }
+  const modeling::Mesh restMesh = checkedMesh(restV, F, "V_rest, F");
+  const Positions current = V;
+  double energy = 0.0;
+  std::string boundary;
+  int elements = 0;
+  std::string elementKind;
+  double coveredArea = 0.0;
+  {
+    py::gil_scoped_release release;
+    optimize::ProblemOptions options;
+    options.bending = b;
+    options.fixedRings = 0;
+    options.boundaryNormals = optimize::BoundaryNormals::Free;
+    const optimize::Problem problem = optimize::buildProblem(restMesh, options);
+    const modeling::Stencils& stencils = problem.stencils;
+    const curvature::EnergyTerm& term = problem.bending();
+    const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
+    const std::vector<bool> onBoundary = curvature::boundaryEdges(stencils);
+    std::vector<bool> freeEdge(stencils.edgeCount(), true);
+    if (surface)
+      for (int e = 0; e < stencils.edgeCount(); ++e) freeEdge[e] = !onBoundary[e];
+    if (term.usesEdgeUnknowns()) boundary = surface ? "clamped to " + surface->spec() : "free";
+    if (!linearized) {
+      Eigen::VectorXd xi = problem.restXi;
+      if (term.usesEdgeUnknowns() && surface) {
+        const Eigen::VectorXd clamped = curvature::clampedBoundaryXi(stencils, current, *surface);
+        for (int e = 0; e < stencils.edgeCount(); ++e)
+          if (onBoundary[e]) xi[e] = clamped[e];
+      }
+      energy = optimize::relaxedEnergy(terms, current, xi, freeEdge);
+    } else {
+      // E_lin(δ) = ½ |J u|² with J at rest and u = (δ, ξ − ξ̄).
+      const optimize::SparseMatrix jacobian =
+          optimize::residualJacobian(terms, problem.rest.positions, problem.restXi);
+      const Positions delta = current - problem.rest.positions;
+      Eigen::VectorXd deltaXi;
+      if (term.usesEdgeUnknowns() && surface)
+        deltaXi = curvature::linearizedClampedBoundaryXi(stencils, problem.rest.positions, delta,
+                                                         *surface);
+      energy = optimize::linearizedEnergyOfDisplacement(jacobian, problem.rest.positions, delta,
+                                                        deltaXi, freeEdge);
+    }
+    elements = term.elementCount();
+    elementKind = std::string(term.elementKind());
+    coveredArea = term.coveredArea();
+  }
+  py::dict d = bendingReport(b);
+  d["linearized"] = linearized;
+  d["energy"] = energy;
+  d["elements"] = elements;
+  d["element_kind"] = elementKind;
+  d["covered_area"] = coveredArea;
+  d["energy_per_area"] = coveredArea > 0 ? energy / coveredArea : 0.0;
+  if (!boundary.empty()) d["boundary_xi"] = boundary;
+  return d;
+}
+
+// Everything buildProblem takes, as the Python arguments name it.
+struct ProblemArguments {
+  BendingArguments bending;
+  std::string dof = "height";
+  std::optional<std::vector<bool>> fixed;
+  int fixedRings = 2;
+  std::optional<Positions> boundaryPositions;
+  std::optional<std::string> boundarySurface;
+  std::optional<std::string> boundaryNormals;  // empty: clamped with a surface, else free
+  bool linearizedClamp = false;
+  std::optional<std::string> membrane;
+  double young = 1.0, membranePoisson = 0.3, lengthStiffness = 1.0, areaStiffness = 1.0,
+         shapeStiffness = 1.0;
+  std::optional<Eigen::Vector3d> gravity;
+  double density = 1.0;
+};
+
+optimize::ProblemOptions problemOptions(const ProblemArguments& a) {
+  optimize::ProblemOptions p;
+  p.bending = bendingOptions(a.bending);
+  if (a.dof == "height")
+    p.dof = optimize::DofMode::Height;
+  else if (a.dof == "xyz")
+    p.dof = optimize::DofMode::Xyz;
+  else
+    throw InputError("dof " + a.dof + ": expected height or xyz");
+  if (a.fixed) p.fixedVertex = *a.fixed;
+  p.fixedRings = a.fixedRings;
+  if (a.boundaryPositions) p.boundaryPositions = *a.boundaryPositions;
+  if (a.boundarySurface) p.boundarySurface = modeling::PolynomialSurface::parse(*a.boundarySurface);
+  const std::string normals = a.boundaryNormals.value_or(a.boundarySurface ? "clamped" : "free");
+  if (normals == "clamped")
+    p.boundaryNormals = optimize::BoundaryNormals::Clamped;
+  else if (normals == "free")
+    p.boundaryNormals = optimize::BoundaryNormals::Free;
+  else
+    throw InputError("boundary_normals " + normals + ": expected clamped or free");
+  p.linearizedClamp = a.linearizedClamp;
+  if (a.membrane) {
+    curvature::MembraneOptions m;
+    m.model = curvature::parseMembraneModel(*a.membrane);
+    m.young = a.young;
+    m.poisson = a.membranePoisson;
+    m.lengthStiffness = a.lengthStiffness;
+    m.areaStiffness = a.areaStiffness;
+    m.shapeStiffness = a.shapeStiffness;
+    p.membrane = m;
+  }
+  p.load.gravity = a.gravity;
+  p.load.density = a.density;
+  return p;
+}
+
+// A Problem with its static objective E − fᵀx + B over the free unknowns (Newton's: the same
+// free set, derivatives and Hessian pattern as minimize's). Not movable: the objective keeps
+// references into the problem.
+class BoundProblem {
+ public:
+  BoundProblem(optimize::Problem problem, curvature::BendingOptions bending)
+      : problem_(std::move(problem)),
+        bending_(bending),
+        terms_(problem_.termPointers()),
+        assembly_(terms_, freeMask(), static_cast<int>(problem_.rest.positions.rows()),
+                  problem_.dof == optimize::DofMode::Height ? curvature::Derivatives::HeightOnly
+                                                            : curvature::Derivatives::All),
+        objective_(assembly_, startConfiguration(), terms_, problem_.externalForce,
+                   problem_.obstacles, optimize::HessianProjection::Exact) {}
+  BoundProblem(const BoundProblem&) = delete;
+  BoundProblem& operator=(const BoundProblem&) = delete;
+
+  const optimize::Problem& problem() const { return problem_; }
+  const curvature::BendingOptions& bending() const { return bending_; }
+  const optimize::HessianAssembly& assembly() const { return assembly_; }
+  optimize::StaticEnergy& objective() { return objective_; }
+
+  optimize::Configuration startConfiguration() const {
+    return {problem_.boundary.start,
+            problem_.usesEdgeUnknowns() ? problem_.boundary.xi : Eigen::VectorXd()};
+  }
+
+ private:
+  // minimize's free unknowns: the free vertices' z (height) or x, y, z (xyz), and the free ξ.
+  std::vector<bool> freeMask() const {
+    const int vertexCount = static_cast<int>(problem_.rest.positions.rows());
+    const bool withXi = problem_.usesEdgeUnknowns();
+    std::vector<bool> free(3 * vertexCount + (withXi ? problem_.restXi.size() : 0), false);
+    for (int v = 0; v < vertexCount; ++v) {
+      if (problem_.boundary.fixedVertex[v]) continue;
+      for (int c = problem_.dof == optimize::DofMode::Height ? 2 : 0; c < 3; ++c)
+        free[3 * v + c] = true;
+    }
+    for (Eigen::Index e = 0; withXi && e < problem_.restXi.size(); ++e)
+      free[3 * vertexCount + e] = !problem_.boundary.fixedEdge[e];
+    return free;
+  }
+
+  optimize::Problem problem_;
+  curvature::BendingOptions bending_;
+  std::vector<const curvature::EnergyTerm*> terms_;
+  optimize::HessianAssembly assembly_;
+  optimize::StaticEnergy objective_;
+};
+
+std::unique_ptr<BoundProblem> makeProblem(const PositionsRef& restV, const TrianglesRef& F,
+                                          const ProblemArguments& arguments) {
+  const optimize::ProblemOptions options = problemOptions(arguments);
+  const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
+  py::gil_scoped_release release;
+  return std::make_unique<BoundProblem>(optimize::buildProblem(rest, options), options.bending);
+}
+
+curvature::SecondDerivatives secondDerivatives(const std::string& kind) {
+  if (kind == "exact") return curvature::SecondDerivatives::Exact;
+  if (kind == "gauss-newton") return curvature::SecondDerivatives::GaussNewton;
+  if (kind == "none") return curvature::SecondDerivatives::None;
+  throw InputError("kind " + kind + ": expected exact, gauss-newton or none");
+}
+
+// (E, ∇E (n), the Hessian's upper-triangle values on the pattern, empty for kind "none").
+py::tuple evaluateProblem(BoundProblem& p, const Eigen::VectorXd& y, const std::string& kind) {
+  if (y.size() != p.assembly().size())
+    throw InputError("x has " + std::to_string(y.size()) + " entries, the problem " +
+                     std::to_string(p.assembly().size()) + " free unknowns");
+  const curvature::SecondDerivatives second = secondDerivatives(kind);
+  optimize::HessianEvaluation e;
+  {
+    py::gil_scoped_release release;
+    e = p.objective().evaluate(y, second);
+  }
+  py::array_t<double> values(static_cast<py::ssize_t>(e.values.size()));
+  std::copy(e.values.begin(), e.values.end(), values.mutable_data());
+  return py::make_tuple(e.energy, e.gradient, values);
+}
+
+py::dict reportDict(const optimize::MinimizeReport& r) {
+  py::dict d;
+  d["converged"] = r.converged;
+  d["solver"] = r.solver;
+  d["termination"] = r.termination;
+  d["iterations"] = r.iterations;
+  d["factorizations"] = r.factorizations;
+  d["initial_energy"] = r.initialEnergy;
+  d["final_energy"] = r.finalEnergy;
+  d["final_gradient_norm"] = r.gradientNorm;
+  py::dict seconds;
+  seconds["total"] = r.totalSeconds;
+  seconds["evaluation"] = r.evaluationSeconds;
+  seconds["linear_solver"] = r.linearSolverSeconds;
+  seconds["ordering"] = r.orderingSeconds;
+  d["seconds"] = seconds;
+  py::dict problem;
+  problem["vertices"] = r.vertices;
+  problem["fixed_vertices"] = r.fixedVertices;
+  problem["free_edge_unknowns"] = r.freeEdgeUnknowns;
+  problem["unknowns"] = r.unknowns;
+  problem["residuals"] = r.residuals;
+  d["problem"] = problem;
+  return d;
+}
+
+struct SolverArguments {
+  std::string solver = "newton";
+  std::string hessian = "exact";
+  bool linearized = false;
+  std::string start = "linearized";
+  int maxIterations = 200;
+  double functionTolerance = 1e-12, gradientTolerance = 1e-10, parameterTolerance = 1e-12;
+  int threads = 2;
+};
+
+// (V, ξ, report); the report also says "energy_name", "poisson", "dof" and "linearized".
+py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
+  optimize::MinimizeOptions o;
+  if (a.solver == "newton")
+    o.solver = optimize::Solver::Newton;
+  else if (a.solver == "ceres")
+    o.solver = optimize::Solver::Ceres;
+  else
+    throw InputError("solver " + a.solver + ": expected newton or ceres");
+  if (a.hessian == "exact")
+    o.hessian = optimize::HessianMode::Exact;
+  else if (a.hessian == "projected")
+    o.hessian = optimize::HessianMode::Projected;
+  else
+    throw InputError("hessian " + a.hessian + ": expected exact or projected");
+  if (a.start == "linearized")
+    o.start = optimize::Start::Linearized;
+  else if (a.start == "given")
+    o.start = optimize::Start::AsGiven;
+  else
+    throw InputError("start " + a.start + ": expected linearized or given");
+  if (a.threads < 1)
+    throw InputError("threads must be >= 1 (got " + std::to_string(a.threads) + ")");
+  o.linearized = a.linearized;
+  o.maxIterations = a.maxIterations;
+  o.functionTolerance = a.functionTolerance;
+  o.gradientTolerance = a.gradientTolerance;
+  o.parameterTolerance = a.parameterTolerance;
+  o.threads = a.threads;
+  optimize::MinimizeResult result;
+  {
+    py::gil_scoped_release release;
+    result = optimize::minimize(p.problem(), o);
+  }
+  py::dict report = reportDict(result.report);
+  const py::dict bending = bendingReport(p.bending());
+  report["energy_name"] = bending["energy_name"];
+  report["poisson"] = bending["poisson"];
+  report["dof"] = p.problem().dof == optimize::DofMode::Height ? "height" : "xyz";
+  report["linearized"] = a.linearized;
+  return py::make_tuple(result.positions, result.xi, report);
+}
+
+// A LinearizedSolver on a problem's terms, rest state and held unknowns: J at rest and
+// J_freeᵀ J_free factored once; every solve takes new boundary values.
+class BoundLinearizedSolver {
+ public:
+  BoundLinearizedSolver(const BoundProblem& p, bool inPlane) : problem_(p.problem()) {
+    optimize::LinearizedUnknowns unknowns;
+    unknowns.fixedVertex = problem_.boundary.fixedVertex;
+    unknowns.fixedEdge = problem_.boundary.fixedEdge;
+    unknowns.heightOnly = problem_.dof == optimize::DofMode::Height;
+    unknowns.fixedMoveInPlane = inPlane || !unknowns.heightOnly;
+    py::gil_scoped_release release;
+    solver_ = std::make_unique<optimize::LinearizedSolver>(
+        problem_.termPointers(), problem_.rest.positions, problem_.restXi, unknowns);
+  }
+
+  // (V, ξ, energies) for the held vertices at `boundary`'s rows (#V by 3; the free rows are
+  // ignored) and the held ξ at `xi` (#E; the problem's when empty).
+  py::tuple solve(const PositionsRef& boundary, const std::optional<Eigen::VectorXd>& xi) const {
+    optimize::BoundaryConditions bc = problem_.boundary;
+    if (boundary.rows() != bc.start.rows())
+      throw InputError("boundary_values has " + std::to_string(boundary.rows()) +
+                       " rows, the mesh " + std::to_string(bc.start.rows()) + " vertices");
+    bc.start = boundary;
+    if (xi) {
+      if (xi->size() != bc.xi.size())
+        throw InputError("xi has " + std::to_string(xi->size()) + " entries, the problem " +
+                         std::to_string(bc.xi.size()) + " edge unknowns");
+      bc.xi = *xi;
+    }
+    optimize::LinearizedSolution s;
+    {
+      py::gil_scoped_release release;
+      s = solver_->solve(bc);
+    }
+    py::dict d;
+    d["initial_energy"] = s.initialEnergy;
+    d["energy"] = s.energy;
+    d["gradient_norm"] = s.gradientNorm;
+    d["initial_gradient_norm"] = s.initialGradientNorm;
+    return py::make_tuple(s.positions, s.xi, d);
+  }
+
+  int freeCount() const { return solver_->freeCount(); }
+  int factorizations() const { return solver_->factorizations(); }
+  double factorSeconds() const { return solver_->factorSeconds(); }
+  double jacobianSeconds() const { return solver_->jacobianSeconds(); }
+
+ private:
+  const optimize::Problem& problem_;
+  std::unique_ptr<optimize::LinearizedSolver> solver_;
+};
+
+py::tuple readMesh(const std::string& path) {
+  std::vector<std::string> notices;
+  modeling::Mesh mesh;
+  {
+    py::gil_scoped_release release;
+    mesh = modeling::readMesh(path, &notices);
+  }
+  return py::make_tuple(mesh.positions, mesh.triangles, notices);
+}
+
+void writeMesh(const std::string& path, const PositionsRef& V, const TrianglesRef& F) {
+  const modeling::Mesh mesh = checkedMesh(V, F, path);
+  py::gil_scoped_release release;
+  modeling::writeMesh(path, mesh);
+}
+
+py::tuple generate(const std::string& family, int n, std::uint64_t seed,
+                   std::optional<double> aspect) {
+  modeling::GeneratorOptions o;
+  o.family = modeling::parseMeshFamily(family);
+  o.n = n;
+  o.seed = seed;
+  o.aspect = aspect;
+  modeling::Mesh mesh;
+  {
+    py::gil_scoped_release release;
+    mesh = modeling::generateMesh(o);
+  }
+  return py::make_tuple(mesh.positions, mesh.triangles);
+}
+
+}  // namespace
+}  // namespace flexure::python
+
+PYBIND11_MODULE(_flexure, m) {
+  using namespace flexure::python;
+  namespace fo = flexure::optimize;
+  m.doc() = "flexure's C++ library (use the flexure package, which checks arguments)";
+
+  static py::exception<flexure::NumericalError> numericalError(m, "NumericalError",
+                                                               PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const flexure::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const flexure::NumericalError& e) {
+      numericalError(e.what());
+    }
+  });
+
+  m.def(
+      "data_address",
+      [](const PositionsRef& V) { return reinterpret_cast<std::uintptr_t>(V.data()); },
+      "The address the binding reads V (#V by 3) at: V's own when it is not copied.");
+  m.def("energies", &flexure::curvature::energyNameList);
+  m.def("read_mesh", &readMesh);
+  m.def("write_mesh", &writeMesh);
+  m.def("mesh", &generate);
+
+  py::class_<BendingArguments>(m, "BendingArguments")
+      .def(py::init<>())
+      .def_readwrite("energy", &BendingArguments::energy)
+      .def_readwrite("poisson", &BendingArguments::poisson)
+      .def_readwrite("stiffness", &BendingArguments::stiffness)
+      .def_readwrite("vertex_area", &BendingArguments::vertexArea)
+      .def_readwrite("hinge_angle", &BendingArguments::hingeAngle)
+      .def_readwrite("flat_rest", &BendingArguments::flatRest);
+  m.def("energy", &energyOf);
+
+  py::class_<ProblemArguments>(m, "ProblemArguments")
+      .def(py::init<>())
+      .def_readwrite("bending", &ProblemArguments::bending)
+      .def_readwrite("dof", &ProblemArguments::dof)
+      .def_readwrite("fixed", &ProblemArguments::fixed)
+      .def_readwrite("fixed_rings", &ProblemArguments::fixedRings)
+      .def_readwrite("boundary_positions", &ProblemArguments::boundaryPositions)
+      .def_readwrite("boundary_surface", &ProblemArguments::boundarySurface)
+      .def_readwrite("boundary_normals", &ProblemArguments::boundaryNormals)
+      .def_readwrite("linearized_clamp", &ProblemArguments::linearizedClamp)
+      .def_readwrite("membrane", &ProblemArguments::membrane)
+      .def_readwrite("young", &ProblemArguments::young)
+      .def_readwrite("membrane_poisson", &ProblemArguments::membranePoisson)
+      .def_readwrite("length_stiffness", &ProblemArguments::lengthStiffness)
+      .def_readwrite("area_stiffness", &ProblemArguments::areaStiffness)
+      .def_readwrite("shape_stiffness", &ProblemArguments::shapeStiffness)
+      .def_readwrite("gravity", &ProblemArguments::gravity)
+      .def_readwrite("density", &ProblemArguments::density);
+
+  py::class_<SolverArguments>(m, "SolverArguments")
+      .def(py::init<>())
+      .def_readwrite("solver", &SolverArguments::solver)
+      .def_readwrite("hessian", &SolverArguments::hessian)
+      .def_readwrite("linearized", &SolverArguments::linearized)
+      .def_readwrite("start", &SolverArguments::start)
+      .def_readwrite("max_iterations", &SolverArguments::maxIterations)
+      .def_readwrite("function_tolerance", &SolverArguments::functionTolerance)
+      .def_readwrite("gradient_tolerance", &SolverArguments::gradientTolerance)
+      .def_readwrite("parameter_tolerance", &SolverArguments::parameterTolerance)
+      .def_readwrite("threads", &SolverArguments::threads);
+
+  py::class_<BoundProblem>(m, "Problem")
+      .def(py::init(&makeProblem))
+      .def_property_readonly("size", [](const BoundProblem& p) { return p.assembly().size(); })
+      .def_property_readonly("free_unknowns",
+                             [](const BoundProblem& p) { return p.assembly().freeUnknowns(); })
+      .def_property_readonly("column_start",
+                             [](const BoundProblem& p) { return p.assembly().columnStart(); })
+      .def_property_readonly("row_index",
+                             [](const BoundProblem& p) { return p.assembly().rowIndex(); })
+      .def_property_readonly("rest_positions",
+                             [](const BoundProblem& p) { return p.problem().rest.positions; })
+      .def_property_readonly("rest_xi", [](const BoundProblem& p) { return p.problem().restXi; })
+      .def_property_readonly("start_positions",
+                             [](const BoundProblem& p) { return p.problem().boundary.start; })
+      .def_property_readonly("start_xi",
+                             [](const BoundProblem& p) { return p.startConfiguration().xi; })
+      .def_property_readonly("fixed_vertex",
+                             [](const BoundProblem& p) { return p.problem().boundary.fixedVertex; })
+      .def_property_readonly("fixed_edge",
+                             [](const BoundProblem& p) { return p.problem().boundary.fixedEdge; })
+      .def_property_readonly("uses_edge_unknowns",
+                             [](const BoundProblem& p) { return p.problem().usesEdgeUnknowns(); })
+      .def("free_values",
+           [](BoundProblem& p, const Positions& V, const Eigen::VectorXd& xi) {
+             return p.objective().freeValues(fo::Configuration{V, xi});
+           })
+      .def("configuration",
+           [](BoundProblem& p, const Eigen::VectorXd& y) {
+             const fo::Configuration c = p.objective().configuration(y);
+             return py::make_tuple(c.positions, c.xi);
+           })
+      .def("evaluate", &evaluateProblem)
+      .def("minimize", &minimizeProblem);
+
+  py::class_<BoundLinearizedSolver>(m, "LinearizedSolver")
+      .def(py::init<const BoundProblem&, bool>(), py::keep_alive<1, 2>())
+      .def("solve", &BoundLinearizedSolver::solve)
+      .def_property_readonly("free_count", &BoundLinearizedSolver::freeCount)
+      .def_property_readonly("factorizations", &BoundLinearizedSolver::factorizations)
+      .def_property_readonly("factor_seconds", &BoundLinearizedSolver::factorSeconds)
+      .def_property_readonly("jacobian_seconds", &BoundLinearizedSolver::jacobianSeconds);
+}
