@@ -27,7 +27,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/linear/heap_reuse.h"
-#include "optimize/solvers/minimize.h"
+#include "optimize/problem.h"
 
 namespace {
 
@@ -41,31 +41,24 @@ constexpr double kPoisson = 0.3;
 
 json runCase(int n, double thickness, double amplitude, const std::string& solver) {
   const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  const modeling::RestState rest = modeling::precomputeRestState(stencils, mesh.positions);
-  curvature::BendingOptions bending;
-  bending.discretization = curvature::Discretization::Midedge;
-  bending.poisson = kPoisson;
-  const auto term = curvature::makeBendingEnergy(stencils, rest, bending);
-  const Eigen::VectorXd restXi = curvature::midedgeRestXi(stencils, rest, bending.restCurvature);
+  optimize::ProblemOptions shell;
+  shell.bending.discretization = curvature::Discretization::Midedge;
+  shell.bending.poisson = kPoisson;
   curvature::MembraneOptions membrane;
   membrane.model = curvature::MembraneModel::Stvk;
   membrane.poisson = kPoisson;
   membrane.young = 24.0 * (1.0 - kPoisson * kPoisson) / (thickness * thickness);
-  const auto membraneTerms = curvature::makeMembraneEnergy(stencils, rest, membrane);
-  std::vector<const curvature::EnergyTerm*> terms = {term.get()};
-  for (const auto& t : membraneTerms) terms.push_back(t.get());
-  const std::vector<bool> fixed = optimize::fixedRings(stencils, 2);
-  const optimize::BoundaryConditions bc =
-      optimize::surfaceBoundary(stencils, rest.positions, restXi, fixed,
-                                modeling::PolynomialSurface::quadratic(amplitude, 0.0, amplitude),
-                                optimize::BoundaryNormals::Clamped, false);
+  shell.membrane = membrane;
+  shell.dof = optimize::DofMode::Xyz;
+  shell.fixedRings = 2;
+  shell.boundarySurface = modeling::PolynomialSurface::quadratic(amplitude, 0.0, amplitude);
+  shell.boundaryNormals = optimize::BoundaryNormals::Clamped;
+  const optimize::Problem problem = optimize::buildProblem(mesh, shell);
   optimize::MinimizeOptions options;
-  options.dof = optimize::DofMode::Xyz;
   options.solver = solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
   options.simplicialBaseline = solver == "simplicial";
   const auto start = Clock::now();
-  const optimize::MinimizeResult r = optimize::minimize(terms, bc, rest.positions, restXi, options);
+  const optimize::MinimizeResult r = optimize::minimize(problem, options);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return {{"n", n},
           {"thickness", thickness},

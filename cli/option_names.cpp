@@ -33,11 +33,8 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ProblemOptions.membraneRest", "the membrane's rest shape"},
       {"BendingOptions.poisson", "--poisson"},
       {"BendingOptions.hingeAngle", "--hinge-angle"},
-      {"MinimizeOptions.dof", "--dof"},
       {"MinimizeOptions.solver", "--solver"},
-      {"MinimizeOptions.externalForce", "--gravity"},
       {"MinimizeOptions.linearized", "--linearized"},
-      {"MinimizeOptions.obstacles", "--obstacle"},
       {"BoundaryConditions.fixedVertex", "--fix"},
       // dynamics, modes, spectra, obstacles
       {"DynamicsOptions.integrator", "--integrator"},

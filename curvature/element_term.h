@@ -329,7 +329,7 @@ class ElementTerm : public EnergyTerm {
                            " has " + std::to_string(hessian.unknowns.size()) +
                            " unknowns, more than the exact Hessian supports (" +
                            std::to_string(kMaxHessianUnknowns) +
-                           ": a vertex of valence 16 or more in MinimizeOptions.dof xyz); use "
+                           ": a vertex of valence 16 or more in ProblemOptions.dof xyz); use "
                            "MinimizeOptions.solver ceres");
         }
         throw degenerate(static_cast<size_t>(e));

@@ -146,19 +146,4 @@ Problem buildProblem(const modeling::Mesh& rest, const ProblemOptions& options) 
   return buildProblem(std::move(stencils), std::move(restState), options);
 }
 
-MinimizeResult minimize(const Problem& problem, MinimizeOptions options) {
-  const std::vector<bool>& heldEdge = problem.boundary.fixedEdge;
-  if (options.linearized != problem.linearizedClamp &&
-      std::find(heldEdge.begin(), heldEdge.end(), true) != heldEdge.end())
-    throw InputError(std::string("MinimizeOptions.linearized is ") +
-                     (options.linearized ? "true" : "false") +
-                     " but the problem's boundary ξ are clamped for the other solve "
-                     "(ProblemOptions.linearizedClamp): build the problem with the same value");
-  options.dof = problem.dof;
-  options.externalForce = problem.externalForce;
-  options.obstacles = problem.obstacles;
-  return minimize(problem.termPointers(), problem.boundary, problem.rest.positions, problem.restXi,
-                  options);
-}
-
 }  // namespace flexure::optimize

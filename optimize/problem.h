@@ -100,10 +100,4 @@ Problem buildProblem(const modeling::Mesh& rest, const ProblemOptions& options);
 Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
                      const ProblemOptions& options);
 
-// optimize::minimize on the problem: its terms, boundary, rest state and ξ̄, with the problem's
-// unknown layout, load and obstacles in place of `options`' dof, externalForce and obstacles.
-// InputError when ξ are clamped for the other kind of solve (MinimizeOptions.linearized against
-// ProblemOptions.linearizedClamp).
-MinimizeResult minimize(const Problem& problem, MinimizeOptions options);
-
 }  // namespace flexure::optimize

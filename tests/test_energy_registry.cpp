@@ -15,8 +15,8 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
-#include "optimize/solvers/minimize.h"
 
 namespace flexure {
 namespace {
@@ -88,6 +88,7 @@ Discretization heightDirichlet() {
 }
 
 struct PlateSetup {
+  modeling::Mesh mesh;
   modeling::Stencils stencils;
   modeling::RestState rest;
   std::unique_ptr<curvature::EnergyTerm> term;
@@ -95,7 +96,7 @@ struct PlateSetup {
   explicit PlateSetup(double stiffness) {
     modeling::GeneratorOptions g;
     g.n = 6;
-    const modeling::Mesh mesh = modeling::generateMesh(g);
+    mesh = modeling::generateMesh(g);
     stencils = modeling::compileStencils(mesh);
     rest = modeling::precomputeRestState(stencils, mesh.positions);
     curvature::BendingOptions o;
@@ -224,22 +225,23 @@ TEST(EnergyRegistry, TestEnergyGradientAndHessianMatchFiniteDifferences) {
 // discrete-harmonic) and E = k_B (a² + b²) Σ Ā_T: Newton and the linearized solve both find it.
 TEST(EnergyRegistry, TestEnergyMinimizesToThePlane) {
   const PlateSetup setup(2.0);
-  const std::vector<const curvature::EnergyTerm*> terms = {setup.term.get()};
   const modeling::PolynomialSurface plane(std::vector<modeling::Monomial>{{kA, 1, 0}, {kB, 0, 1}});
   const Positions expected = onPlane(setup.rest.positions);
   const double area = setup.rest.faceAreas.sum();
   for (bool linearized : {false, true}) {
-    const optimize::BoundaryConditions bc = optimize::surfaceBoundary(
-        setup.stencils, setup.rest.positions, Eigen::VectorXd::Zero(setup.stencils.edgeCount()),
-        optimize::fixedRings(setup.stencils, 1), plane, optimize::BoundaryNormals::Clamped,
-        linearized);
+    // The boundary ring held on the plane, through buildProblem like any built-in energy.
+    optimize::ProblemOptions p;
+    p.bending.discretization = heightDirichlet();
+    p.bending.stiffness = 2.0;
+    p.fixedRings = 1;
+    p.boundarySurface = plane;
+    p.linearizedClamp = linearized;
+    const optimize::Problem problem = optimize::buildProblem(setup.mesh, p);
     optimize::MinimizeOptions options;
     options.linearized = linearized;
     options.start = optimize::Start::AsGiven;  // Newton starts from the flat interior
     options.threads = 1;
-    const optimize::MinimizeResult result =
-        optimize::minimize(terms, bc, setup.rest.positions,
-                           Eigen::VectorXd::Zero(setup.stencils.edgeCount()), options);
+    const optimize::MinimizeResult result = optimize::minimize(problem, options);
     ASSERT_TRUE(result.report.converged) << result.report.termination;
     if (!linearized) {
       EXPECT_GE(result.report.iterations, 1);

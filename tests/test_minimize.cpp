@@ -242,30 +242,25 @@ TEST(NonlinearMinimize, NewtonAndCeresAgreeInXyzModeWithMembranes) {
     for (auto d : {Discretization::Hinge, Discretization::Cotan, Discretization::Midedge}) {
       SCOPED_TRACE(std::string(curvature::discretizationName(d)) + " + membrane " +
                    std::to_string(static_cast<int>(model)));
-      const testing::TestProblem problem(mesh, energy(d));
+      optimize::ProblemOptions shell;
+      shell.bending = energy(d);
       curvature::MembraneOptions membrane;
       membrane.model = model;
       membrane.young = membrane.lengthStiffness = membrane.areaStiffness = membrane.shapeStiffness =
           10.0;
-      const auto membraneTerms =
-          curvature::makeMembraneEnergy(problem.stencils, problem.rest, membrane);
-      std::vector<const curvature::EnergyTerm*> terms = {&problem.bending()};
-      for (const auto& t : membraneTerms) terms.push_back(t.get());
-      const optimize::BoundaryConditions bc =
-          optimize::surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi,
-                                    problem.fixed, p, BoundaryNormals::Clamped, false);
+      shell.membrane = membrane;
+      shell.dof = optimize::DofMode::Xyz;
+      shell.boundarySurface = p;  // two rings held on it, midedge's boundary normals clamped
+      const optimize::Problem problem = optimize::buildProblem(mesh, shell);
       optimize::MinimizeOptions options;
-      options.dof = optimize::DofMode::Xyz;
       options.functionTolerance = 1e-16;
       options.gradientTolerance = 1e-12;
       options.parameterTolerance = 1e-16;
       options.maxIterations = 400;
       optimize::MinimizeOptions ceres = options;
       ceres.solver = optimize::Solver::Ceres;
-      const auto newton =
-          optimize::minimize(terms, bc, problem.rest.positions, problem.restXi, options);
-      const auto reference =
-          optimize::minimize(terms, bc, problem.rest.positions, problem.restXi, ceres);
+      const auto newton = optimize::minimize(problem, options);
+      const auto reference = optimize::minimize(problem, ceres);
       ASSERT_TRUE(newton.report.converged) << newton.report.termination;
       ASSERT_TRUE(reference.report.converged) << reference.report.termination;
       // Ceres' LM stalls where its cost stops changing in double precision; on hinge + StVK,
@@ -451,21 +446,20 @@ TEST(NonlinearMinimize, FoldedSheetWithMembraneReturnsFlat) {
   // xyz mode: bending (midedge, flat rest) + StVK membrane; the boundary rings held flat, the
   // interior starts folded along x = 0 (z = 0.4 |x|, lengths changed too).
   const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Delaunay, 8, 5, {}});
-  const testing::TestProblem problem(mesh, energy(Discretization::Midedge));
+  optimize::ProblemOptions sheet;
+  sheet.bending = energy(Discretization::Midedge);
   curvature::MembraneOptions membrane;
   membrane.young = 100.0;
-  const auto membraneTerms =
-      curvature::makeMembraneEnergy(problem.stencils, problem.rest, membrane);
-  optimize::BoundaryConditions bc = optimize::surfaceBoundary(
-      problem.stencils, problem.rest.positions, problem.restXi, problem.fixed, PolynomialSurface(),
-      BoundaryNormals::Clamped, false);
+  sheet.membrane = membrane;
+  sheet.dof = optimize::DofMode::Xyz;
+  sheet.boundarySurface = PolynomialSurface();  // z = 0, two rings, boundary normals clamped
+  const optimize::Problem problem = optimize::buildProblem(mesh, sheet);
+  optimize::BoundaryConditions bc = problem.boundary;
   for (int v = 0; v < mesh.vertexCount(); ++v)
-    if (!problem.fixed[v]) bc.start(v, 2) = 0.4 * std::abs(bc.start(v, 0));
+    if (!bc.fixedVertex[v]) bc.start(v, 2) = 0.4 * std::abs(bc.start(v, 0));
   optimize::MinimizeOptions options;
-  options.dof = optimize::DofMode::Xyz;
   options.start = optimize::Start::AsGiven;  // from the fold, not the linearized predictor
-  const auto r = optimize::minimize({&problem.bending(), membraneTerms[0].get()}, bc,
-                                    problem.rest.positions, problem.restXi, options);
+  const auto r = optimize::minimize(problem, bc, options);
   ASSERT_TRUE(r.report.converged) << r.report.termination;
   EXPECT_GT(r.report.initialEnergy, 1e-2);
   EXPECT_LT(r.report.finalEnergy, 1e-16);
@@ -480,7 +474,7 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
       PolynomialSurface::quadratic(1, 0, 0), BoundaryNormals::Clamped, false);
   const auto expectRefusal = [&](const optimize::BoundaryConditions& c, const char* reason) {
     try {
-      optimize::minimize({&problem.bending()}, c, problem.rest.positions, problem.restXi, {});
+      optimize::minimize(problem, c, {});
       ADD_FAILURE() << "expected InputError: " << reason;
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), ::testing::HasSubstr(reason));
@@ -501,7 +495,7 @@ TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
       PolynomialSurface::quadratic(1, 0, 0), BoundaryNormals::Clamped, false);
   loose.fixedVertex[0] = false;  // a corner: its one face has two boundary edges
   try {
-    optimize::minimize({&triavg.bending()}, loose, triavg.rest.positions, triavg.restXi, {});
+    optimize::minimize(triavg, loose, {});
     ADD_FAILURE() << "expected InputError for an untouched free vertex";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("free vertex 0 is touched by no element"));

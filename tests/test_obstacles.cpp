@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "modeling/errors.h"
@@ -222,42 +223,42 @@ TEST(Obstacles, SheetDroppedOnAPlaneComesToRestOnIt) {
 // minimize --gravity --obstacle: a clamped plate sagging under a load that would take its centre
 // to −0.06 rests on a sphere whose top is at −0.03 — no vertex inside, the centre within the layer.
 TEST(Obstacles, StaticMinimizerUnderGravityStaysOutsideASphere) {
-  const testing::Plate plate(modeling::MeshFamily::Patch48, 8, Discretization::Cotan);
-  optimize::BoundaryConditions bc;
-  bc.fixedVertex = optimize::fixedRings(plate.stencils, 2);
-  bc.start = plate.rest.positions;
-  const Eigen::Vector3d g(0.0, 0.0, -300.0);
-  const Eigen::VectorXd mass =
-      modeling::lumpedVertexMasses(plate.rest, modeling::MassLumping::Barycentric, 1.0);
-  optimize::MinimizeOptions o;
-  o.externalForce = mass * g.transpose();
-  const optimize::MinimizeResult sagging =
-      optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o);
+  // Two rings held at rest, gravity g on the lumped masses; then a sphere, then a plane the start
+  // is inside of.
+  const auto plate = [](const char* obstacle) {
+    return std::make_unique<testing::Plate>(
+        modeling::MeshFamily::Patch48, 8, Discretization::Cotan, 0.0,
+        [obstacle](optimize::ProblemOptions& p, const modeling::Stencils&) {
+          p.fixedRings = 2;
+          p.load.gravity = Eigen::Vector3d(0.0, 0.0, -300.0);
+          if (obstacle) p.obstacles = {optimize::parseObstacle("obstacle", obstacle)};
+        });
+  };
+  const optimize::MinimizeOptions o;
+  const auto free = plate(nullptr);
+  const optimize::MinimizeResult sagging = optimize::minimize(free->problem, o);
   ASSERT_TRUE(sagging.report.converged) << sagging.report.termination;
   const double freeSag = -sagging.positions.col(2).minCoeff();
   ASSERT_GT(freeSag, 0.05);
 
-  o.obstacles = optimize::makeObstacleBarrier(
-      {optimize::parseObstacle("--obstacle", "sphere:0,0,-0.53,0.5")}, plate.rest, mass, g);
-  const optimize::MinimizeResult held =
-      optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o);
+  const auto onSphere = plate("sphere:0,0,-0.53,0.5");
+  const optimize::ObstacleBarrier& sphere = onSphere->problem.obstacles;
+  const optimize::MinimizeResult held = optimize::minimize(onSphere->problem, o);
   ASSERT_TRUE(held.report.converged) << held.report.termination;
   int vertex = -1;
-  const double closest = o.obstacles.smallestDistance(held.positions, &vertex);
+  const double closest = sphere.smallestDistance(held.positions, &vertex);
   std::printf("plate on a sphere: free sag %.4f, held sag %.4f, closest %.3e (layer %.3e)\n",
-              freeSag, -held.positions.col(2).minCoeff(), closest, o.obstacles.layer());
+              freeSag, -held.positions.col(2).minCoeff(), closest, sphere.layer());
   EXPECT_GT(closest, 0.0);
-  EXPECT_LT(closest, o.obstacles.layer());  // in contact
+  EXPECT_LT(closest, sphere.layer());  // in contact
   EXPECT_LT(-held.positions.col(2).minCoeff(), 0.03);
-  // The Ceres and linearized solves refuse obstacles, and a start inside one is refused.
-  o.solver = optimize::Solver::Ceres;
-  EXPECT_THROW(optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o),
-               InputError);
-  o.solver = optimize::Solver::Newton;
-  o.obstacles = optimize::makeObstacleBarrier(
-      {optimize::parseObstacle("--obstacle", "plane:0,0,1,0.01")}, plate.rest, mass, g);
-  EXPECT_THROW(optimize::minimize(plate.terms(), bc, plate.rest.positions, plate.restXi, o),
-               InputError);
+  // The Ceres and linearized solves refuse obstacles (and the load), and a start inside one is
+  // refused.
+  optimize::MinimizeOptions ceres;
+  ceres.solver = optimize::Solver::Ceres;
+  EXPECT_THROW(optimize::minimize(onSphere->problem, ceres), InputError);
+  EXPECT_THROW(optimize::minimize(free->problem, ceres), InputError);
+  EXPECT_THROW(optimize::minimize(plate("plane:0,0,1,0.01")->problem, o), InputError);
 }
 
 }  // namespace

@@ -186,20 +186,14 @@ TEST(TimeStepping, DampedPlateUnderGravityComesToRestInEquilibrium) {
   EXPECT_LT(residual, 1e-6 * load);
   EXPECT_LT(stepper.positions().col(2).minCoeff(), 0.0);  // it sags
 
-  // The same state as the static minimizer of E − (M g)ᵀx (flexure minimize --gravity).
-  optimize::BoundaryConditions bc;
-  bc.fixedVertex = shell.pinned;
-  bc.start = shell.rest.positions;
-  bc.xi = shell.restXi;
-  bc.fixedEdge.assign(shell.restXi.size(), false);
-  optimize::MinimizeOptions statics;
-  statics.dof = optimize::DofMode::Xyz;
-  statics.start = optimize::Start::AsGiven;
-  statics.externalForce = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
+  // The same state as the static minimizer of E − (M g)ᵀx (flexure minimize --gravity): the
+  // problem's load is the stepper's weight.
   for (int v = 0; v < shell.mesh.vertexCount(); ++v)
-    statics.externalForce.row(v) = stepper.masses()[v] * shell.problem.gravity.transpose();
-  const optimize::MinimizeResult minimizer =
-      optimize::minimize(shell.terms(), bc, shell.rest.positions, shell.restXi, statics);
+    ASSERT_EQ(shell.problem.externalForce.row(v),
+              stepper.masses()[v] * shell.problem.gravity.transpose());
+  optimize::MinimizeOptions statics;
+  statics.start = optimize::Start::AsGiven;
+  const optimize::MinimizeResult minimizer = optimize::minimize(shell.problem, statics);
   ASSERT_TRUE(minimizer.report.converged) << minimizer.report.termination;
   const double difference = (minimizer.positions - stepper.positions()).cwiseAbs().maxCoeff();
   std::printf(
@@ -209,8 +203,10 @@ TEST(TimeStepping, DampedPlateUnderGravityComesToRestInEquilibrium) {
   EXPECT_LT(difference, 1e-6);  // of the plate's size, 1
   // Ceres and the linearized solve refuse a load.
   statics.solver = optimize::Solver::Ceres;
-  EXPECT_THROW(optimize::minimize(shell.terms(), bc, shell.rest.positions, shell.restXi, statics),
-               InputError);
+  EXPECT_THROW(optimize::minimize(shell.problem, statics), InputError);
+  statics.solver = optimize::Solver::Newton;
+  statics.linearized = true;
+  EXPECT_THROW(optimize::minimize(shell.problem, statics), InputError);
 }
 
 // --damping bend:c, the force −c K_B(x_n) v with K_B the bending term's Gauss–Newton Hessian:

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "modeling/errors.h"
 #include "optimize/linear/linear_algebra_threads.h"
 #include "optimize/linear/linearized_solver.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/elimination_order.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/newton_solver.h"
@@ -23,7 +25,7 @@ double secondsSince(Clock::time_point start) {
 }
 
 void requireWellPosed(const std::vector<const EnergyTerm*>& terms, const BoundaryConditions& bc,
-                      const MinimizeOptions& options) {
+                      DofMode dof) {
   const int vertexCount = static_cast<int>(bc.fixedVertex.size());
   int fixed = 0;
   for (bool f : bc.fixedVertex) fixed += f;
@@ -32,8 +34,8 @@ void requireWellPosed(const std::vector<const EnergyTerm*>& terms, const Boundar
   }
   if (fixed == 0) {
     throw InputError(
-        options.dof == DofMode::Height
-            ? "no vertex is fixed: in MinimizeOptions.dof height adding a plane z = a + bx + cy "
+        dof == DofMode::Height
+            ? "no vertex is fixed: in ProblemOptions.dof height adding a plane z = a + bx + cy "
               "costs no bending energy, so the minimizer is not unique; fix the "
               "boundary (BoundaryConditions.fixedVertex rings:2)"
             : "no vertex is fixed: rigid motions cost no energy, so the minimizer is "
@@ -66,11 +68,11 @@ constexpr double kLinearizedGradientDrop = 1e-6;
 
 MinimizeResult minimizeLinearized(const std::vector<const EnergyTerm*>& terms,
                                   const BoundaryConditions& bc, const Positions& rest,
-                                  const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
+                                  const Eigen::VectorXd& restXi, DofMode dof) {
   const auto start = Clock::now();
   MinimizeResult result;
   // u = (X − X̄, ξ − ξ̄): the fixed entries from the boundary conditions, the free ones solved.
-  LinearizedUnknowns unknowns{bc.fixedVertex, bc.fixedEdge, options.dof == DofMode::Height};
+  LinearizedUnknowns unknowns{bc.fixedVertex, bc.fixedEdge, dof == DofMode::Height};
   unknowns.fixedMoveInPlane = (bc.start - rest).leftCols(2).cwiseAbs().maxCoeff() != 0.0;
   const LinearizedSolver solver(terms, rest, restXi, unknowns);
   const auto solveStart = Clock::now();
@@ -125,7 +127,8 @@ NewtonStop ceresStop(const ceres::Solver::Summary& summary) {
 }
 
 MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
-                                 const BoundaryConditions& bc, const MinimizeOptions& options) {
+                                 const BoundaryConditions& bc, DofMode dof,
+                                 const MinimizeOptions& options) {
   const auto start = Clock::now();
   MinimizeResult result;
   result.positions = bc.start;
@@ -142,7 +145,7 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
     problem.AddParameterBlock(block, 3);
     if (bc.fixedVertex[v]) {
       problem.SetParameterBlockConstant(block);
-    } else if (options.dof == DofMode::Height) {
+    } else if (dof == DofMode::Height) {
       problem.SetManifold(block, &heightOnly);
       unknowns += 1;
     } else {
@@ -160,9 +163,8 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
     }
   }
   // Height mode: x and y are held by the manifold, so the residual blocks compute only ∂/∂z, ∂/∂ξ.
-  const curvature::Derivatives derivatives = options.dof == DofMode::Height
-                                                 ? curvature::Derivatives::HeightOnly
-                                                 : curvature::Derivatives::All;
+  const curvature::Derivatives derivatives =
+      dof == DofMode::Height ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All;
   for (const EnergyTerm* term : terms)
     term->addResidualBlocks(problem, result.positions.data(), withXi ? result.xi.data() : nullptr,
                             derivatives);
@@ -222,32 +224,44 @@ const char* solverName(Solver solver) {
   return solver == Solver::Newton ? "newton" : "ceres";
 }
 
-MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
-                        const BoundaryConditions& conditions, const Positions& rest,
-                        const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
-  requireWellPosed(terms, conditions, options);
-  if (options.externalForce.rows() > 0 && (options.linearized || options.solver != Solver::Newton))
+MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options) {
+  const std::vector<bool>& heldEdge = problem.boundary.fixedEdge;
+  if (options.linearized != problem.linearizedClamp &&
+      std::find(heldEdge.begin(), heldEdge.end(), true) != heldEdge.end())
+    throw InputError(std::string("MinimizeOptions.linearized is ") +
+                     (options.linearized ? "true" : "false") +
+                     " but the problem's boundary ξ are clamped for the other solve "
+                     "(ProblemOptions.linearizedClamp): build the problem with the same value");
+  return minimize(problem, problem.boundary, options);
+}
+
+MinimizeResult minimize(const Problem& problem, const BoundaryConditions& conditions,
+                        const MinimizeOptions& options) {
+  const std::vector<const EnergyTerm*> terms = problem.termPointers();
+  const Positions& rest = problem.rest.positions;
+  const Eigen::VectorXd& restXi = problem.restXi;
+  requireWellPosed(terms, conditions, problem.dof);
+  const bool newton = !options.linearized && options.solver == Solver::Newton;
+  if (problem.externalForce.rows() > 0 && !newton)
     throw InputError(
-        "an external load (MinimizeOptions.externalForce) needs the nonlinear Newton solve: not "
+        "a load (ProblemOptions.load.gravity) needs the nonlinear Newton solve: not "
         "MinimizeOptions.linearized, not MinimizeOptions.solver ceres");
-  if (!options.obstacles.empty() && (options.linearized || options.solver != Solver::Newton))
+  if (!problem.obstacles.empty() && !newton)
     throw InputError(
-        "MinimizeOptions.obstacles needs the nonlinear Newton solve: not "
-        "MinimizeOptions.linearized, "
-        "not MinimizeOptions.solver ceres");
-  if (options.externalForce.rows() > 0 && options.externalForce.rows() != rest.rows())
-    throw InputError("external load: expected one force per vertex");
+        "ProblemOptions.obstacles needs the nonlinear Newton solve: not "
+        "MinimizeOptions.linearized, not MinimizeOptions.solver ceres");
   MinimizeResult result;
   if (options.linearized) {
-    result = minimizeLinearized(terms, conditions, rest, restXi, options);
+    result = minimizeLinearized(terms, conditions, rest, restXi, problem.dof);
   } else if (options.solver == Solver::Newton) {
-    result = minimizeNewton(terms, conditions, rest, restXi, options);
+    result = minimizeNewton(problem, conditions, options);
   } else if (options.start == Start::Linearized) {
-    const MinimizeResult predictor = minimizeLinearized(terms, conditions, rest, restXi, options);
+    const MinimizeResult predictor =
+        minimizeLinearized(terms, conditions, rest, restXi, problem.dof);
     BoundaryConditions warm = conditions;
     warm.start = predictor.positions;
     if (predictor.xi.size() > 0) warm.xi = predictor.xi;
-    result = minimizeNonlinear(terms, warm, options);
+    result = minimizeNonlinear(terms, warm, problem.dof, options);
     MinimizeReport& r = result.report;
     r.totalSeconds += predictor.report.totalSeconds;
     r.evaluationSeconds += predictor.report.evaluationSeconds;
@@ -255,7 +269,7 @@ MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
     r.orderingSeconds += predictor.report.orderingSeconds;
     r.factorizations += predictor.report.factorizations;
   } else {
-    result = minimizeNonlinear(terms, conditions, options);
+    result = minimizeNonlinear(terms, conditions, problem.dof, options);
   }
   MinimizeReport& r = result.report;
   r.vertices = static_cast<int>(conditions.fixedVertex.size());

@@ -38,10 +38,11 @@ const char* solverName(Solver solver);  // "newton" | "ceres"
 // minimizer the convergence is no longer quadratic).
 enum class HessianMode { Exact, Projected };
 
+// How a Problem (problem.h: the terms, the unknown layout, the boundary, the load, the
+// obstacles) is minimized.
 struct MinimizeOptions {
   Solver solver = Solver::Newton;
   HessianMode hessian = HessianMode::Exact;
-  DofMode dof = DofMode::Height;
   bool linearized = false;
   Start start = Start::Linearized;
   int maxIterations = 200;
@@ -54,15 +55,6 @@ struct MinimizeOptions {
   // Hand Ceres a METIS nested-dissection order of the vertices (elimination_order.h). false:
   // Ceres' AMD, the benchmark's baseline.
   bool nestedDissection = true;
-  // A constant external load (#V by 3; empty: none), e.g. gravity m_v g: the solve minimizes
-  // E − Σ_v f_v · x_v. Newton only (a linear term is no least-squares residual): the linearized
-  // and Ceres solves refuse it.
-  Positions externalForce;
-  // Obstacles the free vertices stay outside of (obstacles.h): their barrier joins E, and every
-  // step of the line search is capped so that no vertex reaches one. Newton only; the start
-  // (with Start::Linearized: the fixed vertices at their values, the free ones at rest) must have
-  // every vertex outside (InputError otherwise).
-  ObstacleBarrier obstacles;
   // Benchmarks only: Newton as a plain Newton solver does it (libshell's, say) — Eigen's
   // SimplicialLLT refactored in every iteration, no chord steps. The baseline of scripts/bench
   // shell.
@@ -89,11 +81,23 @@ struct MinimizeResult {
   MinimizeReport report;
 };
 
+struct Problem;
+
+// The minimizer of the problem's terms over its free unknowns, with its boundary values — or with
+// `conditions` in their place (other held sets and values on the same problem, as the C2 study
+// solves one plate for several boundary surfaces). The problem's load (E − Σ_v f_v · x_v, a linear
+// term that is no least-squares residual) and obstacles (their barrier joins E, every line-search
+// step is capped so that no vertex reaches one; the start — with Start::Linearized the fixed
+// vertices at their values, the free ones at rest — must have every vertex outside) need the
+// Newton solve: the linearized and Ceres solves refuse them.
+//
 // Throws InputError for a problem that has no unique minimizer: nothing fixed in height mode,
-// everything fixed, a free vertex no element touches. Does not throw on non-convergence: the
-// report says so (converged = false).
-MinimizeResult minimize(const std::vector<const EnergyTerm*>& terms,
-                        const BoundaryConditions& conditions, const Positions& rest,
-                        const Eigen::VectorXd& restXi, const MinimizeOptions& options);
+// everything fixed, a free vertex no element touches; and, for the problem's own boundary, ξ
+// clamped for the other kind of solve (MinimizeOptions.linearized against
+// ProblemOptions.linearizedClamp). Does not throw on non-convergence: the report says so
+// (converged = false).
+MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options);
+MinimizeResult minimize(const Problem& problem, const BoundaryConditions& conditions,
+                        const MinimizeOptions& options);
 
 }  // namespace flexure::optimize

@@ -7,6 +7,7 @@
 
 #include "modeling/errors.h"
 #include "optimize/linear/linearized_solver.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/newton_loop.h"
@@ -32,20 +33,22 @@ Eigen::VectorXd unknownVector(const Positions& x, const Eigen::VectorXd& xi, boo
 
 class NewtonSolver {
  public:
-  NewtonSolver(const std::vector<const EnergyTerm*>& terms, const BoundaryConditions& bc,
-               const Positions& rest, const Eigen::VectorXd& restXi, const MinimizeOptions& options)
-      : terms_(terms),
+  NewtonSolver(const Problem& problem, const BoundaryConditions& bc, const MinimizeOptions& options)
+      : terms_(problem.termPointers()),
         bc_(bc),
-        rest_(rest),
-        restXi_(restXi),
+        rest_(problem.rest.positions),
+        restXi_(problem.restXi),
+        dof_(problem.dof),
+        externalForce_(problem.externalForce),
+        obstacles_(problem.obstacles),
         options_(options),
-        withXi_(usesEdgeUnknowns(terms)),
-        derivatives_(options.dof == DofMode::Height ? curvature::Derivatives::HeightOnly
-                                                    : curvature::Derivatives::All),
+        withXi_(usesEdgeUnknowns(terms_)),
+        derivatives_(dof_ == DofMode::Height ? curvature::Derivatives::HeightOnly
+                                             : curvature::Derivatives::All),
         free_(freeUnknowns()),
-        assembly_(terms, free_, static_cast<int>(rest.rows()), derivatives_),
+        assembly_(terms_, free_, static_cast<int>(rest_.rows()), derivatives_),
         factorization_(assembly_,
-                       options.simplicialBaseline ? std::vector<int>() : eliminationOrder(options),
+                       options.simplicialBaseline ? std::vector<int>() : eliminationOrder(),
                        options.simplicialBaseline),
         loop_(assembly_, factorization_),
         projection_(options.hessian == HessianMode::Projected
@@ -57,8 +60,8 @@ class NewtonSolver {
   // solve (height) spent 8.0 s in linear solves on the geometric order against 12.9 s on AMD;
   // cotan fairing of a 50 000-vertex region of the bunny (xyz, scripts/bench fair) 30.4 s
   // against 15.2 s.
-  std::vector<int> eliminationOrder(const MinimizeOptions& options) const {
-    return options.dof == DofMode::Height ? hessianOrder(assembly_, rest_) : std::vector<int>();
+  std::vector<int> eliminationOrder() const {
+    return dof_ == DofMode::Height ? hessianOrder(assembly_, rest_) : std::vector<int>();
   }
 
   MinimizeResult run(Clock::time_point start) {
@@ -71,14 +74,14 @@ class NewtonSolver {
       for (Eigen::Index e = 0; withXi_ && e < restXi_.size(); ++e)
         if (!bc_.fixedEdge[e]) base.xi[e] = restXi_[e];
     }
-    if (!options_.obstacles.empty()) options_.obstacles.requireOutside(base.positions, "the start");
+    if (!obstacles_.empty()) obstacles_.requireOutside(base.positions, "the start");
     if (options_.start == Start::Linearized) {
       if (!predict(result)) return finish(std::move(result), start);
-      if (!options_.obstacles.empty()) {
+      if (!obstacles_.empty()) {
         // The predictor ignores the obstacles: go from the feasible start towards it only as far
         // as the obstacles allow.
-        const double alpha = options_.obstacles.stepBound(
-            base.positions, Positions(result.positions - base.positions));
+        const double alpha =
+            obstacles_.stepBound(base.positions, Positions(result.positions - base.positions));
         result.positions = base.positions + alpha * (result.positions - base.positions);
         if (withXi_) result.xi = base.xi + alpha * (result.xi - base.xi);
       }
@@ -106,14 +109,12 @@ class NewtonSolver {
 
  private:
   std::vector<bool> freeUnknowns() const {
-    return freeUnknownMask(bc_.fixedVertex, withXi_ ? bc_.fixedEdge : std::vector<bool>(),
-                           options_.dof);
+    return freeUnknownMask(bc_.fixedVertex, withXi_ ? bc_.fixedEdge : std::vector<bool>(), dof_);
   }
 
   // The objective with the fixed unknowns of `at`.
   StaticEnergy staticEnergy(const Configuration& at) const {
-    return StaticEnergy(assembly_, at, terms_, options_.externalForce, options_.obstacles,
-                        projection_);
+    return StaticEnergy(assembly_, at, terms_, externalForce_, obstacles_, projection_);
   }
 
   // The counts and times of a loop (or the predictor's factor and solve) into the report.
@@ -159,7 +160,7 @@ class NewtonSolver {
   // chord steps. false (the report says why) when it fails.
   bool predict(Configuration& result) {
     const Positions move = bc_.start - rest_;
-    if (options_.dof == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
+    if (dof_ == DofMode::Height && move.leftCols(2).cwiseAbs().maxCoeff() != 0.0) {
       // x, y moved in height mode: the z-only Hessian has no coupling to them. Start from the
       // linearized minimizer with all derivatives (one least-squares solve) instead.
       predictLinearized(result);
@@ -222,10 +223,13 @@ class NewtonSolver {
     return result;
   }
 
-  const std::vector<const EnergyTerm*>& terms_;
+  const std::vector<const EnergyTerm*> terms_;
   const BoundaryConditions& bc_;
   const Positions& rest_;
   const Eigen::VectorXd& restXi_;
+  const DofMode dof_;
+  const Positions& externalForce_;
+  const ObstacleBarrier& obstacles_;
   const MinimizeOptions& options_;
   const bool withXi_;
   const curvature::Derivatives derivatives_;
@@ -242,11 +246,10 @@ class NewtonSolver {
 
 }  // namespace
 
-MinimizeResult minimizeNewton(const std::vector<const EnergyTerm*>& terms,
-                              const BoundaryConditions& conditions, const Positions& rest,
-                              const Eigen::VectorXd& restXi, const MinimizeOptions& options) {
+MinimizeResult minimizeNewton(const Problem& problem, const BoundaryConditions& conditions,
+                              const MinimizeOptions& options) {
   const auto start = Clock::now();
-  NewtonSolver solver(terms, conditions, rest, restXi, options);
+  NewtonSolver solver(problem, conditions, options);
   return solver.run(start);
 }
 

@@ -18,9 +18,9 @@
 
 namespace flexure::optimize {
 
-// Called by minimize() for Solver::Newton; the problem has been checked (requireWellPosed).
-MinimizeResult minimizeNewton(const std::vector<const EnergyTerm*>& terms,
-                              const BoundaryConditions& conditions, const Positions& rest,
-                              const Eigen::VectorXd& restXi, const MinimizeOptions& options);
+// Called by minimize() for Solver::Newton with the problem's or other boundary conditions; the
+// problem has been checked (requireWellPosed).
+MinimizeResult minimizeNewton(const Problem& problem, const BoundaryConditions& conditions,
+                              const MinimizeOptions& options);
 
 }  // namespace flexure::optimize

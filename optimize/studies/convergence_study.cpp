@@ -352,7 +352,7 @@ MinimizeResult solveWithSurfaceBoundary(const FlatPlateProblem& problem, const P
   const BoundaryConditions bc =
       surfaceBoundary(problem.stencils, problem.rest.positions, problem.restXi,
                       problem.boundary.fixedVertex, u, normals, linearized);
-  return minimize(problem.termPointers(), bc, problem.rest.positions, problem.restXi, options);
+  return minimize(problem, bc, options);
 }
 
 double c2Error(const FlatPlateProblem& problem, const PolynomialSurface& p,
