@@ -1,0 +1,111 @@
+"""flexure.Simulation against `flexure simulate`'s frames, its energy balance and its errors."""
+
+import numpy as np
+import pytest
+
+import flexure
+from conftest import bent
+
+
+def test_steps_equal_the_cli_frames(cli, plate, tmp_path):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "midedge", "--membrane",
+        "stvk", "--pin", "rings:2", "--gravity", "0,0,-9.81", "--damping", "rayleigh:2,0",
+        "--dt", "0.01", "--duration", "0.05", "--fps", "100", "--render-style", "none",
+        "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="midedge", membrane="stvk", pinned=2,
+                           gravity=[0, 0, -9.81], rayleigh=(2, 0))
+    frame0, _ = flexure.read_mesh(tmp_path / "run" / "frame-00000.obj")
+    np.testing.assert_array_equal(s.positions, frame0)
+    moved = 0.0
+    for k in range(1, 6):
+        report = s.step(0.01)
+        assert report["completed"] and report["steps"] >= 1
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+        moved = max(moved, np.abs(frame - V).max())
+    assert moved > 1e-4  # gravity moved the plate: the comparison is not of rest with rest
+    assert s.time == pytest.approx(0.05)
+    assert s.pinned.sum() == flexure.boundary_rings(V, F, 2).sum()
+
+
+def test_energies_csv_columns(cli, plate, tmp_path):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "hinge", "--membrane",
+        "springs", "--pin", "rings:1", "--gravity", "0,0,-1", "--dt", "0.02", "--duration",
+        "0.04", "--render-style", "none", "-o", tmp_path / "run")
+    lines = (tmp_path / "run" / "energies.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    last = dict(zip(header, map(float, lines[-1].split(","))))
+    s = flexure.Simulation(V, F, energy="hinge", membrane="springs", pinned=1, gravity=[0, 0, -1])
+    s.step(0.02)
+    s.step(0.02)
+    e = s.energies()
+    for key in header:
+        assert e[key] == pytest.approx(last[key], rel=1e-12, abs=1e-15), key
+
+
+def test_newmark_undamped_conserves_energy(plate):
+    V, F = plate
+    rings = flexure.vertex_rings(V, F)
+    velocities = np.zeros_like(V)
+    velocities[rings >= 2, 2] = 0.5 * np.cos(np.pi * V[rings >= 2, 0])
+    s = flexure.Simulation(V, F, energy="hinge", membrane="stvk", pinned=2,
+                           velocities=velocities)
+    start = s.energies()["total"]
+    assert start > 0
+    totals = []
+    for _ in range(30):
+        s.step(0.002)
+        totals.append(s.energies()["total"])
+    assert np.abs(np.array(totals) / start - 1).max() < 0.01
+    assert s.energies()["hinge"] > 0.01 * start  # energy moved into bending and back
+
+
+def test_masses_and_state_shapes(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="midedge", density=2.0, pinned=np.arange(49) < 7)
+    assert s.masses.shape == (49,)
+    assert s.masses.sum() == pytest.approx(2.0)  # ρ × the unit square's area
+    assert s.positions.shape == s.velocities.shape == (49, 3)
+    assert s.xi.ndim == 1 and s.xi.size > 0
+    assert s.term_names == ["midedge", "stvk"]
+
+
+def test_obstacle_is_respected(plate):
+    V, F = plate
+    s = flexure.Simulation(bent(V, 3, 0.0), F, energy="hinge", pinned=None,
+                           gravity=[0, 0, -9.81], obstacles=["plane:0,0,1,-0.05"])
+    for _ in range(10):
+        s.step(0.01)
+    assert s.positions[:, 2].min() > -0.05
+    assert s.energies()["contact"] >= 0
+
+
+@pytest.mark.parametrize("arguments, name", [
+    ({"pinned": np.ones(3, dtype=bool)}, "pinned"),
+    ({"integrator": "rk4"}, "integrator"),
+    ({"membrane": None}, "membrane"),
+    ({"membrane": "rubber"}, "rubber"),
+    ({"gravity": [0, 0]}, "gravity"),
+    ({"density": -1}, "density"),
+    ({"obstacles": ["cube:1"]}, "obstacles"),
+    ({"V_start": np.zeros((3, 3))}, "V_start"),
+    ({"beta": 0.9}, "beta"),
+    ({"pinned": "rings:x"}, "pinned"),
+])
+def test_bad_arguments_name_themselves(plate, arguments, name):
+    V, F = plate
+    with pytest.raises(ValueError, match=name):
+        flexure.Simulation(V, F, energy="hinge", **arguments)
+
+
+def test_step_arguments(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="hinge", pinned=2)
+    with pytest.raises(ValueError, match="h"):
+        s.step(-1.0)
+    with pytest.raises(ValueError, match="min_dt"):
+        s.step(0.01, min_dt=0.1)
