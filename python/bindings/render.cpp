@@ -71,7 +71,6 @@ render::RenderOptions renderOptions(const RenderArguments& a) {
     throw InputError("curvature_max applies to style curvature only");
   }
   if (a.framingPoints) r.framingPoints = *a.framingPoints;
-  r.validate();
   return r;
 }
 

@@ -1,0 +1,118 @@
+"""flexure.modes against `flexure modes`' modes.json, flexure.fair against `flexure fair`'s mesh,
+flexure.info against `flexure info --json`, and their errors."""
+
+import json
+
+import numpy as np
+import pytest
+
+import flexure
+from conftest import bent
+
+
+@pytest.mark.parametrize("energy, extra", [("hinge", []), ("midedge", []),
+                                           ("cotan", ["--support", "simply-supported"])])
+def test_modes_equal_the_cli_modes_json(cli, plate, tmp_path, energy, extra):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "modes", "--mesh", tmp_path / "plate.obj", "--energy", energy, "--count", "4",
+        *extra, "-o", tmp_path / "m")
+    report = json.loads((tmp_path / "m" / "modes.json").read_text())["energies"][0]
+    support = extra[1] if extra else "clamped"
+    result = flexure.modes(V, F, energy=energy, count=4, support=support)
+    expected = [m["omega_squared"] for m in report["modes"]]
+    assert len(expected) >= 4
+    np.testing.assert_allclose(result["eigenvalues"][:len(expected)], expected, rtol=1e-12)
+    assert result["rigid_modes"] == report["rigid_modes"]
+    assert result["shapes"].shape == (len(result["modes"]), 49, 3)
+    for m in result["modes"]:  # M-normalized shapes: Σ m_v |v_v|² = 1
+        assert m["nodal_lines"].shape[1:] == (2, 3)
+    masses = flexure.Simulation(V, F, energy="hinge").masses
+    flexible = [m for m in result["modes"] if not m["zero"]]
+    assert sum(masses @ (flexible[0]["shape"] ** 2)) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_modes_errors(plate):
+    V, F = plate
+    with pytest.raises(ValueError, match="count"):
+        flexure.modes(V, F, count=0)
+    with pytest.raises(ValueError, match="support"):
+        flexure.modes(V, F, support="glued")
+    with pytest.raises(ValueError, match="clamp"):
+        flexure.modes(V, F, energy="hinge", clamp="normals")
+    with pytest.raises(ValueError, match="membrane"):
+        flexure.modes(V, F, dof="xyz")
+    with pytest.raises(ValueError, match="fixed"):
+        flexure.modes(V, F, fixed=[True])
+
+
+@pytest.mark.parametrize("region", ["all-interior", "sphere:0.05,0,0,0.2"])
+def test_fair_equals_the_cli_mesh(cli, tmp_path, region):
+    V, F = flexure.mesh("delaunay", 8, seed=3)
+    W = bent(V, 7, amplitude=0.02)
+    flexure.write_mesh(tmp_path / "in.obj", W, F)
+    cli("-q", "fair", tmp_path / "in.obj", "--region", region, "-o", tmp_path / "out.obj")
+    expected, _ = flexure.read_mesh(tmp_path / "out.obj")
+    faired, report = flexure.fair(W, F, region=region)
+    assert np.abs(faired - expected).max() <= 1e-12
+    assert report["converged"] and report["checks"]["passed"]
+    assert report["checks"]["triangles_passed"] and report["checks"]["gradient_passed"]
+    before = report["before"]["bending"][0]["value"]
+    after = report["after"]["bending"][0]["value"]
+    assert after < before
+
+
+def test_fair_by_mask_equals_by_spec(plate):
+    V, F = plate
+    W = bent(V, 4, amplitude=0.02)
+    mask = flexure.vertex_rings(V, F) >= 2
+    by_mask, _ = flexure.fair(W, F, region=mask)
+    by_spec, _ = flexure.fair(W, F, region="all-interior")
+    np.testing.assert_array_equal(by_mask, by_spec)
+    np.testing.assert_array_equal(by_mask[~mask], W[~mask])
+
+
+def test_fair_errors(plate):
+    V, F = plate
+    with pytest.raises(ValueError, match="region"):
+        flexure.fair(V, F, region=np.ones(5, dtype=bool))
+    with pytest.raises(ValueError, match="region"):
+        flexure.fair(V, F, region="cube:1")
+    with pytest.raises(ValueError, match="metric"):
+        flexure.fair(V, F, region="all-interior", metric="other")
+    with pytest.raises(ValueError, match="membrane_weight"):
+        flexure.fair(V, F, region="all-interior", membrane_weight=-1)
+
+
+def test_info_equals_the_cli(cli, tmp_path):
+    V, F = flexure.mesh("delaunay", 6, seed=2)
+    flexure.write_mesh(tmp_path / "m.obj", V, F)
+    expected = cli.json("info", "--json", tmp_path / "m.obj")
+    info = flexure.info(V, F)
+    for key in ("vertices", "faces", "edges", "components", "euler_characteristic",
+                "boundary_loops", "area", "edge_length"):
+        assert info[key] == expected[key], key
+    assert info["validation"]["valid"] is True
+    for side in ("interior", "boundary"):
+        assert {str(k): v for k, v in info["valence_histogram"][side].items()} == \
+            {str(k): v for k, v in expected["valence_histogram"][side].items()} or \
+            info["valence_histogram"][side] == expected["valence_histogram"][side]
+
+
+def test_rings_and_loops(plate):
+    V, F = plate
+    rings = flexure.vertex_rings(V, F)
+    assert (rings == 0).sum() == 24 and rings.max() == 3
+    assert flexure.boundary_rings(V, F, 1).sum() == 24
+    assert flexure.boundary_rings(V, F, 0).sum() == 0
+    loops = flexure.boundary_loops(V, F)
+    assert len(loops) == 1 and sorted(loops[0]) == sorted(np.flatnonzero(rings == 0))
+    with pytest.raises(ValueError, match="k"):
+        flexure.boundary_rings(V, F, -1)
+
+
+def test_info_reports_an_invalid_mesh():
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.0]])
+    F = np.array([[0, 1, 2], [0, 1, 2]])
+    info = flexure.info(V, F)
+    assert info["validation"]["valid"] is False and info["validation"]["problems"]
