@@ -21,10 +21,10 @@ namespace flexure::python {
 namespace {
 
 struct FairArguments {
-  BendingArguments bending;            // energy midedge by default, as the CLI's
-  bool vertexAreaGiven = false;        // false: the metric's default vertex area
+  BendingArguments bending;      // energy midedge by default, as the CLI's
+  bool vertexAreaGiven = false;  // false: the metric's default vertex area
   std::optional<std::vector<bool>> regionMask;
-  std::string regionSpec;              // parseRegion's text when no mask is given
+  std::string regionSpec;  // parseRegion's text when no mask is given
   std::string membrane = "mips";
   std::optional<double> membraneWeight;  // empty: the metric's default
   std::string start = "best", metric = "input";
@@ -130,7 +130,8 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
   report["final_energy"] = result.report.finalEnergy;
   report["seconds"] = result.report.totalSeconds;
   report["start"] = result.start == optimize::FairingStart::Input ? "input" : "biharmonic";
-  report["energy_name"] = std::string(curvature::discretizationName(options.bending.discretization));
+  report["energy_name"] =
+      std::string(curvature::discretizationName(options.bending.discretization));
   report["membrane_weight"] = options.membraneWeight;
   int regionVertices = 0;
   for (bool r : region) regionVertices += r;

@@ -65,8 +65,8 @@ py::dict infoOf(const PositionsRef& V, const TrianglesRef& F) {
   }
   for (size_t k = 0; k < check.problemCounts.size(); ++k)
     if (check.problemCounts[k] > 0)
-      counts[py::str(std::string(
-          modeling::meshProblemName(static_cast<modeling::MeshProblemKind>(k))))] =
+      counts[py::str(
+          std::string(modeling::meshProblemName(static_cast<modeling::MeshProblemKind>(k))))] =
           check.problemCounts[k];
   py::dict validation;
   validation["valid"] = check.valid();

@@ -69,8 +69,7 @@ optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::Be
   } else {
     throw InputError("dof " + a.dof + ": expected height or xyz");
   }
-  const bool midedge =
-      static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
+  const bool midedge = static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
   if (!a.clamp)
     o.clamp = midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings;
   else if (*a.clamp == "rings")
@@ -79,8 +78,7 @@ optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::Be
     o.clamp = optimize::Clamp::Normals;
   else
     throw InputError("clamp " + *a.clamp + ": expected rings or normals");
-  if (o.clamp == optimize::Clamp::Normals && !midedge &&
-      o.support == optimize::Support::Clamped)
+  if (o.clamp == optimize::Clamp::Normals && !midedge && o.support == optimize::Support::Clamped)
     throw InputError("clamp normals holds the midedge normals: " + a.bending.energy +
                      " has none; use clamp rings or energy midedge");
   if (a.fixed) o.extraFixed = *a.fixed;
@@ -100,8 +98,8 @@ py::dict modeDict(const optimize::VibrationMode& mode, const optimize::Problem& 
   d["shape"] = mode.shape;
   if (nodalLines) {
     const auto segments = optimize::nodalSegments(problem.stencils, problem.rest, mode.shape);
-    py::array_t<double> lines({static_cast<py::ssize_t>(segments.size()), py::ssize_t(2),
-                               py::ssize_t(3)});
+    py::array_t<double> lines(
+        {static_cast<py::ssize_t>(segments.size()), py::ssize_t(2), py::ssize_t(3)});
     auto w = lines.mutable_unchecked<3>();
     for (size_t s = 0; s < segments.size(); ++s)
       for (int c = 0; c < 3; ++c) {

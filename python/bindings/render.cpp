@@ -14,9 +14,9 @@
 #include "curvature/mean_curvature_field.h"
 #include "modeling/errors.h"
 #include "modeling/polynomial_surface.h"
+#include "python/bindings/bindings.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
-#include "python/bindings/bindings.h"
 
 namespace py = pybind11;
 
@@ -90,8 +90,8 @@ py::array_t<std::uint8_t> renderImage(const PositionsRef& V, const TrianglesRef&
     options.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
   // The GIL stays held: the context is one, used by one thread at a time.
   const render::Image image = render::renderMesh(sharedContext(), mesh, options);
-  py::array_t<std::uint8_t> pixels({py::ssize_t(image.height), py::ssize_t(image.width),
-                                    py::ssize_t(3)});
+  py::array_t<std::uint8_t> pixels(
+      {py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(3)});
   auto w = pixels.mutable_unchecked<3>();
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {

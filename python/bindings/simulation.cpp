@@ -136,10 +136,10 @@ class BoundSimulation {
     if (a.pinnedMask) {
       p.fixedVertex = *a.pinnedMask;
     } else {
-      p.fixedVertex = a.pinnedSpec == "none"
-                          ? std::vector<bool>(rest.vertexCount(), false)
-                          : optimize::parseFixedSet("pinned", a.pinnedSpec, stencils,
-                                                    restState.positions);
+      p.fixedVertex =
+          a.pinnedSpec == "none"
+              ? std::vector<bool>(rest.vertexCount(), false)
+              : optimize::parseFixedSet("pinned", a.pinnedSpec, stencils, restState.positions);
       if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
         p.fixedEdge = optimize::clampedBoundaryEdges(a.pinnedSpec, stencils);
     }
@@ -176,7 +176,8 @@ class BoundSimulation {
 
   std::vector<std::string> termNames() const {
     std::vector<std::string> names;
-    for (const curvature::EnergyTerm* term : problem_->termPointers()) names.push_back(term->name());
+    for (const curvature::EnergyTerm* term : problem_->termPointers())
+      names.push_back(term->name());
     return names;
   }
 
@@ -228,10 +229,12 @@ void bindSimulation(py::module_& m) {
       .def_property_readonly("velocities",
                              [](const BoundSimulation& s) { return s.stepper().velocities(); })
       .def_property_readonly("xi", [](const BoundSimulation& s) { return s.stepper().xi(); })
-      .def_property_readonly("masses", [](const BoundSimulation& s) { return s.stepper().masses(); })
-      .def_property_readonly("pinned",
-                             [](const BoundSimulation& s) { return s.problem().boundary.fixedVertex; })
-      .def_property_readonly("gravity", [](const BoundSimulation& s) { return s.problem().gravity; })
+      .def_property_readonly("masses",
+                             [](const BoundSimulation& s) { return s.stepper().masses(); })
+      .def_property_readonly(
+          "pinned", [](const BoundSimulation& s) { return s.problem().boundary.fixedVertex; })
+      .def_property_readonly("gravity",
+                             [](const BoundSimulation& s) { return s.problem().gravity; })
       .def_property_readonly("smallest_obstacle_distance", [](const BoundSimulation& s) {
         return s.stepper().barrier().smallestDistance(s.stepper().positions());
       });
