@@ -41,6 +41,12 @@ struct SimulationArguments {
   std::string integrator = "newmark";
   double beta = 0.25, gamma = 0.5;
   double rayleighMass = 0.0, rayleighStiffness = 0.0, bendingDamping = 0.0;
+  // The pins' rigid motion (optimize::PinMotion): "none", "rotate" (about `axis` through
+  // `point` at `omega` rad/s) or "translate" (at `velocity`).
+  std::string pinMotion = "none";
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero(),
+                  velocity = Eigen::Vector3d::Zero();
+  double omega = 0.0;
   int maxNewtonIterations = 30;
   double tolerance = 1e-10;
 };
@@ -67,6 +73,18 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   d.rayleighMass = a.rayleighMass;
   d.rayleighStiffness = a.rayleighStiffness;
   d.bendingDamping = a.bendingDamping;
+  if (a.pinMotion == "rotate") {
+    if (!(a.axis.norm() > 0.0)) throw InputError("pin_motion: the rotation axis is zero");
+    d.pinMotion.kind = optimize::PinMotion::Kind::Rotate;
+    d.pinMotion.axis = a.axis.normalized();
+    d.pinMotion.point = a.point;
+    d.pinMotion.omega = a.omega;
+  } else if (a.pinMotion == "translate") {
+    d.pinMotion.kind = optimize::PinMotion::Kind::Translate;
+    d.pinMotion.velocity = a.velocity;
+  } else if (a.pinMotion != "none") {
+    throw InputError("pin_motion " + a.pinMotion + ": expected rotate or translate");
+  }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
   d.validate();
@@ -214,6 +232,11 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("rayleigh_mass", &SimulationArguments::rayleighMass)
       .def_readwrite("rayleigh_stiffness", &SimulationArguments::rayleighStiffness)
       .def_readwrite("bending_damping", &SimulationArguments::bendingDamping)
+      .def_readwrite("pin_motion", &SimulationArguments::pinMotion)
+      .def_readwrite("axis", &SimulationArguments::axis)
+      .def_readwrite("point", &SimulationArguments::point)
+      .def_readwrite("omega", &SimulationArguments::omega)
+      .def_readwrite("velocity", &SimulationArguments::velocity)
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
       .def_readwrite("tolerance", &SimulationArguments::tolerance);
 

@@ -38,6 +38,29 @@ def set_membrane(a, membrane):
         setattr(a, _MEMBRANE_FIELDS[key], _checks.number(value, f"membrane {key}"))
 
 
+def _set_pin_motion(a, pin_motion, pinned):
+    if pinned is None:
+        raise ValueError("pin_motion: moves the pinned vertices; give them with pinned")
+    if not isinstance(pin_motion, dict) or len(pin_motion) != 1:
+        raise ValueError("pin_motion: expected {\"rotate\": (axis, point, omega)} or "
+                         "{\"translate\": velocity}")
+    (kind, value), = pin_motion.items()
+    if kind == "rotate":
+        try:
+            axis, point, omega = value
+        except (TypeError, ValueError):
+            raise ValueError("pin_motion: rotate takes (axis, point, omega)") from None
+        a.pin_motion = "rotate"
+        a.axis = _checks.vector(axis, 3, "pin_motion axis")
+        a.point = _checks.vector(point, 3, "pin_motion point")
+        a.omega = _checks.number(omega, "pin_motion omega")
+    elif kind == "translate":
+        a.pin_motion = "translate"
+        a.velocity = _checks.vector(value, 3, "pin_motion velocity")
+    else:
+        raise ValueError(f"pin_motion: {kind!r}, expected rotate or translate")
+
+
 class Simulation:
     """A shell in time (optimize/dynamics/time_stepping.h), set up as ``flexure simulate``.
 
@@ -55,7 +78,9 @@ class Simulation:
     density: ρ, mass per unit rest area; mass: "barycentric" | "voronoi" lumping; obstacles:
     a list of "plane:nx,ny,nz,d" | "sphere:x,y,z,r"; integrator: "newmark" | "backward-euler"
     | "central-difference"; beta, gamma: Newmark's; rayleigh: (α, β) of C = α M + β K̄;
-    bending_damping: c of −c K_B(x_n) v; max_newton_iterations, tolerance: per step.
+    bending_damping: c of −c K_B(x_n) v; pin_motion: the pins' rigid motion from where they
+    start, {"rotate": (axis 3-vector, point 3-vector, ω rad/s)} (counter-clockwise about the
+    axis) or {"translate": velocity 3-vector (L/s)}; max_newton_iterations, tolerance: per step.
 
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
@@ -64,7 +89,8 @@ class Simulation:
                  vertex_area="voronoi", hinge_angle="theta", membrane="stvk", pinned=None,
                  V_start=None, velocities=None, gravity=None, density=1.0, mass="barycentric",
                  obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
-                 bending_damping=0.0, max_newton_iterations=30, tolerance=1e-10):
+                 bending_damping=0.0, pin_motion=None, max_newton_iterations=30,
+                 tolerance=1e-10):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -101,6 +127,8 @@ class Simulation:
         rayleigh = _checks.vector(rayleigh, 2, "rayleigh")
         a.rayleigh_mass, a.rayleigh_stiffness = float(rayleigh[0]), float(rayleigh[1])
         a.bending_damping = _checks.number(bending_damping, "bending_damping")
+        if pin_motion is not None:
+            _set_pin_motion(a, pin_motion, pinned)
         a.max_newton_iterations = _checks.number(max_newton_iterations, "max_newton_iterations",
                                                  positive=True, integer=True)
         a.tolerance = _checks.number(tolerance, "tolerance", positive=True)

@@ -30,6 +30,36 @@ def test_steps_equal_the_cli_frames(cli, plate, tmp_path):
     assert s.pinned.sum() == flexure.boundary_rings(V, F, 2).sum()
 
 
+@pytest.mark.parametrize("motion, cli_motion", [
+    ({"translate": [0.0, 0.0, 0.5]}, "translate:0,0,0.5"),
+    ({"rotate": ([0, 1, 0], [-0.5, 0, 0], 2.0)}, "rotate:0,1,0,-0.5,0,0,2"),
+])
+def test_pin_motion_equals_the_cli(cli, plate, tmp_path, motion, cli_motion):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "hinge", "--membrane",
+        "springs", "--pin", "rings:1", "--pin-motion", cli_motion, "--dt", "0.01",
+        "--duration", "0.03", "--fps", "100", "--render-style", "none", "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="hinge", membrane="springs", pinned=1, pin_motion=motion)
+    for k in range(1, 4):
+        s.step(0.01)
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+    assert np.abs(s.positions[s.pinned] - V[s.pinned]).max() > 1e-3  # the pins moved
+
+
+def test_a_step_that_cannot_converge_raises_with_the_report(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="hinge", pinned=2, gravity=[0, 0, -1e4],
+                           max_newton_iterations=1, tolerance=1e-14)
+    with pytest.raises(flexure.NumericalError) as caught:
+        s.step(0.1, min_dt=0.05)
+    report = caught.value.report
+    assert report["completed"] is False and report["failure"]
+    assert report["failed_step"] <= 0.1 and report["halvings"] >= 1
+    assert s.advance(0.1, 0.05)["completed"] is False  # advance reports, never raises
+
+
 def test_energies_csv_columns(cli, plate, tmp_path):
     V, F = plate
     flexure.write_mesh(tmp_path / "plate.obj", V, F)
@@ -95,6 +125,9 @@ def test_obstacle_is_respected(plate):
     ({"V_start": np.zeros((3, 3))}, "V_start"),
     ({"beta": 0.9}, "beta"),
     ({"pinned": "rings:x"}, "pinned"),
+    ({"pinned": 2, "pin_motion": {"spin": 1}}, "pin_motion"),
+    ({"pin_motion": {"translate": [0, 0, 1]}}, "pin_motion"),
+    ({"pinned": 2, "pin_motion": {"rotate": ([0, 0, 0], [0, 0, 0], 1)}}, "pin_motion"),
 ])
 def test_bad_arguments_name_themselves(plate, arguments, name):
     V, F = plate
