@@ -3,9 +3,11 @@ minimize midedge bending (flat rest) + a MIPS membrane; reflection lines before 
 one framing, side by side in a PNG.
 
 Run: PYTHONPATH=build/python /usr/bin/python3 examples/python/fair_mesh.py [OUT.png]
+(without OUT.png the figure goes to a temporary folder that is removed at the end)
 """
 
 import pathlib
+import shutil
 import sys
 import tempfile
 
@@ -31,8 +33,9 @@ print(f"fair: {report['region_vertices']} vertices moved, E_{before['energy']} "
 assert report["converged"] and after["value"] < before["value"]
 assert np.array_equal(faired[~region], W[~region]), "only the region moves"
 
-out = pathlib.Path(sys.argv[1] if len(sys.argv) > 1
-                   else pathlib.Path(tempfile.mkdtemp(prefix="fair-")) / "fair.png")
+keep = len(sys.argv) > 1                               # else a temporary folder, removed
+out = pathlib.Path(sys.argv[1] if keep else pathlib.Path(tempfile.mkdtemp(prefix="fair-")) /
+                   "fair.png")
 try:
     framing = np.vstack([W, faired])
     images = [flexure.render(X, F, size=320, elevation=60, framing_points=framing)
@@ -41,4 +44,7 @@ except ValueError as error:                            # no OSMesa here: no figu
     print(f"no figure: {error}")
 else:
     flexure.write_png(out, np.hstack(images))
-    print(f"before | after: {out}")
+    assert flexure.read_png(out).shape == (320, 640, 3)
+    print(f"before | after: {out}{'' if keep else ' (removed)'}")
+if not keep:
+    shutil.rmtree(out.parent)
