@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,11 +29,14 @@ struct FairArguments {
   std::string membrane = "mips";
   std::optional<double> membraneWeight;  // empty: the metric's default
   std::string start = "best", metric = "input";
-  bool angleBarrier = true;
-  int maxIterations = 0;  // ≤ 0: MinimizeOptions' default
+  std::string method = "flexure";  // or "cgal": CGAL's linear fair is the result
+  bool allowSlivers = false;       // no angle barrier, and the smallest-angle rule not applied
+  int maxIterations = 0;           // ≤ 0: MinimizeOptions' default
 };
 
 optimize::FairingOptions fairingOptions(const FairArguments& a) {
+  if (a.method != "flexure" && a.method != "cgal")
+    throw InputError("method " + a.method + ": expected flexure or cgal");
   if (a.start != "best" && a.start != "biharmonic" && a.start != "input")
     throw InputError("start " + a.start + ": expected best, biharmonic or input");
   if (a.metric != "input" && a.metric != "current")
@@ -50,7 +54,7 @@ optimize::FairingOptions fairingOptions(const FairArguments& a) {
   o.start = a.start == "input"        ? optimize::FairingStart::Input
             : a.start == "biharmonic" ? optimize::FairingStart::Biharmonic
                                       : optimize::FairingStart::Best;
-  o.angleBarrier = a.angleBarrier;
+  o.angleBarrier = !a.allowSlivers;
   if (a.maxIterations > 0) o.solver.maxIterations = a.maxIterations;
   o.solver.progress = false;
   return o;
@@ -76,6 +80,19 @@ py::dict measureDict(const optimize::FairingMeasures& m) {
   d["mean_shape"] = m.quality.meanShape;
   d["min_shape"] = m.quality.minShape;
   d["max_displacement"] = m.maxDisplacement;
+  return d;
+}
+
+// fair's smallest-angle rule (cli/fair_command.cpp, #15): the faired region's smallest angle at
+// most kSliverToleranceDegrees below min(the input's, CGAL's fair's).
+py::dict sliverDict(double input, double cgal, double result) {
+  const double limit = std::min(input, cgal) - optimize::kSliverToleranceDegrees;
+  py::dict d;
+  d["input_degrees"] = input;
+  d["cgal_degrees"] = cgal;
+  d["result_degrees"] = result;
+  d["limit_degrees"] = limit;
+  d["passed"] = result >= limit;
   return d;
 }
 
@@ -107,29 +124,46 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     region = modeling::parseRegion(a.regionSpec, mesh, stencils);
   }
   modeling::requireFairableRegion(stencils, region, "region");
+  const bool cgal = a.method == "cgal";
   std::optional<modeling::FairingPatch> patch;
-  optimize::FairingMeasures before, after;
-  optimize::FairingResult result;
+  optimize::FairingMeasures before, cgalMeasures, after;
+  std::optional<optimize::FairingResult> result;
   optimize::FairingChecks checks;
-  Positions faired;
+  Positions patchAfter, cgalPatch, faired;
   {
     py::gil_scoped_release release;
+    // fair_command's fairPatch: flexure's fair (unless method cgal), CGAL's always (the result
+    // with method cgal, the smallest-angle rule's baseline otherwise), measured and checked.
     patch.emplace(modeling::extractFairingPatch(mesh, stencils, region));
     before = optimize::measureFairing(*patch, patch->mesh.positions, options.bending);
-    result = optimize::fairNonlinear(*patch, options);
-    after = optimize::measureFairing(*patch, result.positions, options.bending);
-    checks = optimize::checkFairing(*patch, result.positions, &result);
-    faired = modeling::scatterPatchPositions(mesh.positions, *patch, result.positions);
+    if (!cgal) {
+      result = optimize::fairNonlinear(*patch, options);
+      patchAfter = result->positions;
+    }
+    cgalPatch = optimize::fairCgal(*patch);
+    if (cgal) patchAfter = cgalPatch;
+    cgalMeasures = optimize::measureFairing(*patch, cgalPatch, options.bending);
+    after = cgal ? cgalMeasures : optimize::measureFairing(*patch, patchAfter, options.bending);
+    checks = optimize::checkFairing(*patch, patchAfter, result ? &*result : nullptr);
+    faired = modeling::scatterPatchPositions(mesh.positions, *patch, patchAfter);
   }
+  const py::dict slivers =
+      sliverDict(checks.inputMinAngleDegrees, cgalMeasures.quality.minAngleDegrees,
+                 checks.resultMinAngleDegrees);
+  const bool sliversPassed = cgal || slivers["passed"].cast<bool>();
+  const bool solverConverged = !result || result->report.converged;
   py::dict report;
-  report["converged"] = result.report.converged && checks.passed();
-  report["solver_converged"] = result.report.converged;
-  report["termination"] = result.report.termination;
-  report["iterations"] = result.report.iterations;
-  report["initial_energy"] = result.report.initialEnergy;
-  report["final_energy"] = result.report.finalEnergy;
-  report["seconds"] = result.report.totalSeconds;
-  report["start"] = result.start == optimize::FairingStart::Input ? "input" : "biharmonic";
+  report["converged"] = solverConverged && checks.passed() && (sliversPassed || a.allowSlivers);
+  report["method"] = a.method;
+  report["solver_converged"] = solverConverged;
+  if (result) {
+    report["termination"] = result->report.termination;
+    report["iterations"] = result->report.iterations;
+    report["initial_energy"] = result->report.initialEnergy;
+    report["final_energy"] = result->report.finalEnergy;
+    report["seconds"] = result->report.totalSeconds;
+    report["start"] = result->start == optimize::FairingStart::Input ? "input" : "biharmonic";
+  }
   report["energy_name"] =
       std::string(curvature::discretizationName(options.bending.discretization));
   report["membrane_weight"] = options.membraneWeight;
@@ -140,7 +174,16 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
   report["patch_faces"] = patch->mesh.faceCount();
   report["before"] = measureDict(before);
   report["after"] = measureDict(after);
+  report["cgal"] = measureDict(cgalMeasures);
   report["checks"] = checkDict(checks);
+  report["slivers"] = slivers;
+  std::string failure = checks.failure();
+  if (!sliversPassed && !a.allowSlivers)
+    failure += std::string(failure.empty() ? "" : "; ") + "smallest-angle check failed";
+  if (!solverConverged)
+    failure = "the solve did not converge (" + result->report.termination + ")" +
+              (failure.empty() ? "" : "; " + failure);
+  report["failure"] = failure;
   return py::make_tuple(faired, report);
 }
 
@@ -157,7 +200,8 @@ void bindFairing(py::module_& m) {
       .def_readwrite("membrane_weight", &FairArguments::membraneWeight)
       .def_readwrite("start", &FairArguments::start)
       .def_readwrite("metric", &FairArguments::metric)
-      .def_readwrite("angle_barrier", &FairArguments::angleBarrier)
+      .def_readwrite("method", &FairArguments::method)
+      .def_readwrite("allow_slivers", &FairArguments::allowSlivers)
       .def_readwrite("max_iterations", &FairArguments::maxIterations);
   m.def("fair", &fairMesh);
 }

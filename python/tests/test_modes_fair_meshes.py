@@ -62,6 +62,34 @@ def test_fair_equals_the_cli_mesh(cli, tmp_path, region):
     assert after < before
 
 
+def test_fair_cgal_equals_the_cli_mesh(cli, tmp_path):
+    V, F = flexure.mesh("delaunay", 8, seed=3)
+    W = bent(V, 8, amplitude=0.02)
+    flexure.write_mesh(tmp_path / "in.obj", W, F)
+    cli("-q", "fair", tmp_path / "in.obj", "--region", "all-interior", "--method", "cgal",
+        "-o", tmp_path / "out.obj")
+    expected, _ = flexure.read_mesh(tmp_path / "out.obj")
+    faired, report = flexure.fair(W, F, region="all-interior", method="cgal")
+    assert np.abs(faired - expected).max() <= 1e-12
+    assert report["method"] == "cgal" and "termination" not in report
+    assert report["after"] == report["cgal"]
+
+
+def test_fair_report_equals_the_cli_report(cli, tmp_path):
+    V, F = flexure.mesh("delaunay", 8, seed=3)
+    W = bent(V, 9, amplitude=0.02)
+    flexure.write_mesh(tmp_path / "in.obj", W, F)
+    cli("-q", "fair", tmp_path / "in.obj", "--region", "all-interior", "-o", tmp_path / "o.obj",
+        "--report", tmp_path / "r.json")
+    expected = json.loads((tmp_path / "r.json").read_text())
+    _, report = flexure.fair(W, F, region="all-interior")
+    assert report["slivers"]["passed"] and report["failure"] == ""
+    text = json.dumps(expected)
+    for value in (report["checks"]["result_min_angle_degrees"],
+                  report["slivers"]["cgal_degrees"], report["final_energy"]):
+        assert repr(value) in text or f"{value:.17g}" in text, value
+
+
 def test_fair_by_mask_equals_by_spec(plate):
     V, F = plate
     W = bent(V, 4, amplitude=0.02)
@@ -80,6 +108,8 @@ def test_fair_errors(plate):
         flexure.fair(V, F, region="cube:1")
     with pytest.raises(ValueError, match="metric"):
         flexure.fair(V, F, region="all-interior", metric="other")
+    with pytest.raises(ValueError, match="method"):
+        flexure.fair(V, F, region="all-interior", method="laplace")
     with pytest.raises(ValueError, match="membrane_weight"):
         flexure.fair(V, F, region="all-interior", membrane_weight=-1)
 
