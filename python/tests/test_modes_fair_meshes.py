@@ -2,6 +2,8 @@
 flexure.info against `flexure info --json`, and their errors."""
 
 import json
+import pathlib
+import tarfile
 
 import numpy as np
 import pytest
@@ -146,3 +148,39 @@ def test_info_reports_an_invalid_mesh():
     F = np.array([[0, 1, 2], [0, 1, 2]])
     info = flexure.info(V, F)
     assert info["validation"]["valid"] is False and info["validation"]["problems"]
+
+
+@pytest.fixture(scope="module")
+def lion(tmp_path_factory):
+    """CGAL's demo mesh lion-head.off (Debian libcgal-demo's data archive): (path, V, F)."""
+    archive = pathlib.Path("/usr/share/doc/libcgal-dev/data.tar.gz")
+    if not archive.exists():
+        pytest.skip(f"{archive} (libcgal-dev) is not installed")
+    folder = tmp_path_factory.mktemp("cgal")
+    with tarfile.open(archive) as tar:
+        tar.extract("data/meshes/lion-head.off", folder)
+    path = folder / "data" / "meshes" / "lion-head.off"
+    return (path, *flexure.read_mesh(path))
+
+
+def test_fair_equals_the_cli_on_a_cgal_demo_mesh(cli, lion, tmp_path):
+    path, V, F = lion
+    centre = V[1000]  # the region of tests/test_fairing.cpp's lion tests
+    region = f"sphere:{centre[0]!r},{centre[1]!r},{centre[2]!r},0.15"
+    cli("-q", "fair", path, "--region", region, "-o", tmp_path / "out.obj")
+    expected, _ = flexure.read_mesh(tmp_path / "out.obj")
+    faired, report = flexure.fair(V, F, region=region)
+    assert np.abs(faired - expected).max() <= 1e-12
+    mask = np.linalg.norm(V - centre, axis=1) <= 0.15
+    assert report["region_vertices"] == mask.sum() > 10
+    assert report["converged"] and report["after"]["max_displacement"] > 0
+    np.testing.assert_array_equal(faired[~mask], V[~mask])
+
+
+def test_info_on_a_cgal_demo_mesh(cli, lion):
+    path, V, F = lion
+    expected = cli.json("info", "--json", path)
+    info = flexure.info(V, F)
+    for key in ("vertices", "faces", "edges", "components", "euler_characteristic",
+                "boundary_loops", "area"):
+        assert info[key] == expected[key], key
