@@ -22,7 +22,7 @@ from . import _flexure
 __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
     "minimize", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
-    "read_png", "info", "boundary_rings", "vertex_rings", "boundary_loops",
+    "read_png", "png_bytes", "info", "boundary_rings", "vertex_rings", "boundary_loops",
 ]
 
 NumericalError = _flexure.NumericalError

@@ -2,7 +2,7 @@
 
 from . import _checks
 from . import _flexure
-from .simulation import bending_arguments
+from . import _bending
 
 
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
@@ -35,9 +35,8 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
     a = _flexure.FairArguments()
-    a.bending = bending_arguments(energy, poisson, stiffness,
-                                  "voronoi" if vertex_area is None else vertex_area, hinge_angle,
-                                  flat_rest=True)
+    a.bending = _bending(energy, poisson, stiffness,
+                         "voronoi" if vertex_area is None else vertex_area, hinge_angle, True)
     a.vertex_area_given = vertex_area is not None
     if isinstance(region, str):
         a.region_spec = region

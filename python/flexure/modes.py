@@ -4,7 +4,8 @@ import numpy as np
 
 from . import _checks
 from . import _flexure
-from .simulation import bending_arguments, set_membrane
+from . import _bending
+from .simulation import _set_membrane
 
 
 def modes(V, F, energy="midedge", count=12, support="clamped", clamp=None, fixed=None,
@@ -30,7 +31,7 @@ def modes(V, F, energy="midedge", count=12, support="clamped", clamp=None, fixed
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
     a = _flexure.ModesArguments()
-    a.bending = bending_arguments(energy, poisson, stiffness, vertex_area, hinge_angle)
+    a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, False)
     a.count = _checks.number(count, "count", positive=True, integer=True)
     a.support = str(support)
     if clamp is not None:
@@ -39,7 +40,7 @@ def modes(V, F, energy="midedge", count=12, support="clamped", clamp=None, fixed
         a.fixed = [bool(b) for b in _checks.mask(fixed, V.shape[0], "fixed")]
     a.dof = str(dof)
     if membrane is not None:
-        set_membrane(a, membrane)
+        _set_membrane(a, membrane)
     a.mass = str(mass)
     a.density = _checks.number(density, "density", positive=True)
     if length is not None:

@@ -2,30 +2,12 @@
 
 import numpy as np
 
+from . import _MEMBRANE_DEFAULTS, _MEMBRANE_FIELDS, _bending
 from . import _checks
 from . import _flexure
 
-_MEMBRANE_FIELDS = {"young": "young", "poisson": "membrane_poisson",
-                    "length_stiffness": "length_stiffness", "area_stiffness": "area_stiffness",
-                    "shape_stiffness": "shape_stiffness"}
-# The CLI's membrane defaults (cli/membrane_arguments.h): 1000 × k_B.
-_MEMBRANE_DEFAULTS = {"young": 1e3, "poisson": 0.3, "length_stiffness": 1e3,
-                      "area_stiffness": 1e3, "shape_stiffness": 1e3}
 
-
-def bending_arguments(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest=False):
-    """The C++ BendingArguments, each number checked (ValueError naming it)."""
-    b = _flexure.BendingArguments()
-    b.energy = str(energy)
-    b.poisson = None if poisson is None else _checks.number(poisson, "poisson")
-    b.stiffness = _checks.number(stiffness, "stiffness", positive=True)
-    b.vertex_area = str(vertex_area)
-    b.hinge_angle = str(hinge_angle)
-    b.flat_rest = bool(flat_rest)
-    return b
-
-
-def set_membrane(a, membrane):
+def _set_membrane(a, membrane):
     """Sets a's membrane model and parameters from a name or a dict with "model" (CLI defaults)."""
     spec = {"model": membrane} if isinstance(membrane, str) else dict(membrane)
     if "model" not in spec:
@@ -95,11 +77,11 @@ class Simulation:
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
         a = _flexure.SimulationArguments()
-        a.bending = bending_arguments(energy, poisson, stiffness, vertex_area, hinge_angle)
+        a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, False)
         if membrane is None:
             raise ValueError("membrane: a simulation moves every coordinate: give a membrane "
                              "(stvk, springs or conformal)")
-        set_membrane(a, membrane)
+        _set_membrane(a, membrane)
         if pinned is None:
             a.pinned_spec = "none"
         elif isinstance(pinned, str):
