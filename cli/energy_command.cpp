@@ -15,8 +15,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
-#include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/configuration_energy.h"
 
 namespace flexure::cli {
 namespace {
@@ -51,76 +50,29 @@ void requireSameConnectivity(const EnergyCommandOptions& o, const modeling::Mesh
   }
 }
 
-struct EnergyResult {
-  double energy;
-  std::string boundary;  // midedge: how boundary ξ were set
-};
-
-// Midedge: E is the minimum over the free ξ; boundary ξ are clamped to the surface or free.
-EnergyResult evaluate(const EnergyCommandOptions& o, const optimize::Problem& problem,
-                      const modeling::Positions& current) {
-  const modeling::Stencils& stencils = problem.stencils;
-  const modeling::RestState& rest = problem.rest;
-  const curvature::EnergyTerm& term = problem.bending();
-  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
-  const Eigen::VectorXd& restXi = problem.restXi;
-  std::optional<modeling::PolynomialSurface> surface;
-  if (!o.boundarySurface.empty()) surface = modeling::PolynomialSurface::parse(o.boundarySurface);
-  const std::vector<bool> onBoundary = curvature::boundaryEdges(stencils);
-  std::vector<bool> freeEdge(stencils.edgeCount(), true);
-  if (surface)
-    for (int e = 0; e < stencils.edgeCount(); ++e) freeEdge[e] = !onBoundary[e];
-  const std::string boundary = !term.usesEdgeUnknowns() ? ""
-                               : surface                ? "clamped to " + surface->spec()
-                                                        : "free";
-
-  if (!o.linearized) {
-    Eigen::VectorXd xi = restXi;
-    if (term.usesEdgeUnknowns() && surface) {
-      const Eigen::VectorXd clamped = curvature::clampedBoundaryXi(stencils, current, *surface);
-      for (int e = 0; e < stencils.edgeCount(); ++e)
-        if (onBoundary[e]) xi[e] = clamped[e];
-    }
-    return {optimize::relaxedEnergy(terms, current, xi, freeEdge), boundary};
-  }
-
-  // E_lin(δ) = ½ |J u|² with J at rest and u = (δ, ξ − ξ̄).
-  const optimize::SparseMatrix jacobian = optimize::residualJacobian(terms, rest.positions, restXi);
-  const modeling::Positions delta = current - rest.positions;
-  Eigen::VectorXd deltaXi;
-  if (term.usesEdgeUnknowns() && surface)
-    deltaXi = curvature::linearizedClampedBoundaryXi(stencils, rest.positions, delta, *surface);
-  return {
-      optimize::linearizedEnergyOfDisplacement(jacobian, rest.positions, delta, deltaXi, freeEdge),
-      boundary};
-}
-
 void runEnergyCommand(const EnergyCommandOptions& o) {
   const curvature::BendingOptions b = bendingOptions(o.bending);
-  if (!o.boundarySurface.empty() && !curvature::energyEntry(b.discretization).takesBoundarySurface)
-    throw InputError("--boundary-surface applies to --energy midedge only");
+  optimize::ConfigurationEnergyOptions options;
+  options.bending = b;
+  if (!o.boundarySurface.empty())
+    options.boundarySurface = modeling::PolynomialSurface::parse(o.boundarySurface);
+  options.linearized = o.linearized;
+  options.validate();  // before any work
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   const modeling::Mesh current = modeling::readMesh(o.currentFile);
   requireSameConnectivity(o, restMesh, current);
 
-  // The energy of a configuration: nothing held; midedge's boundary ξ are set in evaluate.
-  optimize::ProblemOptions options;
-  options.bending = b;
-  options.fixedRings = 0;
-  options.boundaryNormals = optimize::BoundaryNormals::Free;
-  const optimize::Problem problem = optimize::buildProblem(restMesh, options);
-  const curvature::EnergyTerm* term = &problem.bending();
-  const EnergyResult result = evaluate(o, problem, current.positions);
-  const double perArea = term->coveredArea() > 0 ? result.energy / term->coveredArea() : 0.0;
+  const optimize::ConfigurationEnergy result =
+      optimize::configurationEnergy(restMesh, current.positions, options);
 
   nlohmann::json report = {
       {"energy_name", std::string(curvature::discretizationName(b.discretization))},
       {"linearized", o.linearized},
       {"energy", result.energy},
-      {"elements", term->elementCount()},
-      {"element_kind", term->elementKind()},
-      {"covered_area", term->coveredArea()},
-      {"energy_per_area", perArea},
+      {"elements", result.elements},
+      {"element_kind", result.elementKind},
+      {"covered_area", result.coveredArea},
+      {"energy_per_area", result.perArea()},
       {"poisson", curvature::effectivePoisson(b)},
       {"stiffness", b.stiffness},
       {"rest", o.restFile},
@@ -131,7 +83,7 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
         b.vertexArea == curvature::VertexArea::Voronoi ? "voronoi" : "barycentric";
   if (curvature::energyEntry(b.discretization).readsHingeAngle)
     report["hinge_angle"] = b.hingeAngle == curvature::HingeAngle::Theta ? "theta" : "tan";
-  if (!result.boundary.empty()) report["boundary_xi"] = result.boundary;
+  if (!result.boundaryXi.empty()) report["boundary_xi"] = result.boundaryXi;
 
   if (o.json) {
     std::cout << report.dump(2) << '\n';
@@ -139,10 +91,10 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
   }
   std::printf("%s%s energy  %.17g\n", report["energy_name"].get<std::string>().c_str(),
               o.linearized ? " (linearized)" : "", result.energy);
-  std::printf("elements        %s\n", counted(term->elementCount(), term->elementKind()).c_str());
-  std::printf("covered area    %.17g\n", term->coveredArea());
-  std::printf("energy / area   %.17g\n", perArea);
-  if (!result.boundary.empty()) std::printf("boundary xi     %s\n", result.boundary.c_str());
+  std::printf("elements        %s\n", counted(result.elements, result.elementKind).c_str());
+  std::printf("covered area    %.17g\n", result.coveredArea);
+  std::printf("energy / area   %.17g\n", result.perArea());
+  if (!result.boundaryXi.empty()) std::printf("boundary xi     %s\n", result.boundaryXi.c_str());
 }
 
 }  // namespace

@@ -12,10 +12,14 @@
 
 namespace flexure::cli {
 
+// The library's defaults (curvature::MembraneOptions) until a flag sets one.
 struct MembraneArguments {
   std::string model;  // empty: none given
-  double young = 1e3, poisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3,
-         shapeStiffness = 1e3;
+  double young = curvature::MembraneOptions{}.young;
+  double poisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
 };
 
 // --membrane (with `help`), --young, --membrane-poisson, --length-stiffness, --area-stiffness,

@@ -21,6 +21,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ProblemOptions.fixedRings", "--fix rings:K"},
       {"ProblemOptions.fixedVertex", "--fix"},
       {"ProblemOptions.boundarySurface", "--boundary"},
+      {"ConfigurationEnergyOptions.boundarySurface", "--boundary-surface"},
       {"ProblemOptions.boundaryPositions", "--init"},
       {"ProblemOptions.boundaryNormals", "--boundary-normals"},
       {"ProblemOptions.linearizedClamp", "--linearized"},
@@ -28,6 +29,8 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ProblemOptions.load.density", "--density"},
       {"ProblemOptions.obstacles", "--obstacle"},
       {"ProblemOptions.fixedEdge", "--pin rings:K"},
+      // no flag: fair sets it to the start's shape
+      {"ProblemOptions.membraneRest", "the membrane's rest shape"},
       {"BendingOptions.poisson", "--poisson"},
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.dof", "--dof"},

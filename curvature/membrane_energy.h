@@ -13,13 +13,16 @@ namespace flexure::curvature {
 
 enum class MembraneModel { Stvk, Springs, Conformal, Mips };
 
+// The defaults make the membrane 1 000 times the default bending stiffness k_B = 1 (per unit
+// length², on a unit-sized mesh): stretching is then small next to bending, the nearly
+// inextensible regime of thin shells (Y h ≫ D / L²) that the commands and Python inherit.
 struct MembraneOptions {
   MembraneModel model = MembraneModel::Stvk;
-  double young = 1.0;            // stvk: Y, Young's modulus × thickness
+  double young = 1e3;            // stvk: Y, Young's modulus × thickness
   double poisson = 0.3;          // stvk: ν, in (−1, 1/2]
-  double lengthStiffness = 1.0;  // springs: k_L
-  double areaStiffness = 1.0;    // springs: k_A
-  double shapeStiffness = 1.0;   // conformal and mips: k_S
+  double lengthStiffness = 1e3;  // springs: k_L
+  double areaStiffness = 1e3;    // springs: k_A
+  double shapeStiffness = 1e3;   // conformal and mips: k_S
 
   // Throws InputError naming the field when one that `model` uses is out of range: Y, k_L, k_A,
   // k_S finite and > 0; ν in (−1, 1/2].

@@ -12,6 +12,17 @@
 
 namespace flexure::optimize {
 
+std::vector<bool> freeUnknownMask(const std::vector<bool>& heldVertex,
+                                  const std::vector<bool>& heldEdge, DofMode dof) {
+  const size_t vertexCount = heldVertex.size();
+  std::vector<bool> free(3 * vertexCount + heldEdge.size(), false);
+  for (size_t v = 0; v < vertexCount; ++v)
+    for (int c = dof == DofMode::Height ? 2 : 0; c < 3 && !heldVertex[v]; ++c)
+      free[3 * v + c] = true;
+  for (size_t e = 0; e < heldEdge.size(); ++e) free[3 * vertexCount + e] = !heldEdge[e];
+  return free;
+}
+
 std::vector<bool> fixedRings(const modeling::Stencils& stencils, int ringCount) {
   const Eigen::VectorXi rings = modeling::vertexRings(stencils);
   std::vector<bool> fixed(stencils.vertexCount(), false);

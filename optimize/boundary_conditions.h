@@ -14,12 +14,21 @@ namespace flexure::optimize {
 
 using modeling::Positions;
 
+// The unknowns of a vertex: z alone (height; x, y held at rest) or x, y, z.
+enum class DofMode { Height, Xyz };
+
 struct BoundaryConditions {
   std::vector<bool> fixedVertex;  // #V
   Positions start;                // #V by 3: values of the fixed vertices, start of the free ones
   std::vector<bool> fixedEdge;    // #E: midedge ξ held at `xi` (clamped boundary normals)
   Eigen::VectorXd xi;             // #E: values of the held ξ, start of the free ones
 };
+
+// Which unknowns a solve moves, in HessianAssembly's numbering (coordinate c of vertex v is 3v + c,
+// ξ_e is 3 #V + e): the coordinates of the vertices not held (z only in height mode), then the ξ
+// not held (`heldEdge`: #E, or empty when the energy owns no edge unknowns).
+std::vector<bool> freeUnknownMask(const std::vector<bool>& heldVertex,
+                                  const std::vector<bool>& heldEdge, DofMode dof);
 
 // The vertices of rings 0 .. ringCount − 1 (ring 0 = the boundary; 2 rings fix positions and
 // normals: "clamped").

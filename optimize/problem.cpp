@@ -100,6 +100,11 @@ std::vector<const curvature::EnergyTerm*> Problem::termPointers() const {
   return pointers;
 }
 
+std::vector<bool> Problem::freeUnknowns() const {
+  return freeUnknownMask(boundary.fixedVertex,
+                         usesEdgeUnknowns() ? boundary.fixedEdge : std::vector<bool>(), dof);
+}
+
 Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
                      const ProblemOptions& options) {
   options.validate();

@@ -86,6 +86,8 @@ struct Problem {
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }
   bool usesEdgeUnknowns() const { return restXi.size() > 0; }
+  // The unknowns a static solve moves (freeUnknownMask of the held vertices and ξ, in `dof`).
+  std::vector<bool> freeUnknowns() const;
   // Non-owning, in `terms`' order: what the solvers and evaluations take.
   std::vector<const curvature::EnergyTerm*> termPointers() const;
 };

@@ -161,10 +161,7 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   for (size_t e = 0; e < freeEdge_.size(); ++e) freeEdge_[e] = !problem.boundary.fixedEdge[e];
   if (o.integrator == Integrator::CentralDifference) return;
 
-  std::vector<bool> free(3 * vertexCount + restXi.size(), false);
-  for (int v = 0; v < vertexCount; ++v)
-    for (int c = 0; c < 3; ++c) free[3 * v + c] = !pinned_[v];
-  for (int e = 0; e < restXi.size(); ++e) free[3 * vertexCount + e] = freeEdge_[e];
+  const std::vector<bool> free = freeUnknownMask(pinned_, problem.boundary.fixedEdge, DofMode::Xyz);
   implicit_ = std::make_unique<Implicit>(terms_, free, vertexCount, rest.positions);
   Implicit& im = *implicit_;
   const std::vector<int>& unknowns = im.assembly.freeUnknowns();

@@ -121,14 +121,12 @@ void setSupportAndScales(ModesResult& result, const Positions& rest, const std::
 // The unknowns: free vertex coordinates, then the ξ (all free but the clamped boundary ones
 // of Clamp::Rings, which stay at rest with their faces).
 std::vector<bool> freeUnknowns(const std::vector<bool>& fixed,
-                               const std::vector<bool>& boundaryEdge, int vertexCount, int xiCount,
+                               const std::vector<bool>& boundaryEdge, int xiCount,
                                const ModesOptions& o) {
   const bool clampRings = o.support == Support::Clamped && o.clamp == Clamp::Rings;
-  std::vector<bool> free(3 * vertexCount + xiCount, false);
-  for (int v = 0; v < vertexCount; ++v)
-    for (int c = o.dof == DofMode::Height ? 2 : 0; c < 3 && !fixed[v]; ++c) free[3 * v + c] = true;
-  for (int e = 0; e < xiCount; ++e) free[3 * vertexCount + e] = !(clampRings && boundaryEdge[e]);
-  return free;
+  std::vector<bool> heldEdge(xiCount, false);
+  for (int e = 0; e < xiCount; ++e) heldEdge[e] = clampRings && boundaryEdge[e];
+  return freeUnknownMask(fixed, heldEdge, o.dof);
 }
 
 // K = ∇²E at rest = JᵀJ (every residual vanishes there), both triangles.
@@ -468,7 +466,7 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   const std::vector<bool> boundaryEdge =
       withXi ? curvature::boundaryEdges(stencils) : std::vector<bool>();
   const std::vector<bool> free =
-      freeUnknowns(fixed, boundaryEdge, vertexCount, static_cast<int>(restXi.size()), o);
+      freeUnknowns(fixed, boundaryEdge, static_cast<int>(restXi.size()), o);
   const HessianAssembly assembly(
       terms, free, vertexCount,
       o.dof == DofMode::Height ? curvature::Derivatives::HeightOnly : curvature::Derivatives::All);

@@ -21,8 +21,6 @@ namespace flexure::optimize {
 
 using curvature::EnergyTerm;
 
-enum class DofMode { Height, Xyz };
-
 // Where the free unknowns of a nonlinear solve start. Linearized: at the minimizer of the
 // linearized energy (one sparse solve: the Newton step from rest), which leaves Gauss–Newton a
 // small correction; AsGiven: at the boundary conditions' `start` (the rest state, or a given

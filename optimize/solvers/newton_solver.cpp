@@ -106,15 +106,8 @@ class NewtonSolver {
 
  private:
   std::vector<bool> freeUnknowns() const {
-    const int vertexCount = static_cast<int>(rest_.rows());
-    std::vector<bool> free(3 * vertexCount + (withXi_ ? restXi_.size() : 0), false);
-    for (int v = 0; v < vertexCount; ++v) {
-      if (bc_.fixedVertex[v]) continue;
-      for (int c = options_.dof == DofMode::Height ? 2 : 0; c < 3; ++c) free[3 * v + c] = true;
-    }
-    if (withXi_)
-      for (int e = 0; e < restXi_.size(); ++e) free[3 * vertexCount + e] = !bc_.fixedEdge[e];
-    return free;
+    return freeUnknownMask(bc_.fixedVertex, withXi_ ? bc_.fixedEdge : std::vector<bool>(),
+                           options_.dof);
   }
 
   // The objective with the fixed unknowns of `at`.

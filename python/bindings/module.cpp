@@ -17,12 +17,12 @@
 
 #include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
-#include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/mesh_check.h"
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
+#include "optimize/configuration_energy.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
@@ -54,67 +54,26 @@ py::dict bendingReport(const curvature::BendingOptions& b) {
 py::dict energyOf(const PositionsRef& restV, const TrianglesRef& F, const PositionsRef& V,
                   const BendingArguments& arguments, const std::optional<std::string>& surfaceSpec,
                   bool linearized) {
-  const curvature::BendingOptions b = bendingOptions(arguments);
-  std::optional<modeling::PolynomialSurface> surface;
-  if (surfaceSpec) {
-    if (!curvature::energyEntry(b.discretization).takesBoundarySurface)
-      throw InputError("boundary_surface applies to energy midedge only");
-    surface = modeling::PolynomialSurface::parse(*surfaceSpec);
-  }
+  optimize::ConfigurationEnergyOptions options;
+  options.bending = bendingOptions(arguments);
+  if (surfaceSpec) options.boundarySurface = modeling::PolynomialSurface::parse(*surfaceSpec);
+  options.linearized = linearized;
+  options.validate();
   const modeling::Mesh restMesh = checkedMesh(restV, F, "V_rest, F");
   const Positions current = V;
-  double energy = 0.0;
-  std::string boundary;
-  int elements = 0;
-  std::string elementKind;
-  double coveredArea = 0.0;
+  optimize::ConfigurationEnergy e;
   {
     py::gil_scoped_release release;
-    optimize::ProblemOptions options;
-    options.bending = b;
-    options.fixedRings = 0;
-    options.boundaryNormals = optimize::BoundaryNormals::Free;
-    const optimize::Problem problem = optimize::buildProblem(restMesh, options);
-    const modeling::Stencils& stencils = problem.stencils;
-    const curvature::EnergyTerm& term = problem.bending();
-    const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
-    const std::vector<bool> onBoundary = curvature::boundaryEdges(stencils);
-    std::vector<bool> freeEdge(stencils.edgeCount(), true);
-    if (surface)
-      for (int e = 0; e < stencils.edgeCount(); ++e) freeEdge[e] = !onBoundary[e];
-    if (term.usesEdgeUnknowns()) boundary = surface ? "clamped to " + surface->spec() : "free";
-    if (!linearized) {
-      Eigen::VectorXd xi = problem.restXi;
-      if (term.usesEdgeUnknowns() && surface) {
-        const Eigen::VectorXd clamped = curvature::clampedBoundaryXi(stencils, current, *surface);
-        for (int e = 0; e < stencils.edgeCount(); ++e)
-          if (onBoundary[e]) xi[e] = clamped[e];
-      }
-      energy = optimize::relaxedEnergy(terms, current, xi, freeEdge);
-    } else {
-      // E_lin(δ) = ½ |J u|² with J at rest and u = (δ, ξ − ξ̄).
-      const optimize::SparseMatrix jacobian =
-          optimize::residualJacobian(terms, problem.rest.positions, problem.restXi);
-      const Positions delta = current - problem.rest.positions;
-      Eigen::VectorXd deltaXi;
-      if (term.usesEdgeUnknowns() && surface)
-        deltaXi = curvature::linearizedClampedBoundaryXi(stencils, problem.rest.positions, delta,
-                                                         *surface);
-      energy = optimize::linearizedEnergyOfDisplacement(jacobian, problem.rest.positions, delta,
-                                                        deltaXi, freeEdge);
-    }
-    elements = term.elementCount();
-    elementKind = std::string(term.elementKind());
-    coveredArea = term.coveredArea();
+    e = optimize::configurationEnergy(restMesh, current, options);
   }
-  py::dict d = bendingReport(b);
+  py::dict d = bendingReport(options.bending);
   d["linearized"] = linearized;
-  d["energy"] = energy;
-  d["elements"] = elements;
-  d["element_kind"] = elementKind;
-  d["covered_area"] = coveredArea;
-  d["energy_per_area"] = coveredArea > 0 ? energy / coveredArea : 0.0;
-  if (!boundary.empty()) d["boundary_xi"] = boundary;
+  d["energy"] = e.energy;
+  d["elements"] = e.elements;
+  d["element_kind"] = e.elementKind;
+  d["covered_area"] = e.coveredArea;
+  d["energy_per_area"] = e.perArea();
+  if (!e.boundaryXi.empty()) d["boundary_xi"] = e.boundaryXi;
   return d;
 }
 
@@ -129,8 +88,12 @@ struct ProblemArguments {
   std::optional<std::string> boundaryNormals;  // empty: clamped with a surface, else free
   bool linearizedClamp = false;
   std::optional<std::string> membrane;
-  double young = 1.0, membranePoisson = 0.3, lengthStiffness = 1.0, areaStiffness = 1.0,
-         shapeStiffness = 1.0;
+  // The library's defaults (curvature::MembraneOptions) until Python sets one.
+  double young = curvature::MembraneOptions{}.young;
+  double membranePoisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   std::optional<Eigen::Vector3d> gravity;
   double density = 1.0;
 };
@@ -180,7 +143,7 @@ class BoundProblem {
       : problem_(std::move(problem)),
         bending_(bending),
         terms_(problem_.termPointers()),
-        assembly_(terms_, freeMask(), static_cast<int>(problem_.rest.positions.rows()),
+        assembly_(terms_, problem_.freeUnknowns(), static_cast<int>(problem_.rest.positions.rows()),
                   problem_.dof == optimize::DofMode::Height ? curvature::Derivatives::HeightOnly
                                                             : curvature::Derivatives::All),
         objective_(assembly_, startConfiguration(), terms_, problem_.externalForce,
@@ -199,21 +162,6 @@ class BoundProblem {
   }
 
  private:
-  // minimize's free unknowns: the free vertices' z (height) or x, y, z (xyz), and the free ξ.
-  std::vector<bool> freeMask() const {
-    const int vertexCount = static_cast<int>(problem_.rest.positions.rows());
-    const bool withXi = problem_.usesEdgeUnknowns();
-    std::vector<bool> free(3 * vertexCount + (withXi ? problem_.restXi.size() : 0), false);
-    for (int v = 0; v < vertexCount; ++v) {
-      if (problem_.boundary.fixedVertex[v]) continue;
-      for (int c = problem_.dof == optimize::DofMode::Height ? 2 : 0; c < 3; ++c)
-        free[3 * v + c] = true;
-    }
-    for (Eigen::Index e = 0; withXi && e < problem_.restXi.size(); ++e)
-      free[3 * vertexCount + e] = !problem_.boundary.fixedEdge[e];
-    return free;
-  }
-
   optimize::Problem problem_;
   curvature::BendingOptions bending_;
   std::vector<const curvature::EnergyTerm*> terms_;

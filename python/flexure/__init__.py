@@ -124,12 +124,6 @@ _MEMBRANE_FIELDS = {"young": "young", "poisson": "membrane_poisson",
                     "shape_stiffness": "shape_stiffness"}
 
 
-# The CLI's membrane defaults (cli/membrane_arguments.h), so that membrane="stvk" is
-# `--membrane stvk`: a membrane 1000 times stiffer than the bending stiffness.
-_MEMBRANE_DEFAULTS = {"young": 1e3, "poisson": 0.3, "length_stiffness": 1e3,
-                      "area_stiffness": 1e3, "shape_stiffness": 1e3}
-
-
 class Problem:
     """A static problem: the rest mesh, its energy terms, the held unknowns and their values.
 
@@ -143,7 +137,7 @@ class Problem:
     with a surface) | "free"; linearized_clamp: the clamp linearized about rest (for a
     linearized solve); membrane: None, a model name ("stvk" | "springs" | "conformal" | "mips")
     or a dict with "model" and young, poisson, length_stiffness, area_stiffness, shape_stiffness
-    (defaults as the CLI's: 1000, 0.3, 1000, 1000, 1000); gravity: a 3-vector g (load m_v g on
+    (the library's defaults, as the CLI's: 1000, 0.3, 1000, 1000, 1000); gravity: a 3-vector g (load m_v g on
     the lumped masses, density ρ per unit rest area).
 
     The unknowns: coordinate c of vertex v is unknown 3v + c, midedge's ξ_e is 3 #V + e. The free
@@ -181,7 +175,7 @@ class Problem:
             if "model" not in spec:
                 raise ValueError("membrane: a dict needs a \"model\" entry")
             a.membrane = str(spec.pop("model"))
-            for key, value in {**_MEMBRANE_DEFAULTS, **spec}.items():
+            for key, value in spec.items():
                 if key not in _MEMBRANE_FIELDS:
                     raise ValueError(f"membrane: unknown parameter {key!r} (known: "
                                      f"{', '.join(_MEMBRANE_FIELDS)})")
