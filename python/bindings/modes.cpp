@@ -29,8 +29,12 @@ struct ModesArguments {
   std::optional<std::vector<bool>> fixed;
   std::string dof = "height";
   std::optional<std::string> membrane;
-  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3,
-         shapeStiffness = 1e3;
+  // The library's defaults (curvature::MembraneOptions) until Python sets one.
+  double young = curvature::MembraneOptions{}.young;
+  double membranePoisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   std::string mass = "barycentric";
   double density = 1.0;
   double length = 0.0;

@@ -28,8 +28,12 @@ namespace {
 struct SimulationArguments {
   BendingArguments bending;
   std::string membrane = "stvk";
-  double young = 1e3, membranePoisson = 0.3, lengthStiffness = 1e3, areaStiffness = 1e3,
-         shapeStiffness = 1e3;
+  // The library's defaults (curvature::MembraneOptions) until Python sets one.
+  double young = curvature::MembraneOptions{}.young;
+  double membranePoisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   // The pinned vertices: a #V mask, or a spec of optimize::parseFixedSet ("rings:K",
   // "vertices:FILE"); neither: none.
   std::optional<std::vector<bool>> pinnedMask;

@@ -2,18 +2,19 @@
 
 import numpy as np
 
-from . import _MEMBRANE_DEFAULTS, _MEMBRANE_FIELDS, _bending
+from . import _MEMBRANE_FIELDS, _bending
 from . import _checks
 from . import _flexure
 
 
 def _set_membrane(a, membrane):
-    """Sets a's membrane model and parameters from a name or a dict with "model" (CLI defaults)."""
+    """Sets a's membrane model and the parameters given (a name, or a dict with "model"); the
+    others keep the library's defaults (curvature::MembraneOptions, as the CLI's)."""
     spec = {"model": membrane} if isinstance(membrane, str) else dict(membrane)
     if "model" not in spec:
         raise ValueError("membrane: a dict needs a \"model\" entry")
     a.membrane = str(spec.pop("model"))
-    for key, value in {**_MEMBRANE_DEFAULTS, **spec}.items():
+    for key, value in spec.items():
         if key not in _MEMBRANE_FIELDS:
             raise ValueError(f"membrane: unknown parameter {key!r} (known: "
                              f"{', '.join(_MEMBRANE_FIELDS)})")
@@ -52,7 +53,8 @@ class Simulation:
     Arguments: V_rest #V×3 float64 (length L), F #F×3 int; energy, poisson, stiffness,
     vertex_area, hinge_angle: the bending energy as in ``flexure.energy`` (energy in k_B units);
     membrane: "stvk" | "springs" | "conformal" or a dict with "model" and young, poisson,
-    length_stiffness, area_stiffness, shape_stiffness (defaults as the CLI's, 1000 k_B);
+    length_stiffness, area_stiffness, shape_stiffness (the library's defaults, as the CLI's:
+    1000 k_B);
     pinned: None (nothing), an int K (rings 0 .. K−1 from the boundary; K ≥ 2 also holds
     midedge's boundary ξ at rest, the clamp), a spec "rings:K" | "vertices:FILE", or a #V
     boolean mask; V_start: #V×3 start positions (the pins stay there; default V_rest);
