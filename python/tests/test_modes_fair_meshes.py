@@ -34,6 +34,22 @@ def test_modes_equal_the_cli_modes_json(cli, plate, tmp_path, energy, extra):
     assert sum(masses @ (flexible[0]["shape"] ** 2)) == pytest.approx(1.0, rel=1e-9)
 
 
+def test_shell_modes_in_xyz_equal_the_cli(cli, tmp_path):
+    V, F = flexure.mesh("patch48", 5)
+    W = bent(V, 2, amplitude=0.0)  # a curved shell
+    flexure.write_mesh(tmp_path / "shell.obj", W, F)
+    cli("-q", "modes", "--mesh", tmp_path / "shell.obj", "--energy", "hinge", "--count", "3",
+        "--dof", "xyz", "--membrane", "stvk", "--young", "200", "--support", "free",
+        "-o", tmp_path / "m")
+    report = json.loads((tmp_path / "m" / "modes.json").read_text())["energies"][0]
+    result = flexure.modes(W, F, energy="hinge", count=3, dof="xyz",
+                           membrane={"model": "stvk", "young": 200}, support="free")
+    expected = [m["omega_squared"] for m in report["modes"]]
+    assert report["rigid_modes"] == result["rigid_modes"] == 6
+    np.testing.assert_allclose(result["eigenvalues"][:len(expected)], expected, rtol=1e-12,
+                               atol=1e-12)
+
+
 def test_modes_errors(plate):
     V, F = plate
     with pytest.raises(ValueError, match="count"):

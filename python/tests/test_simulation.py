@@ -33,6 +33,29 @@ def test_steps_equal_the_cli_frames(cli, plate, tmp_path):
     assert s.pinned.sum() == flexure.boundary_rings(V, F, 2).sum()
 
 
+def test_start_positions_and_voronoi_masses_equal_the_cli(cli, plate, tmp_path):
+    V, F = plate
+    W = bent(V, 11, amplitude=0.01)
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    flexure.write_mesh(tmp_path / "init.obj", W, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--init", tmp_path / "init.obj",
+        "--energy", "cotan", "--membrane", "conformal", "--shape-stiffness", "50", "--pin",
+        "rings:2", "--mass", "voronoi", "--density", "3", "--integrator", "backward-euler",
+        "--dt", "0.01", "--duration", "0.03", "--fps", "100", "--render-style", "none",
+        "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="cotan", membrane={"model": "conformal",
+                                                           "shape_stiffness": 50},
+                           pinned="rings:2", V_start=W, mass="voronoi", density=3,
+                           integrator="backward-euler")
+    np.testing.assert_array_equal(s.positions, W)
+    for k in range(1, 4):
+        s.step(0.01)
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+    np.testing.assert_array_equal(s.positions[s.pinned], W[s.pinned])
+    assert s.masses.sum() == pytest.approx(3.0)
+
+
 @pytest.mark.parametrize("motion, cli_motion", [
     ({"translate": [0.0, 0.0, 0.5]}, "translate:0,0,0.5"),
     ({"rotate": ([0, 1, 0], [-0.5, 0, 0], 2.0)}, "rotate:0,1,0,-0.5,0,0,2"),
