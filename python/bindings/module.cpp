@@ -28,58 +28,12 @@
 #include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/static_energy.h"
+#include "python/bindings/bindings.h"
 
 namespace py = pybind11;
 
 namespace flexure::python {
 namespace {
-
-using modeling::Positions;
-using modeling::Triangles;
-using PositionsRef = Eigen::Ref<const Positions>;
-using TrianglesRef = Eigen::Ref<const Triangles>;
-
-// A checked mesh from V (#V by 3) and F (#F by 3); InputError names `source` and the element.
-modeling::Mesh checkedMesh(const PositionsRef& V, const TrianglesRef& F,
-                           const std::string& source) {
-  modeling::Mesh mesh;
-  mesh.positions = V;
-  mesh.triangles = F;
-  modeling::requireValidMesh(mesh, source);
-  return mesh;
-}
-
-// The bending options as Python names them (the strings are the registry's and the CLI's values).
-struct BendingArguments {
-  std::string energy = "hinge";
-  std::optional<double> poisson;
-  double stiffness = 1.0;
-  std::string vertexArea = "voronoi";
-  std::string hingeAngle = "theta";
-  bool flatRest = false;  // the rest mesh gives only the metric; rest curvature zero
-};
-
-curvature::BendingOptions bendingOptions(const BendingArguments& a) {
-  curvature::BendingOptions b;
-  b.discretization = curvature::parseDiscretization(a.energy);
-  b.poisson = a.poisson;
-  b.stiffness = a.stiffness;
-  if (a.vertexArea == "voronoi")
-    b.vertexArea = curvature::VertexArea::Voronoi;
-  else if (a.vertexArea == "barycentric")
-    b.vertexArea = curvature::VertexArea::Barycentric;
-  else
-    throw InputError("vertex_area " + a.vertexArea + ": expected voronoi or barycentric");
-  if (a.hingeAngle == "theta")
-    b.hingeAngle = curvature::HingeAngle::Theta;
-  else if (a.hingeAngle == "tan")
-    b.hingeAngle = curvature::HingeAngle::Tan;
-  else
-    throw InputError("hinge_angle " + a.hingeAngle + ": expected theta or tan");
-  if (a.flatRest) b.restCurvature = curvature::RestCurvature::Flat;
-  curvature::effectivePoisson(b);  // the entry's ν rule, before any mesh work
-  return b;
-}
 
 py::dict bendingReport(const curvature::BendingOptions& b) {
   py::dict d;
@@ -519,4 +473,10 @@ PYBIND11_MODULE(_flexure, m) {
       .def_property_readonly("factorizations", &BoundLinearizedSolver::factorizations)
       .def_property_readonly("factor_seconds", &BoundLinearizedSolver::factorSeconds)
       .def_property_readonly("jacobian_seconds", &BoundLinearizedSolver::jacobianSeconds);
+
+  bindSimulation(m);
+  bindFairing(m);
+  bindModes(m);
+  bindRender(m);
+  bindMeshes(m);
 }

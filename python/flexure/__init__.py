@@ -21,7 +21,8 @@ from . import _flexure
 
 __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
-    "minimize", "LinearizedSolver",
+    "minimize", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
+    "read_png", "png_bytes", "info", "boundary_rings", "vertex_rings", "boundary_loops",
 ]
 
 NumericalError = _flexure.NumericalError
@@ -347,3 +348,10 @@ class LinearizedSolver:
         info = dict(info)
         info["xi"] = solved_xi
         return V, info
+
+
+from .simulation import Simulation  # noqa: E402
+from .fairing import fair  # noqa: E402
+from .modes import modes  # noqa: E402
+from .render import render, write_png, read_png, png_bytes  # noqa: E402
+from .meshes import info, boundary_rings, vertex_rings, boundary_loops  # noqa: E402

@@ -1,0 +1,43 @@
+// What the binding files of flexure._flexure share: the array types, the checked mesh, the bending
+// options as Python names them, and one function per file that adds its part to the module.
+#pragma once
+
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
+
+#include "curvature/energy_registry.h"
+#include "modeling/mesh.h"
+
+namespace flexure::python {
+
+using modeling::Positions;
+using modeling::Triangles;
+using PositionsRef = Eigen::Ref<const Positions>;  // #V by 3 float64, row-major
+using TrianglesRef = Eigen::Ref<const Triangles>;  // #F by 3 int32
+
+// A checked mesh from V (#V by 3) and F (#F by 3); InputError names `source` and the element.
+modeling::Mesh checkedMesh(const PositionsRef& V, const TrianglesRef& F, const std::string& source);
+
+// The bending options as Python names them (the strings are the registry's and the CLI's values).
+struct BendingArguments {
+  std::string energy = "hinge";
+  std::optional<double> poisson;
+  double stiffness = 1.0;
+  std::string vertexArea = "voronoi";
+  std::string hingeAngle = "theta";
+  bool flatRest = false;  // the rest mesh gives only the metric; rest curvature zero
+};
+
+// InputError naming the argument (vertex_area, hinge_angle, poisson) for a bad value.
+curvature::BendingOptions bendingOptions(const BendingArguments& a);
+
+void bindSimulation(pybind11::module_& m);
+void bindFairing(pybind11::module_& m);
+void bindModes(pybind11::module_& m);
+void bindRender(pybind11::module_& m);
+void bindMeshes(pybind11::module_& m);
+
+}  // namespace flexure::python

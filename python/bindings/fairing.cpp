@@ -1,0 +1,209 @@
+// flexure._flexure.fair: a region of a mesh faired by flexure's nonlinear fair
+// (optimize/fairing/fairing.h) as flexure fair --method flexure fairs it, with the checks and the
+// measures before and after. The region is a vertex mask or a spec of modeling::parseRegion.
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "modeling/errors.h"
+#include "modeling/fairing_region.h"
+#include "modeling/stencils.h"
+#include "optimize/fairing/fairing.h"
+#include "python/bindings/bindings.h"
+
+namespace py = pybind11;
+
+namespace flexure::python {
+namespace {
+
+struct FairArguments {
+  BendingArguments bending;      // energy midedge by default, as the CLI's
+  bool vertexAreaGiven = false;  // false: the metric's default vertex area
+  std::optional<std::vector<bool>> regionMask;
+  std::string regionSpec;  // parseRegion's text when no mask is given
+  std::string membrane = "mips";
+  std::optional<double> membraneWeight;  // empty: the metric's default
+  std::string start = "best", metric = "input";
+  std::string method = "flexure";  // or "cgal": CGAL's linear fair is the result
+  bool allowSlivers = false;       // no angle barrier, and the smallest-angle rule not applied
+  int maxIterations = 0;           // ≤ 0: MinimizeOptions' default
+};
+
+optimize::FairingOptions fairingOptions(const FairArguments& a) {
+  if (a.method != "flexure" && a.method != "cgal")
+    throw InputError("method " + a.method + ": expected flexure or cgal");
+  if (a.start != "best" && a.start != "biharmonic" && a.start != "input")
+    throw InputError("start " + a.start + ": expected best, biharmonic or input");
+  if (a.metric != "input" && a.metric != "current")
+    throw InputError("metric " + a.metric + ": expected input or current");
+  BendingArguments bending = a.bending;
+  bending.flatRest = true;
+  optimize::FairingOptions o = optimize::defaultFairingOptions(
+      a.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
+  const curvature::VertexArea metricArea = o.bending.vertexArea;
+  o.bending = bendingOptions(bending);
+  if (!a.vertexAreaGiven) o.bending.vertexArea = metricArea;
+  o.membrane = curvature::parseMembraneModel(a.membrane);
+  o.membraneWeight = a.membraneWeight.value_or(o.membraneWeight);
+  optimize::fairingMembrane(o.membrane, o.membraneWeight, 1.0, 1.0);  // checks w
+  o.start = a.start == "input"        ? optimize::FairingStart::Input
+            : a.start == "biharmonic" ? optimize::FairingStart::Biharmonic
+                                      : optimize::FairingStart::Best;
+  o.angleBarrier = !a.allowSlivers;
+  if (a.maxIterations > 0) o.solver.maxIterations = a.maxIterations;
+  o.solver.progress = false;
+  return o;
+}
+
+py::list energyList(const std::vector<optimize::EnergyMeasure>& measures) {
+  py::list list;
+  for (const optimize::EnergyMeasure& m : measures) {
+    py::dict d;
+    d["energy"] = m.energy;
+    d["value"] = m.value;
+    if (!m.error.empty()) d["error"] = m.error;
+    list.append(d);
+  }
+  return list;
+}
+
+py::dict measureDict(const optimize::FairingMeasures& m) {
+  py::dict d;
+  d["bending"] = energyList(m.bending);
+  d["bending_current"] = energyList(m.bendingCurrent);
+  d["min_angle_degrees"] = m.quality.minAngleDegrees;
+  d["mean_shape"] = m.quality.meanShape;
+  d["min_shape"] = m.quality.minShape;
+  d["max_displacement"] = m.maxDisplacement;
+  return d;
+}
+
+// fair's smallest-angle rule (cli/fair_command.cpp, #15): the faired region's smallest angle at
+// most kSliverToleranceDegrees below min(the input's, CGAL's fair's).
+py::dict sliverDict(double input, double cgal, double result) {
+  const double limit = std::min(input, cgal) - optimize::kSliverToleranceDegrees;
+  py::dict d;
+  d["input_degrees"] = input;
+  d["cgal_degrees"] = cgal;
+  d["result_degrees"] = result;
+  d["limit_degrees"] = limit;
+  d["passed"] = result >= limit;
+  return d;
+}
+
+py::dict checkDict(const optimize::FairingChecks& c) {
+  py::dict d;
+  d["passed"] = c.passed();
+  d["failure"] = c.failure();
+  d["gradient_checked"] = c.gradientChecked;
+  d["gradient_passed"] = c.gradientPassed();
+  d["start_gradient_norm"] = c.startGradientNorm;
+  d["final_gradient_norm"] = c.finalGradientNorm;
+  d["triangles_passed"] = c.trianglesPassed();
+  d["degenerate_faces"] = c.degenerateFaces.size();
+  d["inverted_faces"] = c.invertedFaces.size();
+  d["input_min_angle_degrees"] = c.inputMinAngleDegrees;
+  d["result_min_angle_degrees"] = c.resultMinAngleDegrees;
+  return d;
+}
+
+// (V' #V by 3, report).
+py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a) {
+  const optimize::FairingOptions options = fairingOptions(a);
+  const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
+  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  std::vector<bool> region;
+  if (a.regionMask) {
+    region = *a.regionMask;
+  } else {
+    region = modeling::parseRegion(a.regionSpec, mesh, stencils);
+  }
+  modeling::requireFairableRegion(stencils, region, "region");
+  const bool cgal = a.method == "cgal";
+  std::optional<modeling::FairingPatch> patch;
+  optimize::FairingMeasures before, cgalMeasures, after;
+  std::optional<optimize::FairingResult> result;
+  optimize::FairingChecks checks;
+  Positions patchAfter, cgalPatch, faired;
+  {
+    py::gil_scoped_release release;
+    // fair_command's fairPatch: flexure's fair (unless method cgal), CGAL's always (the result
+    // with method cgal, the smallest-angle rule's baseline otherwise), measured and checked.
+    patch.emplace(modeling::extractFairingPatch(mesh, stencils, region));
+    before = optimize::measureFairing(*patch, patch->mesh.positions, options.bending);
+    if (!cgal) {
+      result = optimize::fairNonlinear(*patch, options);
+      patchAfter = result->positions;
+    }
+    cgalPatch = optimize::fairCgal(*patch);
+    if (cgal) patchAfter = cgalPatch;
+    cgalMeasures = optimize::measureFairing(*patch, cgalPatch, options.bending);
+    after = cgal ? cgalMeasures : optimize::measureFairing(*patch, patchAfter, options.bending);
+    checks = optimize::checkFairing(*patch, patchAfter, result ? &*result : nullptr);
+    faired = modeling::scatterPatchPositions(mesh.positions, *patch, patchAfter);
+  }
+  const py::dict slivers =
+      sliverDict(checks.inputMinAngleDegrees, cgalMeasures.quality.minAngleDegrees,
+                 checks.resultMinAngleDegrees);
+  const bool sliversPassed = cgal || slivers["passed"].cast<bool>();
+  const bool solverConverged = !result || result->report.converged;
+  py::dict report;
+  report["converged"] = solverConverged && checks.passed() && (sliversPassed || a.allowSlivers);
+  report["method"] = a.method;
+  report["solver_converged"] = solverConverged;
+  if (result) {
+    report["termination"] = result->report.termination;
+    report["iterations"] = result->report.iterations;
+    report["initial_energy"] = result->report.initialEnergy;
+    report["final_energy"] = result->report.finalEnergy;
+    report["seconds"] = result->report.totalSeconds;
+    report["start"] = result->start == optimize::FairingStart::Input ? "input" : "biharmonic";
+  }
+  report["energy_name"] =
+      std::string(curvature::discretizationName(options.bending.discretization));
+  report["membrane_weight"] = options.membraneWeight;
+  int regionVertices = 0;
+  for (bool r : region) regionVertices += r;
+  report["region_vertices"] = regionVertices;
+  report["patch_vertices"] = patch->mesh.vertexCount();
+  report["patch_faces"] = patch->mesh.faceCount();
+  report["before"] = measureDict(before);
+  report["after"] = measureDict(after);
+  report["cgal"] = measureDict(cgalMeasures);
+  report["checks"] = checkDict(checks);
+  report["slivers"] = slivers;
+  std::string failure = checks.failure();
+  if (!sliversPassed && !a.allowSlivers)
+    failure += std::string(failure.empty() ? "" : "; ") + "smallest-angle check failed";
+  if (!solverConverged)
+    failure = "the solve did not converge (" + result->report.termination + ")" +
+              (failure.empty() ? "" : "; " + failure);
+  report["failure"] = failure;
+  return py::make_tuple(faired, report);
+}
+
+}  // namespace
+
+void bindFairing(py::module_& m) {
+  py::class_<FairArguments>(m, "FairArguments")
+      .def(py::init<>())
+      .def_readwrite("bending", &FairArguments::bending)
+      .def_readwrite("vertex_area_given", &FairArguments::vertexAreaGiven)
+      .def_readwrite("region_mask", &FairArguments::regionMask)
+      .def_readwrite("region_spec", &FairArguments::regionSpec)
+      .def_readwrite("membrane", &FairArguments::membrane)
+      .def_readwrite("membrane_weight", &FairArguments::membraneWeight)
+      .def_readwrite("start", &FairArguments::start)
+      .def_readwrite("metric", &FairArguments::metric)
+      .def_readwrite("method", &FairArguments::method)
+      .def_readwrite("allow_slivers", &FairArguments::allowSlivers)
+      .def_readwrite("max_iterations", &FairArguments::maxIterations);
+  m.def("fair", &fairMesh);
+}
+
+}  // namespace flexure::python

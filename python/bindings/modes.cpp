@@ -1,0 +1,195 @@
+// flexure._flexure.modes: the vibration modes of a plate or shell as flexure modes solves them for
+// one energy (one problem with nothing held and no boundary values; the support and the clamp are
+// ModesOptions').
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "curvature/membrane_energy.h"
+#include "modeling/errors.h"
+#include "optimize/modes/vibration_modes.h"
+#include "optimize/problem.h"
+#include "python/bindings/bindings.h"
+
+namespace py = pybind11;
+
+namespace flexure::python {
+namespace {
+
+struct ModesArguments {
+  BendingArguments bending;
+  int count = 12;
+  std::string support = "clamped";
+  std::optional<std::string> clamp;  // empty: normals for midedge, else rings
+  std::optional<std::vector<bool>> fixed;
+  std::string dof = "height";
+  std::optional<std::string> membrane;
+  // The library's defaults (curvature::MembraneOptions) until Python sets one.
+  double young = curvature::MembraneOptions{}.young;
+  double membranePoisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
+  std::string mass = "barycentric";
+  double density = 1.0;
+  double length = 0.0;
+  bool nodalLines = true;
+};
+
+optimize::Support support(const std::string& name) {
+  if (name == "clamped") return optimize::Support::Clamped;
+  if (name == "simply-supported") return optimize::Support::SimplySupported;
+  if (name == "free") return optimize::Support::Free;
+  throw InputError("support " + name + ": expected clamped, simply-supported or free");
+}
+
+// modes' libraryModesOptions and energyRuns for one energy, every combination checked.
+optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::BendingOptions& b) {
+  optimize::ModesOptions o;
+  o.count = a.count;
+  o.support = support(a.support);
+  if (a.mass == "barycentric")
+    o.mass = optimize::MassLumping::Barycentric;
+  else if (a.mass == "voronoi")
+    o.mass = optimize::MassLumping::Voronoi;
+  else
+    throw InputError("mass " + a.mass + ": expected barycentric or voronoi");
+  o.density = a.density;
+  o.bendingStiffness = b.stiffness;
+  o.length = a.length;
+  if (a.clamp && o.support != optimize::Support::Clamped)
+    throw InputError("clamp applies to support clamped");
+  if (a.dof == "height") {
+    o.dof = optimize::DofMode::Height;
+    if (a.membrane) throw InputError("membrane applies to dof xyz");
+  } else if (a.dof == "xyz") {
+    o.dof = optimize::DofMode::Xyz;
+    if (!a.membrane) throw InputError("dof xyz needs a membrane (stvk, springs or conformal)");
+  } else {
+    throw InputError("dof " + a.dof + ": expected height or xyz");
+  }
+  const bool midedge = static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
+  if (!a.clamp)
+    o.clamp = midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings;
+  else if (*a.clamp == "rings")
+    o.clamp = optimize::Clamp::Rings;
+  else if (*a.clamp == "normals")
+    o.clamp = optimize::Clamp::Normals;
+  else
+    throw InputError("clamp " + *a.clamp + ": expected rings or normals");
+  if (o.clamp == optimize::Clamp::Normals && !midedge && o.support == optimize::Support::Clamped)
+    throw InputError("clamp normals holds the midedge normals: " + a.bending.energy +
+                     " has none; use clamp rings or energy midedge");
+  if (a.fixed) o.extraFixed = *a.fixed;
+  return o;
+}
+
+py::dict modeDict(const optimize::VibrationMode& mode, const optimize::Problem& problem,
+                  bool nodalLines) {
+  py::dict d;
+  d["omega_squared"] = mode.omegaSquared;
+  d["omega"] = mode.omega;
+  d["lambda"] = mode.lambda;
+  d["zero"] = mode.zero;
+  d["multiplicity"] = mode.multiplicity;
+  d["residual"] = mode.residual;
+  d["nodal_length"] = mode.nodalLength;
+  d["shape"] = mode.shape;
+  if (nodalLines) {
+    const auto segments = optimize::nodalSegments(problem.stencils, problem.rest, mode.shape);
+    py::array_t<double> lines(
+        {static_cast<py::ssize_t>(segments.size()), py::ssize_t(2), py::ssize_t(3)});
+    auto w = lines.mutable_unchecked<3>();
+    for (size_t s = 0; s < segments.size(); ++s)
+      for (int c = 0; c < 3; ++c) {
+        w(s, 0, c) = segments[s].first[c];
+        w(s, 1, c) = segments[s].second[c];
+      }
+    d["nodal_lines"] = lines;
+  }
+  return d;
+}
+
+py::dict modesOf(const PositionsRef& V, const TrianglesRef& F, const ModesArguments& a) {
+  const curvature::BendingOptions b = bendingOptions(a.bending);
+  const optimize::ModesOptions options = modesOptions(a, b);
+  optimize::ProblemOptions p;
+  p.bending = b;
+  p.dof = options.dof;
+  if (a.membrane) {
+    curvature::MembraneOptions m;
+    m.model = curvature::parseMembraneModel(*a.membrane);
+    m.young = a.young;
+    m.poisson = a.membranePoisson;
+    m.lengthStiffness = a.lengthStiffness;
+    m.areaStiffness = a.areaStiffness;
+    m.shapeStiffness = a.shapeStiffness;
+    p.membrane = m;
+  }
+  p.fixedRings = 0;
+  p.boundaryNormals = optimize::BoundaryNormals::Free;
+  const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
+  std::optional<optimize::Problem> problem;
+  optimize::ModesResult r;
+  {
+    py::gil_scoped_release release;
+    problem.emplace(optimize::buildProblem(mesh, p));
+    r = optimize::vibrationModes(problem->termPointers(), problem->stencils, problem->rest,
+                                 problem->restXi, options);
+  }
+  py::list modes;
+  for (const optimize::VibrationMode& mode : r.modes)
+    modes.append(modeDict(mode, *problem, a.nodalLines));
+  py::dict d;
+  d["energy"] = std::string(curvature::discretizationName(b.discretization));
+  d["poisson"] = curvature::effectivePoisson(b);
+  d["support"] = optimize::supportName(options.support);
+  if (options.support == optimize::Support::Clamped)
+    d["clamp"] = optimize::clampName(options.clamp);
+  d["rigid_modes"] = r.rigidModes;
+  d["zero_modes"] = r.zeroModes;
+  d["spurious_zero_modes"] = r.spuriousZeroModes;
+  d["flexible_modes"] = r.flexibleModes;
+  d["length"] = r.length;
+  d["flexural_rigidity"] = r.flexuralRigidity;
+  d["shift"] = r.shift;
+  d["unknowns"] = r.unknowns;
+  d["vertex_unknowns"] = r.massUnknowns;
+  d["fixed_vertices"] = r.fixedVertices;
+  d["lanczos_solves"] = r.operations;
+  d["lanczos_restarts"] = r.restarts;
+  d["seconds"] = r.totalSeconds;
+  d["modes"] = modes;
+  return d;
+}
+
+}  // namespace
+
+void bindModes(py::module_& m) {
+  py::class_<ModesArguments>(m, "ModesArguments")
+      .def(py::init<>())
+      .def_readwrite("bending", &ModesArguments::bending)
+      .def_readwrite("count", &ModesArguments::count)
+      .def_readwrite("support", &ModesArguments::support)
+      .def_readwrite("clamp", &ModesArguments::clamp)
+      .def_readwrite("fixed", &ModesArguments::fixed)
+      .def_readwrite("dof", &ModesArguments::dof)
+      .def_readwrite("membrane", &ModesArguments::membrane)
+      .def_readwrite("young", &ModesArguments::young)
+      .def_readwrite("membrane_poisson", &ModesArguments::membranePoisson)
+      .def_readwrite("length_stiffness", &ModesArguments::lengthStiffness)
+      .def_readwrite("area_stiffness", &ModesArguments::areaStiffness)
+      .def_readwrite("shape_stiffness", &ModesArguments::shapeStiffness)
+      .def_readwrite("mass", &ModesArguments::mass)
+      .def_readwrite("density", &ModesArguments::density)
+      .def_readwrite("length", &ModesArguments::length)
+      .def_readwrite("nodal_lines", &ModesArguments::nodalLines);
+  m.def("modes", &modesOf);
+}
+
+}  // namespace flexure::python

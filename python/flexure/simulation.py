@@ -1,0 +1,192 @@
+"""flexure.Simulation: a plate or shell in time, as ``flexure simulate`` steps it."""
+
+import numpy as np
+
+from . import _MEMBRANE_FIELDS, _bending
+from . import _checks
+from . import _flexure
+
+
+def _set_membrane(a, membrane):
+    """Sets a's membrane model and the parameters given (a name, or a dict with "model"); the
+    others keep the library's defaults (curvature::MembraneOptions, as the CLI's)."""
+    spec = {"model": membrane} if isinstance(membrane, str) else dict(membrane)
+    if "model" not in spec:
+        raise ValueError("membrane: a dict needs a \"model\" entry")
+    a.membrane = str(spec.pop("model"))
+    for key, value in spec.items():
+        if key not in _MEMBRANE_FIELDS:
+            raise ValueError(f"membrane: unknown parameter {key!r} (known: "
+                             f"{', '.join(_MEMBRANE_FIELDS)})")
+        setattr(a, _MEMBRANE_FIELDS[key], _checks.number(value, f"membrane {key}"))
+
+
+def _set_pin_motion(a, pin_motion, pinned):
+    if pinned is None:
+        raise ValueError("pin_motion: moves the pinned vertices; give them with pinned")
+    if not isinstance(pin_motion, dict) or len(pin_motion) != 1:
+        raise ValueError("pin_motion: expected {\"rotate\": (axis, point, omega)} or "
+                         "{\"translate\": velocity}")
+    (kind, value), = pin_motion.items()
+    if kind == "rotate":
+        try:
+            axis, point, omega = value
+        except (TypeError, ValueError):
+            raise ValueError("pin_motion: rotate takes (axis, point, omega)") from None
+        a.pin_motion = "rotate"
+        a.axis = _checks.vector(axis, 3, "pin_motion axis")
+        a.point = _checks.vector(point, 3, "pin_motion point")
+        a.omega = _checks.number(omega, "pin_motion omega")
+    elif kind == "translate":
+        a.pin_motion = "translate"
+        a.velocity = _checks.vector(value, 3, "pin_motion velocity")
+    else:
+        raise ValueError(f"pin_motion: {kind!r}, expected rotate or translate")
+
+
+class Simulation:
+    """A shell in time (optimize/dynamics/time_stepping.h), set up as ``flexure simulate``.
+
+    Every coordinate of every unpinned vertex moves; midedge's ξ are massless unknowns solved with
+    each step. Equations of motion M a + C v + ∇E(x, ξ) − M g = 0 with lumped masses M.
+
+    Arguments: V_rest #V×3 float64 (length L), F #F×3 int; energy, poisson, stiffness,
+    vertex_area, hinge_angle: the bending energy as in ``flexure.energy`` (energy in k_B units);
+    membrane: "stvk" | "springs" | "conformal" or a dict with "model" and young, poisson,
+    length_stiffness, area_stiffness, shape_stiffness (the library's defaults, as the CLI's:
+    1000 k_B);
+    pinned: None (nothing), an int K (rings 0 .. K−1 from the boundary; K ≥ 2 also holds
+    midedge's boundary ξ at rest, the clamp), a spec "rings:K" | "vertices:FILE", or a #V
+    boolean mask; V_start: #V×3 start positions (the pins stay there; default V_rest);
+    velocities: #V×3 start velocities (L/s; default 0); gravity: a 3-vector g (L/s²);
+    density: ρ, mass per unit rest area; mass: "barycentric" | "voronoi" lumping; obstacles:
+    a list of "plane:nx,ny,nz,d" | "sphere:x,y,z,r"; integrator: "newmark" | "backward-euler"
+    | "central-difference"; beta, gamma: Newmark's; rayleigh: (α, β) of C = α M + β K̄;
+    bending_damping: c of −c K_B(x_n) v; pin_motion: the pins' rigid motion from where they
+    start, {"rotate": (axis 3-vector, point 3-vector, ω rad/s)} (counter-clockwise about the
+    axis) or {"translate": velocity 3-vector (L/s)}; max_newton_iterations, tolerance: per step.
+
+    Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
+    """
+
+    def __init__(self, V_rest, F, energy="midedge", poisson=None, stiffness=1.0,
+                 vertex_area="voronoi", hinge_angle="theta", membrane="stvk", pinned=None,
+                 V_start=None, velocities=None, gravity=None, density=1.0, mass="barycentric",
+                 obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
+                 bending_damping=0.0, pin_motion=None, max_newton_iterations=30,
+                 tolerance=1e-10):
+        V_rest = _checks.positions(V_rest, "V_rest")
+        F = _checks.faces(F, V_rest.shape[0], "F")
+        n = V_rest.shape[0]
+        a = _flexure.SimulationArguments()
+        a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, False)
+        if membrane is None:
+            raise ValueError("membrane: a simulation moves every coordinate: give a membrane "
+                             "(stvk, springs or conformal)")
+        _set_membrane(a, membrane)
+        if pinned is None:
+            a.pinned_spec = "none"
+        elif isinstance(pinned, str):
+            a.pinned_spec = pinned
+        elif isinstance(pinned, (int, np.integer)) and not isinstance(pinned, bool):
+            if pinned < 0:
+                raise ValueError(f"pinned: rings must be >= 0 (got {pinned})")
+            a.pinned_spec = f"rings:{int(pinned)}" if pinned > 0 else "none"
+        else:
+            a.pinned_mask = [bool(b) for b in _checks.mask(pinned, n, "pinned")]
+        if V_start is not None:
+            V_start = _checks.positions(V_start, "V_start", rows=n)
+        if velocities is not None:
+            velocities = _checks.positions(velocities, "velocities", rows=n)
+        if gravity is not None:
+            a.gravity = _checks.vector(gravity, 3, "gravity")
+        a.density = _checks.number(density, "density", positive=True)
+        a.mass = str(mass)
+        if isinstance(obstacles, str):
+            raise ValueError("obstacles: expected a list of specs, e.g. [\"plane:0,0,1,-1\"]")
+        a.obstacles = [str(o) for o in obstacles]
+        a.integrator = str(integrator)
+        a.beta = _checks.number(beta, "beta")
+        a.gamma = _checks.number(gamma, "gamma")
+        rayleigh = _checks.vector(rayleigh, 2, "rayleigh")
+        a.rayleigh_mass, a.rayleigh_stiffness = float(rayleigh[0]), float(rayleigh[1])
+        a.bending_damping = _checks.number(bending_damping, "bending_damping")
+        if pin_motion is not None:
+            _set_pin_motion(a, pin_motion, pinned)
+        a.max_newton_iterations = _checks.number(max_newton_iterations, "max_newton_iterations",
+                                                 positive=True, integer=True)
+        a.tolerance = _checks.number(tolerance, "tolerance", positive=True)
+        self._s = _flexure.Simulation(V_rest, F, a, V_start, velocities)
+        self.V_rest, self.F = V_rest, F
+
+    def advance(self, h, min_dt=None):
+        """Advances by h seconds; a step that fails is replaced by two of h/2, recursively, while
+        h/2 ≥ min_dt (default h/64). Returns a dict: completed, time, steps, halvings,
+        smallest_step, newton_iterations, max_newton_iterations, attempted_iterations,
+        factorizations, and failure, failed_step, failed_time when it stopped. Never raises for
+        a failed step (the state is that after the steps that converged)."""
+        h = _checks.number(h, "h", positive=True)
+        min_dt = h / 64.0 if min_dt is None else _checks.number(min_dt, "min_dt", positive=True)
+        if min_dt > h:
+            raise ValueError(f"min_dt: {min_dt} is more than the step {h}")
+        return dict(self._s.advance(h, min_dt))
+
+    def step(self, dt, min_dt=None):
+        """One step of dt seconds as ``flexure simulate`` takes each (``advance``, halving down to
+        min_dt, default dt/64). Returns advance's dict; raises flexure.NumericalError (its
+        ``.report`` the dict) when the step fails even at min_dt."""
+        report = self.advance(dt, min_dt)
+        if not report["completed"]:
+            error = _flexure.NumericalError(
+                f"the simulation could not proceed at t = {report['failed_time']:.6g}: a step of "
+                f"{report['failed_step']:.3g} s failed ({report['failure']})")
+            error.report = report
+            raise error
+        return report
+
+    def run(self, duration, dt, min_dt=None):
+        """round(duration / dt) steps of dt; returns the list of their dicts."""
+        steps = round(_checks.number(duration, "duration", positive=True) /
+                      _checks.number(dt, "dt", positive=True))
+        return [self.step(dt, min_dt) for _ in range(max(steps, 1))]
+
+    @property
+    def time(self):
+        """The simulated time t (s)."""
+        return self._s.time
+
+    @property
+    def positions(self):
+        """#V×3 float64: the positions x(t) (L), a copy."""
+        return self._s.positions
+
+    @property
+    def velocities(self):
+        """#V×3 float64: the velocities v(t) (L/s), a copy."""
+        return self._s.velocities
+
+    @property
+    def xi(self):
+        """(#E,) float64: midedge's ξ(t) (empty for the other energies)."""
+        return self._s.xi
+
+    @property
+    def masses(self):
+        """(#V,) float64: the lumped masses m_v = ρ × the vertex's rest area."""
+        return self._s.masses
+
+    @property
+    def pinned(self):
+        """(#V,) bool: the pinned vertices."""
+        return np.asarray(self._s.pinned, dtype=bool)
+
+    @property
+    def term_names(self):
+        """The energy terms' names (the bending energy first, then the membrane's)."""
+        return list(self._s.term_names)
+
+    def energies(self):
+        """The energies of the current state (k_B units) as ``flexure simulate``'s energies.csv:
+        time, kinetic ½ vᵀMv, each term by name, gravity −(M g)ᵀ x, contact (the obstacles'
+        barrier) and total."""
+        return dict(self._s.energies())

@@ -1,0 +1,194 @@
+"""flexure.Simulation against `flexure simulate`'s frames, its energy balance and its errors."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import flexure
+from conftest import bent
+
+
+def test_steps_equal_the_cli_frames(cli, plate, tmp_path):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "midedge", "--membrane",
+        "stvk", "--pin", "rings:2", "--gravity", "0,0,-9.81", "--damping", "rayleigh:2,0",
+        "--dt", "0.01", "--duration", "0.05", "--fps", "100", "--render-style", "none",
+        "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="midedge", membrane="stvk", pinned=2,
+                           gravity=[0, 0, -9.81], rayleigh=(2, 0))
+    frame0, _ = flexure.read_mesh(tmp_path / "run" / "frame-00000.obj")
+    np.testing.assert_array_equal(s.positions, frame0)
+    moved = 0.0
+    for k in range(1, 6):
+        report = s.step(0.01)
+        assert report["completed"] and report["steps"] >= 1
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+        moved = max(moved, np.abs(frame - V).max())
+    assert moved > 1e-4  # gravity moved the plate: the comparison is not of rest with rest
+    assert s.time == pytest.approx(0.05)
+    assert s.pinned.sum() == flexure.boundary_rings(V, F, 2).sum()
+
+
+def test_start_positions_and_voronoi_masses_equal_the_cli(cli, plate, tmp_path):
+    V, F = plate
+    W = bent(V, 11, amplitude=0.01)
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    flexure.write_mesh(tmp_path / "init.obj", W, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--init", tmp_path / "init.obj",
+        "--energy", "cotan", "--membrane", "conformal", "--shape-stiffness", "50", "--pin",
+        "rings:2", "--mass", "voronoi", "--density", "3", "--integrator", "backward-euler",
+        "--dt", "0.01", "--duration", "0.03", "--fps", "100", "--render-style", "none",
+        "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="cotan", membrane={"model": "conformal",
+                                                           "shape_stiffness": 50},
+                           pinned="rings:2", V_start=W, mass="voronoi", density=3,
+                           integrator="backward-euler")
+    np.testing.assert_array_equal(s.positions, W)
+    for k in range(1, 4):
+        s.step(0.01)
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+    np.testing.assert_array_equal(s.positions[s.pinned], W[s.pinned])
+    assert s.masses.sum() == pytest.approx(3.0)
+
+
+@pytest.mark.parametrize("motion, cli_motion", [
+    ({"translate": [0.0, 0.0, 0.5]}, "translate:0,0,0.5"),
+    ({"rotate": ([0, 1, 0], [-0.5, 0, 0], 2.0)}, "rotate:0,1,0,-0.5,0,0,2"),
+])
+def test_pin_motion_equals_the_cli(cli, plate, tmp_path, motion, cli_motion):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "hinge", "--membrane",
+        "springs", "--pin", "rings:1", "--pin-motion", cli_motion, "--dt", "0.01",
+        "--duration", "0.03", "--fps", "100", "--render-style", "none", "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="hinge", membrane="springs", pinned=1, pin_motion=motion)
+    for k in range(1, 4):
+        s.step(0.01)
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+    assert np.abs(s.positions[s.pinned] - V[s.pinned]).max() > 1e-3  # the pins moved
+
+
+def test_a_step_that_cannot_converge_raises_with_the_report(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="hinge", pinned=2, gravity=[0, 0, -1e4],
+                           max_newton_iterations=1, tolerance=1e-14)
+    with pytest.raises(flexure.NumericalError) as caught:
+        s.step(0.1, min_dt=0.05)
+    report = caught.value.report
+    assert report["completed"] is False and report["failure"]
+    assert report["failed_step"] <= 0.1 and report["halvings"] >= 1
+    assert s.advance(0.1, 0.05)["completed"] is False  # advance reports, never raises
+
+
+def test_energies_csv_columns(cli, plate, tmp_path):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "hinge", "--membrane",
+        "springs", "--pin", "rings:1", "--gravity", "0,0,-1", "--dt", "0.02", "--duration",
+        "0.04", "--render-style", "none", "-o", tmp_path / "run")
+    lines = (tmp_path / "run" / "energies.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    last = dict(zip(header, map(float, lines[-1].split(","))))
+    s = flexure.Simulation(V, F, energy="hinge", membrane="springs", pinned=1, gravity=[0, 0, -1])
+    s.step(0.02)
+    s.step(0.02)
+    e = s.energies()
+    for key in header:
+        assert e[key] == pytest.approx(last[key], rel=1e-12, abs=1e-15), key
+
+
+def test_newmark_undamped_conserves_energy(plate):
+    V, F = plate
+    rings = flexure.vertex_rings(V, F)
+    velocities = np.zeros_like(V)
+    velocities[rings >= 2, 2] = 0.5 * np.cos(np.pi * V[rings >= 2, 0])
+    s = flexure.Simulation(V, F, energy="hinge", membrane="stvk", pinned=2,
+                           velocities=velocities)
+    start = s.energies()["total"]
+    assert start > 0
+    totals = []
+    for _ in range(30):
+        s.step(0.002)
+        totals.append(s.energies()["total"])
+    assert np.abs(np.array(totals) / start - 1).max() < 0.01
+    assert s.energies()["hinge"] > 0.01 * start  # energy moved into bending and back
+
+
+def test_masses_and_state_shapes(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="midedge", density=2.0, pinned=np.arange(49) < 7)
+    assert s.masses.shape == (49,)
+    assert s.masses.sum() == pytest.approx(2.0)  # ρ × the unit square's area
+    assert s.positions.shape == s.velocities.shape == (49, 3)
+    assert s.xi.ndim == 1 and s.xi.size > 0
+    assert s.term_names == ["midedge", "stvk"]
+
+
+def test_obstacle_is_respected(plate):
+    V, F = plate
+    s = flexure.Simulation(bent(V, 3, 0.0), F, energy="hinge", pinned=None,
+                           gravity=[0, 0, -9.81], obstacles=["plane:0,0,1,-0.05"])
+    for _ in range(10):
+        s.step(0.01)
+    assert s.positions[:, 2].min() > -0.05
+    assert s.energies()["contact"] >= 0
+
+
+@pytest.mark.parametrize("arguments, name", [
+    ({"pinned": np.ones(3, dtype=bool)}, "pinned"),
+    ({"integrator": "rk4"}, "integrator"),
+    ({"membrane": None}, "membrane"),
+    ({"membrane": "rubber"}, "rubber"),
+    ({"gravity": [0, 0]}, "gravity"),
+    ({"density": -1}, "density"),
+    ({"obstacles": ["cube:1"]}, "obstacles"),
+    ({"V_start": np.zeros((3, 3))}, "V_start"),
+    ({"beta": 0.9}, "beta"),
+    ({"pinned": "rings:x"}, "pinned"),
+    ({"pinned": 2, "pin_motion": {"spin": 1}}, "pin_motion"),
+    ({"pin_motion": {"translate": [0, 0, 1]}}, "pin_motion"),
+    ({"pinned": 2, "pin_motion": {"rotate": ([0, 0, 0], [0, 0, 0], 1)}}, "pin_motion"),
+])
+def test_bad_arguments_name_themselves(plate, arguments, name):
+    V, F = plate
+    with pytest.raises(ValueError, match=name):
+        flexure.Simulation(V, F, energy="hinge", **arguments)
+
+
+def test_step_arguments(plate):
+    V, F = plate
+    s = flexure.Simulation(V, F, energy="hinge", pinned=2)
+    with pytest.raises(ValueError, match="h"):
+        s.step(-1.0)
+    with pytest.raises(ValueError, match="min_dt"):
+        s.step(0.01, min_dt=0.1)
+
+
+def test_the_gil_is_released_during_a_step():
+    # A step of ~0.1 s in a thread: with the GIL held the main loop would stall for the whole
+    # step; released, it keeps running (its longest pause is a thread switch).
+    V, F = flexure.mesh("patch48", 40)
+
+    def make():
+        return flexure.Simulation(V, F, energy="midedge", pinned=2, gravity=[0, 0, -9.81])
+
+    s = make()
+    start = time.perf_counter()
+    s.advance(0.01)
+    alone = time.perf_counter() - start
+    s = make()
+    worker = threading.Thread(target=lambda: s.advance(0.01))
+    longest, last = 0.0, time.perf_counter()
+    worker.start()
+    while worker.is_alive():
+        now = time.perf_counter()
+        longest, last = max(longest, now - last), now
+    worker.join()
+    assert s.time == pytest.approx(0.01)
+    assert longest < 0.5 * alone, (longest, alone)
