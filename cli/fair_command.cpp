@@ -41,32 +41,9 @@ constexpr int kContextRings = 8;  // rings of unchanged mesh around the patch in
 // The smallest panel: the signed-distance panel keeps render::kLegendWidth of it for its legend.
 constexpr int kMinRenderSize = 200;
 
-// The smallest-angle rule (#15), beside optimize::checkFairing's gradient and triangle checks:
-// flexure's faired region (the faces touching a moving vertex) may not have a smallest angle more
-// than kSliverToleranceDegrees below min(the input's, CGAL's fair's) — a fair surface bought with
-// slivers is no better surface to work on, and CGAL's linear fair (the same held rings, the
-// input's cotangent weights) shows what fairing the region costs in angle. A result below the
-// limit exits 3 (the report, no mesh) unless --allow-slivers. flexure's fairing keeps it by an
-// angle barrier (optimize::FairingOptions::angleBarrier).
+// The smallest-angle rule (#15, optimize::SliverCheck): a result below its limit exits 3 (the
+// report, no mesh) unless --allow-slivers.
 using optimize::kSliverToleranceDegrees;
-
-struct SliverCheck {
-  double inputDegrees = 0.0, cgalDegrees = 0.0, resultDegrees = 0.0;
-  double limitDegrees() const {
-    return std::min(inputDegrees, cgalDegrees) - kSliverToleranceDegrees;
-  }
-  bool passed() const { return resultDegrees >= limitDegrees(); }
-  // "smallest-angle check: …" with the three angles and the limit.
-  std::string failure() const {
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  "smallest-angle check: the faired region's smallest angle %.3g deg is more than "
-                  "%g deg below min(input %.3g deg, CGAL's fair %.3g deg) (limit %.3g deg)",
-                  resultDegrees, kSliverToleranceDegrees, inputDegrees, cgalDegrees,
-                  limitDegrees());
-    return text;
-  }
-};
 
 struct FairCommandOptions {
   std::string input, region, output, reportFile, renderFile;
@@ -440,56 +417,15 @@ optimize::FairingOptions flexureFairingOptions(const FairCommandOptions& o, cons
   return options;
 }
 
-// The patch faired by flexure (unless --method cgal) and by CGAL, measured and checked.
-struct FairOutcome {
-  optimize::FairingMeasures before, cgalMeasures, after;
-  modeling::Positions patchAfter;  // the method's result
-  modeling::Positions cgalPatch;
-  std::optional<optimize::MinimizeReport> solve;
-  std::optional<optimize::FairingResult> fairing;
-  std::string startUsed;                         // "input" or "biharmonic" (flexure only)
-  double solveSeconds = 0.0, cgalSeconds = 0.0;  // solveSeconds: the method's own
-  optimize::FairingChecks checks;
-  SliverCheck slivers;
-  bool sliversPassed = false, solverConverged = false, converged = false;
-};
+using FairOutcome = optimize::FairingOutcome;
 
+// The patch faired by flexure (unless --method cgal) and by CGAL, measured with the command's
+// bending options and checked.
 FairOutcome fairPatch(const FairCommandOptions& o, const FairSettings& s,
                       const modeling::FairingPatch& patch, bool quiet) {
-  FairOutcome r;
-  r.before = optimize::measureFairing(patch, patch.mesh.positions, s.bending);
-  const auto solveStart = Clock::now();
-  if (!s.cgal) {
-    r.fairing = optimize::fairNonlinear(patch, flexureFairingOptions(o, s, quiet));
-    r.patchAfter = r.fairing->positions;
-    r.solve = r.fairing->report;
-    r.startUsed = r.fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
-  }
-  const double flexureSeconds = secondsSince(solveStart);
-  // CGAL's fair always: the result with --method cgal, the baseline beside flexure's otherwise.
-  const auto cgalStart = Clock::now();
-  r.cgalPatch = optimize::fairCgal(patch);
-  r.cgalSeconds = secondsSince(cgalStart);
-  r.solveSeconds = s.cgal ? r.cgalSeconds : flexureSeconds;
-  if (s.cgal) r.patchAfter = r.cgalPatch;
-  r.cgalMeasures = optimize::measureFairing(patch, r.cgalPatch, s.bending);
-  r.after = s.cgal ? r.cgalMeasures : optimize::measureFairing(patch, r.patchAfter, s.bending);
-  r.checks = optimize::checkFairing(patch, r.patchAfter, r.fairing ? &*r.fairing : nullptr);
-  r.slivers = {r.checks.inputMinAngleDegrees, r.cgalMeasures.quality.minAngleDegrees,
-               r.checks.resultMinAngleDegrees};
-  // The rule judges flexure's result (CGAL's own angle is one of the two it compares with).
-  r.sliversPassed = s.cgal || r.slivers.passed();
-  r.solverConverged = !r.solve || r.solve->converged;
-  r.converged = r.solverConverged && r.checks.passed() && (r.sliversPassed || o.allowSlivers);
-  return r;
-}
-
-// The failed checks in words, each with its numbers and threshold ("" when all passed).
-std::string fairingFailure(const FairCommandOptions& o, const FairOutcome& r) {
-  std::string failure = r.checks.failure();
-  if (!r.sliversPassed && !o.allowSlivers)
-    failure += (failure.empty() ? "" : "; ") + r.slivers.failure();
-  return failure;
+  return optimize::fairAndCheck(
+      patch, flexureFairingOptions(o, s, quiet),
+      s.cgal ? optimize::FairingMethod::Cgal : optimize::FairingMethod::Flexure, s.bending);
 }
 
 std::vector<MeasureColumn> measureColumns(const RegionChoice& choice, const FairSettings& s,
@@ -524,9 +460,9 @@ void addFlexureReport(const FairCommandOptions& o, const FairSettings& s, const 
   report["poisson"] = curvature::effectivePoisson(s.bending);
   report["stiffness"] = s.bending.stiffness;
   report["membrane"] = {{"model", o.membrane}, {"weight", s.membraneWeight}};
-  report["start"] = r.startUsed;
+  report["start"] = r.fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
   report["metric"] = o.metric;
-  const optimize::MinimizeReport& solve = *r.solve;
+  const optimize::MinimizeReport& solve = r.fairing->report;
   report["solver"] = {{"name", solve.solver},
                       {"factorizations", solve.factorizations},
                       {"converged", solve.converged},
@@ -554,7 +490,7 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
   }
   nlohmann::json report = {
       {"input", o.input},
-      {"output", r.converged ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
+      {"output", r.converged(o.allowSlivers) ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
       {"method", o.method},
       {"region",
        {{"spec", o.region},
@@ -566,10 +502,10 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
       // --method flexure); "result" names the column that was written.
       {"measures", measures},
       {"result", s.cgal ? "cgal" : "flexure"},
-      {"converged", r.converged},
+      {"converged", r.converged(o.allowSlivers)},
       {"checks", checksReport},
   };
-  const std::string failure = fairingFailure(o, r);
+  const std::string failure = r.failure(o.allowSlivers);
   if (!failure.empty()) report["failed_check"] = failure;
   if (!s.cgal) addFlexureReport(o, s, r, report);
   if (choice.filled) report["holes"] = holesJson(*choice.filled);
@@ -590,13 +526,14 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
     const bool onlySlivers = r.checks.passed();
     throw NumericalError(
         std::string(s.cgal ? "CGAL's fair" : "the fairing solve") +
-        " ended at a result that fails its checks: " + fairingFailure(o, r) + "; " + notWritten +
+        " ended at a result that fails its checks: " + r.failure(o.allowSlivers) + "; " +
+        notWritten +
         (s.cgal        ? ""
          : onlySlivers ? "; try a larger --membrane-weight, or pass --allow-slivers to accept it"
                        : "; try a larger --membrane-weight, another --energy or a smaller region"));
   }
-  throw NumericalError("the fairing solve did not converge (" + r.solve->termination + "); " +
-                       notWritten + "; " + solverAdvice(*r.solve, o.solver) +
+  throw NumericalError("the fairing solve did not converge (" + r.fairing->report.termination +
+                       "); " + notWritten + "; " + solverAdvice(r.fairing->report, o.solver) +
                        " (or lower --membrane-weight)");
 }
 
@@ -675,7 +612,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     return nlohmann::json{
         {"solve", r.solveSeconds}, {"cgal", r.cgalSeconds}, {"total", secondsSince(start)}};
   };
-  if (!r.converged) {
+  if (!r.converged(o.allowSlivers)) {
     report["seconds"] = seconds();
     failUnconverged(o, s, r, report);
   }

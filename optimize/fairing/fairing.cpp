@@ -3,7 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -333,6 +335,59 @@ FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positi
   m.quality = triangleQuality(patch, regionFaces(patch), positions);
   m.maxDisplacement = (positions - patch.mesh.positions).rowwise().norm().maxCoeff();
   return m;
+}
+
+double SliverCheck::limitDegrees() const {
+  return std::min(inputDegrees, cgalDegrees) - kSliverToleranceDegrees;
+}
+
+std::string SliverCheck::failure() const {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "smallest-angle check: the faired region's smallest angle %.3g deg is more than "
+                "%g deg below min(input %.3g deg, CGAL's fair %.3g deg) (limit %.3g deg)",
+                resultDegrees, kSliverToleranceDegrees, inputDegrees, cgalDegrees, limitDegrees());
+  return text;
+}
+
+bool FairingOutcome::converged(bool allowSlivers) const {
+  return solverConverged && checks.passed() && (sliversPassed || allowSlivers);
+}
+
+std::string FairingOutcome::failure(bool allowSlivers) const {
+  std::string text = checks.failure();
+  if (!sliversPassed && !allowSlivers) text += (text.empty() ? "" : "; ") + slivers.failure();
+  return text;
+}
+
+FairingOutcome fairAndCheck(const modeling::FairingPatch& patch, const FairingOptions& options,
+                            FairingMethod method, const curvature::BendingOptions& material) {
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  const bool cgal = method == FairingMethod::Cgal;
+  FairingOutcome r;
+  r.before = measureFairing(patch, patch.mesh.positions, material);
+  const auto solveStart = Clock::now();
+  if (!cgal) {
+    r.fairing = fairNonlinear(patch, options);
+    r.patchAfter = r.fairing->positions;
+  }
+  const double flexureSeconds = since(solveStart);
+  const auto cgalStart = Clock::now();
+  r.cgalPatch = fairCgal(patch);
+  r.cgalSeconds = since(cgalStart);
+  r.solveSeconds = cgal ? r.cgalSeconds : flexureSeconds;
+  if (cgal) r.patchAfter = r.cgalPatch;
+  r.cgalMeasures = measureFairing(patch, r.cgalPatch, material);
+  r.after = cgal ? r.cgalMeasures : measureFairing(patch, r.patchAfter, material);
+  r.checks = checkFairing(patch, r.patchAfter, r.fairing ? &*r.fairing : nullptr);
+  r.slivers = {r.checks.inputMinAngleDegrees, r.cgalMeasures.quality.minAngleDegrees,
+               r.checks.resultMinAngleDegrees};
+  r.sliversPassed = cgal || r.slivers.passed();
+  r.solverConverged = !r.fairing || r.fairing->report.converged;
+  return r;
 }
 
 }  // namespace flexure::optimize

@@ -14,6 +14,7 @@
 // the normals).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -198,5 +199,45 @@ FairingChecks checkFairing(const modeling::FairingPatch& patch, const Positions&
 // (hinge and cotan are ν = 1 models); midedge's ξ are minimized for the positions.
 FairingMeasures measureFairing(const modeling::FairingPatch& patch, const Positions& positions,
                                const curvature::BendingOptions& material);
+
+// The smallest-angle rule (issue #15), beside checkFairing's gradient and triangle checks: the
+// faired region's faces (those touching a moving vertex) may not have a smallest angle more than
+// kSliverToleranceDegrees below min(the input's, CGAL's fair's) — a fair surface bought with
+// slivers is no better surface to work on, and CGAL's linear fair (the same held rings, the
+// input's cotangent weights) shows what fairing the region costs in angle. flexure's fairing
+// keeps it by the angle barrier (FairingOptions::angleBarrier).
+struct SliverCheck {
+  double inputDegrees = 0.0, cgalDegrees = 0.0, resultDegrees = 0.0;
+  double limitDegrees() const;
+  bool passed() const { return resultDegrees >= limitDegrees(); }
+  // "smallest-angle check: …" with the three angles and the limit.
+  std::string failure() const;
+};
+
+enum class FairingMethod { Flexure, Cgal };
+
+// A region faired by `method`, with CGAL's fair always beside it (the result with Cgal, the
+// smallest-angle rule's baseline otherwise), measured (measureFairing with `material`) and
+// checked.
+struct FairingOutcome {
+  FairingMeasures before, cgalMeasures, after;
+  Positions patchAfter;  // the method's result (the patch's vertices)
+  Positions cgalPatch;
+  std::optional<FairingResult> fairing;  // flexure's solve (none with Cgal)
+  double solveSeconds = 0.0;             // the method's own
+  double cgalSeconds = 0.0;
+  FairingChecks checks;
+  SliverCheck slivers;
+  bool sliversPassed = false;    // the rule judges flexure's result only (always true with Cgal)
+  bool solverConverged = false;  // true with Cgal
+
+  // Converged: the solver's own stop, the checks and — unless `allowSlivers` — the rule.
+  bool converged(bool allowSlivers) const;
+  // The failed checks in words, each with its numbers and threshold ("" when all passed).
+  std::string failure(bool allowSlivers) const;
+};
+
+FairingOutcome fairAndCheck(const modeling::FairingPatch& patch, const FairingOptions& options,
+                            FairingMethod method, const curvature::BendingOptions& material);
 
 }  // namespace flexure::optimize

@@ -83,16 +83,14 @@ py::dict measureDict(const optimize::FairingMeasures& m) {
   return d;
 }
 
-// fair's smallest-angle rule (cli/fair_command.cpp, #15): the faired region's smallest angle at
-// most kSliverToleranceDegrees below min(the input's, CGAL's fair's).
-py::dict sliverDict(double input, double cgal, double result) {
-  const double limit = std::min(input, cgal) - optimize::kSliverToleranceDegrees;
+// fair's smallest-angle rule (optimize::SliverCheck).
+py::dict sliverDict(const optimize::SliverCheck& c) {
   py::dict d;
-  d["input_degrees"] = input;
-  d["cgal_degrees"] = cgal;
-  d["result_degrees"] = result;
-  d["limit_degrees"] = limit;
-  d["passed"] = result >= limit;
+  d["input_degrees"] = c.inputDegrees;
+  d["cgal_degrees"] = c.cgalDegrees;
+  d["result_degrees"] = c.resultDegrees;
+  d["limit_degrees"] = c.limitDegrees();
+  d["passed"] = c.passed();
   return d;
 }
 
@@ -124,38 +122,22 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     region = modeling::parseRegion(a.regionSpec, mesh, stencils);
   }
   modeling::requireFairableRegion(stencils, region, "region");
-  const bool cgal = a.method == "cgal";
+  const optimize::FairingMethod method =
+      a.method == "cgal" ? optimize::FairingMethod::Cgal : optimize::FairingMethod::Flexure;
   std::optional<modeling::FairingPatch> patch;
-  optimize::FairingMeasures before, cgalMeasures, after;
-  std::optional<optimize::FairingResult> result;
-  optimize::FairingChecks checks;
-  Positions patchAfter, cgalPatch, faired;
+  std::optional<optimize::FairingOutcome> r;
+  Positions faired;
   {
     py::gil_scoped_release release;
-    // fair_command's fairPatch: flexure's fair (unless method cgal), CGAL's always (the result
-    // with method cgal, the smallest-angle rule's baseline otherwise), measured and checked.
     patch.emplace(modeling::extractFairingPatch(mesh, stencils, region));
-    before = optimize::measureFairing(*patch, patch->mesh.positions, options.bending);
-    if (!cgal) {
-      result = optimize::fairNonlinear(*patch, options);
-      patchAfter = result->positions;
-    }
-    cgalPatch = optimize::fairCgal(*patch);
-    if (cgal) patchAfter = cgalPatch;
-    cgalMeasures = optimize::measureFairing(*patch, cgalPatch, options.bending);
-    after = cgal ? cgalMeasures : optimize::measureFairing(*patch, patchAfter, options.bending);
-    checks = optimize::checkFairing(*patch, patchAfter, result ? &*result : nullptr);
-    faired = modeling::scatterPatchPositions(mesh.positions, *patch, patchAfter);
+    r.emplace(optimize::fairAndCheck(*patch, options, method, options.bending));
+    faired = modeling::scatterPatchPositions(mesh.positions, *patch, r->patchAfter);
   }
-  const py::dict slivers =
-      sliverDict(checks.inputMinAngleDegrees, cgalMeasures.quality.minAngleDegrees,
-                 checks.resultMinAngleDegrees);
-  const bool sliversPassed = cgal || slivers["passed"].cast<bool>();
-  const bool solverConverged = !result || result->report.converged;
+  const std::optional<optimize::FairingResult>& result = r->fairing;
   py::dict report;
-  report["converged"] = solverConverged && checks.passed() && (sliversPassed || a.allowSlivers);
+  report["converged"] = r->converged(a.allowSlivers);
   report["method"] = a.method;
-  report["solver_converged"] = solverConverged;
+  report["solver_converged"] = r->solverConverged;
   if (result) {
     report["termination"] = result->report.termination;
     report["iterations"] = result->report.iterations;
@@ -168,19 +150,17 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
       std::string(curvature::discretizationName(options.bending.discretization));
   report["membrane_weight"] = options.membraneWeight;
   int regionVertices = 0;
-  for (bool r : region) regionVertices += r;
+  for (bool moves : region) regionVertices += moves;
   report["region_vertices"] = regionVertices;
   report["patch_vertices"] = patch->mesh.vertexCount();
   report["patch_faces"] = patch->mesh.faceCount();
-  report["before"] = measureDict(before);
-  report["after"] = measureDict(after);
-  report["cgal"] = measureDict(cgalMeasures);
-  report["checks"] = checkDict(checks);
-  report["slivers"] = slivers;
-  std::string failure = checks.failure();
-  if (!sliversPassed && !a.allowSlivers)
-    failure += std::string(failure.empty() ? "" : "; ") + "smallest-angle check failed";
-  if (!solverConverged)
+  report["before"] = measureDict(r->before);
+  report["after"] = measureDict(r->after);
+  report["cgal"] = measureDict(r->cgalMeasures);
+  report["checks"] = checkDict(r->checks);
+  report["slivers"] = sliverDict(r->slivers);
+  std::string failure = r->failure(a.allowSlivers);
+  if (!r->solverConverged)
     failure = "the solve did not converge (" + result->report.termination + ")" +
               (failure.empty() ? "" : "; " + failure);
   report["failure"] = failure;
