@@ -10,7 +10,7 @@
 // distance to it over the run. --chord-steps false --predict false runs the plain Newton of
 // DynamicsOptions (a fresh factor every iteration, Newton from x̂) for comparison. The issue's
 // targets: ≥ 10 steps/s for hinge and cotan, ≥ 3 for midedge, on these 2-core machines; measured
-// (README, "flexure simulate"; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
+// (docs/commands/simulate.md; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
 // steps/s, cotan 2.3, midedge 5.0; at 10 000 (45 steps, about 26 in contact) hinge 1.74, cotan
 // 0.44, midedge 0.49. --trace prints every step; --tolerance sets DynamicsOptions::tolerance. Each
 // record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the

@@ -331,7 +331,7 @@ PY
 # The figure: 110 + 3 (96 + 10) wide (the reference column and two energies); no text on its border.
 read -r width height ink < <(png_size_and_border_ink cmp/compare.png)
 [ "$width" = 428 ] && [ "$ink" = 0 ] || fail "compare: compare.png is $width wide (expected 428), $ink border pixels inked"
-# Text fits at every allowed panel size: the smallest (64, all five energies) and README's 300.
+# Text fits at every allowed panel size: the smallest (64, all five energies) and docs/commands/compare.md's 300.
 run 0 compare -o cmp64 --families patch48 --n 4 --size 64 --quiet
 read -r width height ink < <(png_size_and_border_ink cmp64/compare.png)
 [ "$width" = $((110 + 6 * 74)) ] && [ "$ink" = 0 ] || fail "compare --size 64: $width wide, $ink border pixels inked"

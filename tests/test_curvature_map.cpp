@@ -106,7 +106,7 @@ int inkOnBorder(const render::Image& image) {
   return count;
 }
 
-// `flexure render bowl.obj --style curvature` (README's bowl) at the default size and at a small
+// `flexure render bowl.obj --style curvature` (docs/commands/render.md's bowl) at the default size and at a small
 // one: the legend's title and range line fit in the image (no ink on its border; the title used to
 // run off the right edge).
 TEST(CurvatureMap, LegendTextStaysInsideTheImage) {
