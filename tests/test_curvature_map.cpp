@@ -106,9 +106,9 @@ int inkOnBorder(const render::Image& image) {
   return count;
 }
 
-// `flexure render bowl.obj --style curvature` (docs/commands/render.md's bowl) at the default size and at a small
-// one: the legend's title and range line fit in the image (no ink on its border; the title used to
-// run off the right edge).
+// `flexure render bowl.obj --style curvature` (docs/commands/render.md's bowl) at the default size
+// and at a small one: the legend's title and range line fit in the image (no ink on its border; the
+// title used to run off the right edge).
 TEST(CurvatureMap, LegendTextStaysInsideTheImage) {
   render::OffscreenContext context;
   const modeling::Mesh bowl = heightField(32, "quadratic:1,0,0.5");
