@@ -9,6 +9,7 @@
 #include <string>
 
 #include "curvature/energy_registry.h"
+#include "curvature/membrane_energy.h"
 #include "modeling/mesh.h"
 
 namespace flexure::python {
@@ -33,6 +34,20 @@ struct BendingArguments {
 
 // InputError naming the argument (vertex_area, hinge_angle, poisson) for a bad value.
 curvature::BendingOptions bendingOptions(const BendingArguments& a);
+
+// A membrane's parameters as Python names them: the library's defaults
+// (curvature::MembraneOptions) until Python sets one. The argument structs that take a membrane
+// derive from it.
+struct MembraneFields {
+  double young = curvature::MembraneOptions{}.young;
+  double membranePoisson = curvature::MembraneOptions{}.poisson;
+  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
+  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
+  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
+
+  // The membrane `model` ("stvk" | "springs" | "conformal" | "mips") with these parameters.
+  curvature::MembraneOptions membraneOptions(const std::string& model) const;
+};
 
 void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);

@@ -37,4 +37,15 @@ curvature::BendingOptions bendingOptions(const BendingArguments& a) {
   return b;
 }
 
+curvature::MembraneOptions MembraneFields::membraneOptions(const std::string& model) const {
+  curvature::MembraneOptions m;
+  m.model = curvature::parseMembraneModel(model);
+  m.young = young;
+  m.poisson = membranePoisson;
+  m.lengthStiffness = lengthStiffness;
+  m.areaStiffness = areaStiffness;
+  m.shapeStiffness = shapeStiffness;
+  return m;
+}
+
 }  // namespace flexure::python

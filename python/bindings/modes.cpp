@@ -21,7 +21,7 @@ namespace py = pybind11;
 namespace flexure::python {
 namespace {
 
-struct ModesArguments {
+struct ModesArguments : MembraneFields {
   BendingArguments bending;
   int count = 12;
   std::string support = "clamped";
@@ -29,12 +29,6 @@ struct ModesArguments {
   std::optional<std::vector<bool>> fixed;
   std::string dof = "height";
   std::optional<std::string> membrane;
-  // The library's defaults (curvature::MembraneOptions) until Python sets one.
-  double young = curvature::MembraneOptions{}.young;
-  double membranePoisson = curvature::MembraneOptions{}.poisson;
-  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
-  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
-  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   std::string mass = "barycentric";
   double density = 1.0;
   double length = 0.0;
@@ -121,16 +115,7 @@ py::dict modesOf(const PositionsRef& V, const TrianglesRef& F, const ModesArgume
   optimize::ProblemOptions p;
   p.bending = b;
   p.dof = options.dof;
-  if (a.membrane) {
-    curvature::MembraneOptions m;
-    m.model = curvature::parseMembraneModel(*a.membrane);
-    m.young = a.young;
-    m.poisson = a.membranePoisson;
-    m.lengthStiffness = a.lengthStiffness;
-    m.areaStiffness = a.areaStiffness;
-    m.shapeStiffness = a.shapeStiffness;
-    p.membrane = m;
-  }
+  if (a.membrane) p.membrane = a.membraneOptions(*a.membrane);
   p.fixedRings = 0;
   p.boundaryNormals = optimize::BoundaryNormals::Free;
   const modeling::Mesh mesh = checkedMesh(V, F, "V, F");

@@ -78,7 +78,7 @@ py::dict energyOf(const PositionsRef& restV, const TrianglesRef& F, const Positi
 }
 
 // Everything buildProblem takes, as the Python arguments name it.
-struct ProblemArguments {
+struct ProblemArguments : MembraneFields {
   BendingArguments bending;
   std::string dof = "height";
   std::optional<std::vector<bool>> fixed;
@@ -88,12 +88,6 @@ struct ProblemArguments {
   std::optional<std::string> boundaryNormals;  // empty: clamped with a surface, else free
   bool linearizedClamp = false;
   std::optional<std::string> membrane;
-  // The library's defaults (curvature::MembraneOptions) until Python sets one.
-  double young = curvature::MembraneOptions{}.young;
-  double membranePoisson = curvature::MembraneOptions{}.poisson;
-  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
-  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
-  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   std::optional<Eigen::Vector3d> gravity;
   double density = 1.0;
 };
@@ -119,16 +113,7 @@ optimize::ProblemOptions problemOptions(const ProblemArguments& a) {
   else
     throw InputError("boundary_normals " + normals + ": expected clamped or free");
   p.linearizedClamp = a.linearizedClamp;
-  if (a.membrane) {
-    curvature::MembraneOptions m;
-    m.model = curvature::parseMembraneModel(*a.membrane);
-    m.young = a.young;
-    m.poisson = a.membranePoisson;
-    m.lengthStiffness = a.lengthStiffness;
-    m.areaStiffness = a.areaStiffness;
-    m.shapeStiffness = a.shapeStiffness;
-    p.membrane = m;
-  }
+  if (a.membrane) p.membrane = a.membraneOptions(*a.membrane);
   p.load.gravity = a.gravity;
   p.load.density = a.density;
   return p;

@@ -25,15 +25,9 @@ namespace flexure::python {
 namespace {
 
 // Everything the simulated body and its dynamics take, as the Python arguments name them.
-struct SimulationArguments {
+struct SimulationArguments : MembraneFields {
   BendingArguments bending;
   std::string membrane = "stvk";
-  // The library's defaults (curvature::MembraneOptions) until Python sets one.
-  double young = curvature::MembraneOptions{}.young;
-  double membranePoisson = curvature::MembraneOptions{}.poisson;
-  double lengthStiffness = curvature::MembraneOptions{}.lengthStiffness;
-  double areaStiffness = curvature::MembraneOptions{}.areaStiffness;
-  double shapeStiffness = curvature::MembraneOptions{}.shapeStiffness;
   // The pinned vertices: a #V mask, or a spec of optimize::parseFixedSet ("rings:K",
   // "vertices:FILE"); neither: none.
   std::optional<std::vector<bool>> pinnedMask;
@@ -99,14 +93,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
 optimize::ProblemOptions bodyOptions(const SimulationArguments& a) {
   optimize::ProblemOptions p;
   p.bending = bendingOptions(a.bending);
-  curvature::MembraneOptions m;
-  m.model = curvature::parseMembraneModel(a.membrane);
-  m.young = a.young;
-  m.poisson = a.membranePoisson;
-  m.lengthStiffness = a.lengthStiffness;
-  m.areaStiffness = a.areaStiffness;
-  m.shapeStiffness = a.shapeStiffness;
-  p.membrane = m;
+  p.membrane = a.membraneOptions(a.membrane);
   p.dof = optimize::DofMode::Xyz;
   p.fixedRings = 0;
   p.boundaryNormals = optimize::BoundaryNormals::Free;
