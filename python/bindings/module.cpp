@@ -479,4 +479,5 @@ PYBIND11_MODULE(_flexure, m) {
   bindModes(m);
   bindRender(m);
   bindMeshes(m);
+  bindStudy(m);
 }

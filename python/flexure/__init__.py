@@ -355,3 +355,4 @@ from .fairing import fair  # noqa: E402
 from .modes import modes  # noqa: E402
 from .render import render, write_png, read_png, png_bytes  # noqa: E402
 from .meshes import info, boundary_rings, vertex_rings, boundary_loops  # noqa: E402
+from .study import converge, c2_table, compare_figure  # noqa: E402
