@@ -39,7 +39,7 @@ struct StudyArguments {
   std::vector<std::string> families = {"patch48", "stripe", "criss", "delaunay"};
   std::vector<std::uint64_t> seeds = {1};
   int n = 8, levels = 3, amplitudes = 4, threads = 2;
-  std::vector<std::array<double, 3>> quadratics;  // empty: the default five
+  std::vector<std::array<double, 3>> quadratics;      // empty: the default five
   std::string solution = optimize::kDefaultSolution;  // "" or "none": no refinement
   std::optional<double> poisson;
   std::string solver = "newton", hessian = "exact";
