@@ -23,6 +23,7 @@ __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
     "minimize", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
     "read_png", "png_bytes", "info", "boundary_rings", "vertex_rings", "boundary_loops",
+    "converge", "c2_table", "compare_figure",
 ]
 
 NumericalError = _flexure.NumericalError
