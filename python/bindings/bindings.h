@@ -54,5 +54,6 @@ void bindFairing(pybind11::module_& m);
 void bindModes(pybind11::module_& m);
 void bindRender(pybind11::module_& m);
 void bindMeshes(pybind11::module_& m);
+void bindStudy(pybind11::module_& m);
 
 }  // namespace flexure::python

@@ -464,4 +464,5 @@ PYBIND11_MODULE(_flexure, m) {
   bindModes(m);
   bindRender(m);
   bindMeshes(m);
+  bindStudy(m);
 }
