@@ -49,6 +49,17 @@ struct MembraneFields {
   curvature::MembraneOptions membraneOptions(const std::string& model) const;
 };
 
+// Adds MembraneFields' parameters, as Python names them, to the class of an argument struct that
+// derives from it.
+template <typename Class>
+Class& defMembraneFields(Class& c) {
+  return c.def_readwrite("young", &MembraneFields::young)
+      .def_readwrite("membrane_poisson", &MembraneFields::membranePoisson)
+      .def_readwrite("length_stiffness", &MembraneFields::lengthStiffness)
+      .def_readwrite("area_stiffness", &MembraneFields::areaStiffness)
+      .def_readwrite("shape_stiffness", &MembraneFields::shapeStiffness);
+}
+
 void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);
 void bindModes(pybind11::module_& m);

@@ -156,7 +156,8 @@ py::dict modesOf(const PositionsRef& V, const TrianglesRef& F, const ModesArgume
 }  // namespace
 
 void bindModes(py::module_& m) {
-  py::class_<ModesArguments>(m, "ModesArguments")
+  py::class_<ModesArguments> modesArguments(m, "ModesArguments");
+  defMembraneFields(modesArguments)
       .def(py::init<>())
       .def_readwrite("bending", &ModesArguments::bending)
       .def_readwrite("count", &ModesArguments::count)
@@ -165,11 +166,6 @@ void bindModes(py::module_& m) {
       .def_readwrite("fixed", &ModesArguments::fixed)
       .def_readwrite("dof", &ModesArguments::dof)
       .def_readwrite("membrane", &ModesArguments::membrane)
-      .def_readwrite("young", &ModesArguments::young)
-      .def_readwrite("membrane_poisson", &ModesArguments::membranePoisson)
-      .def_readwrite("length_stiffness", &ModesArguments::lengthStiffness)
-      .def_readwrite("area_stiffness", &ModesArguments::areaStiffness)
-      .def_readwrite("shape_stiffness", &ModesArguments::shapeStiffness)
       .def_readwrite("mass", &ModesArguments::mass)
       .def_readwrite("density", &ModesArguments::density)
       .def_readwrite("length", &ModesArguments::length)

@@ -347,35 +347,9 @@ py::tuple generate(const std::string& family, int n, std::uint64_t seed,
   return py::make_tuple(mesh.positions, mesh.triangles);
 }
 
-}  // namespace
-}  // namespace flexure::python
-
-PYBIND11_MODULE(_flexure, m) {
-  using namespace flexure::python;
+// The bending and problem arguments, the energy, Problem, minimize and the LinearizedSolver.
+void bindProblem(py::module_& m) {
   namespace fo = flexure::optimize;
-  m.doc() = "flexure's C++ library (use the flexure package, which checks arguments)";
-
-  static py::exception<flexure::NumericalError> numericalError(m, "NumericalError",
-                                                               PyExc_RuntimeError);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const flexure::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
-    } catch (const flexure::NumericalError& e) {
-      numericalError(e.what());
-    }
-  });
-
-  m.def(
-      "data_address",
-      [](const PositionsRef& V) { return reinterpret_cast<std::uintptr_t>(V.data()); },
-      "The address the binding reads V (#V by 3) at: V's own when it is not copied.");
-  m.def("energies", &flexure::curvature::energyNameList);
-  m.def("read_mesh", &readMesh);
-  m.def("write_mesh", &writeMesh);
-  m.def("mesh", &generate);
-
   py::class_<BendingArguments>(m, "BendingArguments")
       .def(py::init<>())
       .def_readwrite("energy", &BendingArguments::energy)
@@ -386,7 +360,8 @@ PYBIND11_MODULE(_flexure, m) {
       .def_readwrite("flat_rest", &BendingArguments::flatRest);
   m.def("energy", &energyOf);
 
-  py::class_<ProblemArguments>(m, "ProblemArguments")
+  py::class_<ProblemArguments> problemArguments(m, "ProblemArguments");
+  defMembraneFields(problemArguments)
       .def(py::init<>())
       .def_readwrite("bending", &ProblemArguments::bending)
       .def_readwrite("dof", &ProblemArguments::dof)
@@ -397,11 +372,6 @@ PYBIND11_MODULE(_flexure, m) {
       .def_readwrite("boundary_normals", &ProblemArguments::boundaryNormals)
       .def_readwrite("linearized_clamp", &ProblemArguments::linearizedClamp)
       .def_readwrite("membrane", &ProblemArguments::membrane)
-      .def_readwrite("young", &ProblemArguments::young)
-      .def_readwrite("membrane_poisson", &ProblemArguments::membranePoisson)
-      .def_readwrite("length_stiffness", &ProblemArguments::lengthStiffness)
-      .def_readwrite("area_stiffness", &ProblemArguments::areaStiffness)
-      .def_readwrite("shape_stiffness", &ProblemArguments::shapeStiffness)
       .def_readwrite("gravity", &ProblemArguments::gravity)
       .def_readwrite("density", &ProblemArguments::density);
 
@@ -458,7 +428,38 @@ PYBIND11_MODULE(_flexure, m) {
       .def_property_readonly("factorizations", &BoundLinearizedSolver::factorizations)
       .def_property_readonly("factor_seconds", &BoundLinearizedSolver::factorSeconds)
       .def_property_readonly("jacobian_seconds", &BoundLinearizedSolver::jacobianSeconds);
+}
 
+}  // namespace
+
+}  // namespace flexure::python
+
+PYBIND11_MODULE(_flexure, m) {
+  using namespace flexure::python;
+  m.doc() = "flexure's C++ library (use the flexure package, which checks arguments)";
+
+  static py::exception<flexure::NumericalError> numericalError(m, "NumericalError",
+                                                               PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const flexure::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const flexure::NumericalError& e) {
+      numericalError(e.what());
+    }
+  });
+
+  m.def(
+      "data_address",
+      [](const PositionsRef& V) { return reinterpret_cast<std::uintptr_t>(V.data()); },
+      "The address the binding reads V (#V by 3) at: V's own when it is not copied.");
+  m.def("energies", &flexure::curvature::energyNameList);
+  m.def("read_mesh", &readMesh);
+  m.def("write_mesh", &writeMesh);
+  m.def("mesh", &generate);
+
+  bindProblem(m);
   bindSimulation(m);
   bindFairing(m);
   bindModes(m);

@@ -202,15 +202,11 @@ class BoundSimulation {
 }  // namespace
 
 void bindSimulation(py::module_& m) {
-  py::class_<SimulationArguments>(m, "SimulationArguments")
+  py::class_<SimulationArguments> simulationArguments(m, "SimulationArguments");
+  defMembraneFields(simulationArguments)
       .def(py::init<>())
       .def_readwrite("bending", &SimulationArguments::bending)
       .def_readwrite("membrane", &SimulationArguments::membrane)
-      .def_readwrite("young", &SimulationArguments::young)
-      .def_readwrite("membrane_poisson", &SimulationArguments::membranePoisson)
-      .def_readwrite("length_stiffness", &SimulationArguments::lengthStiffness)
-      .def_readwrite("area_stiffness", &SimulationArguments::areaStiffness)
-      .def_readwrite("shape_stiffness", &SimulationArguments::shapeStiffness)
       .def_readwrite("pinned_mask", &SimulationArguments::pinnedMask)
       .def_readwrite("pinned_spec", &SimulationArguments::pinnedSpec)
       .def_readwrite("gravity", &SimulationArguments::gravity)
