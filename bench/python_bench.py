@@ -97,6 +97,7 @@ def main():
     parser.add_argument("--repeat", type=int, default=5, help="energy + gradient calls (fastest)")
     parser.add_argument("--no-simulate", action="store_true", help="skip the step comparison")
     args = parser.parse_args()
+    flexure.reuse_freed_memory()  # the allocator setting simulate_bench (the C++ side) runs with
     energies = args.energies.split(",")
     V, F = flexure.mesh("patch48", n=args.n)
     copy = zero_copy(V)

@@ -23,6 +23,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/configuration_energy.h"
+#include "optimize/linear/heap_reuse.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/energy_evaluation.h"
@@ -455,6 +456,7 @@ PYBIND11_MODULE(_flexure, m) {
       [](const PositionsRef& V) { return reinterpret_cast<std::uintptr_t>(V.data()); },
       "The address the binding reads V (#V by 3) at: V's own when it is not copied.");
   m.def("energies", &flexure::curvature::energyNameList);
+  m.def("reuse_freed_memory", &flexure::optimize::reuseFreedMemory);
   m.def("read_mesh", &readMesh);
   m.def("write_mesh", &writeMesh);
   m.def("mesh", &generate);
