@@ -161,31 +161,37 @@ TEST(LinearizedSolver, ReproducesAQuadraticAndKeepsTheFixedUnknowns) {
   EXPECT_LT(s.gradientNorm, 1e-9);
 }
 
-TEST(LinearizedSolver, HeightFieldSolverRefusesInPlaneBoundaryMoves) {
-  const FlatPlateProblem problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
-                                 optimize::parseEnergyVariant("hinge").bending);
-  optimize::LinearizedUnknowns unknowns;
-  unknowns.fixedVertex = problem.boundary.fixedVertex;
-  const optimize::LinearizedSolver solver({&problem.bending()}, problem.rest.positions,
-                                          problem.restXi, unknowns);
+// A small height-field plate of one energy, two rings held, with its LinearizedSolver factored for
+// those rings; `bc` holds the same rings at rest (a test moves them).
+struct HeightFieldSolve {
+  FlatPlateProblem problem;
+  optimize::LinearizedSolver solver;
   optimize::BoundaryConditions bc;
-  bc.fixedVertex = problem.boundary.fixedVertex;
-  bc.start = problem.rest.positions;
+
+  explicit HeightFieldSolve(const char* energy)
+      : problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
+                optimize::parseEnergyVariant(energy).bending),
+        solver({&problem.bending()}, problem.rest.positions, problem.restXi,
+               optimize::LinearizedUnknowns{problem.boundary.fixedVertex, {}, true}) {
+    bc.fixedVertex = problem.boundary.fixedVertex;
+    bc.start = problem.rest.positions;
+  }
+};
+
+TEST(LinearizedSolver, HeightFieldSolverRefusesInPlaneBoundaryMoves) {
+  HeightFieldSolve plate("hinge");
+  const FlatPlateProblem& problem = plate.problem;
+  const optimize::LinearizedSolver& solver = plate.solver;
+  optimize::BoundaryConditions& bc = plate.bc;
   bc.start(0, 0) += 0.1;  // vertex 0 is on the boundary
   ASSERT_TRUE(problem.boundary.fixedVertex[0]);
   EXPECT_THROW(solver.solve(bc), InputError);
 }
 
 TEST(LinearizedSolver, RefusesBoundaryConditionsItWasNotFactoredFor) {
-  const FlatPlateProblem problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
-                                 optimize::parseEnergyVariant("cotan").bending);
-  optimize::LinearizedUnknowns unknowns;
-  unknowns.fixedVertex = problem.boundary.fixedVertex;
-  const optimize::LinearizedSolver solver({&problem.bending()}, problem.rest.positions,
-                                          problem.restXi, unknowns);
-  optimize::BoundaryConditions bc;
-  bc.fixedVertex = problem.boundary.fixedVertex;
-  bc.start = problem.rest.positions;
+  HeightFieldSolve plate("cotan");
+  const optimize::LinearizedSolver& solver = plate.solver;
+  optimize::BoundaryConditions& bc = plate.bc;
   bc.start.col(2).array() += 0.25;  // a lifted boundary: the factored masks, a proper solve
   const optimize::LinearizedSolution s = solver.solve(bc);
   EXPECT_GT(s.initialGradientNorm, 0.0);

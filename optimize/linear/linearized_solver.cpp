@@ -70,15 +70,11 @@ CholeskyOptions gramCholeskyOptions() {
 
 }  // namespace
 
-std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int vertexCount,
-                                  int edgeCount) {
-  std::vector<bool> free(3 * vertexCount + edgeCount, false);
-  for (int v = 0; v < vertexCount; ++v) {
-    if (unknowns.fixedVertex[v]) continue;
-    for (int c = unknowns.heightOnly ? 2 : 0; c < 3; ++c) free[3 * v + c] = true;
-  }
-  for (int e = 0; e < edgeCount; ++e) free[3 * vertexCount + e] = !unknowns.fixedEdge[e];
-  return free;
+std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int edgeCount) {
+  const std::vector<bool> heldEdge(unknowns.fixedEdge.begin(),
+                                   unknowns.fixedEdge.begin() + edgeCount);
+  return freeUnknownMask(unknowns.fixedVertex, heldEdge,
+                         unknowns.heightOnly ? DofMode::Height : DofMode::Xyz);
 }
 
 LinearizedSolver::LinearizedSolver(const SparseMatrix& jacobian, const std::vector<bool>& free,
@@ -98,9 +94,7 @@ LinearizedSolver::LinearizedSolver(const std::vector<const EnergyTerm*>& terms,
   jacobianSeconds_ = secondsSince(start);
   const bool withXi = usesEdgeUnknowns(terms);
   if (withXi) restXi_ = restXi;
-  precompute(freeUnknownMask(unknowns, static_cast<int>(rest.rows()),
-                             withXi ? static_cast<int>(restXi.size()) : 0),
-             rest);
+  precompute(freeUnknownMask(unknowns, withXi ? static_cast<int>(restXi.size()) : 0), rest);
 }
 
 void LinearizedSolver::precompute(const std::vector<bool>& free, const Positions& at) {

@@ -28,9 +28,9 @@ struct LinearizedUnknowns {
   bool fixedMoveInPlane = false;
 };
 
-// The free mask over the unknowns (3 #V, then #E ξ when edgeCount > 0) that `unknowns` leaves free.
-std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int vertexCount,
-                                  int edgeCount);
+// The free mask over the unknowns (3 #V, then the first `edgeCount` ξ; 0 when no term uses ξ)
+// that `unknowns` leaves free: boundary_conditions.h's freeUnknownMask of its held sets.
+std::vector<bool> freeUnknownMask(const LinearizedUnknowns& unknowns, int edgeCount);
 
 // The minimizer of a linearized solve and its energies.
 struct LinearizedSolution {

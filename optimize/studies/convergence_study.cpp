@@ -393,9 +393,7 @@ FlatPlateSolves::FlatPlateSolves(const FlatPlateProblem& problem, BoundaryNormal
   // minimize() evaluates, and the x, y columns meet only zero moves, so the solves are the same.
   solver_ = std::make_unique<LinearizedSolver>(
       problem.restJacobian,
-      freeUnknownMask(surfaceUnknowns(problem, normals),
-                      static_cast<int>(problem.rest.positions.rows()),
-                      static_cast<int>(problem.restXi.size())),
+      freeUnknownMask(surfaceUnknowns(problem, normals), static_cast<int>(problem.restXi.size())),
       problem.rest.positions, problem.restXi);
 }
 
