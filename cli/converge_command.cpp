@@ -28,7 +28,7 @@ struct ConvergeCommandOptions {
   std::optional<double> poisson;
   std::string outputDir;
   SolverArguments solver;
-  // --measure modes: the vibration spectrum (cli/spectrum_outputs.h) in place of C1/C2.
+  // --measure modes: the vibration spectrum (reports/spectrum_outputs.h) in place of C1/C2.
   std::string measure = "c1c2", support = "simply-supported";
   int count = 6;
 };
@@ -105,15 +105,8 @@ optimize::SpectrumStudyOptions spectrumOptions(const ConvergeCommandOptions& o,
                                                bool familiesGiven) {
   const optimize::StudyOptions study = studyOptions(o, familiesGiven);
   optimize::SpectrumStudyOptions spectrum;
-  spectrum.energies = study.energies;
-  if (o.energies.empty()) {  // the five energies, midedge once
-    spectrum.energies.clear();
-    for (const char* name : {"midedge", "cotan", "quadfit", "triavg", "hinge"})
-      spectrum.energies.push_back(optimize::parseEnergyVariant(name, o.poisson));
-  }
-  // midedge's boundary normals follow --support here, not the variant's clamped/free.
-  for (optimize::EnergyVariant& v : spectrum.energies)
-    if (v.label == "midedge(clamped)") v.label = "midedge";
+  spectrum.energies = reports::spectrumEnergies(
+      o.energies.empty() ? std::vector<optimize::EnergyVariant>{} : study.energies, o.poisson);
   spectrum.families = familiesGiven
                           ? study.families
                           : std::vector<modeling::MeshFamily>{modeling::MeshFamily::Patch48,

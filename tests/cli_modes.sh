@@ -58,7 +58,7 @@ done
 run 0 converge --energies cotan --families patch48 --n 8 --levels 1 --amplitudes 0 -o spectrum --quiet
 absent spectrum/spectrum.md; [ -s spectrum/summary.md ] || fail "no summary.md after the C1/C2 run"
 run 2 converge --measure modes --support free -o bad; stderr_has "--support free"; absent bad
-run 2 converge --measure modes --support clamped --count 7 -o bad; stderr_has "Leissa"; absent bad
+run 2 converge --measure modes --support clamped --count 7 -o bad; stderr_has "Leissa"; stderr_has "--count 7"; absent bad
 run 2 converge --measure spectra -o bad; stderr_has "--measure spectra"; absent bad
 run 2 converge --support clamped -o bad; stderr_has "--support applies to --measure modes"; absent bad
 run 2 converge --measure modes --amplitudes 2 -o bad; stderr_has "--amplitudes applies to --measure c1c2"

@@ -365,6 +365,11 @@ TEST(VibrationModes, OptionsNameTheFieldTheyRefuse) {
           {[](auto& o) { o.baseN = 3; }, "SpectrumStudyOptions.baseN 3: "},
           {[](auto& o) { o.levels = 9; }, "SpectrumStudyOptions.levels 9: "},
           {[](auto& o) { o.count = 13; }, "SpectrumStudyOptions.count 13: "},
+          {[](auto& o) {
+             o.support = Support::Clamped;
+             o.count = 7;  // Leissa tabulates six
+           },
+           "SpectrumStudyOptions.count 7: "},
           {[](auto& o) { o.support = Support::Free; }, "SpectrumStudyOptions.support free: "},
           {[](auto& o) { o.energies = {optimize::parseEnergyVariant("midedge:free")}; },
            "SpectrumStudyOptions.energies midedge(free): "},

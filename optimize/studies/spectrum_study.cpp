@@ -55,7 +55,11 @@ void SpectrumStudyOptions::validate() const {
     throw InputError(
         "SpectrumStudyOptions.support free: the spectrum study needs reference frequencies "
         "(simply-supported or clamped)");
-  squarePlateLambdas(support, count);
+  try {
+    squarePlateLambdas(support, count);
+  } catch (const InputError& e) {
+    throw InputError("SpectrumStudyOptions.count " + std::to_string(count) + ": " + e.what());
+  }
   for (const EnergyVariant& v : energies)
     if (v.normals == BoundaryNormals::Free)
       throw InputError("SpectrumStudyOptions.energies " + v.label +

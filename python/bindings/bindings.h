@@ -11,6 +11,7 @@
 #include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/mesh.h"
+#include "optimize/modes/vibration_modes.h"
 
 namespace flexure::python {
 
@@ -59,6 +60,9 @@ Class& defMembraneFields(Class& c) {
       .def_readwrite("area_stiffness", &MembraneFields::areaStiffness)
       .def_readwrite("shape_stiffness", &MembraneFields::shapeStiffness);
 }
+
+// "clamped" | "simply-supported" | "free"; InputError naming the argument support otherwise.
+optimize::Support supportNamed(const std::string& name);
 
 void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);

@@ -35,18 +35,11 @@ struct ModesArguments : MembraneFields {
   bool nodalLines = true;
 };
 
-optimize::Support support(const std::string& name) {
-  if (name == "clamped") return optimize::Support::Clamped;
-  if (name == "simply-supported") return optimize::Support::SimplySupported;
-  if (name == "free") return optimize::Support::Free;
-  throw InputError("support " + name + ": expected clamped, simply-supported or free");
-}
-
 // modes' libraryModesOptions and energyRuns for one energy, every combination checked.
 optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::BendingOptions& b) {
   optimize::ModesOptions o;
   o.count = a.count;
-  o.support = support(a.support);
+  o.support = supportNamed(a.support);
   if (a.mass == "barycentric")
     o.mass = optimize::MassLumping::Barycentric;
   else if (a.mass == "voronoi")
@@ -154,6 +147,13 @@ py::dict modesOf(const PositionsRef& V, const TrianglesRef& F, const ModesArgume
 }
 
 }  // namespace
+
+optimize::Support supportNamed(const std::string& name) {
+  if (name == "clamped") return optimize::Support::Clamped;
+  if (name == "simply-supported") return optimize::Support::SimplySupported;
+  if (name == "free") return optimize::Support::Free;
+  throw InputError("support " + name + ": expected clamped, simply-supported or free");
+}
 
 void bindModes(py::module_& m) {
   py::class_<ModesArguments> modesArguments(m, "ModesArguments");

@@ -1,9 +1,8 @@
-// flexure._flexure.converge and compare_figure: the C1/C2 convergence study's records, refinement
-// fits and summary as `flexure converge` writes them to results.json (same field names, same
-// values), and the comparison figure `flexure compare` composes (render/figure_grid.h), as pixels.
-//
-// The study's tables (summary.md, results.csv) and plots are written by cli/study_outputs.cpp,
-// which is not in the library: Python gets the data those files are made from.
+// flexure._flexure.converge, spectrum and compare_figure: the C1/C2 convergence study and the
+// spectrum study with the files `flexure converge` writes (results.json's or spectrum.json's
+// content as JSON text, the text tables, the output folder) through the same writers
+// (reports/), and the comparison figure `flexure compare` composes (render/figure_grid.h), as
+// pixels.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -16,15 +15,20 @@
 #include <vector>
 
 #include "curvature/energy_registry.h"
+#include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/studies/convergence_study.h"
+#include "optimize/studies/spectrum_study.h"
 #include "python/bindings/bindings.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
+#include "reports/output_files.h"
+#include "reports/spectrum_outputs.h"
+#include "reports/study_outputs.h"
 
 namespace py = pybind11;
 
@@ -45,25 +49,38 @@ struct StudyArguments {
   std::string solver = "newton", hessian = "exact";
 };
 
-optimize::StudyOptions studyOptions(const StudyArguments& a) {
-  optimize::StudyOptions s;
-  s.energies.clear();
-  if (a.energies.empty()) s.energies = optimize::defaultEnergyVariants(a.poisson);
-  for (const std::string& spec : a.energies) {
+// Energy specs ("hinge", "midedge:free", …) as variants; InputError naming the argument energies.
+std::vector<optimize::EnergyVariant> energyVariants(const std::vector<std::string>& specs,
+                                                    std::optional<double> poisson) {
+  std::vector<optimize::EnergyVariant> variants;
+  for (const std::string& spec : specs) {
     try {
-      s.energies.push_back(optimize::parseEnergyVariant(spec, a.poisson));
+      variants.push_back(optimize::parseEnergyVariant(spec, poisson));
     } catch (const InputError& e) {
       throw InputError(std::string("energies: ") + e.what());
     }
   }
-  s.families.clear();
-  for (const std::string& name : a.families) {
+  return variants;
+}
+
+// InputError naming the argument families for an unknown name.
+std::vector<modeling::MeshFamily> meshFamilies(const std::vector<std::string>& names) {
+  std::vector<modeling::MeshFamily> families;
+  for (const std::string& name : names) {
     try {
-      s.families.push_back(modeling::parseMeshFamily(name));
+      families.push_back(modeling::parseMeshFamily(name));
     } catch (const InputError& e) {
       throw InputError(std::string("families: ") + e.what());
     }
   }
+  return families;
+}
+
+optimize::StudyOptions studyOptions(const StudyArguments& a) {
+  optimize::StudyOptions s;
+  s.energies = a.energies.empty() ? optimize::defaultEnergyVariants(a.poisson)
+                                  : energyVariants(a.energies, a.poisson);
+  s.families = meshFamilies(a.families);
   s.seeds = a.seeds;
   s.baseN = a.n;
   s.levels = a.levels;
@@ -90,143 +107,97 @@ optimize::StudyOptions studyOptions(const StudyArguments& a) {
   return s;
 }
 
-py::object optional(const std::optional<double>& v) {
-  return v ? py::object(py::float_(*v)) : py::object(py::none());
+// The spectrum study as Python names it (the CLI's flags of its modes measure without dashes).
+struct SpectrumArguments {
+  std::vector<std::string> energies;  // empty: the five discretizations once
+  std::vector<std::string> families;  // empty: SpectrumStudyOptions' default
+  std::vector<std::uint64_t> seeds = {1};
+  int n = 8, levels = 3, count = 6;
+  std::string support = "simply-supported";
+  std::optional<double> poisson;
+};
+
+optimize::SpectrumStudyOptions spectrumOptions(const SpectrumArguments& a) {
+  optimize::SpectrumStudyOptions s;
+  s.energies = reports::spectrumEnergies(energyVariants(a.energies, a.poisson), a.poisson);
+  if (!a.families.empty()) s.families = meshFamilies(a.families);
+  s.seeds = a.seeds;
+  s.baseN = a.n;
+  s.levels = a.levels;
+  s.count = a.count;
+  s.support = supportNamed(a.support);
+  s.validate();
+  return s;
 }
 
-std::string refinementText(optimize::Refinement r) {
-  return std::string(optimize::refinementName(r));
+// Writes into `dir` as one batch, all the files or none (modeling::OutputBatch); the files of an
+// earlier study there that this one did not write are removed at the commit, as the CLI does.
+template <typename Write>
+void writeOutputFolder(const std::string& dir, const Write& write) {
+  modeling::OutputBatch batch;
+  write(dir);
+  reports::removeStaleOutputs(dir, [](const std::string& name) {
+    return reports::isStudyFile(name) || reports::isSpectrumFile(name);
+  });
+  batch.commit();
 }
 
-// results.json's "options" of an energy (cli/study_outputs.cpp's energyJson).
-py::dict energyDict(const optimize::EnergyVariant& v) {
-  const curvature::EnergyEntry& entry = curvature::energyEntry(v.bending.discretization);
-  py::dict d;
-  d["label"] = v.label;
-  d["energy"] = std::string(curvature::discretizationName(v.bending.discretization));
-  d["poisson"] = curvature::effectivePoisson(v.bending);
-  d["stiffness"] = v.bending.stiffness;
-  if (entry.readsVertexArea)
-    d["vertex_area"] =
-        v.bending.vertexArea == curvature::VertexArea::Barycentric ? "barycentric" : "voronoi";
-  if (entry.readsHingeAngle)
-    d["hinge_angle"] = v.bending.hingeAngle == curvature::HingeAngle::Tan ? "tan" : "theta";
-  if (entry.restEdgeUnknowns)
-    d["boundary_normals"] = v.normals == optimize::BoundaryNormals::Free ? "free" : "clamped";
-  return d;
-}
-
-// One record of results.json's "records".
-py::dict recordDict(const optimize::StudyOptions& o, const optimize::StudyRecord& r) {
-  py::dict d;
-  d["kind"] = std::string(optimize::recordKindName(r.kind));
-  d["energy"] = o.energies[r.energy].label;
-  d["options"] = energyDict(o.energies[r.energy]);
-  d["family"] = r.family;
-  d["seed"] = r.seed ? py::object(py::int_(*r.seed)) : py::object(py::none());
-  d["n"] = r.n ? py::object(py::int_(*r.n)) : py::object(py::none());
-  d["level"] = r.level;
-  d["h"] = r.h;
-  d["vertices"] = r.vertices;
-  d["free_vertices"] = r.freeVertices;
-  d["factorizations"] = r.factorizations;
-  switch (r.kind) {
-    case RecordKind::Quadratic:
-      d["quadratic"] = r.data;
-      d["energy_per_area"] = optional(r.energyPerArea);
-      d["density"] = optional(r.density);
-      d["c1"] = optional(r.c1Error);
-      d["c1_verdict"] = r.c1Error ? py::object(py::str(std::string(optimize::reproductionName(
-                                        optimize::classifyReproduction(*r.c1Error)))))
-                                  : py::object(py::none());
-      d["c2"] = r.c2Error;
-      d["c2_verdict"] =
-          std::string(optimize::reproductionName(optimize::classifyReproduction(r.c2Error)));
-      break;
-    case RecordKind::NonlinearC2:
-      d["quadratic"] = r.data;
-      d["amplitudes"] = r.nonlinear.amplitudes;
-      d["errors"] = r.nonlinear.errors;
-      d["order"] = optional(r.nonlinear.order);
-      d["converged"] = r.nonlinear.converged;
-      break;
-    case RecordKind::Refinement:
-      d["solution"] = r.data;
-      d["error"] = r.solutionError;
-      d["discrete_energy"] = r.discreteEnergy;
-      d["exact_energy"] = r.exactEnergy;
-      d["energy_error"] = r.energyError;
-      d["order"] = optional(r.order);
-      d["energy_order"] = optional(r.energyOrder);
-      d["verdict"] = refinementText(r.verdict);
-      d["energy_verdict"] = refinementText(r.energyVerdict);
-      break;
-  }
-  return d;
-}
-
-py::list fitList(const optimize::StudyOptions& o, const optimize::StudyResults& results) {
-  py::list fits;
-  for (const optimize::RefinementFit& f : results.refinements) {
-    py::dict d;
-    d["energy"] = o.energies[f.energy].label;
-    d["family"] = f.family;
-    d["seed"] = f.seed ? py::object(py::int_(*f.seed)) : py::object(py::none());
-    d["n"] = f.n;
-    d["h"] = f.h;
-    d["errors"] = f.solutionErrors;
-    d["energy_errors"] = f.energyErrors;
-    d["order"] = optional(f.order);
-    d["energy_order"] = optional(f.energyOrder);
-    d["verdict"] = refinementText(f.verdict);
-    d["energy_verdict"] = refinementText(f.energyVerdict);
-    fits.append(d);
-  }
-  return fits;
-}
-
-py::list summaryList(const optimize::StudySummary& s) {
-  py::list table;
-  for (size_t e = 0; e < s.energies.size(); ++e) {
-    for (size_t f = 0; f < s.families.size(); ++f) {
-      const optimize::SummaryCell& c = s.cells[e][f];
-      py::dict d;
-      d["energy"] = s.energies[e];
-      d["family"] = s.families[f];
-      d["c1"] = optional(c.worstC1);
-      d["c1_verdict"] = c.c1 ? py::object(py::str(std::string(optimize::reproductionName(*c.c1))))
-                             : py::object(py::none());
-      d["c2"] = c.worstC2;
-      d["c2_verdict"] = std::string(optimize::reproductionName(c.c2));
-      d["nonlinear_c2_order"] = optional(c.nonlinearOrder);
-      d["nonlinear_converged"] = c.nonlinearConverged;
-      d["refinement_order"] = optional(c.refinementOrder);
-      d["refinement_verdict"] = refinementText(c.refinement);
-      d["energy_order"] = optional(c.energyOrder);
-      d["energy_verdict"] = refinementText(c.energyRefinement);
-      table.append(d);
-    }
-  }
-  return table;
-}
-
-// {"records", "refinement", "summary"}: results.json's lists of the same names.
-py::dict converge(const StudyArguments& a) {
+// (results.json's text, {"results.csv", "summary.md"} or None); with `outDir` (not empty) the
+// files are written there too. The GIL is released during the study and the writes.
+py::tuple converge(const StudyArguments& a, bool tables, const std::string& outDir) {
   const optimize::StudyOptions options = studyOptions(a);
-  optimize::StudyResults results;
-  optimize::StudySummary summary;
+  std::string json, csv, markdown;
   {
     py::gil_scoped_release release;
-    results = optimize::runConvergenceStudy(options);
-    summary = optimize::summarizeStudy(options, results);
+    const optimize::StudyResults results = optimize::runConvergenceStudy(options);
+    const optimize::StudySummary summary = optimize::summarizeStudy(options, results);
+    json = reports::studyResultsJson(options, results, summary).dump();
+    if (tables) {
+      csv = reports::studyResultsCsv(options, results);
+      markdown = reports::studySummaryMarkdown(options, results, summary);
+    }
+    if (!outDir.empty()) {
+      writeOutputFolder(outDir, [&](const std::string& dir) {
+        reports::writeStudyOutputs(options, results, summary, dir);
+      });
+    }
   }
-  py::list records;
-  for (const optimize::StudyRecord& r : results.records) records.append(recordDict(options, r));
-  py::dict d;
-  d["records"] = records;
-  d["refinement"] = fitList(options, results);
-  d["summary"] = summaryList(summary);
-  return d;
+  py::object files = py::none();
+  if (tables) {
+    py::dict d;
+    d["results.csv"] = csv;
+    d["summary.md"] = markdown;
+    files = d;
+  }
+  return py::make_tuple(json, files);
+}
+
+// (spectrum.json's text, {"spectrum.csv", "spectrum.md"} or None); `outDir` as converge's.
+py::tuple spectrum(const SpectrumArguments& a, bool tables, const std::string& outDir) {
+  const optimize::SpectrumStudyOptions options = spectrumOptions(a);
+  std::string json, csv, markdown;
+  {
+    py::gil_scoped_release release;
+    const std::vector<optimize::SpectrumSeries> series = optimize::runSpectrumStudy(options);
+    json = reports::spectrumJson(options, series).dump();
+    if (tables) {
+      csv = reports::spectrumCsv(options, series);
+      markdown = reports::spectrumMarkdown(options, series);
+    }
+    if (!outDir.empty()) {
+      writeOutputFolder(outDir, [&](const std::string& dir) {
+        reports::writeSpectrumOutputs(options, series, dir);
+      });
+    }
+  }
+  py::object files = py::none();
+  if (tables) {
+    py::dict d;
+    d["spectrum.csv"] = csv;
+    d["spectrum.md"] = markdown;
+    files = d;
+  }
+  return py::make_tuple(json, files);
 }
 
 // The comparison figure as the CLI's runCompare composes it (cli/compare_command.cpp).
@@ -349,7 +320,18 @@ void bindStudy(py::module_& m) {
       .def_readwrite("poisson", &StudyArguments::poisson)
       .def_readwrite("solver", &StudyArguments::solver)
       .def_readwrite("hessian", &StudyArguments::hessian);
-  m.def("converge", &converge, py::arg("arguments"));
+  m.def("converge", &converge, py::arg("arguments"), py::arg("tables"), py::arg("out_dir"));
+  py::class_<SpectrumArguments>(m, "SpectrumArguments")
+      .def(py::init<>())
+      .def_readwrite("energies", &SpectrumArguments::energies)
+      .def_readwrite("families", &SpectrumArguments::families)
+      .def_readwrite("seeds", &SpectrumArguments::seeds)
+      .def_readwrite("n", &SpectrumArguments::n)
+      .def_readwrite("levels", &SpectrumArguments::levels)
+      .def_readwrite("count", &SpectrumArguments::count)
+      .def_readwrite("support", &SpectrumArguments::support)
+      .def_readwrite("poisson", &SpectrumArguments::poisson);
+  m.def("spectrum", &spectrum, py::arg("arguments"), py::arg("tables"), py::arg("out_dir"));
   py::class_<CompareArguments>(m, "CompareArguments")
       .def(py::init<>())
       .def_readwrite("families", &CompareArguments::families)

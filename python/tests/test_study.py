@@ -104,13 +104,6 @@ def test_bad_study_raises_value_error_naming_it(arguments, words):
         flexure.converge(**options)
 
 
-def test_tables_and_modes_say_where_they_are():
-    with pytest.raises(NotImplementedError, match="flexure converge -o DIR"):
-        flexure.converge(tables=True)
-    with pytest.raises(NotImplementedError, match="--measure modes"):
-        flexure.converge(measure="modes")
-
-
 def test_compare_figure_equals_compare_png(cli, tmp_path):
     flags = ["--families", "patch48,delaunay", "--energies", "hinge,midedge:free", "--n", "8",
              "--size", "96"]
