@@ -43,6 +43,7 @@ struct SimulateOptions {
   std::string pin = "none", integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
+  double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
   std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
@@ -169,6 +170,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
   }
   parseDamping(o.damping, dynamics);
+  dynamics.energyTolerance = o.energyTolerance;
   dynamics.validate();
   return dynamics;
 }
@@ -334,6 +336,51 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeS
   return run;
 }
 
+// The run's energy balance (optimize::EnergyBalance): "balanced" when its largest drift is within
+// the tolerance, "gained" or "lost" beyond it, "driven" when moving pins do work (not checked).
+std::string balanceVerdict(const optimize::TimeStepper& stepper, double tolerance) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  if (!stepper.balanceChecked()) return "driven";
+  if (b.relativeDrift() <= tolerance) return "balanced";
+  return b.largestDrift > 0.0 ? "gained" : "lost";
+}
+
+nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double tolerance) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  return {{"largest_drift", b.largestDrift},
+          {"relative_drift", b.relativeDrift()},
+          {"time", b.driftTime},
+          {"step", b.driftStep},
+          {"scale", b.scale()},
+          {"peak_kinetic", b.peakKinetic},
+          {"initial_total", b.initial},
+          {"dissipated", b.dissipated},
+          {"contact_stiffening", b.stiffening},
+          {"tolerance", tolerance},
+          {"verdict", balanceVerdict(stepper, tolerance)}};
+}
+
+// One line on stderr: the balance's largest drift, and a warning when it is beyond the tolerance.
+void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, bool quiet) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  const std::string verdict = balanceVerdict(stepper, tolerance);
+  const bool warn = verdict == "gained" || verdict == "lost";
+  if (quiet && !warn) return;
+  const char* scale = b.scale() == b.peakKinetic ? "the peak kinetic energy" : "the energy scale";
+  char tail[160] = "";
+  if (verdict == "driven")
+    std::snprintf(tail, sizeof tail, "; not checked: the moving pins do work");
+  else if (warn)
+    std::snprintf(tail, sizeof tail,
+                  "; beyond --energy-tolerance %g: a smaller --dt follows the motion more closely",
+                  tolerance);
+  std::fprintf(stderr,
+               "flexure simulate: %senergy balance: the total (with the work done against "
+               "damping) drifted by %.3g, %.3g %% of %s %.3g, at t = %.4g (step %ld)%s\n",
+               warn ? "warning: " : "", b.largestDrift, 100.0 * b.relativeDrift(), scale, b.scale(),
+               b.driftTime, b.driftStep, tail);
+}
+
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
                                 const optimize::DynamicsOptions& dynamics,
                                 const optimize::Problem& body, const optimize::TimeStepper& stepper,
@@ -366,7 +413,8 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"damping", o.damping},
       {"frames", recording.frames.size()},
       {"obstacles", o.load.obstacles},
-      {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
+      {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}},
+      {"energy_balance", energyBalanceReport(stepper, dynamics.energyTolerance)}};
   if (recording.contact) {
     report["obstacle_layer"] = stepper.barrier().layer();
     report["smallest_obstacle_distance"] = recording.smallestDistance;
@@ -446,6 +494,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const std::string energyName(curvature::discretizationName(b.discretization));
   const nlohmann::json report =
       simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
+  printEnergyBalance(stepper, dynamics.energyTolerance, global.quiet);
   const fs::path dir(o.outputDir);
   if (!run.failure.empty()) {
     fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
@@ -519,6 +568,12 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(inRange(32, 4096));
   files->output("--video", o.video,
                 "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
+  sub->add_option("--energy-tolerance", o.energyTolerance,
+                  "A step after which the total energy (plus the work done against damping) has "
+                  "grown by more than this fraction of the peak kinetic energy is halved; a run "
+                  "whose balance drifts more is warned about")
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
