@@ -332,6 +332,11 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeS
                    o.duration, run.steps / std::max(seconds, 1e-9));
     }
   }
+  // A failure may come after some halves of a step converged: the state reached is kept too.
+  if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
+    recording.sample(stepper);
+    recording.frame(stepper, restMesh);
+  }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
 }
@@ -395,6 +400,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"duration", o.duration},
       {"reached_time", stepper.time()},
       {"completed", run.failure.empty()},
+      {"partial", !run.failure.empty()},
       {"failure", run.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.failure)},
       {"steps", run.steps},
       {"step_halvings", run.halvings},
@@ -465,6 +471,29 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
   if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
 }
 
+// The frame meshes, their images (with `look`), energies.csv, energies.png and report.json in
+// `dir`; the files of an earlier run there that this one did not write go at the commit.
+void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOptions>& look,
+                  render::OffscreenContext* context, const Recording& recording,
+                  const std::string& title, const nlohmann::json& report, int vertexCount,
+                  const std::filesystem::path& dir) {
+  const render::LinePlot plot = energyPlot(recording, title);
+  modeling::createOutputDirectory(dir.string());
+  std::vector<std::string> written = {"energies.csv", "energies.png", "report.json"};
+  for (const auto& [name, mesh] : recording.frames) {
+    modeling::writeMesh((dir / name).string(), mesh);
+    written.push_back(name);
+  }
+  removeStaleFrames(dir, written);
+  if (look)
+    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
+  else
+    removeStaleFrames(dir / "frames", {});
+  modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
+  render::writeLinePlot(plot, (dir / "energies.png").string());
+  writeJsonFile((dir / "report.json").string(), report);
+}
+
 void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   namespace fs = std::filesystem;
   // Every option first, then the inputs; nothing is written before the run ends well.
@@ -496,26 +525,20 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
       simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
   printEnergyBalance(stepper, dynamics.energyTolerance, global.quiet);
   const fs::path dir(o.outputDir);
+  const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
+                            optimize::integratorName(dynamics.integrator);
   if (!run.failure.empty()) {
-    fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
-    writeFailureReport((dir / "report.json").string(), report);
-    throw NumericalError("the simulation could not proceed " + run.failure + "; see " +
+    // The frames computed before the failure are results: written and committed at once (each
+    // file atomically), with the report saying the run is partial.
+    modeling::OutputBatch partial;
+    writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
+    partial.commit();
+    throw NumericalError("the simulation could not proceed " + run.failure + "; the " +
+                         std::to_string(recording.frames.size()) + " frames to t = " +
+                         std::to_string(stepper.time()) + " are in " + dir.string() + "; see " +
                          (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
   }
-
-  const render::LinePlot plot =
-      energyPlot(recording, "Energies: " + energyName + " + " + o.membrane.model + ", " +
-                                optimize::integratorName(dynamics.integrator));
-  modeling::createOutputDirectory(dir.string());
-  for (const auto& [name, mesh] : recording.frames)
-    modeling::writeMesh((dir / name).string(), mesh);
-  if (look)
-    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
-  else
-    removeStaleFrames(dir / "frames", {});
-  modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
-  render::writeLinePlot(plot, (dir / "energies.png").string());
-  writeJsonFile((dir / "report.json").string(), report);
+  writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
   if (!global.quiet) {
     std::fprintf(stderr,
                  "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
