@@ -3,6 +3,7 @@
 // history and a report.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -46,7 +47,10 @@ struct SimulateOptions {
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
-  std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
+  std::string video;        // an MP4 of the frame images (ffmpeg); empty: none
+  int checkpointEvery = 0;  // steps between checkpoints; 0: none
+  std::string resumeDir;    // a checkpoint's output directory to continue from; empty: none
+  std::string fingerprint;  // the options that decide the motion, as a checkpoint records them
 };
 
 // Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
@@ -308,23 +312,143 @@ bool advance(optimize::TimeStepper& stepper, double h, double minDt, Run& run) {
   return false;
 }
 
+// FNV-1a (64 bits) of the rest mesh's OBJ text: a checkpoint is resumed on the same mesh only.
+std::string meshChecksum(const modeling::Mesh& mesh) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const unsigned char c : modeling::formatMesh(mesh, modeling::MeshFormat::Obj))
+    hash = (hash ^ c) * 1099511628211ull;
+  char text[20];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+nlohmann::json matrixJson(const Eigen::MatrixXd& m) {
+  return std::vector<double>(m.data(), m.data() + m.size());
+}
+
+Eigen::MatrixXd matrixFrom(const nlohmann::json& j, Eigen::Index rows, Eigen::Index cols) {
+  const std::vector<double> values = j.get<std::vector<double>>();
+  if (static_cast<Eigen::Index>(values.size()) != rows * cols)
+    throw InputError("expected " + std::to_string(rows * cols) + " numbers");
+  return Eigen::Map<const Eigen::MatrixXd>(values.data(), rows, cols);
+}
+
+// DIR/checkpoint.json after step k, written at once (atomically, outside the run's output batch,
+// so that it outlives a kill or a failure): the stepper's state (time_stepping.h State), the run's
+// counts and the recording so far, with the options and the mesh it was made with. The stepper
+// drops its kept factor, so that the run continues as a resumed one does.
+void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
+                     const Recording& recording, const Run& run, long k,
+                     const std::string& checksum) {
+  stepper.forgetFactor();
+  const optimize::TimeStepper::State st = stepper.state();
+  const optimize::EnergyBalance& b = st.balance;
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& frame : recording.frames) frames.push_back(matrixJson(frame.second.positions));
+  const nlohmann::json checkpoint = {
+      {"flexure_checkpoint", 1},
+      {"options", o.fingerprint},
+      {"mesh", checksum},
+      {"step", k},
+      {"time", st.time},
+      {"x", matrixJson(st.x)},
+      {"v", matrixJson(st.v)},
+      {"a", matrixJson(st.a)},
+      {"xi", matrixJson(st.xi)},
+      {"contact_stiffness", matrixJson(st.contactStiffness)},
+      {"balance",
+       {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
+        b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
+      {"run",
+       {run.steps, run.newtonIterations, run.maxNewtonIterations, run.halvings, run.smallestStep}},
+      {"csv", recording.csv.str()},
+      {"history", recording.history},
+      {"frames", frames},
+      {"smallest_distance", std::isfinite(recording.smallestDistance)
+                                ? nlohmann::json(recording.smallestDistance)
+                                : nlohmann::json(nullptr)}};
+  std::filesystem::create_directories(o.outputDir);
+  modeling::writeFileNow((std::filesystem::path(o.outputDir) / "checkpoint.json").string(),
+                         checkpoint.dump());
+}
+
+// Continues from --resume DIR's checkpoint: the stepper's state, the run's counts and the
+// recording; the step it was written after. InputError (exit 2) when it is missing, unreadable,
+// or made with other options or another mesh.
+long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
+                      optimize::TimeStepper& stepper, Recording& recording, Run& run,
+                      const modeling::Mesh& restMesh) {
+  const std::string path = (std::filesystem::path(o.resumeDir) / "checkpoint.json").string();
+  const std::string where = "--resume " + o.resumeDir + ": " + path;
+  std::ifstream in(path);
+  if (!in) throw InputError(where + ": no checkpoint (write one with --checkpoint N)");
+  try {
+    const nlohmann::json c = nlohmann::json::parse(in);
+    if (c.at("flexure_checkpoint") != 1) throw InputError("not a checkpoint of this version");
+    if (c.at("mesh") != checksum)
+      throw InputError("was made with another rest mesh than " + o.restFile);
+    if (c.at("options") != o.fingerprint)
+      throw InputError("was made with other options: " + c.at("options").get<std::string>());
+    const Eigen::Index n = restMesh.vertexCount();
+    optimize::TimeStepper::State st;
+    st.time = c.at("time");
+    st.x = matrixFrom(c.at("x"), n, 3);
+    st.v = matrixFrom(c.at("v"), n, 3);
+    st.a = matrixFrom(c.at("a"), n, 3);
+    st.xi = matrixFrom(c.at("xi"), c.at("xi").size(), 1);
+    st.contactStiffness =
+        matrixFrom(c.at("contact_stiffness"), c.at("contact_stiffness").size(), 1);
+    const std::vector<double> b = c.at("balance").get<std::vector<double>>();
+    if (b.size() != 10) throw InputError("expected 10 balance numbers");
+    st.balance = {
+        b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], std::lround(b[8]), std::lround(b[9])};
+    stepper.restore(st);
+    const nlohmann::json& r = c.at("run");
+    run.steps = r.at(0);
+    run.newtonIterations = r.at(1);
+    run.maxNewtonIterations = r.at(2);
+    run.halvings = r.at(3);
+    run.smallestStep = r.at(4);
+    recording.csv.str(c.at("csv").get<std::string>());
+    recording.csv.seekp(0, std::ios::end);
+    recording.history = c.at("history").get<std::vector<std::vector<double>>>();
+    recording.frames.clear();
+    for (const auto& frame : c.at("frames")) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame-%05zu.obj", recording.frames.size());
+      modeling::Mesh m = restMesh;
+      m.positions = matrixFrom(frame, n, 3);
+      recording.frames.emplace_back(name, std::move(m));
+    }
+    if (!c.at("smallest_distance").is_null())
+      recording.smallestDistance = c.at("smallest_distance");
+    return c.at("step");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": not a readable checkpoint: " + e.what());
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
 // Steps of --dt to --duration: the energies after every step, a frame every 1/fps of simulated
 // time and at the last step, progress on stderr unless quiet.
 Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeStepper& stepper,
-             const modeling::Mesh& restMesh, Recording& recording) {
-  Run run;
-  run.smallestStep = o.dt;
+             const modeling::Mesh& restMesh, Recording& recording, Run run, long firstStep,
+             const std::string& meshChecksum) {
   const auto clock = std::chrono::steady_clock::now();
   const long steps = std::lround(o.duration / o.dt);
   const double frameInterval = 1.0 / o.fps;
-  double nextFrame = frameInterval;
-  for (long k = 1; k <= steps && run.failure.empty(); ++k) {
+  double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
+  while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
+  for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
     if (!advance(stepper, o.dt, minDt, run)) break;
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, restMesh);
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
+    if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
+      writeCheckpoint(o, stepper, recording, run, k, meshChecksum);
     if (!quiet && (k % std::max(1L, steps / 20) == 0 || k == steps)) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
@@ -519,7 +643,13 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   Recording recording(body.termPointers(), !body.obstacles.empty());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
-  const Run run = simulate(o, minDt, global.quiet, stepper, restMesh, recording);
+  const std::string checksum = meshChecksum(restMesh);
+  Run start;
+  start.smallestStep = o.dt;
+  const long firstStep =
+      o.resumeDir.empty() ? 0 : resumeCheckpoint(o, checksum, stepper, recording, start, restMesh);
+  const Run run =
+      simulate(o, minDt, global.quiet, stepper, restMesh, recording, start, firstStep, checksum);
   const std::string energyName(curvature::discretizationName(b.discretization));
   const nlohmann::json report =
       simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
@@ -546,6 +676,22 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                  recording.frames.size(), dir.string().c_str(), run.steps,
                  run.newtonIterationsPerStep(), run.halvings, run.seconds);
   }
+}
+
+// The options that decide the motion, one "name=value" a line as CLI11 writes a configuration:
+// every option but the output, the duration, the frame images, --min-dt (it only rescues a
+// failing step), --checkpoint and --resume themselves.
+std::string motionOptions(const CLI::App& sub) {
+  static const std::vector<std::string> free = {
+      "output",     "duration", "min-dt", "render-style", "render-size", "video",
+      "checkpoint", "resume",   "quiet",  "verbose",      "force"};
+  std::istringstream lines(sub.config_to_str(true, false));
+  std::string line, kept;
+  while (std::getline(lines, line)) {
+    const std::string name = line.substr(0, line.find('='));
+    if (std::find(free.begin(), free.end(), name) == free.end()) kept += line + "\n";
+  }
+  return kept;
 }
 
 }  // namespace
@@ -597,6 +743,12 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "whose balance drifts more is warned about")
       ->capture_default_str()
       ->check(positive());
+  sub->add_option("--checkpoint", o.checkpointEvery,
+                  "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")
+      ->check(CLI::Range(1, 1 << 30));
+  sub->add_option("--resume", o.resumeDir,
+                  "Continue from DIR/checkpoint.json, made by a run with the same mesh and options "
+                  "(--duration, --min-dt, the output and the frame images may differ)");
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
@@ -614,7 +766,10 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "
       "--gravity 0,0,-9.81 --damping rayleigh:5,0 --dt 0.005 --duration 2 -o droop");
-  files->onRun(global, [options, &global] { runSimulate(*options, global); });
+  files->onRun(global, [options, sub, &global] {
+    options->fingerprint = motionOptions(*sub);
+    runSimulate(*options, global);
+  });
 }
 
 }  // namespace flexure::cli

@@ -198,6 +198,30 @@ absent drape/frame-00019.obj
 run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
   --energy-tolerance 0 -o bad; stderr_has "--energy-tolerance"; absent bad
 
+# --checkpoint N writes DIR/checkpoint.json every N steps; --resume DIR continues from it. A run
+# stopped after step 25 (its last checkpoint at step 20, the contact under way) and resumed to
+# 0.45 s gives the frames and energies of the run that went through, bit for bit (the factor kept
+# for chord steps is dropped at each checkpoint, in both).
+A="--rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 --obstacle sphere:0,0,-0.3,0.25 \
+  --damping rayleigh:2,0 --dt 0.01 --fps 20 --render-style none --quiet --checkpoint 10"
+run 0 simulate $A --duration 0.45 -o through
+run 0 simulate $A --duration 0.25 -o stopped
+python3 -c "import json,sys; c=json.load(open('stopped/checkpoint.json')); sys.exit(0 if c['step'] == 20 else 1)" \
+  || fail "stopped/checkpoint.json: not the state after step 20"
+run 0 simulate $A --duration 0.45 -o stopped --resume stopped
+cmp -s through/energies.csv stopped/energies.csv || fail "resumed: energies.csv differs"
+for k in 0 1 2 3 4 5 6 7 8 9; do
+  cmp -s through/frame-0000$k.obj stopped/frame-0000$k.obj || fail "resumed: frame $k differs"
+done
+report_check stopped "d['completed'] and d['steps'] == 45" "the resumed run's counts"
+# Refused before any work (exit 2, nothing written): other options, another mesh, no checkpoint.
+run 2 simulate ${A/--dt 0.01/--dt 0.005} --duration 0.45 -o other --resume stopped
+stderr_has "--resume stopped"; stderr_has "was made with other options"; absent other
+run 0 mesh --family patch48 --n 7 -o sheet7.obj --quiet
+run 2 simulate ${A/sheet.obj/sheet7.obj} --duration 0.45 -o other --resume stopped
+stderr_has "another rest mesh"; absent other
+run 2 simulate $A --duration 0.45 -o other --resume sag; stderr_has "no checkpoint"; absent other
+
 # flexure run checks every step's option values before the first runs: a misspelt energy in
 # step 2 exits 2 naming it, and step 1's mesh is not made.
 cat > misspelt.json <<'SPEC'

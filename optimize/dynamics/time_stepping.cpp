@@ -244,6 +244,35 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   balance_.start(energies_);
 }
 
+TimeStepper::State TimeStepper::state() const {
+  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_};
+}
+
+void TimeStepper::restore(const State& state) {
+  const bool fits = state.x.rows() == x_.rows() && state.v.rows() == x_.rows() &&
+                    state.a.rows() == x_.rows() && state.xi.size() == xi_.size() &&
+                    state.x.allFinite() && state.v.allFinite() && state.a.allFinite() &&
+                    std::isfinite(state.time);
+  if (!fits)
+    throw InputError("TimeStepper::restore: the state does not fit the problem (" +
+                     std::to_string(x_.rows()) + " vertices, " + std::to_string(xi_.size()) +
+                     " edge unknowns)");
+  barrier_.requireOutside(state.x, "the restored state");
+  if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
+  time_ = state.time;
+  x_ = state.x;
+  v_ = state.v;
+  a_ = state.a;
+  xi_ = state.xi;
+  balance_ = state.balance;
+  forgetFactor();
+  energies_ = energiesAt(time_, x_, v_, xi_);
+}
+
+void TimeStepper::forgetFactor() {
+  if (implicit_) implicit_->loop.forget();
+}
+
 TimeStepper::Outcome TimeStepper::step(double h) {
   try {
     return implicit_ ? implicitStep(h) : explicitStep(h);

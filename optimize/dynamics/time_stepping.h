@@ -189,6 +189,23 @@ class TimeStepper {
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
 
+  // Where a run is, to continue it later exactly (a checkpoint): the state, the contact
+  // stiffness κ_v and the energy balance.
+  struct State {
+    double time = 0.0;
+    Positions x, v, a;
+    Eigen::VectorXd xi, contactStiffness;
+    EnergyBalance balance;
+  };
+  State state() const;
+  // Continues from `state` (after start() with the run's own start, which places the pins' rest
+  // positions): InputError when its sizes do not fit the problem. The kept factor of the step's
+  // Hessian is dropped, as forgetFactor() does.
+  void restore(const State& state);
+  // Drops the kept factor of the step's Hessian (chord steps start afresh at the next step), so
+  // that a run continued from state() follows the same steps as this one.
+  void forgetFactor();
+
   // What advance() did: the steps taken, and where it stopped when it could not go on.
   struct Advance {
     bool completed = false;       // the whole h was advanced
