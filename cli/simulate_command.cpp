@@ -618,14 +618,28 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
   writeJsonFile((dir / "report.json").string(), report);
 }
 
-void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
-  namespace fs = std::filesystem;
-  // Every option first, then the inputs; nothing is written before the run ends well.
-  const double minDt = checkedMinDt(o);
+void checkMembraneGiven(const SimulateOptions& o) {
   if (o.membrane.model.empty())
     throw InputError(
         "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
         "conformal); bending alone has no stiffness against stretching");
+}
+
+// The option values alone, as runSimulate checks them first (for flexure run's check of every
+// step before the first runs: the inputs may not exist yet).
+void checkOptionValues(const SimulateOptions& o) {
+  checkedMinDt(o);
+  checkMembraneGiven(o);
+  dynamicsOptions(o);
+  bodyOptions(o, bendingOptions(o.bending));
+  frameLook(o);
+}
+
+void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  // Every option first, then the inputs; nothing is written before the run ends well.
+  const double minDt = checkedMinDt(o);
+  checkMembraneGiven(o);
   const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
   const optimize::ProblemOptions bodyBase = bodyOptions(o, b);
@@ -766,6 +780,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "
       "--gravity 0,0,-9.81 --damping rayleigh:5,0 --dt 0.005 --duration 2 -o droop");
+  sub->parse_complete_callback([options, &global] {
+    if (global.checkOnly) checkOptionValues(*options);
+  });
   files->onRun(global, [options, sub, &global] {
     options->fingerprint = motionOptions(*sub);
     runSimulate(*options, global);

@@ -233,5 +233,12 @@ cat > misspelt.json <<'SPEC'
 SPEC
 run 2 run misspelt.json; stderr_has "unknown energy 'midedgee'"; stderr_has "step 2 would fail"
 absent step1.obj; absent step2
+# simulate checks all its option values so (here a misspelt membrane and a bad damping).
+sed 's/"midedgee", "membrane": "stvk"/"midedge", "membrane": "stvkk"/' misspelt.json > membrane.json
+run 2 run membrane.json; stderr_has "stvkk"; stderr_has "step 2 would fail"; absent step1.obj
+sed 's/"membrane": "stvk",/"membrane": "stvk", "damping": "viscous:1",/' misspelt.json \
+  | sed 's/midedgee/midedge/' > damping.json
+run 2 run damping.json; stderr_has "--damping viscous:1"; stderr_has "step 2 would fail"
+absent step1.obj; absent step2
 
 finish cli_simulate
