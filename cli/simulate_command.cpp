@@ -777,7 +777,8 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       "(rendered with one camera for the whole run; with --video also an MP4 of them), "
       "DIR/energies.csv and "
       "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
-      "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
+      "DIR/report.json. Exit 3 when a step fails even at --min-dt, or gains more energy than "
+      "--energy-tolerance (the report says where; the frames computed before are kept).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "
       "--gravity 0,0,-9.81 --damping rayleigh:5,0 --dt 0.005 --duration 2 -o droop");
   sub->parse_complete_callback([options, &global] {
