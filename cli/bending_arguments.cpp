@@ -57,6 +57,18 @@ void addBendingArguments(CLI::App& sub, BendingArguments& a,
   const auto readsVertexArea = [](const EnergyEntry& e) { return e.readsVertexArea; };
   const auto readsHingeAngle = [](const EnergyEntry& e) { return e.readsHingeAngle; };
   CLI::Option* energy = sub.add_option("--energy", a.energy, energyNames(all, " | ", " | "));
+  // Checked as the command line is parsed, so that flexure run finds a misspelt name before
+  // any step runs.
+  energy->check(CLI::Validator(
+      [](std::string& name) -> std::string {
+        try {
+          curvature::parseDiscretization(name);
+          return "";
+        } catch (const InputError& e) {
+          return e.what();
+        }
+      },
+      ""));
   if (choices.defaultEnergy.empty()) {
     energy->required();
   } else {

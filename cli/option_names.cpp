@@ -44,6 +44,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping", "--damping"},
       {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
+      {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
       // studies, fairing, meshes, regions
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},

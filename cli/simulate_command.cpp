@@ -3,6 +3,7 @@
 // history and a report.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -43,9 +44,13 @@ struct SimulateOptions {
   std::string pin = "none", integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
+  double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   std::string renderStyle = "reflection";  // "none": no frame images
   int renderSize = 480;
-  std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
+  std::string video;        // an MP4 of the frame images (ffmpeg); empty: none
+  int checkpointEvery = 0;  // steps between checkpoints; 0: none
+  std::string resumeDir;    // a checkpoint's output directory to continue from; empty: none
+  std::string fingerprint;  // the options that decide the motion, as a checkpoint records them
 };
 
 // Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
@@ -169,6 +174,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
   }
   parseDamping(o.damping, dynamics);
+  dynamics.energyTolerance = o.energyTolerance;
   dynamics.validate();
   return dynamics;
 }
@@ -306,23 +312,143 @@ bool advance(optimize::TimeStepper& stepper, double h, double minDt, Run& run) {
   return false;
 }
 
+// FNV-1a (64 bits) of the rest mesh's OBJ text: a checkpoint is resumed on the same mesh only.
+std::string meshChecksum(const modeling::Mesh& mesh) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const unsigned char c : modeling::formatMesh(mesh, modeling::MeshFormat::Obj))
+    hash = (hash ^ c) * 1099511628211ull;
+  char text[20];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+nlohmann::json matrixJson(const Eigen::MatrixXd& m) {
+  return std::vector<double>(m.data(), m.data() + m.size());
+}
+
+Eigen::MatrixXd matrixFrom(const nlohmann::json& j, Eigen::Index rows, Eigen::Index cols) {
+  const std::vector<double> values = j.get<std::vector<double>>();
+  if (static_cast<Eigen::Index>(values.size()) != rows * cols)
+    throw InputError("expected " + std::to_string(rows * cols) + " numbers");
+  return Eigen::Map<const Eigen::MatrixXd>(values.data(), rows, cols);
+}
+
+// DIR/checkpoint.json after step k, written at once (atomically, outside the run's output batch,
+// so that it outlives a kill or a failure): the stepper's state (time_stepping.h State), the run's
+// counts and the recording so far, with the options and the mesh it was made with. The stepper
+// drops its kept factor, so that the run continues as a resumed one does.
+void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
+                     const Recording& recording, const Run& run, long k,
+                     const std::string& checksum) {
+  stepper.forgetFactor();
+  const optimize::TimeStepper::State st = stepper.state();
+  const optimize::EnergyBalance& b = st.balance;
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& frame : recording.frames) frames.push_back(matrixJson(frame.second.positions));
+  const nlohmann::json checkpoint = {
+      {"flexure_checkpoint", 1},
+      {"options", o.fingerprint},
+      {"mesh", checksum},
+      {"step", k},
+      {"time", st.time},
+      {"x", matrixJson(st.x)},
+      {"v", matrixJson(st.v)},
+      {"a", matrixJson(st.a)},
+      {"xi", matrixJson(st.xi)},
+      {"contact_stiffness", matrixJson(st.contactStiffness)},
+      {"balance",
+       {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
+        b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
+      {"run",
+       {run.steps, run.newtonIterations, run.maxNewtonIterations, run.halvings, run.smallestStep}},
+      {"csv", recording.csv.str()},
+      {"history", recording.history},
+      {"frames", frames},
+      {"smallest_distance", std::isfinite(recording.smallestDistance)
+                                ? nlohmann::json(recording.smallestDistance)
+                                : nlohmann::json(nullptr)}};
+  std::filesystem::create_directories(o.outputDir);
+  modeling::writeFileNow((std::filesystem::path(o.outputDir) / "checkpoint.json").string(),
+                         checkpoint.dump());
+}
+
+// Continues from --resume DIR's checkpoint: the stepper's state, the run's counts and the
+// recording; the step it was written after. InputError (exit 2) when it is missing, unreadable,
+// or made with other options or another mesh.
+long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
+                      optimize::TimeStepper& stepper, Recording& recording, Run& run,
+                      const modeling::Mesh& restMesh) {
+  const std::string path = (std::filesystem::path(o.resumeDir) / "checkpoint.json").string();
+  const std::string where = "--resume " + o.resumeDir + ": " + path;
+  std::ifstream in(path);
+  if (!in) throw InputError(where + ": no checkpoint (write one with --checkpoint N)");
+  try {
+    const nlohmann::json c = nlohmann::json::parse(in);
+    if (c.at("flexure_checkpoint") != 1) throw InputError("not a checkpoint of this version");
+    if (c.at("mesh") != checksum)
+      throw InputError("was made with another rest mesh than " + o.restFile);
+    if (c.at("options") != o.fingerprint)
+      throw InputError("was made with other options: " + c.at("options").get<std::string>());
+    const Eigen::Index n = restMesh.vertexCount();
+    optimize::TimeStepper::State st;
+    st.time = c.at("time");
+    st.x = matrixFrom(c.at("x"), n, 3);
+    st.v = matrixFrom(c.at("v"), n, 3);
+    st.a = matrixFrom(c.at("a"), n, 3);
+    st.xi = matrixFrom(c.at("xi"), c.at("xi").size(), 1);
+    st.contactStiffness =
+        matrixFrom(c.at("contact_stiffness"), c.at("contact_stiffness").size(), 1);
+    const std::vector<double> b = c.at("balance").get<std::vector<double>>();
+    if (b.size() != 10) throw InputError("expected 10 balance numbers");
+    st.balance = {
+        b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], std::lround(b[8]), std::lround(b[9])};
+    stepper.restore(st);
+    const nlohmann::json& r = c.at("run");
+    run.steps = r.at(0);
+    run.newtonIterations = r.at(1);
+    run.maxNewtonIterations = r.at(2);
+    run.halvings = r.at(3);
+    run.smallestStep = r.at(4);
+    recording.csv.str(c.at("csv").get<std::string>());
+    recording.csv.seekp(0, std::ios::end);
+    recording.history = c.at("history").get<std::vector<std::vector<double>>>();
+    recording.frames.clear();
+    for (const auto& frame : c.at("frames")) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame-%05zu.obj", recording.frames.size());
+      modeling::Mesh m = restMesh;
+      m.positions = matrixFrom(frame, n, 3);
+      recording.frames.emplace_back(name, std::move(m));
+    }
+    if (!c.at("smallest_distance").is_null())
+      recording.smallestDistance = c.at("smallest_distance");
+    return c.at("step");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": not a readable checkpoint: " + e.what());
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
 // Steps of --dt to --duration: the energies after every step, a frame every 1/fps of simulated
 // time and at the last step, progress on stderr unless quiet.
 Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeStepper& stepper,
-             const modeling::Mesh& restMesh, Recording& recording) {
-  Run run;
-  run.smallestStep = o.dt;
+             const modeling::Mesh& restMesh, Recording& recording, Run run, long firstStep,
+             const std::string& meshChecksum) {
   const auto clock = std::chrono::steady_clock::now();
   const long steps = std::lround(o.duration / o.dt);
   const double frameInterval = 1.0 / o.fps;
-  double nextFrame = frameInterval;
-  for (long k = 1; k <= steps && run.failure.empty(); ++k) {
+  double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
+  while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
+  for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
     if (!advance(stepper, o.dt, minDt, run)) break;
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, restMesh);
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
+    if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
+      writeCheckpoint(o, stepper, recording, run, k, meshChecksum);
     if (!quiet && (k % std::max(1L, steps / 20) == 0 || k == steps)) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
@@ -330,8 +456,58 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeS
                    o.duration, run.steps / std::max(seconds, 1e-9));
     }
   }
+  // A failure may come after some halves of a step converged: the state reached is kept too.
+  if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
+    recording.sample(stepper);
+    recording.frame(stepper, restMesh);
+  }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
+}
+
+// The run's energy balance (optimize::EnergyBalance): "balanced" when its largest drift is within
+// the tolerance, "gained" or "lost" beyond it, "driven" when moving pins do work (not checked).
+std::string balanceVerdict(const optimize::TimeStepper& stepper, double tolerance) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  if (!stepper.balanceChecked()) return "driven";
+  if (b.relativeDrift() <= tolerance) return "balanced";
+  return b.largestDrift > 0.0 ? "gained" : "lost";
+}
+
+nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double tolerance) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  return {{"largest_drift", b.largestDrift},
+          {"relative_drift", b.relativeDrift()},
+          {"time", b.driftTime},
+          {"step", b.driftStep},
+          {"scale", b.scale()},
+          {"peak_kinetic", b.peakKinetic},
+          {"initial_total", b.initial},
+          {"dissipated", b.dissipated},
+          {"contact_stiffening", b.stiffening},
+          {"tolerance", tolerance},
+          {"verdict", balanceVerdict(stepper, tolerance)}};
+}
+
+// One line on stderr: the balance's largest drift, and a warning when it is beyond the tolerance.
+void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, bool quiet) {
+  const optimize::EnergyBalance& b = stepper.balance();
+  const std::string verdict = balanceVerdict(stepper, tolerance);
+  const bool warn = verdict == "gained" || verdict == "lost";
+  if (quiet && !warn) return;
+  const char* scale = b.scale() == b.peakKinetic ? "the peak kinetic energy" : "the energy scale";
+  char tail[160] = "";
+  if (verdict == "driven")
+    std::snprintf(tail, sizeof tail, "; not checked: the moving pins do work");
+  else if (warn)
+    std::snprintf(tail, sizeof tail,
+                  "; beyond --energy-tolerance %g: a smaller --dt follows the motion more closely",
+                  tolerance);
+  std::fprintf(stderr,
+               "flexure simulate: %senergy balance: the total (with the work done against "
+               "damping) drifted by %.3g, %.3g %% of %s %.3g, at t = %.4g (step %ld)%s\n",
+               warn ? "warning: " : "", b.largestDrift, 100.0 * b.relativeDrift(), scale, b.scale(),
+               b.driftTime, b.driftStep, tail);
 }
 
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
@@ -348,6 +524,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"duration", o.duration},
       {"reached_time", stepper.time()},
       {"completed", run.failure.empty()},
+      {"partial", !run.failure.empty()},
       {"failure", run.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.failure)},
       {"steps", run.steps},
       {"step_halvings", run.halvings},
@@ -366,7 +543,8 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"damping", o.damping},
       {"frames", recording.frames.size()},
       {"obstacles", o.load.obstacles},
-      {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}}};
+      {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}},
+      {"energy_balance", energyBalanceReport(stepper, dynamics.energyTolerance)}};
   if (recording.contact) {
     report["obstacle_layer"] = stepper.barrier().layer();
     report["smallest_obstacle_distance"] = recording.smallestDistance;
@@ -417,14 +595,51 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
   if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
 }
 
-void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
-  namespace fs = std::filesystem;
-  // Every option first, then the inputs; nothing is written before the run ends well.
-  const double minDt = checkedMinDt(o);
+// The frame meshes, their images (with `look`), energies.csv, energies.png and report.json in
+// `dir`; the files of an earlier run there that this one did not write go at the commit.
+void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOptions>& look,
+                  render::OffscreenContext* context, const Recording& recording,
+                  const std::string& title, const nlohmann::json& report, int vertexCount,
+                  const std::filesystem::path& dir) {
+  const render::LinePlot plot = energyPlot(recording, title);
+  modeling::createOutputDirectory(dir.string());
+  std::vector<std::string> written = {"energies.csv", "energies.png", "report.json"};
+  for (const auto& [name, mesh] : recording.frames) {
+    modeling::writeMesh((dir / name).string(), mesh);
+    written.push_back(name);
+  }
+  removeStaleFrames(dir, written);
+  if (look)
+    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
+  else
+    removeStaleFrames(dir / "frames", {});
+  modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
+  render::writeLinePlot(plot, (dir / "energies.png").string());
+  writeJsonFile((dir / "report.json").string(), report);
+}
+
+void checkMembraneGiven(const SimulateOptions& o) {
   if (o.membrane.model.empty())
     throw InputError(
         "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
         "conformal); bending alone has no stiffness against stretching");
+}
+
+// The option values alone, as runSimulate checks them first (for flexure run's check of every
+// step before the first runs: the inputs may not exist yet).
+void checkOptionValues(const SimulateOptions& o) {
+  checkedMinDt(o);
+  checkMembraneGiven(o);
+  dynamicsOptions(o);
+  bodyOptions(o, bendingOptions(o.bending));
+  frameLook(o);
+}
+
+void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  // Every option first, then the inputs; nothing is written before the run ends well.
+  const double minDt = checkedMinDt(o);
+  checkMembraneGiven(o);
   const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
   const optimize::ProblemOptions bodyBase = bodyOptions(o, b);
@@ -442,31 +657,32 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   Recording recording(body.termPointers(), !body.obstacles.empty());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
-  const Run run = simulate(o, minDt, global.quiet, stepper, restMesh, recording);
+  const std::string checksum = meshChecksum(restMesh);
+  Run start;
+  start.smallestStep = o.dt;
+  const long firstStep =
+      o.resumeDir.empty() ? 0 : resumeCheckpoint(o, checksum, stepper, recording, start, restMesh);
+  const Run run =
+      simulate(o, minDt, global.quiet, stepper, restMesh, recording, start, firstStep, checksum);
   const std::string energyName(curvature::discretizationName(b.discretization));
   const nlohmann::json report =
       simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
+  printEnergyBalance(stepper, dynamics.energyTolerance, global.quiet);
   const fs::path dir(o.outputDir);
+  const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
+                            optimize::integratorName(dynamics.integrator);
   if (!run.failure.empty()) {
-    fs::create_directories(dir);  // the report outlives the failure; the frames do not exist
-    writeFailureReport((dir / "report.json").string(), report);
-    throw NumericalError("the simulation could not proceed " + run.failure + "; see " +
+    // The frames computed before the failure are results: written and committed at once (each
+    // file atomically), with the report saying the run is partial.
+    modeling::OutputBatch partial;
+    writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
+    partial.commit();
+    throw NumericalError("the simulation could not proceed " + run.failure + "; the " +
+                         std::to_string(recording.frames.size()) + " frames to t = " +
+                         std::to_string(stepper.time()) + " are in " + dir.string() + "; see " +
                          (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
   }
-
-  const render::LinePlot plot =
-      energyPlot(recording, "Energies: " + energyName + " + " + o.membrane.model + ", " +
-                                optimize::integratorName(dynamics.integrator));
-  modeling::createOutputDirectory(dir.string());
-  for (const auto& [name, mesh] : recording.frames)
-    modeling::writeMesh((dir / name).string(), mesh);
-  if (look)
-    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
-  else
-    removeStaleFrames(dir / "frames", {});
-  modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
-  render::writeLinePlot(plot, (dir / "energies.png").string());
-  writeJsonFile((dir / "report.json").string(), report);
+  writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
   if (!global.quiet) {
     std::fprintf(stderr,
                  "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
@@ -474,6 +690,22 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                  recording.frames.size(), dir.string().c_str(), run.steps,
                  run.newtonIterationsPerStep(), run.halvings, run.seconds);
   }
+}
+
+// The options that decide the motion, one "name=value" a line as CLI11 writes a configuration:
+// every option but the output, the duration, the frame images, --min-dt (it only rescues a
+// failing step), --checkpoint and --resume themselves.
+std::string motionOptions(const CLI::App& sub) {
+  static const std::vector<std::string> free = {
+      "output",     "duration", "min-dt", "render-style", "render-size", "video",
+      "checkpoint", "resume",   "quiet",  "verbose",      "force"};
+  std::istringstream lines(sub.config_to_str(true, false));
+  std::string line, kept;
+  while (std::getline(lines, line)) {
+    const std::string name = line.substr(0, line.find('='));
+    if (std::find(free.begin(), free.end(), name) == free.end()) kept += line + "\n";
+  }
+  return kept;
 }
 
 }  // namespace
@@ -519,6 +751,18 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(inRange(32, 4096));
   files->output("--video", o.video,
                 "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
+  sub->add_option("--energy-tolerance", o.energyTolerance,
+                  "A step after which the total energy (plus the work done against damping) has "
+                  "grown by more than this fraction of the peak kinetic energy is halved; a run "
+                  "whose balance drifts more is warned about")
+      ->capture_default_str()
+      ->check(positive());
+  sub->add_option("--checkpoint", o.checkpointEvery,
+                  "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")
+      ->check(CLI::Range(1, 1 << 30));
+  sub->add_option("--resume", o.resumeDir,
+                  "Continue from DIR/checkpoint.json, made by a run with the same mesh and options "
+                  "(--duration, --min-dt, the output and the frame images may differ)");
   sub->add_option("--min-dt", o.minDt,
                   "Smallest step a failing step is halved to (default --dt / 64)")
       ->check(positive());
@@ -533,10 +777,17 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       "(rendered with one camera for the whole run; with --video also an MP4 of them), "
       "DIR/energies.csv and "
       "DIR/energies.png (kinetic, each energy term, gravity, total against time) and "
-      "DIR/report.json. Exit 3 when a step fails even at --min-dt (the report says where).\n"
+      "DIR/report.json. Exit 3 when a step fails even at --min-dt, or gains more energy than "
+      "--energy-tolerance (the report says where; the frames computed before are kept).\n"
       "Example: flexure simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 "
       "--gravity 0,0,-9.81 --damping rayleigh:5,0 --dt 0.005 --duration 2 -o droop");
-  files->onRun(global, [options, &global] { runSimulate(*options, global); });
+  sub->parse_complete_callback([options, &global] {
+    if (global.checkOnly) checkOptionValues(*options);
+  });
+  files->onRun(global, [options, sub, &global] {
+    options->fingerprint = motionOptions(*sub);
+    runSimulate(*options, global);
+  });
 }
 
 }  // namespace flexure::cli

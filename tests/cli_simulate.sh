@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end runs of `flexure simulate`: frames, energy history and report; re-runs; refusals
-# (exit 2, nothing written) and a run that cannot proceed (exit 3, the report alone).
+# (exit 2, nothing written) and a run that cannot proceed (exit 3, the report and the frames
+# computed before the failure); the energy balance.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
 
@@ -25,6 +26,11 @@ head -1 sag/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,total" \
 is_png sag/energies.png || fail "sag/energies.png is not a PNG"
 report_check sag "d['completed'] and d['steps'] == 20 and d['step_halvings'] == 0" "20 steps"
 report_check sag "d['final_energies']['total'] < 0" "gravity did work: the total fell below 0"
+# The energy balance: the total with the work done against damping stays within the tolerance.
+report_check sag "d['energy_balance']['verdict'] == 'balanced' and d['energy_balance']['tolerance'] == 0.05 \
+  and d['energy_balance']['relative_drift'] < 0.05 and d['energy_balance']['dissipated'] > 0 \
+  and not d['partial']" "the energy balance"
+stderr_has "energy balance: the total (with the work done against damping) drifted by"
 run 0 info sag/frame-00004.obj --json; stdout_has '"valid": true'
 # The last frame sags: its lowest z is below 0.
 python3 -c "
@@ -167,12 +173,72 @@ run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --obst
 run 2 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --linearized \
   --obstacle plane:0,0,1,-0.1 -o bad.obj; stderr_has "needs the nonlinear Newton"; absent bad.obj
 
-# The explicit scheme far above its stability limit blows up: exit 3, the report says where and
-# no frame is left.
+# The explicit scheme far above its stability limit gains energy at its first step: exit 3, the
+# report says where and by how much; the frame of the start is kept and the report says partial.
 run 3 simulate --rest plate.obj --energy hinge --membrane stvk --pin rings:2 --gravity 0,0,-9.81 \
   --integrator central-difference --dt 0.01 --min-dt 0.01 --duration 5 -o blown
-stderr_has "could not proceed"; stderr_has "blown/report.json"
-report_check blown "not d['completed'] and 'a step of 0.01 s failed' in d['failure']" "the failure"
-absent blown/frame-00000.obj; absent blown/energies.csv
+stderr_has "could not proceed"; stderr_has "blown/report.json"; stderr_has "the total energy grew by"
+report_check blown "not d['completed'] and d['partial'] and 'a step of 0.01 s failed' in d['failure']" "the failure"
+[ -s blown/frame-00000.obj ] && [ -s blown/energies.csv ] || fail "blown: the start's frame and energies are gone"
+
+# The README's cotan drape at dt 0.01 (patch48 n = 12) used to blow up (total -0.79 -> +26.8 at
+# t = 1) and exit 0. Without halving it now stops where a step gains more than 5 % of the peak
+# kinetic energy, keeping the 19 frames to t = 0.6 (meshes, images, energies), exit 3.
+run 0 mesh --family patch48 --n 12 -o drape-sheet.obj --quiet
+run 3 simulate --rest drape-sheet.obj --energy cotan --stiffness 0.01 --membrane stvk --young 1000 \
+  --gravity 0,0,-9.81 --obstacle sphere:0,0,-0.32,0.3 --damping rayleigh:2,0 --dt 0.01 \
+  --min-dt 0.01 --duration 1 --render-size 64 -o drape
+stderr_has "the total energy grew by"; stderr_has "the 19 frames to t = 0.6"
+report_check drape "d['partial'] and abs(d['reached_time'] - 0.6) < 1e-9 and d['frames'] == 19 \
+  and 'the total energy grew by' in d['failure'] and d['energy_balance']['peak_kinetic'] > 0.6" \
+  "the partial drape"
+[ "$(wc -l < drape/energies.csv)" -eq 62 ] || fail "drape/energies.csv: a header and 61 samples"
+[ -s drape/frame-00018.obj ] && is_png drape/frames/frame-00018.png || fail "drape: frame 18 missing"
+absent drape/frame-00019.obj
+run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
+  --energy-tolerance 0 -o bad; stderr_has "--energy-tolerance"; absent bad
+
+# --checkpoint N writes DIR/checkpoint.json every N steps; --resume DIR continues from it. A run
+# stopped after step 25 (its last checkpoint at step 20, the contact under way) and resumed to
+# 0.45 s gives the frames and energies of the run that went through, bit for bit (the factor kept
+# for chord steps is dropped at each checkpoint, in both).
+A="--rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 --obstacle sphere:0,0,-0.3,0.25 \
+  --damping rayleigh:2,0 --dt 0.01 --fps 20 --render-style none --quiet --checkpoint 10"
+run 0 simulate $A --duration 0.45 -o through
+run 0 simulate $A --duration 0.25 -o stopped
+python3 -c "import json,sys; c=json.load(open('stopped/checkpoint.json')); sys.exit(0 if c['step'] == 20 else 1)" \
+  || fail "stopped/checkpoint.json: not the state after step 20"
+run 0 simulate $A --duration 0.45 -o stopped --resume stopped
+cmp -s through/energies.csv stopped/energies.csv || fail "resumed: energies.csv differs"
+for k in 0 1 2 3 4 5 6 7 8 9; do
+  cmp -s through/frame-0000$k.obj stopped/frame-0000$k.obj || fail "resumed: frame $k differs"
+done
+report_check stopped "d['completed'] and d['steps'] == 45" "the resumed run's counts"
+# Refused before any work (exit 2, nothing written): other options, another mesh, no checkpoint.
+run 2 simulate ${A/--dt 0.01/--dt 0.005} --duration 0.45 -o other --resume stopped
+stderr_has "--resume stopped"; stderr_has "was made with other options"; absent other
+run 0 mesh --family patch48 --n 7 -o sheet7.obj --quiet
+run 2 simulate ${A/sheet.obj/sheet7.obj} --duration 0.45 -o other --resume stopped
+stderr_has "another rest mesh"; absent other
+run 2 simulate $A --duration 0.45 -o other --resume sag; stderr_has "no checkpoint"; absent other
+
+# flexure run checks every step's option values before the first runs: a misspelt energy in
+# step 2 exits 2 naming it, and step 1's mesh is not made.
+cat > misspelt.json <<'SPEC'
+{"steps": [
+  {"command": "mesh", "options": {"family": "patch48", "n": 4, "o": "step1.obj"}},
+  {"command": "simulate", "options": {"rest": "step1.obj", "energy": "midedgee", "membrane": "stvk",
+                                      "dt": 0.01, "duration": 0.1, "o": "step2"}}
+]}
+SPEC
+run 2 run misspelt.json; stderr_has "unknown energy 'midedgee'"; stderr_has "step 2 would fail"
+absent step1.obj; absent step2
+# simulate checks all its option values so (here a misspelt membrane and a bad damping).
+sed 's/"midedgee", "membrane": "stvk"/"midedge", "membrane": "stvkk"/' misspelt.json > membrane.json
+run 2 run membrane.json; stderr_has "stvkk"; stderr_has "step 2 would fail"; absent step1.obj
+sed 's/"membrane": "stvk",/"membrane": "stvk", "damping": "viscous:1",/' misspelt.json \
+  | sed 's/midedgee/midedge/' > damping.json
+run 2 run damping.json; stderr_has "--damping viscous:1"; stderr_has "step 2 would fail"
+absent step1.obj; absent step2
 
 finish cli_simulate

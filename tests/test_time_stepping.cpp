@@ -558,3 +558,82 @@ TEST(TimeStepping, RefusesUnusableOptions) {
 
 }  // namespace
 }  // namespace flexure
+
+namespace flexure {
+namespace {
+
+// The energy balance (time_stepping.h): undamped, its largest drift is the largest |E(t) − E(0)|
+// over the steps, relative to the peak kinetic energy; damped, the work done against the damping
+// is counted, so the balance stays where E(0) was while E itself falls by far more.
+TEST(TimeStepping, EnergyBalanceCountsTheDriftAndTheWorkAgainstDamping) {
+  const Shell shell(8, Discretization::Midedge,
+                    [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                      p.load.gravity = Eigen::Vector3d(0.0, 0.0, -1.0);
+                    });
+  const modeling::Positions still = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
+  for (const double alpha : {0.0, 20.0}) {
+    DynamicsOptions o;
+    o.rayleighMass = alpha;
+    TimeStepper stepper(shell.problem, o);
+    stepper.start(shell.rest.positions, still, Eigen::VectorXd());
+    const double initial = stepper.energies().total();
+    double drift = 0.0, peak = 0.0;
+    for (int k = 0; k < 100; ++k) {
+      ASSERT_TRUE(stepper.step(0.005).converged) << "step " << k;
+      peak = std::max(peak, stepper.energies().kinetic);
+      const double balanced = stepper.energies().total() + stepper.balance().dissipated;
+      if (std::abs(balanced - initial) > std::abs(drift)) drift = balanced - initial;
+    }
+    const optimize::EnergyBalance& b = stepper.balance();
+    EXPECT_EQ(b.steps, 100);
+    EXPECT_EQ(b.peakKinetic, peak);
+    EXPECT_NEAR(b.largestDrift, drift, 1e-14 * peak);
+    EXPECT_NEAR(b.relativeDrift(), std::abs(drift) / peak, 1e-12);
+    EXPECT_LT(b.relativeDrift(), 0.01) << "α = " << alpha;
+    if (alpha == 0.0) {
+      EXPECT_EQ(b.dissipated, 0.0);
+    } else {  // the damping took more than the peak kinetic energy out of E
+      EXPECT_GT(b.dissipated, peak);
+      EXPECT_LT(stepper.energies().total(), initial - peak);
+    }
+  }
+}
+
+// Above its stability limit the explicit scheme's energy grows: the step where the balanced
+// total rises by more than the tolerance is refused, the state unchanged, before the forces
+// overflow (before: every step "converged" until they did), and advance halves it.
+TEST(TimeStepping, AStepThatGainsEnergyIsRefusedAndHalved) {
+  const Shell shell(8, Discretization::Hinge,
+                    [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                      p.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+                    });
+  DynamicsOptions o;
+  o.integrator = Integrator::CentralDifference;
+  TimeStepper stepper(shell.problem, o);
+  stepper.start(shell.rest.positions, modeling::Positions::Zero(shell.mesh.vertexCount(), 3),
+                Eigen::VectorXd());
+  const double h = 0.002;
+  TimeStepper::Outcome outcome;
+  int k = 0;
+  for (; k < 500; ++k) {
+    const double time = stepper.time();
+    const modeling::Positions before = stepper.positions();
+    outcome = stepper.step(h);
+    if (!outcome.converged) {
+      EXPECT_EQ(stepper.time(), time);
+      EXPECT_EQ((stepper.positions() - before).cwiseAbs().maxCoeff(), 0.0);
+      break;
+    }
+  }
+  ASSERT_FALSE(outcome.converged) << "no step was refused";
+  EXPECT_GT(outcome.energyGrowth, o.energyTolerance);
+  EXPECT_TRUE(std::isfinite(outcome.energyGrowth));
+  EXPECT_NE(outcome.failure.find("the total energy grew by"), std::string::npos);
+  const TimeStepper::Advance a = stepper.advance(h, h / 1024.0);
+  EXPECT_TRUE(a.completed) << a.failure.failure;
+  EXPECT_GT(a.halvings, 0);
+  EXPECT_NEAR(stepper.time(), (k + 1) * h, 1e-15);
+}
+
+}  // namespace
+}  // namespace flexure

@@ -247,4 +247,12 @@ ObstacleBarrier makeObstacleBarrier(std::vector<Obstacle> obstacles,
   return ObstacleBarrier(std::move(obstacles), layer, mass * (acceleration / layer));
 }
 
+void ObstacleBarrier::setStiffness(const Eigen::VectorXd& stiffness) {
+  if (stiffness.size() != stiffness_.size() || !stiffness.allFinite() ||
+      (stiffness.size() > 0 && !(stiffness.minCoeff() > 0.0)))
+    throw InputError("ObstacleBarrier::setStiffness: expected " +
+                     std::to_string(stiffness_.size()) + " finite stiffnesses > 0");
+  stiffness_ = stiffness;
+}
+
 }  // namespace flexure::optimize

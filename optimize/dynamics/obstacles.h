@@ -105,6 +105,9 @@ class ObstacleBarrier {
   // Back to the rule's stiffness κ̄ (the start of a run).
   void resetStiffness() { stiffness_ = ruleStiffness_; }
   double stiffness(Eigen::Index v) const { return stiffness_[v]; }
+  const Eigen::VectorXd& stiffness() const { return stiffness_; }
+  // κ_v per vertex as a checkpoint kept them (#V; InputError otherwise).
+  void setStiffness(const Eigen::VectorXd& stiffness);
   // InputError naming the first vertex of `what` (e.g. "the start") inside or on an obstacle.
   void requireOutside(const Positions& x, const std::string& what) const;
   // The smallest signed distance over vertices and obstacles, and where.

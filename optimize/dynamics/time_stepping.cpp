@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
@@ -125,6 +126,8 @@ void DynamicsOptions::validate() const {
   if (rayleighMass < 0.0 || rayleighStiffness < 0.0)
     throw InputError("DynamicsOptions.rayleighMass|rayleighStiffness: expected α, β ≥ 0");
   if (bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
+  if (!(energyTolerance > 0.0))
+    throw InputError("DynamicsOptions.energyTolerance: expected a fraction > 0");
   if (integrator == Integrator::CentralDifference &&
       (rayleighMass != 0.0 || rayleighStiffness != 0.0 || bendingDamping != 0.0))
     throw InputError(
@@ -237,6 +240,37 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   // With damping the initial acceleration also carries −M⁻¹ C v₀; a start at rest (v₀ = 0, the
   // usual case) has none, and a moving start takes the undamped one.
   a_ = accelerationFromForces(x_, xi_);
+  energies_ = energiesAt(time_, x_, v_, xi_);
+  balance_.start(energies_);
+}
+
+TimeStepper::State TimeStepper::state() const {
+  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_};
+}
+
+void TimeStepper::restore(const State& state) {
+  const bool fits = state.x.rows() == x_.rows() && state.v.rows() == x_.rows() &&
+                    state.a.rows() == x_.rows() && state.xi.size() == xi_.size() &&
+                    state.x.allFinite() && state.v.allFinite() && state.a.allFinite() &&
+                    std::isfinite(state.time);
+  if (!fits)
+    throw InputError("TimeStepper::restore: the state does not fit the problem (" +
+                     std::to_string(x_.rows()) + " vertices, " + std::to_string(xi_.size()) +
+                     " edge unknowns)");
+  barrier_.requireOutside(state.x, "the restored state");
+  if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
+  time_ = state.time;
+  x_ = state.x;
+  v_ = state.v;
+  a_ = state.a;
+  xi_ = state.xi;
+  balance_ = state.balance;
+  forgetFactor();
+  energies_ = energiesAt(time_, x_, v_, xi_);
+}
+
+void TimeStepper::forgetFactor() {
+  if (implicit_) implicit_->loop.forget();
 }
 
 TimeStepper::Outcome TimeStepper::step(double h) {
@@ -292,13 +326,8 @@ TimeStepper::Outcome TimeStepper::explicitStep(double h) {
   const Positions a = accelerationFromForces(x, xi);
   if (!a.allFinite())
     return {false, 0, "the forces are not finite (the step is unstable)", 0, NewtonStop::NonFinite};
-  v_ += 0.5 * h * (a_ + a);
-  x_ = x;
-  xi_ = xi;
-  a_ = a;
-  time_ += h;
-  movePins(x_, &v_, time_);
-  return {true, 0, "", 0, NewtonStop::Converged};
+  Positions v = v_ + 0.5 * h * (a_ + a);
+  return commitStep(time_ + h, x, v, a, xi, 0.0, {true, 0, "", 0, NewtonStop::Converged});
 }
 
 TimeStepper::StepObjective TimeStepper::stepObjective(double h, const Positions& x,
@@ -393,6 +422,19 @@ class TimeStepper::IncrementalPotential : public Objective {
   }
 
   double massWeight() const { return massWeight_; }
+
+  // The work dxᵀ C v against the damping over the free vertex coordinates (dx, v: #V by 3).
+  double dampingWork(const Positions& dx, const Positions& v, long positionCount) const {
+    if (rayleighMass_ == 0.0 && stiffnessDamping_.empty()) return 0.0;
+    const std::vector<int>& unknowns = im_.assembly.freeUnknowns();
+    Eigen::VectorXd dxFree = Eigen::VectorXd::Zero(size()), vFree = Eigen::VectorXd::Zero(size());
+    for (int k = 0; k < size(); ++k) {
+      if (unknowns[k] >= positionCount) continue;
+      dxFree[k] = dx.data()[unknowns[k]];
+      vFree[k] = v.data()[unknowns[k]];
+    }
+    return dxFree.dot(damping(vFree));
+  }
 
  private:
   Eigen::VectorXd damping(const Eigen::VectorXd& y) const {  // C y, ξ rows 0
@@ -521,18 +563,15 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     outcome.failure = stepFailure(newton);
     return outcome;
   }
-  const Configuration end = phi.configuration(y);
+  Configuration end = phi.configuration(y);
   Positions a = (end.positions - xHat) * phi.massWeight();
   for (int v = 0; v < a.rows(); ++v)
     if (pinned_[v]) a.row(v).setZero();
-  v_ = vHat + gamma * h * a;
-  x_ = end.positions;
-  xi_ = end.xi;
-  a_ = a;
-  time_ += h;
-  movePins(x_, &v_, time_);
-  barrier_.adapt(x_, v_, mass_);
-  return outcome;
+  Positions v = vHat + gamma * h * a;
+  const double dissipation =
+      phi.dampingWork(end.positions - x_, (1.0 - gamma) * v_ + gamma * v, x_.size());
+  return commitStep(time_ + h, end.positions, v, std::move(a), std::move(end.xi), dissipation,
+                    outcome);
 }
 
 std::string TimeStepper::stepFailure(const NewtonResult& newton) {
@@ -549,16 +588,115 @@ std::string TimeStepper::stepFailure(const NewtonResult& newton) {
   }
 }
 
-EnergySample TimeStepper::energies() const {
+EnergySample TimeStepper::energiesAt(double t, const Positions& x, const Positions& v,
+                                     const Eigen::VectorXd& xi) const {
   EnergySample s;
-  s.time = time_;
-  for (int v = 0; v < x_.rows(); ++v) {
-    s.kinetic += 0.5 * mass_[v] * v_.row(v).squaredNorm();
-    s.gravity -= mass_[v] * gravity_.dot(x_.row(v).transpose());
+  s.time = t;
+  for (int k = 0; k < x.rows(); ++k) {
+    s.kinetic += 0.5 * mass_[k] * v.row(k).squaredNorm();
+    s.gravity -= mass_[k] * gravity_.dot(x.row(k).transpose());
   }
-  for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x_, xi_));
-  s.contact = barrier_.energy(x_);
+  for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x, xi));
+  s.contact = barrier_.energy(x);
   return s;
+}
+
+bool TimeStepper::balanceChecked() const {
+  return options_.pinMotion.kind == PinMotion::Kind::None;
+}
+
+TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& v, Positions a,
+                                             Eigen::VectorXd xi, double dissipation,
+                                             Outcome outcome) {
+  movePins(x, &v, t);
+  EnergySample e = energiesAt(t, x, v, xi);
+  const double growth = balance_.growth(e, dissipation);
+  // A rise below 1e-12 M (L/h)² (M the total mass, L the rest diagonal: the kinetic energy of the
+  // whole mass moving 1e-6 L per step) is round-off, as in a body at rest with no load.
+  const double h = t - time_;
+  const double roundoff = 1e-12 * mass_.sum() * (length_ / h) * (length_ / h);
+  const double rise = growth * balance_.scale(e);
+  if (balanceChecked() && !(growth <= options_.energyTolerance || rise <= roundoff)) {
+    char text[200];
+    if (std::isfinite(growth))
+      std::snprintf(text, sizeof text,
+                    "the total energy grew by %.3g (%.3g %% of the energy scale %.3g; the "
+                    "tolerance is %.3g %%)",
+                    growth * balance_.scale(e), 100.0 * growth, balance_.scale(e),
+                    100.0 * options_.energyTolerance);
+    else
+      std::snprintf(text, sizeof text, "the energies after the step are not finite");
+    outcome.converged = false;
+    outcome.energyGrowth = std::isfinite(growth) ? growth : std::numeric_limits<double>::infinity();
+    outcome.failure = text;
+    return outcome;
+  }
+  x_ = std::move(x);
+  v_ = std::move(v);
+  a_ = std::move(a);
+  xi_ = std::move(xi);
+  time_ = t;
+  double stiffeningWork = 0.0;
+  if (!barrier_.empty()) {
+    barrier_.adapt(x_, v_, mass_);  // the next step's contact stiffness (obstacles.h)
+    stiffeningWork = barrier_.energy(x_) - e.contact;
+  }
+  balance_.record(e, dissipation, stiffeningWork);
+  e.contact += stiffeningWork;
+  energies_ = std::move(e);
+  return outcome;
+}
+
+namespace {
+
+double elasticEnergy(const EnergySample& e) {
+  double u = e.contact;
+  for (double term : e.terms) u += term;
+  return u;
+}
+
+// max(K_peak, 1e-6 max(|E(0)|, U_peak)), never 0.
+double energyScale(double peakKinetic, double peakElastic, double initial) {
+  return std::max({peakKinetic, 1e-6 * std::max(std::abs(initial), peakElastic),
+                   std::numeric_limits<double>::min()});
+}
+
+}  // namespace
+
+void EnergyBalance::start(const EnergySample& e) {
+  *this = EnergyBalance();
+  initial = last = e.total();
+  peakKinetic = e.kinetic;
+  peakElastic = elasticEnergy(e);
+  driftTime = e.time;
+}
+
+double EnergyBalance::scale(const EnergySample& e) const {
+  return energyScale(std::max(peakKinetic, e.kinetic), std::max(peakElastic, elasticEnergy(e)),
+                     initial);
+}
+
+double EnergyBalance::scale() const {
+  return energyScale(peakKinetic, peakElastic, initial);
+}
+
+double EnergyBalance::growth(const EnergySample& e, double dissipation) const {
+  return (balanced(e) + dissipation - last) / scale(e);
+}
+
+void EnergyBalance::record(const EnergySample& e, double dissipation, double stiffeningWork) {
+  dissipated += dissipation;
+  ++steps;
+  peakKinetic = std::max(peakKinetic, e.kinetic);
+  peakElastic = std::max(peakElastic, elasticEnergy(e));
+  const double b = balanced(e);
+  last = b;
+  if (std::abs(b - initial) > std::abs(largestDrift)) {
+    largestDrift = b - initial;
+    driftTime = e.time;
+    driftStep = steps;
+  }
+  stiffening += stiffeningWork;
 }
 
 }  // namespace flexure::optimize

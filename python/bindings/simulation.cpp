@@ -183,6 +183,23 @@ class BoundSimulation {
     return d;
   }
 
+  // The run's energy balance (time_stepping.h EnergyBalance), as simulate's report.json has it.
+  py::dict balance() const {
+    const optimize::EnergyBalance& b = stepper_->balance();
+    py::dict d;
+    d["largest_drift"] = b.largestDrift;
+    d["relative_drift"] = b.relativeDrift();
+    d["time"] = b.driftTime;
+    d["step"] = b.driftStep;
+    d["scale"] = b.scale();
+    d["peak_kinetic"] = b.peakKinetic;
+    d["initial_total"] = b.initial;
+    d["dissipated"] = b.dissipated;
+    d["contact_stiffening"] = b.stiffening;
+    d["checked"] = stepper_->balanceChecked();
+    return d;
+  }
+
   std::vector<std::string> termNames() const {
     std::vector<std::string> names;
     for (const curvature::EnergyTerm* term : problem_->termPointers())
@@ -232,6 +249,7 @@ void bindSimulation(py::module_& m) {
                     const std::optional<Positions>&, const std::optional<Positions>&>())
       .def("advance", &BoundSimulation::advance)
       .def("energies", &BoundSimulation::energies)
+      .def("balance", &BoundSimulation::balance)
       .def_property_readonly("term_names", &BoundSimulation::termNames)
       .def_property_readonly("time", [](const BoundSimulation& s) { return s.stepper().time(); })
       .def_property_readonly("positions",

@@ -190,3 +190,12 @@ class Simulation:
         time, kinetic ½ vᵀMv, each term by name, gravity −(M g)ᵀ x, contact (the obstacles'
         barrier) and total."""
         return dict(self._s.energies())
+
+    def balance(self):
+        """The run's energy balance, as ``flexure simulate``'s report.json ``energy_balance``: the
+        largest drift of the total energy plus the work done against damping (minus what raising
+        the contact stiffness added) from its start value, signed, its size relative to the peak
+        kinetic energy, when (time, step), and whether it is checked (not while pins move). A
+        step over which it grows by more than 5 % of the peak kinetic energy is refused (halved
+        by ``advance``)."""
+        return dict(self._s.balance())

@@ -118,6 +118,14 @@ def test_newmark_undamped_conserves_energy(plate):
         totals.append(s.energies()["total"])
     assert np.abs(np.array(totals) / start - 1).max() < 0.01
     assert s.energies()["hinge"] > 0.01 * start  # energy moved into bending and back
+    # The balance's largest drift is the largest |E(t) - E(0)| (no damping), against the peak
+    # kinetic energy (here the start's).
+    b = s.balance()
+    drifts = np.array(totals) - start
+    assert b["largest_drift"] == pytest.approx(drifts[np.abs(drifts).argmax()], abs=1e-15)
+    assert start <= b["peak_kinetic"] <= 1.01 * start
+    assert b["relative_drift"] == pytest.approx(abs(b["largest_drift"]) / b["peak_kinetic"])
+    assert b["checked"] and b["dissipated"] == 0
 
 
 def test_masses_and_state_shapes(plate):
