@@ -4,8 +4,10 @@
 // outlined.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -374,8 +376,18 @@ struct FairSettings {
   double membraneWeight = 0.0;
 };
 
+// The figure is written as PNG: a name with another extension would hold a PNG under a wrong name.
+bool endsWithPng(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".png";
+}
+
 FairSettings fairSettings(const FairCommandOptions& o) {
   modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  if (!o.renderFile.empty() && !endsWithPng(o.renderFile))
+    throw InputError("--render '" + o.renderFile +
+                     "': the figure is a PNG image; give a name ending in .png");
   if (o.method != "flexure" && o.method != "cgal")
     throw InputError("--method " + o.method + ": expected flexure or cgal");
   if (o.renderSize < kMinRenderSize || o.renderSize > 4096)

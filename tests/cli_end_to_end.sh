@@ -358,6 +358,9 @@ lion="$CGAL_MESHES/lion-head.off" shark="$CGAL_MESHES/mech-holes-shark.off"
 elephant="$CGAL_MESHES/elephant.off"
 run 0 fair "$shark" --region holes -o shark.off --report shark.json --render shark.png \
   --render-size 200
+# The figure is a PNG: another extension is refused before any work.
+run 2 fair "$shark" --region holes -o shark-jpg.off --render shark.jpg
+stderr_has "--render 'shark.jpg': the figure is a PNG image"; absent shark.jpg; absent shark-jpg.off
 # The shark's loop of 80 edges: CGAL's fill folds a triangle back onto its neighbour (176°), so
 # it stays open with a notice; the other loops are filled.
 stderr_has "skipped the loop of 80 edges at vertex 7: CGAL's fill folds over"

@@ -550,7 +550,10 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedFile{"range.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n\n3 0 1 3\n", "line 6",
                       "out of range"},
         MalformedFile{"missing.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "line 6",
-                      "fewer than 3"}),
+                      "fewer than 3"},
+        MalformedFile{"extra.off",
+                      "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n# c\n\n3 1 3 2\n",
+                      "line 10", "data after the 1 face the header counts"}),
     caseName);
 
 INSTANTIATE_TEST_SUITE_P(
