@@ -163,6 +163,13 @@ run 2 minimize --rest flat8.obj --energy hinge -o x.obj; stderr_has "--boundary"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --dof xyz -o x.obj; stderr_has "needs a membrane"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:9 -o x.obj; stderr_has "every vertex is fixed"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:0 -o x.obj; stderr_has "rings:K"
+# A closed mesh (an octahedron) has no rings to hold: the message says so and what to hold instead.
+printf 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n' > octahedron.obj
+run 2 minimize --rest octahedron.obj --energy hinge --init octahedron.obj -o x.obj
+stderr_has "octahedron.obj: has no boundary (a closed surface), so --fix rings:2 holds no vertex"
+stderr_has "--fix vertices:FILE"; absent x.obj
+printf '0\n2\n4\n' > three.txt
+run 0 minimize --rest octahedron.obj --energy hinge --init octahedron.obj --fix vertices:three.txt -o octahedron-held.obj --quiet
 printf '0 1 999\n' > badfixed.txt
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix vertices:badfixed.txt -o x.obj
 stderr_has "badfixed.txt: line 1: vertex 999 is out of range"; absent x.obj
