@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -195,6 +197,20 @@ CLI::Validator positive() {
         return "";
       },
       "> 0");
+}
+
+CLI::Validator seedValue() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        // CLI11's conversion (strtoull) wraps "-5" around to 2^64 - 5 and saturates 2^64.
+        std::uint64_t seed = 0;
+        const char* end = value.data() + value.size();
+        const auto [stop, error] = std::from_chars(value.data(), end, seed);
+        if (value.empty() || error != std::errc() || stop != end)
+          return value + " is not a seed: expected an integer in [0, 18446744073709551615]";
+        return "";
+      },
+      "0 .. 2^64-1");
 }
 
 }  // namespace flexure::cli

@@ -93,7 +93,8 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(inRange(1, kMaxCellsPerSide));
   sub->add_option("--seed", options->seed, "Random seed of the delaunay sampling")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(seedValue());
   sub->add_option("--aspect", options->aspect,
                   "Cell height / width (patch48, criss: default 1; stripe: 2)")
       ->check(positive());

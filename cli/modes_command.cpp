@@ -485,7 +485,9 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("-n,--n", o.n, "Cells per side of the generated plate")
       ->capture_default_str()
       ->check(inRange(2, 2048));
-  sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")->capture_default_str();
+  sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")
+      ->capture_default_str()
+      ->check(seedValue());
   sub->add_option("--energy", o.energies,
                   "Energies, comma-separated: " + optimize::energyVariantSpecs(false, ", "))
       ->delimiter(',')

@@ -31,6 +31,11 @@ run 0 mesh --family delaunay --n 16 --seed 5 -o d2.off
 cmp -s d1.off d2.off || fail "delaunay with the same seed differs"
 run 0 mesh --family delaunay --n 16 --seed 6 -o d3.off
 cmp -s d1.off d3.off && fail "delaunay with another seed is identical"
+# Seeds are unsigned: a negative one is refused, not wrapped around to 2^64 - 1 (nor 2^64 saturated).
+for bad in "mesh --family delaunay --seed -5 -o neg.obj" "mesh --family delaunay --seed 18446744073709551616 -o neg.obj" \
+    "converge --families delaunay --seeds 1,-1 -o neg" "modes --family delaunay --seed -1 --energy cotan -o neg"; do
+  run 2 $bad; stderr_has "is not a seed: expected an integer in [0, 18446744073709551615]"; absent neg.obj; absent neg
+done
 
 # Bad generator options: exit 2, a message, no file.
 run 2 mesh --family hexagonal --n 8 -o x.obj; stderr_has "hexagonal"; absent x.obj
