@@ -161,7 +161,9 @@ void CommandFiles::check(bool directoriesMayAppear) const {
     if (!force_) {
       for (const auto& [option, input] : inputFiles) {
         if (out.kind == OutputKind::File && sameFile(path, input)) {
-          throw InputError(out.option + " " + path + ": would overwrite the input " + option + " " +
+          // "the input --rest a.obj", "the input mesh a.off"; a positional named input once.
+          const std::string named = option == "input" ? "" : option + " ";
+          throw InputError(out.option + " " + path + ": would overwrite the input " + named +
                            input + "; give another name, or --force to overwrite it");
         }
       }

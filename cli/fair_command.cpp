@@ -384,7 +384,7 @@ bool endsWithPng(const std::string& path) {
 }
 
 FairSettings fairSettings(const FairCommandOptions& o) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   if (!o.renderFile.empty() && !endsWithPng(o.renderFile))
     throw InputError("--render '" + o.renderFile +
                      "': the figure is a PNG image; give a name ending in .png");

@@ -60,7 +60,7 @@ struct MeshCommandOptions {
 };
 
 void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   requireMemoryFor(o.n, o.aspect == 0.0 ? 1.0 : o.aspect);
   modeling::GeneratorOptions generator;
   generator.family = modeling::parseMeshFamily(o.family);

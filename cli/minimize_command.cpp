@@ -221,7 +221,7 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
 }
 
 void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   const curvature::BendingOptions b = bendingOptions(o.bending);
   optimize::MinimizeOptions solver = o.solver;
   applySolverArguments(o.solverArguments, solver);

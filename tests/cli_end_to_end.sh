@@ -645,12 +645,18 @@ run 3 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o nev
 absent never.obj; [ -s never.json ] || fail "exit 3 lost its report (the report says why)"
 ls -a | grep -q '\.tmp\.' && fail "temporaries left behind: $(ls -a | grep '\.tmp\.')"
 
+# STL is read but not written: an .stl output is refused before the solve, the list is what is written.
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o bowl.stl
+stderr_has "bowl.stl: STL output is not supported (flexure writes .obj .off .ply)"
+grep -q iteration err.txt && fail "minimize solved before refusing its .stl output"
+run 2 mesh -o plate.3ds; stderr_has "unknown extension '.3ds' (flexure writes .obj .off .ply)"
+
 # An output that is an input: refused unless --force.
 cp flat8.obj same-in.obj
 run 2 minimize --rest same-in.obj --energy cotan --boundary quadratic:1,0,1 --linearized -o same-in.obj
 stderr_has "--output same-in.obj: would overwrite the input --rest same-in.obj"; stderr_has "--force"
 cmp -s flat8.obj same-in.obj || fail "a refused minimize changed its input"
-run 2 convert same-in.obj -o ./same-in.obj; stderr_has "would overwrite the input"
+run 2 convert same-in.obj -o ./same-in.obj; stderr_has "would overwrite the input same-in.obj"
 mkdir -p lion; cp "$CGAL_MESHES/lion-head.off" lion/nef.off
 run 2 fair lion/nef.off --region all-interior -o ./lion/../lion/nef.off
 stderr_has "--output ./lion/../lion/nef.off: would overwrite the input mesh lion/nef.off"

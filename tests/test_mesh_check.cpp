@@ -66,6 +66,18 @@ TEST(MeshCheck, IndexOutOfRangeAndRepeatedVertex) {
   EXPECT_EQ(p.element, "face 1 (vertices 0, 2, 0)");
 }
 
+// Coordinates near the largest double: the area overflows to inf, which is no zero area.
+TEST(MeshCheck, AreaOverflowIsNotZeroArea) {
+  Mesh m = twoTriangleSquare();
+  m.positions *= 1e200;
+  const MeshCheck check = checkMesh(m);
+  ASSERT_EQ(check.problems.size(), 2u);
+  EXPECT_EQ(check.problems[0].kind, MeshProblemKind::AreaOverflow);
+  EXPECT_EQ(meshProblemName(check.problems[0].kind), "area_overflow");
+  EXPECT_THAT(check.problems[0].reason, ::testing::StartsWith("its area or edge lengths overflow"));
+  EXPECT_THAT(check.problems[0].reason, ::testing::HasSubstr("scale the mesh down"));
+}
+
 TEST(MeshCheck, ZeroAreaFace) {
   Mesh m = twoTriangleSquare();
   m.positions.row(3) << 2, 2, 0;  // on the line through vertices 0 and 2: face (0, 2, 3) collapses

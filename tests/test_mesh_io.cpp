@@ -132,6 +132,17 @@ TEST(MeshIoFormat, UnknownExtensionListsTheKnownOnes) {
   EXPECT_THAT(inputErrorOf([] { readPolygonSoup("shape.3ds"); }), HasSubstr(".stl"));
 }
 
+// STL is read, not written: the output check lists what is written.
+TEST(MeshIoFormat, WritableFormatsAreThoseWritten) {
+  EXPECT_EQ(writableMeshFormatOf("a/b.OBJ"), MeshFormat::Obj);
+  EXPECT_EQ(writableMeshFormatOf("b.off"), MeshFormat::Off);
+  EXPECT_EQ(writableMeshFormatOf("b.ply"), MeshFormat::Ply);
+  EXPECT_EQ(inputErrorOf([] { writableMeshFormatOf("scan.stl"); }),
+            "scan.stl: STL output is not supported (flexure writes .obj .off .ply)");
+  EXPECT_EQ(inputErrorOf([] { writableMeshFormatOf("shape.3ds"); }),
+            "shape.3ds: unknown extension '.3ds' (flexure writes .obj .off .ply)");
+}
+
 // ---------------------------------------------------------------------------------------------
 
 class MeshIoRoundTrip : public ::testing::TestWithParam<const char*> {};
