@@ -284,8 +284,8 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   addMembraneArguments(*sub, options->membrane, "xyz mode: stvk | springs | conformal");
   addLoadArguments(*sub, options->load);
   sub->add_option("--fix", options->fix,
-                  "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
-                  "vertices:FILE (indices)")
+                  "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals), "
+                  "vertices:FILE (indices) or box:X0,X1,Y0,Y1,Z0,Z1")
       ->capture_default_str();
   sub->add_option("--boundary", options->boundary,
                   "Fixed vertices lifted onto z = p(x, y) at their rest x, y (quadratic:a,b,c or "

@@ -510,7 +510,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
                   "fixed, midedge boundary normals held); default normals for midedge, rings "
                   "otherwise");
   sub->add_option("--fix", o.fix,
-                  "Vertices held in addition: vertices:FILE | rings:K (e.g. the centre point)");
+                  "Vertices held in addition: vertices:FILE (e.g. the centre point) | rings:K | "
+                  "box:X0,X1,Y0,Y1,Z0,Z1");
   sub->add_option("--count", o.count, "Flexible modes per energy")
       ->capture_default_str()
       ->check(inRange(1, 200));

@@ -9,6 +9,15 @@ source "$support/cli_harness.sh"
 run 0 --version; stdout_has "flexure 0."
 run 0 --help; stdout_has "mesh"; stdout_has "Exit codes"
 run 0 mesh --help; stdout_has "--family"
+# Every vertex-set form in the help of the options that take one, each on one line; compare's
+# --boundary takes polynomials too.
+run 0 simulate --help
+grep -q -- "--pin TEXT=none .*vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1$" out.txt || fail "simulate --pin help"
+grep -q -- "--obstacle TEXT .*plane:nx,ny,nz,d .* | sphere:x,y,z,r$" out.txt || fail "simulate --obstacle help"
+for command in minimize modes; do
+  run 0 $command --help; stdout_has "box:X0,X1,Y0,Y1,Z0,Z1"
+done
+run 0 compare --help; stdout_has "(quadratic:a,b,c or polynomial:EXPR)"
 run 2; stderr_has "subcommand"
 run 2 frobnicate; stderr_has "unknown command 'frobnicate'"
 run 2 mesh --n 8  # no -o
