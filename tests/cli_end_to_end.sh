@@ -535,7 +535,11 @@ run 0 info mask.off; stdout_has 'boundary loops        1 (vertices: 90)'
 grep -q '"converged": true' mask.json || fail "fair: mask.json does not say converged"
 # elephant-with-holes: 33 of its 106 loops (slits along cracks, folded fills) are skipped; the
 # result is checked and converged (it used to say converged at |grad E| 1749 with triavg 7e34).
-run 0 fair "$CGAL_MESHES/elephant-with-holes.off" --region holes -o eh.off --report eh.json --quiet
+run 0 fair "$CGAL_MESHES/elephant-with-holes.off" --region holes -o eh.off --report eh.json
+# One notice for the 33 skipped loops, with the count (main printed 33 lines).
+[ "$(grep -c "skipped" err.txt)" -eq 1 ] || fail "fair: one notice for the skipped loops: $(cat err.txt)"
+stderr_has "flexure fair: skipped 33 of 106 loops, which CGAL cannot fill cleanly (the first: the loop of"
+stderr_has "the other 73 are filled; eh.json lists each skipped loop and why"
 python3 - <<'PY' || fail "fair: elephant-with-holes report"
 import json
 r = json.load(open("eh.json"))
