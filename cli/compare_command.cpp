@@ -221,6 +221,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   optimize::MinimizeOptions solver;
   solver.threads = o.threads;
   applySolverArguments(o.solver, solver);
+  solver.progress = global.verbose && !global.quiet;  // each solve's Newton iterations
   render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
   const PanelSettings settings{variants, surface, look, solver};
   CompareOutputs out;

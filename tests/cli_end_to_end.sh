@@ -747,6 +747,12 @@ else
   echo "note: minimize has no --solver yet: the glog check waits for --solver ceres" >&2
 fi
 
+# --verbose adds compare's Newton iterations (minimize prints its own by default).
+run 0 compare -o cmpv --families patch48 --energies hinge --n 4 --size 64 --solve nonlinear
+grep -q "iteration" err.txt && fail "compare printed Newton iterations without --verbose"
+run 0 --verbose compare -o cmpv --families patch48 --energies hinge --n 4 --size 64 --solve nonlinear
+stderr_has "  iteration   1  chord  energy"
+
 # Unknown commands and misspelt options: a suggestion, exit 2.
 run 2 meshh --n 4 -o x.obj; stderr_has "unknown command 'meshh'; did you mean 'mesh'?"; absent x.obj
 run 2 minimze --rest flat8.obj; stderr_has "did you mean 'minimize'?"
