@@ -95,6 +95,7 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   registerFairCommand(app, global);
   registerModesCommand(app, global);
   registerSimulateCommand(app, global);
+  registerRepairCommand(app, global);
 
   // CLI11 would call an unknown command word "a subcommand is required".
   const std::string command = commandWord(args);
