@@ -76,7 +76,8 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   global.checkOnly = checkOnly;
   app.add_flag("-q,--quiet", global.quiet, "No progress or notices on stderr");
   app.add_flag("--verbose", global.verbose,
-               "Also the solver library's own log lines (Ceres, glog) on stderr");
+               "Also on stderr: the Newton iterations of compare's solves (minimize and fair "
+               "print theirs unless --quiet) and the solver library's own log (Ceres, glog)");
   app.footer(
       "Exit codes: 0 success, 2 bad input or usage, 3 numerical failure (or out of memory).\n"
       "Run 'flexure COMMAND --help' for a command's options.");
@@ -94,6 +95,7 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   registerFairCommand(app, global);
   registerModesCommand(app, global);
   registerSimulateCommand(app, global);
+  registerRepairCommand(app, global);
 
   // CLI11 would call an unknown command word "a subcommand is required".
   const std::string command = commandWord(args);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -159,7 +161,9 @@ void CommandFiles::check(bool directoriesMayAppear) const {
     if (!force_) {
       for (const auto& [option, input] : inputFiles) {
         if (out.kind == OutputKind::File && sameFile(path, input)) {
-          throw InputError(out.option + " " + path + ": would overwrite the input " + option + " " +
+          // "the input --rest a.obj", "the input mesh a.off"; a positional named input once.
+          const std::string named = option == "input" ? "" : option + " ";
+          throw InputError(out.option + " " + path + ": would overwrite the input " + named +
                            input + "; give another name, or --force to overwrite it");
         }
       }
@@ -195,6 +199,20 @@ CLI::Validator positive() {
         return "";
       },
       "> 0");
+}
+
+CLI::Validator seedValue() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        // CLI11's conversion (strtoull) wraps "-5" around to 2^64 - 5 and saturates 2^64.
+        std::uint64_t seed = 0;
+        const char* end = value.data() + value.size();
+        const auto [stop, error] = std::from_chars(value.data(), end, seed);
+        if (value.empty() || error != std::errc() || stop != end)
+          return value + " is not a seed: expected an integer in [0, 18446744073709551615]";
+        return "";
+      },
+      "0 .. 2^64-1");
 }
 
 }  // namespace flexure::cli

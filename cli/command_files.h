@@ -67,6 +67,8 @@ class CommandFiles : public std::enable_shared_from_this<CommandFiles> {
 CLI::Validator inRange(double lo, double hi);
 // > 0.
 CLI::Validator positive();
+// A random seed: an integer in [0, 2^64 − 1], a negative one refused rather than wrapped.
+CLI::Validator seedValue();
 // The largest --threads: 4 threads per core leaves room for hyper-threaded or shared machines
 // while refusing values that only thrash (64 on 2 cores).
 int maxThreads();

@@ -221,6 +221,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   optimize::MinimizeOptions solver;
   solver.threads = o.threads;
   applySolverArguments(o.solver, solver);
+  solver.progress = global.verbose && !global.quiet;  // each solve's Newton iterations
   render::OffscreenContext context;  // a missing OSMesa fails here, before any solve
   const PanelSettings settings{variants, surface, look, solver};
   CompareOutputs out;
@@ -268,7 +269,8 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
       ->delimiter(',')
       ->capture_default_str();
   sub->add_option("--boundary", o.boundary,
-                  "Boundary data: rings 0 and 1 lifted onto z = p(x, y) (quadratic:a,b,c)")
+                  "Boundary data: rings 0 and 1 lifted onto z = p(x, y) (quadratic:a,b,c or "
+                  "polynomial:EXPR)")
       ->capture_default_str();
   sub->add_option("--n", o.n, "Cells per side of the meshes")
       ->capture_default_str()

@@ -170,7 +170,8 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--seeds", options->seeds,
                   "delaunay: comma-separated seeds, one mesh sequence each")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(seedValue());
   auto files = CommandFiles::of(*sub);
   files->inputs("--mesh", options->meshFiles,
                 "A flat mesh of yours (z = 0; repeat for several): C1, C2, nonlinear C2");

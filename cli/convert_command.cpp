@@ -16,7 +16,7 @@ struct ConvertCommandOptions {
 };
 
 void runConvertCommand(const ConvertCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   std::vector<std::string> notices;
   const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
   if (!global.quiet)

@@ -4,8 +4,10 @@
 // outlined.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -77,6 +79,24 @@ std::string skippedHoleText(const modeling::SkippedHole& h) {
          std::to_string(h.loopVertex) + ": " + h.reason;
 }
 
+// The loops left open, in one notice: the loop and its reason when it is one, else the count, the
+// first loop and where the others are listed (a mesh with many cracks had a line per loop).
+void printSkippedHoles(const modeling::FilledMesh& filled, const std::string& reportFile) {
+  const size_t skipped = filled.skipped.size();
+  if (skipped == 0) return;
+  if (skipped == 1) {
+    std::cerr << "flexure fair: skipped " << skippedHoleText(filled.skipped.front())
+              << "; the other loops are filled\n";
+    return;
+  }
+  std::cerr << "flexure fair: skipped " << skipped << " of " << skipped + filled.holes.size()
+            << " loops, which CGAL cannot fill cleanly (the first: "
+            << skippedHoleText(filled.skipped.front()) << "); the other " << filled.holes.size()
+            << " are filled; "
+            << (reportFile.empty() ? "--report FILE lists" : reportFile + " lists")
+            << " each skipped loop and why\n";
+}
+
 RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
                           const modeling::Stencils& stencils, bool quiet) {
   RegionChoice choice;
@@ -104,11 +124,7 @@ RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
                        "\nchoose the loops by size with --region holes:N (the loops of at most N "
                        "edges), or fair a region of the surface (--region sphere:x,y,z,r)");
     }
-    if (!quiet) {
-      for (const modeling::SkippedHole& h : filled.skipped)
-        std::cerr << "flexure fair: skipped " << skippedHoleText(h)
-                  << "; the other loops are filled\n";
-    }
+    if (!quiet) printSkippedHoles(filled, o.reportFile);
     if (filled.holes.empty()) {
       throw InputError("--region " + o.region + ": no boundary loop of " + o.input +
                        " has at most " + std::to_string(maxEdges) + " edges");
@@ -374,8 +390,18 @@ struct FairSettings {
   double membraneWeight = 0.0;
 };
 
+// The figure is written as PNG: a name with another extension would hold a PNG under a wrong name.
+bool endsWithPng(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".png";
+}
+
 FairSettings fairSettings(const FairCommandOptions& o) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
+  if (!o.renderFile.empty() && !endsWithPng(o.renderFile))
+    throw InputError("--render '" + o.renderFile +
+                     "': the figure is a PNG image; give a name ending in .png");
   if (o.method != "flexure" && o.method != "cgal")
     throw InputError("--method " + o.method + ": expected flexure or cgal");
   if (o.renderSize < kMinRenderSize || o.renderSize > 4096)

@@ -17,8 +17,7 @@ void addLoadArguments(CLI::App& sub, LoadArguments& a) {
       ->check(positive());
   sub.add_option("--mass", a.mass, "Lumped mass: barycentric | voronoi")->capture_default_str();
   sub.add_option("--obstacle", a.obstacles,
-                 "An obstacle the vertices stay outside of (repeatable): plane:nx,ny,nz,d (the "
-                 "plane n.x = d, free on the side n points to) | sphere:x,y,z,r");
+                 "Obstacle (repeatable): plane:nx,ny,nz,d (n.x = d, free side n) | sphere:x,y,z,r");
 }
 
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, size_t count) {

@@ -60,7 +60,7 @@ struct MeshCommandOptions {
 };
 
 void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   requireMemoryFor(o.n, o.aspect == 0.0 ? 1.0 : o.aspect);
   modeling::GeneratorOptions generator;
   generator.family = modeling::parseMeshFamily(o.family);
@@ -93,7 +93,8 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(inRange(1, kMaxCellsPerSide));
   sub->add_option("--seed", options->seed, "Random seed of the delaunay sampling")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(seedValue());
   sub->add_option("--aspect", options->aspect,
                   "Cell height / width (patch48, criss: default 1; stripe: 2)")
       ->check(positive());

@@ -1,5 +1,6 @@
 // flexure minimize: the static minimizer of a bending energy (plus a membrane in xyz mode) with
 // fixed boundary vertices, written as a mesh, with a JSON report.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -22,6 +23,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
+#include "optimize/boundary_conditions.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
 
@@ -186,6 +188,13 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
   p.dof = dof;
   if (!o.membrane.model.empty()) p.membrane = membraneOptions(o.membrane);
   p.fixedVertex = optimize::parseFixedSet("--fix", o.fix, stencils, restMesh.positions);
+  // Rings count from the boundary: on a closed mesh rings:K holds nothing.
+  const std::vector<bool> boundary = optimize::fixedRings(stencils, 1);
+  if (o.fix.rfind("rings:", 0) == 0 &&
+      std::find(boundary.begin(), boundary.end(), true) == boundary.end())
+    throw InputError(o.restFile + ": has no boundary (a closed surface), so --fix " + o.fix +
+                     " holds no vertex; hold vertices by index with --fix vertices:FILE (three "
+                     "not on a line remove the motions that cost no energy)");
   if (!o.boundary.empty()) p.boundarySurface = modeling::PolynomialSurface::parse(o.boundary);
   const std::optional<modeling::PolynomialSurface>& surface = p.boundarySurface;
   // An energy that owns edge unknowns (midedge's ξ) has boundary normals to hold or free.
@@ -212,7 +221,7 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
 }
 
 void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
-  modeling::meshFormatOf(o.output);  // an unusable output name fails before any work
+  modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   const curvature::BendingOptions b = bendingOptions(o.bending);
   optimize::MinimizeOptions solver = o.solver;
   applySolverArguments(o.solverArguments, solver);
@@ -275,8 +284,8 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
   addMembraneArguments(*sub, options->membrane, "xyz mode: stvk | springs | conformal");
   addLoadArguments(*sub, options->load);
   sub->add_option("--fix", options->fix,
-                  "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals) or "
-                  "vertices:FILE (indices)")
+                  "Fixed vertices: rings:K (ring 0 = boundary; 2 clamps positions and normals), "
+                  "vertices:FILE (indices) or box:X0,X1,Y0,Y1,Z0,Z1")
       ->capture_default_str();
   sub->add_option("--boundary", options->boundary,
                   "Fixed vertices lifted onto z = p(x, y) at their rest x, y (quadratic:a,b,c or "

@@ -49,6 +49,7 @@ struct EnergyRun {
   std::string spec;
   curvature::BendingOptions bending;
   optimize::Clamp clamp = optimize::Clamp::Rings;
+  bool edgeUnknowns = false;  // midedge's ξ
   optimize::ModesResult result;
 };
 
@@ -109,6 +110,7 @@ std::vector<EnergyRun> energyRuns(const ModesOptions& o, optimize::Support suppo
     // Clamp::Normals holds the edge unknowns (midedge's ξ) of an energy that owns them.
     const bool midedge =
         static_cast<bool>(curvature::energyEntry(run.bending.discretization).restEdgeUnknowns);
+    run.edgeUnknowns = midedge;
     run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
                                 : parseClamp(o.clamp);
     if (run.clamp == optimize::Clamp::Normals && !midedge && support == optimize::Support::Clamped)
@@ -151,6 +153,25 @@ Plate readOrGeneratePlate(const ModesOptions& o) {
   return plate;
 }
 
+// What the rest surface rules out (height mode off a flat plate, a normals clamp on a shell), for
+// every run before the first solve; midedge's default normals clamp is named as the default.
+void checkRunsOnRest(const std::vector<EnergyRun>& runs, const optimize::ModesOptions& base,
+                     const ModesOptions& o, const modeling::RestState& rest) {
+  optimize::ModesOptions options = base;
+  options.clamp = optimize::Clamp::Rings;  // the rest and the dof alone first
+  optimize::checkModesRest(options, rest.positions, false);
+  for (const EnergyRun& run : runs) {
+    options.clamp = run.clamp;
+    try {
+      optimize::checkModesRest(options, rest.positions, run.edgeUnknowns);
+    } catch (const InputError& e) {
+      if (!o.clamp.empty() || run.clamp != optimize::Clamp::Normals) throw;
+      throw InputError("--energy " + run.spec +
+                       " clamps its boundary normals by default (--clamp normals): " + e.what());
+    }
+  }
+}
+
 // The tabulated references are for a flat square plate of side L.
 void checkReferencePlate(const ModesOptions& o, const Plate& plate) {
   if (o.reference.empty()) return;
@@ -162,6 +183,28 @@ void checkReferencePlate(const ModesOptions& o, const Plate& plate) {
                      " x " + std::to_string(extent.y()) + " x " + std::to_string(extent.z()) + ")");
   if (o.length > 0.0 && std::abs(o.length - extent.x()) > 1e-9 * extent.x())
     throw InputError("--reference " + o.reference + ": --length must be the square's side");
+}
+
+// The flexible modes that move a small share of the mass (optimize::kLocalizedParticipation).
+void printLocalizedModes(const EnergyRun& run, const std::string& commandName) {
+  std::string list;
+  int index = 0, localized = 0;
+  for (const optimize::VibrationMode& mode : run.result.modes) {
+    if (mode.zero) continue;
+    ++index;
+    if (!mode.localized) continue;
+    char entry[64];
+    std::snprintf(entry, sizeof entry, "%s%d (%.3g)", localized++ > 0 ? ", " : "", index,
+                  mode.participation);
+    list += entry;
+  }
+  if (localized == 0) return;
+  std::cerr << commandName << ": warning: " << run.spec << ": "
+            << (localized == 1 ? "mode " : "modes ") << list << (localized == 1 ? " is" : " are")
+            << " localized on a few vertices (participation "
+            << "ratio below " << optimize::kLocalizedParticipation
+            << "; a smooth plate mode has about 0.4): a few free or weakly attached vertices "
+               "vibrate alone\n";
 }
 
 void printSolveLine(const EnergyRun& run, const std::string& commandName) {
@@ -193,6 +236,7 @@ void solveRuns(std::vector<EnergyRun>& runs, const modeling::Stencils& stencils,
     run.result = optimize::vibrationModes(problem.termPointers(), problem.stencils, problem.rest,
                                           problem.restXi, options);
     if (!global.quiet) printSolveLine(run, commandName);
+    printLocalizedModes(run, commandName);  // a warning: printed when quiet too
   }
 }
 
@@ -297,7 +341,9 @@ void addRun(const EnergyRun& run, optimize::Support support, const ModeContext& 
                         {"omega_squared", mode.omegaSquared},
                         {"multiplicity", mode.multiplicity},
                         {"residual", mode.residual},
-                        {"nodal_length", mode.nodalLength}};
+                        {"nodal_length", mode.nodalLength},
+                        {"participation", mode.participation},
+                        {"localized", mode.localized}};
     if (mode.zero) {
       m["kind"] = ++zero <= r.rigidModes ? "rigid" : "spurious zero";
       modes.push_back(m);
@@ -369,6 +415,8 @@ nlohmann::json modesReport(const ModesOptions& o, const optimize::ModesOptions& 
       {"shift", first.shift},
       {"lambda", "omega L^2 sqrt(rho h / D), D = 2 k_B"},
       {"residual", "|K v - omega^2 M v| / |K v| (zero modes: |K v| / (|K|_inf |v|))"},
+      {"participation", "(sum m_v |v_v|^2)^2 / (M sum m_v |v_v|^4), M the total mass"},
+      {"localized_below", optimize::kLocalizedParticipation},
       {"figure", "chladni.png"},
       {"energies", energies}};
   if (!o.fix.empty()) report["fix"] = o.fix;
@@ -393,6 +441,7 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   if (!o.fix.empty())
     base.extraFixed = optimize::parseFixedSet("--fix", o.fix, stencils, rest.positions);
   checkReferencePlate(o, plate);
+  checkRunsOnRest(runs, base, o, rest);
 
   solveRuns(runs, stencils, rest, base, o, global, commandName);
 
@@ -436,7 +485,9 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("-n,--n", o.n, "Cells per side of the generated plate")
       ->capture_default_str()
       ->check(inRange(2, 2048));
-  sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")->capture_default_str();
+  sub->add_option("--seed", o.seed, "Random seed of the delaunay plate")
+      ->capture_default_str()
+      ->check(seedValue());
   sub->add_option("--energy", o.energies,
                   "Energies, comma-separated: " + optimize::energyVariantSpecs(false, ", "))
       ->delimiter(',')
@@ -459,7 +510,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
                   "fixed, midedge boundary normals held); default normals for midedge, rings "
                   "otherwise");
   sub->add_option("--fix", o.fix,
-                  "Vertices held in addition: vertices:FILE | rings:K (e.g. the centre point)");
+                  "Vertices held in addition: vertices:FILE (e.g. the centre point) | rings:K | "
+                  "box:X0,X1,Y0,Y1,Z0,Z1");
   sub->add_option("--count", o.count, "Flexible modes per energy")
       ->capture_default_str()
       ->check(inRange(1, 200));

@@ -65,6 +65,8 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ModesOptions.count", "--count"},
       {"ModesOptions.clamp", "--clamp"},
       {"ModesOptions.density", "--density"},
+      {"ModesOptions.dof", "--dof"},
+      {"ModesOptions.support", "--support"},
       {"SpectrumStudyOptions.energies", "--energies"},
       {"SpectrumStudyOptions.families", "--families"},
       {"SpectrumStudyOptions.baseN", "--n"},

@@ -721,8 +721,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                "Start positions (the rest mesh's connectivity; default rest)");
   addBendingArguments(*sub, o.bending);
   addMembraneArguments(*sub, o.membrane, "stvk | springs | conformal (required)");
-  sub->add_option("--pin", o.pin,
-                  "Vertices held in place: none | rings:K (2 clamps) | vertices:FILE")
+  sub->add_option(
+         "--pin", o.pin,
+         "Held vertices: none | rings:K (2 clamps) | vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1")
       ->capture_default_str();
   sub->add_option("--pin-motion", o.pinMotion,
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -74,9 +75,9 @@ std::string uncleanFill(const CgalSurfaceMesh& sm, const std::vector<Face>& face
       if (cosine < foldCosine) {
         std::ostringstream s;
         s << "CGAL's fill folds over at edge (" << name(sm.source(h)) << ", " << name(sm.target(h))
-          << "): the faces on its two sides turn by "
-          << std::lround(std::acos(std::max(-1.0, cosine)) * 180.0 / kPi) << "° (more than "
-          << kCleanFillFoldDegrees << "°)";
+          << "): the faces on its two sides turn by " << std::fixed << std::setprecision(1)
+          << std::acos(std::max(-1.0, cosine)) * 180.0 / kPi << "° (more than "
+          << std::setprecision(0) << kCleanFillFoldDegrees << "°)";
         return s.str();
       }
     }

@@ -14,7 +14,7 @@
 namespace flexure::modeling {
 namespace {
 
-constexpr int kKindCount = static_cast<int>(MeshProblemKind::NonManifoldVertex) + 1;
+constexpr int kKindCount = static_cast<int>(MeshProblemKind::AreaOverflow) + 1;
 
 // A face is degenerate when |(x1 − x0) × (x2 − x0)| ≤ kZeroArea · (longest edge)², i.e. its
 // smallest height is below ~1e-12 of its longest edge: scale-free, and far below any mesh a
@@ -112,6 +112,15 @@ void checkAreas(const Mesh& mesh, ProblemCollector& out) {
     const double twiceArea = (x1 - x0).cross(x2 - x0).norm();
     const double longest =
         std::max({(x1 - x0).squaredNorm(), (x2 - x1).squaredNorm(), (x0 - x2).squaredNorm()});
+    if (!std::isfinite(twiceArea) || !std::isfinite(longest)) {
+      std::ostringstream reason;
+      reason << "its area or edge lengths overflow double precision (coordinates up to "
+             << std::max(
+                    {x0.cwiseAbs().maxCoeff(), x1.cwiseAbs().maxCoeff(), x2.cwiseAbs().maxCoeff()})
+             << "); scale the mesh down";
+      out.add(MeshProblemKind::AreaOverflow, faceElement(mesh, f), reason.str());
+      continue;
+    }
     if (!(twiceArea > kZeroArea * longest)) {
       std::ostringstream reason;
       reason << "has zero area (" << 0.5 * twiceArea << "; its vertices are collinear or coincide)";
@@ -257,6 +266,8 @@ std::string_view meshProblemName(MeshProblemKind kind) {
       return "inconsistent_orientation";
     case MeshProblemKind::NonManifoldVertex:
       return "non_manifold_vertex";
+    case MeshProblemKind::AreaOverflow:
+      return "area_overflow";
   }
   return "unknown";
 }

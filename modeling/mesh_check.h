@@ -26,6 +26,7 @@ enum class MeshProblemKind {
   NonManifoldEdge,
   InconsistentOrientation,
   NonManifoldVertex,
+  AreaOverflow,  // finite coordinates whose face area or edge lengths overflow double precision
 };
 
 struct MeshProblem {

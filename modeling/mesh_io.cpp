@@ -16,6 +16,7 @@ namespace flexure::modeling {
 namespace {
 
 constexpr const char* kKnownExtensions = ".obj .off .ply .stl";
+constexpr const char* kWritableExtensions = ".obj .off .ply";
 
 std::string lowercase(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
@@ -76,12 +77,19 @@ Mesh readMesh(const std::string& path, std::vector<std::string>* notices) {
   return mesh;
 }
 
+MeshFormat writableMeshFormatOf(const std::string& path) {
+  const std::string extension = lowercase(std::filesystem::path(path).extension().string());
+  if (extension == ".stl")
+    throw InputError(path + ": STL output is not supported (flexure writes " + kWritableExtensions +
+                     ")");
+  if (extension == ".obj" || extension == ".off" || extension == ".ply") return meshFormatOf(path);
+  const std::string found =
+      extension.empty() ? "no file extension" : "unknown extension '" + extension + "'";
+  throw InputError(path + ": " + found + " (flexure writes " + kWritableExtensions + ")");
+}
+
 void writeMesh(const std::string& path, const Mesh& mesh) {
-  const MeshFormat format = meshFormatOf(path);
-  if (format == MeshFormat::Stl) {
-    throw InputError(path + ": STL output is not supported: write .obj, .off or .ply");
-  }
-  writeFileAtomically(path, formatMesh(mesh, format));
+  writeFileAtomically(path, formatMesh(mesh, writableMeshFormatOf(path)));
 }
 
 }  // namespace flexure::modeling

@@ -21,6 +21,9 @@ enum class MeshFormat { Obj, Off, Ply, Stl };
 // The format named by the file's extension (case-insensitive). Throws InputError for an unknown
 // extension, listing the known ones.
 MeshFormat meshFormatOf(const std::string& path);
+// The format of a mesh file to write: meshFormatOf's, refusing STL (read only) and listing the
+// written formats in the message.
+MeshFormat writableMeshFormatOf(const std::string& path);
 
 // What a file holds before any check: vertices and polygons (0-based indices, each in range).
 struct PolygonSoup {

@@ -253,8 +253,8 @@ PolygonSoup parseObj(const std::string& path, std::string_view text) {
 
 // ---------------------------------------------------------------------------------------------
 // OFF: header "[ST][C][N]OFF", counts "nv nf [ne]" (on the header line or the next one), then
-// nv vertex lines "x y z [extra columns]" and nf face lines "k i1 ... ik [colour]", 0-based.
-// '#' starts a comment.
+// nv vertex lines "x y z [extra columns]" and nf face lines "k i1 ... ik [colour]", 0-based,
+// and nothing else but comments and blank lines. '#' starts a comment.
 
 // Advances to the next line holding words; false at end of text.
 bool nextWordsLine(LineCursor& lines, std::vector<std::string_view>& words) {
@@ -349,6 +349,12 @@ PolygonSoup parseOff(const std::string& path, std::string_view text) {
   for (int f = 0; f < counts.faces; ++f) {
     nextOffRecord(path, lines, words, f, counts.faces, "faces");
     polygons.push_back(parseOffFace(words, f, counts.vertices, {path, lines.number()}));
+  }
+  // Lines past the counted faces: faces the header's count leaves out, which would be dropped.
+  if (nextWordsLine(lines, words)) {
+    fail({path, lines.number()}, "data after the " + std::to_string(counts.faces) +
+                                     (counts.faces == 1 ? " face" : " faces") +
+                                     " the header counts (is the header's face count too small?)");
   }
   return {toPositions(points), std::move(polygons)};
 }

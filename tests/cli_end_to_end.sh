@@ -9,6 +9,15 @@ source "$support/cli_harness.sh"
 run 0 --version; stdout_has "flexure 0."
 run 0 --help; stdout_has "mesh"; stdout_has "Exit codes"
 run 0 mesh --help; stdout_has "--family"
+# Every vertex-set form in the help of the options that take one, each on one line; compare's
+# --boundary takes polynomials too.
+run 0 simulate --help
+grep -q -- "--pin TEXT=none .*vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1$" out.txt || fail "simulate --pin help"
+grep -q -- "--obstacle TEXT .*plane:nx,ny,nz,d .* | sphere:x,y,z,r$" out.txt || fail "simulate --obstacle help"
+for command in minimize modes; do
+  run 0 $command --help; stdout_has "box:X0,X1,Y0,Y1,Z0,Z1"
+done
+run 0 compare --help; stdout_has "(quadratic:a,b,c or polynomial:EXPR)"
 run 2; stderr_has "subcommand"
 run 2 frobnicate; stderr_has "unknown command 'frobnicate'"
 run 2 mesh --n 8  # no -o
@@ -31,6 +40,11 @@ run 0 mesh --family delaunay --n 16 --seed 5 -o d2.off
 cmp -s d1.off d2.off || fail "delaunay with the same seed differs"
 run 0 mesh --family delaunay --n 16 --seed 6 -o d3.off
 cmp -s d1.off d3.off && fail "delaunay with another seed is identical"
+# Seeds are unsigned: a negative one is refused, not wrapped around to 2^64 - 1 (nor 2^64 saturated).
+for bad in "mesh --family delaunay --seed -5 -o neg.obj" "mesh --family delaunay --seed 18446744073709551616 -o neg.obj" \
+    "converge --families delaunay --seeds 1,-1 -o neg" "modes --family delaunay --seed -1 --energy cotan -o neg"; do
+  run 2 $bad; stderr_has "is not a seed: expected an integer in [0, 18446744073709551615]"; absent neg.obj; absent neg
+done
 
 # Bad generator options: exit 2, a message, no file.
 run 2 mesh --family hexagonal --n 8 -o x.obj; stderr_has "hexagonal"; absent x.obj
@@ -163,6 +177,13 @@ run 2 minimize --rest flat8.obj --energy hinge -o x.obj; stderr_has "--boundary"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --dof xyz -o x.obj; stderr_has "needs a membrane"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:9 -o x.obj; stderr_has "every vertex is fixed"
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix rings:0 -o x.obj; stderr_has "rings:K"
+# A closed mesh (an octahedron) has no rings to hold: the message says so and what to hold instead.
+printf 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n' > octahedron.obj
+run 2 minimize --rest octahedron.obj --energy hinge --init octahedron.obj -o x.obj
+stderr_has "octahedron.obj: has no boundary (a closed surface), so --fix rings:2 holds no vertex"
+stderr_has "--fix vertices:FILE"; absent x.obj
+printf '0\n2\n4\n' > three.txt
+run 0 minimize --rest octahedron.obj --energy hinge --init octahedron.obj --fix vertices:three.txt -o octahedron-held.obj --quiet
 printf '0 1 999\n' > badfixed.txt
 run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --fix vertices:badfixed.txt -o x.obj
 stderr_has "badfixed.txt: line 1: vertex 999 is out of range"; absent x.obj
@@ -380,6 +401,9 @@ for c in range(4):
     assert count > 100, ("panel", c, count)
 PY
 run 0 info shark.off; stdout_has 'boundary loops        1 (vertices: 80)'; stdout_has 'valid                 yes'
+# The figure is a PNG: another extension is refused before any work.
+run 2 fair "$shark" --region holes -o shark-jpg.off --render shark.jpg
+stderr_has "--render 'shark.jpg': the figure is a PNG image"; absent shark.jpg; absent shark-jpg.off
 run 0 fair "$shark" --region holes --method cgal -o shark-cgal.off --report shark-cgal.json --quiet
 run 0 fair "$shark" --region holes --solver ceres -o shark-ceres.off --report shark-ceres.json --quiet
 python3 - "$shark" <<'PY' || fail "fair: shark reports or held vertices"
@@ -511,7 +535,11 @@ run 0 info mask.off; stdout_has 'boundary loops        1 (vertices: 90)'
 grep -q '"converged": true' mask.json || fail "fair: mask.json does not say converged"
 # elephant-with-holes: 33 of its 106 loops (slits along cracks, folded fills) are skipped; the
 # result is checked and converged (it used to say converged at |grad E| 1749 with triavg 7e34).
-run 0 fair "$CGAL_MESHES/elephant-with-holes.off" --region holes -o eh.off --report eh.json --quiet
+run 0 fair "$CGAL_MESHES/elephant-with-holes.off" --region holes -o eh.off --report eh.json
+# One notice for the 33 skipped loops, with the count (main printed 33 lines).
+[ "$(grep -c "skipped" err.txt)" -eq 1 ] || fail "fair: one notice for the skipped loops: $(cat err.txt)"
+stderr_has "flexure fair: skipped 33 of 106 loops, which CGAL cannot fill cleanly (the first: the loop of"
+stderr_has "the other 73 are filled; eh.json lists each skipped loop and why"
 python3 - <<'PY' || fail "fair: elephant-with-holes report"
 import json
 r = json.load(open("eh.json"))
@@ -630,12 +658,18 @@ run 3 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o nev
 absent never.obj; [ -s never.json ] || fail "exit 3 lost its report (the report says why)"
 ls -a | grep -q '\.tmp\.' && fail "temporaries left behind: $(ls -a | grep '\.tmp\.')"
 
+# STL is read but not written: an .stl output is refused before the solve, the list is what is written.
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 -o bowl.stl
+stderr_has "bowl.stl: STL output is not supported (flexure writes .obj .off .ply)"
+grep -q "^  iteration " err.txt && fail "minimize solved before refusing its .stl output"
+run 2 mesh -o plate.3ds; stderr_has "unknown extension '.3ds' (flexure writes .obj .off .ply)"
+
 # An output that is an input: refused unless --force.
 cp flat8.obj same-in.obj
 run 2 minimize --rest same-in.obj --energy cotan --boundary quadratic:1,0,1 --linearized -o same-in.obj
 stderr_has "--output same-in.obj: would overwrite the input --rest same-in.obj"; stderr_has "--force"
 cmp -s flat8.obj same-in.obj || fail "a refused minimize changed its input"
-run 2 convert same-in.obj -o ./same-in.obj; stderr_has "would overwrite the input"
+run 2 convert same-in.obj -o ./same-in.obj; stderr_has "would overwrite the input same-in.obj"
 mkdir -p lion; cp "$CGAL_MESHES/lion-head.off" lion/nef.off
 run 2 fair lion/nef.off --region all-interior -o ./lion/../lion/nef.off
 stderr_has "--output ./lion/../lion/nef.off: would overwrite the input mesh lion/nef.off"
@@ -712,6 +746,24 @@ if "$FLEXURE" minimize --help | grep -q -- "--solver"; then
 else
   echo "note: minimize has no --solver yet: the glog check waits for --solver ceres" >&2
 fi
+
+# --verbose adds compare's Newton iterations (minimize prints its own by default).
+run 0 compare -o cmpv --families patch48 --energies hinge --n 4 --size 64 --solve nonlinear
+grep -q "^  iteration " err.txt && fail "compare printed Newton iterations without --verbose"
+run 0 --verbose compare -o cmpv --families patch48 --energies hinge --n 4 --size 64 --solve nonlinear
+stderr_has "  iteration   1  chord  energy"
+
+# repair: a broken OFF (a wrongly oriented face, an unreferenced vertex, a triangle touching the
+# square at one vertex) that info refuses comes out usable, with what changed said.
+printf 'OFF\n7 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n5 5 5\n2 1 0\n2 2 0\n3 0 1 2\n3 0 3 2\n3 2 5 6\n' > broken.off
+run 2 info broken.off; stderr_has "not usable by flexure"
+run 0 repair broken.off -o repaired.off --report repaired.json
+stderr_has "flexure repair: dropped 1 unreferenced vertex, split non-manifold vertices into 1 new copy, flipped 1 face"
+run 0 info repaired.off --json; stdout_has '"valid": true'
+python3 -c "import json; d=json.load(open('repaired.json')); assert (d['dropped_unreferenced_vertices'], d['added_vertex_copies'], d['flipped_faces']) == (1, 1, 1), d" \
+  || fail "repair: repaired.json"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n' > flatline.off
+run 2 repair flatline.off -o never.off; stderr_has "zero area"; absent never.off
 
 # Unknown commands and misspelt options: a suggestion, exit 2.
 run 2 meshh --n 4 -o x.obj; stderr_has "unknown command 'meshh'; did you mean 'mesh'?"; absent x.obj

@@ -47,6 +47,29 @@ json_check free "d['energies'][1]['spurious_zero_modes'] == 4" "triavg: the 4 co
 json_check free "[m['kind'] for m in d['energies'][1]['modes']].count('flexible') == 2" "triavg: 2 flexible"
 stderr_has "4 spurious zero modes"
 
+# Participation ratios: a smooth plate's modes are spread; held everywhere but the centre, the
+# modes are localized, flagged in the report and on stderr (quiet or not).
+json_check ss "all(0.3 < m['participation'] and not m['localized'] for e in d['energies'] for m in e['modes'])" \
+  "a plate's modes spread over it"
+run 0 modes --family patch48 --n 16 --energy cotan --fix rings:7 --count 2 -o centre --quiet
+json_check centre "all(m['localized'] and m['participation'] < 0.05 for m in d['energies'][0]['modes'])" \
+  "modes on the centre's few free vertices are localized"
+stderr_has "warning: cotan: modes 1 (0.0232), 2 (0.0212) are localized on a few vertices"
+
+# A curved rest: height mode is refused (its z motions are partly tangential), midedge's default
+# normals clamp needs a flat plate; the shell's modes in xyz with a ring clamp run.
+run 0 mesh --family patch48 --n 6 -o flat6.obj --quiet
+awk '/^v /{ $4 = 0.3 * $2 * $2 } { print }' flat6.obj > bent.obj
+run 2 modes --mesh bent.obj --energy cotan -o bad
+stderr_has "this rest surface is not flat (z spans 0.075 of a largest side 1)"
+stderr_has "use --dof xyz with a membrane"; absent bad
+run 2 modes --mesh bent.obj --energy midedge --dof xyz --membrane stvk -o bad
+stderr_has "--energy midedge clamps its boundary normals by default (--clamp normals)"
+stderr_has "clamp with --clamp rings"; absent bad
+run 0 modes --mesh bent.obj --energy midedge --dof xyz --membrane stvk --clamp rings --count 2 \
+  -o shell --quiet
+json_check shell "[m['kind'] for m in d['energies'][0]['modes']] == ['flexible'] * 2" "shell modes"
+
 # The spectrum as a convergence study: orders per energy and family, files, stale ones removed.
 run 0 converge --measure modes --support clamped --energies midedge,hinge --families patch48 \
   --n 8 --levels 3 --count 3 -o spectrum

@@ -36,7 +36,9 @@ expect mesh_with_border.off 0 '"boundary_loops":[80]' '"euler_characteristic":1'
 expect sphere.stl 0 '"vertices":162' '"faces":320' '"euler_characteristic":2'
 expect colored_tetra.ply 0 '"vertices":4' '"valid":true'
 expect blobby-shuffled.off 2 '"inconsistent_orientation":3069'
-expect prim.off 2 '"unreferenced_vertex":3'
+# prim.off counts 7 faces and lists 8: the 8th (the only user of vertices 8, 9, 10) is named.
+expect prim.off 2
+grep -qF "prim.off: line 24: data after the 7 faces the header counts" err.txt || fail "prim.off: $(cat err.txt)"
 expect degtri_sliding.off 2 '"zero_area_face":4'
 expect polygon_mesh.off 2 '"non_manifold_vertex":2'
 expect b9.ply 2 '"empty":1'  # a point cloud: vertices, no faces

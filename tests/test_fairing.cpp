@@ -149,6 +149,10 @@ TEST(HoleFilling, LoopsWithoutACleanFillAreSkipped) {
   EXPECT_EQ(filled.skipped[0].boundaryEdges, 90);
   EXPECT_EQ(filled.skipped[0].loopVertex, 299);
   EXPECT_THAT(filled.skipped[0].reason, ::testing::HasSubstr("folds over"));
+  // The angle to a tenth of a degree: rounded to whole degrees, 150.4° read "150° (more than
+  // 150°)".
+  EXPECT_THAT(filled.skipped[0].reason,
+              ::testing::ContainsRegex("turn by 15[0-9]\\.[0-9]° \\(more than 150°\\)"));
   EXPECT_TRUE(modeling::checkMesh(filled.mesh).valid());
   EXPECT_EQ(modeling::boundaryLoops(modeling::compileStencils(filled.mesh)).size(), 1u);
 }

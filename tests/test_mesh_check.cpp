@@ -1,4 +1,5 @@
 #include "modeling/mesh_check.h"
+#include "modeling/mesh_repair.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -64,6 +65,18 @@ TEST(MeshCheck, IndexOutOfRangeAndRepeatedVertex) {
   const MeshProblem p = checkMesh(m).problems.front();
   EXPECT_EQ(p.kind, MeshProblemKind::RepeatedVertexInFace);
   EXPECT_EQ(p.element, "face 1 (vertices 0, 2, 0)");
+}
+
+// Coordinates near the largest double: the area overflows to inf, which is no zero area.
+TEST(MeshCheck, AreaOverflowIsNotZeroArea) {
+  Mesh m = twoTriangleSquare();
+  m.positions *= 1e200;
+  const MeshCheck check = checkMesh(m);
+  ASSERT_EQ(check.problems.size(), 2u);
+  EXPECT_EQ(check.problems[0].kind, MeshProblemKind::AreaOverflow);
+  EXPECT_EQ(meshProblemName(check.problems[0].kind), "area_overflow");
+  EXPECT_THAT(check.problems[0].reason, ::testing::StartsWith("its area or edge lengths overflow"));
+  EXPECT_THAT(check.problems[0].reason, ::testing::HasSubstr("scale the mesh down"));
 }
 
 TEST(MeshCheck, ZeroAreaFace) {
@@ -165,6 +178,45 @@ TEST(MeshCheck, RequireValidMeshNamesSourceElementAndCount) {
     EXPECT_THAT(e.what(), HasSubstr("plate.off: vertex 121: is used by no face"));
     EXPECT_THAT(e.what(), HasSubstr("and 1 more problem ("));
   }
+}
+
+}  // namespace
+}  // namespace flexure::modeling
+
+namespace flexure::modeling {
+namespace {
+
+// A square whose second triangle runs the wrong way, a vertex no face uses (4) and a triangle
+// touching the square at vertex 2 only: the three problems repairMesh mends, one of each.
+Mesh brokenSquare() {
+  Mesh m;
+  m.positions.resize(7, 3);
+  m.positions << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 5, 5, 5, 2, 1, 0, 2, 2, 0;
+  m.triangles.resize(3, 3);
+  m.triangles << 0, 1, 2, 0, 3, 2, 2, 5, 6;
+  return m;
+}
+
+TEST(MeshRepair, DropsSplitsAndOrientsUntilTheCheckPasses) {
+  const Mesh broken = brokenSquare();
+  const MeshCheck before = checkMesh(broken);
+  ASSERT_FALSE(before.valid());
+  EXPECT_GT(before.problemCounts[static_cast<int>(MeshProblemKind::UnreferencedVertex)], 0);
+  EXPECT_GT(before.problemCounts[static_cast<int>(MeshProblemKind::InconsistentOrientation)], 0);
+  EXPECT_GT(before.problemCounts[static_cast<int>(MeshProblemKind::NonManifoldVertex)], 0);
+  const RepairedMesh repaired = repairMesh(broken);
+  EXPECT_EQ(repaired.report.droppedVertices, 1);
+  EXPECT_EQ(repaired.report.addedVertices, 1);
+  EXPECT_EQ(repaired.report.flippedFaces, 1);
+  EXPECT_EQ(repaired.mesh.vertexCount(), 7);  // 7 − 1 dropped + 1 copy of vertex 2
+  EXPECT_EQ(repaired.mesh.faceCount(), 3);
+  EXPECT_TRUE(checkMesh(repaired.mesh).valid());
+  // A valid mesh comes back as it was.
+  const Mesh square = flexure::testing::twoTriangleSquare();
+  const RepairedMesh same = repairMesh(square);
+  EXPECT_FALSE(same.report.changed());
+  EXPECT_EQ(same.mesh.positions, square.positions);
+  EXPECT_EQ(same.mesh.triangles, square.triangles);
 }
 
 }  // namespace

@@ -132,6 +132,17 @@ TEST(MeshIoFormat, UnknownExtensionListsTheKnownOnes) {
   EXPECT_THAT(inputErrorOf([] { readPolygonSoup("shape.3ds"); }), HasSubstr(".stl"));
 }
 
+// STL is read, not written: the output check lists what is written.
+TEST(MeshIoFormat, WritableFormatsAreThoseWritten) {
+  EXPECT_EQ(writableMeshFormatOf("a/b.OBJ"), MeshFormat::Obj);
+  EXPECT_EQ(writableMeshFormatOf("b.off"), MeshFormat::Off);
+  EXPECT_EQ(writableMeshFormatOf("b.ply"), MeshFormat::Ply);
+  EXPECT_EQ(inputErrorOf([] { writableMeshFormatOf("scan.stl"); }),
+            "scan.stl: STL output is not supported (flexure writes .obj .off .ply)");
+  EXPECT_EQ(inputErrorOf([] { writableMeshFormatOf("shape.3ds"); }),
+            "shape.3ds: unknown extension '.3ds' (flexure writes .obj .off .ply)");
+}
+
 // ---------------------------------------------------------------------------------------------
 
 class MeshIoRoundTrip : public ::testing::TestWithParam<const char*> {};
@@ -550,7 +561,10 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedFile{"range.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n\n3 0 1 3\n", "line 6",
                       "out of range"},
         MalformedFile{"missing.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "line 6",
-                      "fewer than 3"}),
+                      "fewer than 3"},
+        MalformedFile{"extra.off",
+                      "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n# c\n\n3 1 3 2\n",
+                      "line 10", "data after the 1 face the header counts"}),
     caseName);
 
 INSTANTIATE_TEST_SUITE_P(

@@ -333,6 +333,96 @@ TEST(VibrationModes, RefusesWhatCannotBeComputed) {
   EXPECT_THROW(hinge.modes(o), InputError);
 }
 
+// A patch48 plate bent into z = bend x² (curved when bend ≠ 0), nothing held.
+modeling::Mesh bentPlate(int n, double bend) {
+  modeling::Mesh mesh = testing::generatedPlate(MeshFamily::Patch48, n);
+  mesh.positions.col(2) = bend * mesh.positions.col(0).array().square();
+  return mesh;
+}
+
+struct BentPlate {
+  optimize::Problem problem;
+  BentPlate(int n, Discretization d, double bend, double young = 0.0)
+      : problem(
+            testing::buildPlateProblem(bentPlate(n, bend), testing::plateProblem(d, young), {})) {}
+  ModesResult modes(const ModesOptions& o) const {
+    return optimize::vibrationModes(problem.termPointers(), problem.stencils, problem.rest,
+                                    problem.restXi, o);
+  }
+};
+
+std::string inputErrorOf(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(VibrationModes, HeightModeOnACurvedRestIsRefusedAndXyzIsNot) {
+  const BentPlate curved(6, Discretization::Cotan, 0.2);
+  ModesOptions o;
+  o.count = 2;
+  EXPECT_THAT(inputErrorOf([&] { curved.modes(o); }),
+              ::testing::AllOf(::testing::StartsWith("ModesOptions.dof height"),
+                               ::testing::HasSubstr("not flat (z spans 0.05 of a largest side 1)"),
+                               ::testing::HasSubstr("ModesOptions.dof xyz with a membrane")));
+  // Below the tolerance (relative to the plate's size) a rest is flat: round-off is no curvature.
+  const BentPlate nearlyFlat(6, Discretization::Cotan, 0.5 * optimize::kFlatRestTolerance);
+  EXPECT_TRUE(optimize::restIsFlatPlate(nearlyFlat.problem.rest.positions));
+  EXPECT_EQ(nearlyFlat.modes(o).flexibleModes, 2);
+  // The shell's modes in xyz; a normals clamp there is refused with what to do instead.
+  const BentPlate shell(6, Discretization::Midedge, 0.2, 1e3);
+  o.dof = optimize::DofMode::Xyz;
+  EXPECT_EQ(shell.modes(o).flexibleModes, 2);
+  o.clamp = Clamp::Normals;
+  EXPECT_THAT(inputErrorOf([&] { shell.modes(o); }),
+              ::testing::AllOf(::testing::StartsWith("ModesOptions.clamp normals"),
+                               ::testing::HasSubstr("clamp with ModesOptions.clamp rings")));
+}
+
+TEST(VibrationModes, ParticipationRatioIsTheMovingShareOfTheMass) {
+  modeling::Positions shape = modeling::Positions::Zero(10, 3);
+  const Eigen::VectorXd equal = Eigen::VectorXd::Ones(10);
+  shape.row(3) << 0.0, 0.0, 2.0;
+  EXPECT_DOUBLE_EQ(optimize::participationRatio(shape, equal), 0.1);  // one vertex of ten
+  shape.topRows(4).col(0).setConstant(-1.0);
+  shape.row(3).setZero();
+  shape(3, 0) = 1.0;
+  EXPECT_DOUBLE_EQ(optimize::participationRatio(shape, equal), 0.4);  // four of ten, any sign
+  shape.col(0).setConstant(0.5);
+  EXPECT_DOUBLE_EQ(optimize::participationRatio(shape, equal), 1.0);
+  EXPECT_EQ(optimize::participationRatio(modeling::Positions::Zero(10, 3), equal), 0.0);
+}
+
+// A clamped plate's modes spread over the plate; held everywhere but a small disc, its modes are
+// the disc's, flagged as localized.
+TEST(VibrationModes, ModesOnAFewVerticesAreFlaggedLocalized) {
+  const Plate plate(MeshFamily::Patch48, 16, Discretization::Cotan);
+  ModesOptions o;
+  o.count = 6;
+  const ModesResult spread = plate.modes(o);
+  ASSERT_EQ(spread.flexibleModes, 6);
+  for (const auto& mode : spread.modes) {
+    EXPECT_FALSE(mode.localized) << mode.lambda;
+    EXPECT_GT(mode.participation, 0.25) << mode.lambda;
+  }
+  o.extraFixed.assign(plate.mesh.vertexCount(), true);
+  int free = 0;
+  for (int v = 0; v < plate.mesh.vertexCount(); ++v)
+    if (plate.rest.positions.row(v).head<2>().norm() < 0.16) o.extraFixed[v] = false, ++free;
+  ASSERT_GE(free, 9);
+  ASSERT_LE(free, 25);
+  o.count = 2;
+  const ModesResult disc = plate.modes(o);
+  ASSERT_EQ(disc.flexibleModes, 2);
+  for (const auto& mode : disc.modes) {
+    EXPECT_TRUE(mode.localized) << mode.lambda;
+    EXPECT_LT(mode.participation, 0.05) << mode.lambda;
+  }
+}
+
 // The message of the InputError that `validate` throws, "" when it throws none.
 template <typename Options>
 std::string validationError(const Options& options) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numeric>
 
@@ -27,17 +28,12 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-bool restIsFlat(const Positions& rest) {
-  return rest.col(2).maxCoeff() == rest.col(2).minCoeff();
-}
-
 // The dimension of the infinitesimal rigid motions the unknowns can express and the fixed
-// vertices leave free. xyz: translations t and rotations ω × x (6). Height mode on a flat plate:
-// w = a + b x + c y (a z translation and the two tilts); on a curved rest only a z translation,
-// since a tilt moves a curved surface sideways too.
+// vertices leave free. xyz: translations t and rotations ω × x (6). Height mode (a flat plate,
+// checkModesRest): w = a + b x + c y (a z translation and the two tilts).
 int rigidMotionCount(const Positions& rest, const std::vector<bool>& fixed, DofMode dof) {
   const bool xyz = dof == DofMode::Xyz;
-  const int dimension = xyz ? 6 : (restIsFlat(rest) ? 3 : 1);
+  const int dimension = xyz ? 6 : 3;
   std::vector<int> held;
   for (int v = 0; v < rest.rows(); ++v)
     if (fixed[v]) held.push_back(v);
@@ -92,18 +88,6 @@ class ShiftInvertOperator {
   double shift_;
   mutable int operations_ = 0;
 };
-
-// Clamp::Normals holds the midedge normals of a flat plate's boundary.
-void checkNormalsClamp(const ModesOptions& o, bool withXi, const Positions& rest) {
-  if (o.clamp != Clamp::Normals || o.support != Support::Clamped) return;
-  if (!withXi)
-    throw InputError(
-        "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
-  if (o.dof != DofMode::Height || !restIsFlat(rest))
-    throw InputError(
-        "ModesOptions.clamp normals: needs a flat plate in height mode (use ModesOptions.clamp "
-        "rings)");
-}
 
 // The held vertices' count, the rigid modes, L, D = 2 k_B and the shift σ.
 void setSupportAndScales(ModesResult& result, const Positions& rest, const std::vector<bool>& fixed,
@@ -199,10 +183,8 @@ struct ReducedMasses {
   std::vector<int> unknownOfReduced;  // the assembly's unknown of each reduced one
 };
 
-ReducedMasses reducedMasses(const modeling::RestState& rest, const ModesOptions& o,
-                            const std::vector<int>& freeUnknowns,
+ReducedMasses reducedMasses(const Eigen::VectorXd& vertexMass, const std::vector<int>& freeUnknowns,
                             const std::vector<int>& reducedIndex, int reduced, int vertexCount) {
-  const Eigen::VectorXd vertexMass = modeling::lumpedVertexMasses(rest, o.mass, o.density);
   ReducedMasses masses;
   masses.mass = Eigen::VectorXd::Zero(reduced);
   masses.unknownOfReduced.resize(reduced);
@@ -223,7 +205,8 @@ void checkModeCount(int count, int wanted, const ModesResult& result) {
   throw InputError("ModesOptions.count " + std::to_string(count) + ": the problem has only " +
                    std::to_string(result.massUnknowns) + " vertex unknowns (" +
                    std::to_string(result.rigidModes) +
-                   " rigid modes); ask for fewer modes or refine the mesh");
+                   (result.rigidModes == 1 ? " rigid mode" : " rigid modes") +
+                   "); ask for fewer modes or refine the mesh");
 }
 
 // The factor of K − σM; called under SingleThreadedLinearAlgebra.
@@ -379,6 +362,44 @@ void setMultiplicities(std::vector<VibrationMode>& modes) {
 
 }  // namespace
 
+bool restIsFlatPlate(const Positions& rest) {
+  const Eigen::Vector3d extent = rest.colwise().maxCoeff() - rest.colwise().minCoeff();
+  return extent.z() <= kFlatRestTolerance * extent.maxCoeff();
+}
+
+void checkModesRest(const ModesOptions& o, const Positions& rest, bool edgeUnknowns) {
+  const bool flat = restIsFlatPlate(rest);
+  if (o.dof == DofMode::Height && !flat) {
+    const Eigen::Vector3d extent = rest.colwise().maxCoeff() - rest.colwise().minCoeff();
+    char range[96];
+    std::snprintf(range, sizeof range, "z spans %.3g of a largest side %.3g", extent.z(),
+                  extent.maxCoeff());
+    throw InputError(
+        "ModesOptions.dof height moves the vertices along z only, the transverse motion of a "
+        "plate flat in the xy plane; this rest surface is not flat (" +
+        std::string(range) +
+        "), so its height modes would mean nothing: use ModesOptions.dof xyz with a membrane "
+        "(the shell's modes)");
+  }
+  if (o.clamp != Clamp::Normals || o.support != Support::Clamped) return;
+  if (!edgeUnknowns)
+    throw InputError(
+        "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
+  if (o.dof != DofMode::Height || !flat)
+    throw InputError(
+        "ModesOptions.clamp normals holds the boundary normals vertical, which needs a flat plate "
+        "in height mode; for a shell (ModesOptions.dof xyz) clamp with ModesOptions.clamp rings "
+        "or choose another ModesOptions.support");
+}
+
+double participationRatio(const Positions& shape, const Eigen::VectorXd& vertexMass) {
+  const Eigen::ArrayXd squared = shape.rowwise().squaredNorm().array();
+  const double second = (vertexMass.array() * squared).sum();
+  const double fourth = (vertexMass.array() * squared.square()).sum();
+  if (!(fourth > 0.0)) return 0.0;
+  return second * second / (vertexMass.sum() * fourth);
+}
+
 void ModesOptions::validate() const {
   if (count < 1)
     throw InputError("ModesOptions.count " + std::to_string(count) + ": expected at least 1");
@@ -457,7 +478,7 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
   const int vertexCount = stencils.vertexCount();
   const bool withXi = restXi.size() > 0;
   o.validate();
-  checkNormalsClamp(o, withXi, rest.positions);
+  checkModesRest(o, rest.positions, withXi);
 
   ModesResult result;
   const std::vector<bool> fixed = supportFixedVertices(stencils, o.support, o.clamp, o.extraFixed);
@@ -482,8 +503,9 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
                                      boundaryEdge, reducedIndex, reduced);
     stiffness = Sparse(p.transpose() * stiffness * p);
   }
+  const Eigen::VectorXd vertexMass = modeling::lumpedVertexMasses(rest, o.mass, o.density);
   const ReducedMasses masses =
-      reducedMasses(rest, o, assembly.freeUnknowns(), reducedIndex, reduced, vertexCount);
+      reducedMasses(vertexMass, assembly.freeUnknowns(), reducedIndex, reduced, vertexCount);
   result.unknowns = reduced;
   result.massUnknowns = static_cast<int>(masses.massive.size());
   const int wanted = o.count + result.rigidModes;
@@ -515,6 +537,8 @@ ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& term
     if (!mode.zero && flexibleReturned == o.count) break;
     flexibleReturned += !mode.zero;
     recoverShape(mode, recovery, pairs.vectors.col(index));
+    mode.participation = participationRatio(mode.shape, vertexMass);
+    mode.localized = mode.participation < kLocalizedParticipation;
     for (const auto& [a, b] : nodalSegments(stencils, rest, mode.shape))
       mode.nodalLength += (b - a).norm();
     result.modes.push_back(std::move(mode));

@@ -59,10 +59,20 @@ struct ModesOptions {
   double length = 0.0;            // L for λ; ≤ 0: the rest bounding box's largest side
 
   // Throws InputError naming the field for count < 1 or density ≤ 0 (what vibrationModes also
-  // refuses, knowing the problem: a normals clamp without midedge or off a flat height-mode
-  // plate, more modes than unknowns).
+  // refuses, knowing the problem: checkModesRest's refusals, more modes than unknowns).
   void validate() const;
 };
+
+// Height mode moves each vertex along z only: the transverse motion of a plate flat in the xy
+// plane and nothing meaningful on a curved surface, whose z motions are partly tangential. A rest
+// is flat when its z range is at most kFlatRestTolerance times its bounding box's largest side.
+inline constexpr double kFlatRestTolerance = 1e-6;
+bool restIsFlatPlate(const Positions& rest);
+
+// What the rest surface rules out, before any assembly: height mode on a rest that is not flat,
+// a normals clamp without ξ (`edgeUnknowns` false) or off a flat plate in height mode. Throws
+// InputError naming the field and what to use instead; vibrationModes calls it too.
+void checkModesRest(const ModesOptions& options, const Positions& rest, bool edgeUnknowns);
 
 struct VibrationMode {
   double omegaSquared = 0.0;  // ω², the eigenvalue
@@ -71,13 +81,19 @@ struct VibrationMode {
   bool zero = false;          // λ < kZeroModeLambda: a rigid motion or a spurious zero mode
   int multiplicity = 1;  // modes whose λ agree to kDegenerateTolerance (relative), this one too
   double residual = 0.0;  // ‖K v − ω² M v‖ / ‖K v‖ (zero modes: ‖K v‖ / (‖K‖∞ ‖v‖))
-  double nodalLength = 0.0;  // length of the nodal lines (rest metric), see nodalSegments
-  Positions shape;           // #V by 3 displacement, M-normalized: Σ_v m_v |v_v|² = 1
+  double nodalLength = 0.0;    // length of the nodal lines (rest metric), see nodalSegments
+  double participation = 0.0;  // participationRatio of the shape
+  bool localized = false;      // participation < kLocalizedParticipation
+  Positions shape;             // #V by 3 displacement, M-normalized: Σ_v m_v |v_v|² = 1
 };
 
 inline constexpr double kZeroModeLambda = 1e-3;
 inline constexpr double kDegenerateTolerance = 1e-6;
 inline constexpr double kNodalFloor = 1e-4;
+// A mode whose participation ratio is below this moves a small part of the mass: less than a
+// tenth of what a smooth plate mode moves (4/9 for sin(mπx) sin(nπy) on a square), a few
+// vertices on any mesh fine enough to resolve the plate's modes.
+inline constexpr double kLocalizedParticipation = 0.1;
 
 struct ModesResult {
   std::vector<VibrationMode> modes;  // ascending ω²: the zero modes first
@@ -102,6 +118,12 @@ struct ModesResult {
 ModesResult vibrationModes(const std::vector<const curvature::EnergyTerm*>& terms,
                            const modeling::Stencils& stencils, const modeling::RestState& rest,
                            const Eigen::VectorXd& restXi, const ModesOptions& options);
+
+// The mass-weighted participation ratio of a displacement u (#V by 3) with vertex masses m (#V):
+// (Σ_v m_v |u_v|²)² / (M Σ_v m_v |u_v|⁴), M = Σ_v m_v. 1 when every vertex moves alike, the moving
+// share of the mass when a part moves alike and the rest is still, 4/9 for sin(mπx) sin(nπy) on
+// the unit square; the count-weighted (Σ u²)² / (n Σ u⁴) for equal masses.
+double participationRatio(const Positions& shape, const Eigen::VectorXd& vertexMass);
 
 // The held vertices for a support (and Clamp::Rings / Normals), with `extra` added.
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,

@@ -86,6 +86,8 @@ py::dict modeDict(const optimize::VibrationMode& mode, const optimize::Problem& 
   d["multiplicity"] = mode.multiplicity;
   d["residual"] = mode.residual;
   d["nodal_length"] = mode.nodalLength;
+  d["participation"] = mode.participation;  // participationRatio; localized below 0.1
+  d["localized"] = mode.localized;
   d["shape"] = mode.shape;
   if (nodalLines) {
     const auto segments = optimize::nodalSegments(problem.stencils, problem.rest, mode.shape);

@@ -26,6 +26,10 @@ def test_modes_equal_the_cli_modes_json(cli, plate, tmp_path, energy, extra):
     assert len(expected) >= 4
     np.testing.assert_allclose(result["eigenvalues"][:len(expected)], expected, rtol=1e-12)
     assert result["rigid_modes"] == report["rigid_modes"]
+    pairs = list(zip(result["modes"], report["modes"]))
+    assert all(not m["localized"] and m["localized"] == r["localized"] for m, r in pairs)
+    np.testing.assert_allclose([m["participation"] for m, _ in pairs],
+                               [r["participation"] for _, r in pairs], rtol=1e-9)
     assert result["shapes"].shape == (len(result["modes"]), 49, 3)
     for m in result["modes"]:  # M-normalized shapes: Σ m_v |v_v|² = 1
         assert m["nodal_lines"].shape[1:] == (2, 3)
@@ -62,6 +66,8 @@ def test_modes_errors(plate):
         flexure.modes(V, F, dof="xyz")
     with pytest.raises(ValueError, match="fixed"):
         flexure.modes(V, F, fixed=[True])
+    with pytest.raises(ValueError, match="not flat"):  # height modes of a curved rest
+        flexure.modes(bent(V, 2, amplitude=0.0), F)
 
 
 @pytest.mark.parametrize("region", ["all-interior", "sphere:0.05,0,0,0.2"])
