@@ -43,9 +43,10 @@ struct SimulateOptions {
   std::string pin = "none", integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
-  std::string renderStyle = "reflection";  // "none": no frame images
+  std::string renderStyle = "shaded";  // "none": no frame images
   int renderSize = 480;
-  std::string video;  // an MP4 of the frame images (ffmpeg); empty: none
+  double exaggerate = 1.0;  // frames drawn as rest + exaggerate (x − rest)
+  std::string video;        // an MP4 of the frame images (ffmpeg); empty: none
 };
 
 // Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
@@ -180,10 +181,15 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
   if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);
-    if (look->style == render::RenderStyle::Error || look->style == render::RenderStyle::Curvature)
+    // Highlight lines alias into moiré at frame sizes on a gently curved sheet; error and
+    // curvature need a surface or a field the frames do not have.
+    if (look->style == render::RenderStyle::Error ||
+        look->style == render::RenderStyle::Curvature ||
+        look->style == render::RenderStyle::Highlight)
       throw InputError("--render-style " + o.renderStyle +
-                       ": expected reflection, isophote, highlight, shaded or none");
+                       ": expected shaded, reflection, isophote, displacement or none");
     look->width = look->height = o.renderSize;
+    if (look->style == render::RenderStyle::Displacement) look->width += render::kLegendWidth;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
   }
@@ -250,6 +256,7 @@ struct Recording {
   std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity,
                                              // (contact,) total
   std::vector<std::pair<std::string, modeling::Mesh>> frames;
+  std::vector<double> frameTimes;                                     // s, one per frame
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
   Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact)
@@ -286,6 +293,7 @@ struct Recording {
     modeling::Mesh m = restMesh;
     m.positions = stepper.positions();
     frames.emplace_back(name, std::move(m));
+    frameTimes.push_back(stepper.time());
   }
 };
 
@@ -396,19 +404,54 @@ render::LinePlot energyPlot(const Recording& recording, const std::string& title
   return plot;
 }
 
-// The frames rendered with one camera for the whole run, framed on every frame's vertices, in
-// DIR/frames/ (the earlier runs' images there that this one did not write go), and the video.
+// The obstacles as the renderer draws them.
+void addObstacles(const std::vector<optimize::Obstacle>& obstacles, render::RenderOptions& look) {
+  for (const optimize::Obstacle& obstacle : obstacles) {
+    if (obstacle.kind == optimize::Obstacle::Kind::Sphere)
+      look.spheres.push_back({obstacle.vector, obstacle.scalar});
+    else if (obstacle.kind == optimize::Obstacle::Kind::Plane)
+      look.planes.push_back({obstacle.vector, obstacle.scalar});
+  }
+}
+
+// The frames rendered with one camera for the whole run, framed on every frame's drawn vertices
+// (rest + exaggerate (x − rest)) and the obstacles, with the frame's time and, for the
+// displacement style, one colour scale (the largest displacement of the run), in DIR/frames/ (the
+// earlier runs' images there that this one did not write go), and the video.
 void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
                       render::OffscreenContext& context, const Recording& recording,
-                      int vertexCount, const std::filesystem::path& dir) {
+                      const modeling::Mesh& restMesh,
+                      const std::vector<optimize::Obstacle>& obstacles,
+                      const std::filesystem::path& dir) {
   const auto& frames = recording.frames;
+  const modeling::Positions& rest = restMesh.positions;
+  const Eigen::Index vertexCount = rest.rows();
+  look.referencePositions = rest;
+  look.exaggeration = o.exaggerate;
+  addObstacles(obstacles, look);
   look.framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * vertexCount, 3);
-  for (size_t f = 0; f < frames.size(); ++f)
-    look.framingPoints.middleRows(f * vertexCount, vertexCount) = frames[f].second.positions;
+  double largestDisplacement = 0.0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const modeling::Positions& x = frames[f].second.positions;
+    look.framingPoints.middleRows(f * vertexCount, vertexCount) = rest + o.exaggerate * (x - rest);
+    largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
+  }
+  if (look.style == render::RenderStyle::Displacement) {
+    look.displacementMax = std::max(largestDisplacement, 1e-12);
+    look.rangeNote = "largest of the run";
+  }
   const std::filesystem::path frameDir = dir / "frames";
   modeling::createOutputDirectory(frameDir.string());
   std::vector<std::string> pngs, names;
-  for (const auto& [name, mesh] : frames) {
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const auto& [name, mesh] = frames[f];
+    char caption[80];
+    if (o.exaggerate != 1.0)
+      std::snprintf(caption, sizeof caption, "t = %.3f s, displacement ×%g",
+                    recording.frameTimes[f], o.exaggerate);
+    else
+      std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
+    look.caption = caption;
     names.push_back(name.substr(0, name.size() - 4) + ".png");
     pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
     modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
@@ -461,7 +504,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   for (const auto& [name, mesh] : recording.frames)
     modeling::writeMesh((dir / name).string(), mesh);
   if (look)
-    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
+    writeFrameImages(o, *look, *context, recording, restMesh, body.obstacles.obstacles(), dir);
   else
     removeStaleFrames(dir / "frames", {});
   modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
@@ -511,9 +554,15 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--render-style", o.renderStyle,
-                  "Each frame also as frames/frame-NNNNN.png: reflection | shaded | isophote | "
-                  "highlight | none")
+                  "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
+                  "shaded | reflection | isophote | displacement (coloured by the distance from "
+                  "the rest mesh) | none")
       ->capture_default_str();
+  sub->add_option("--exaggerate", o.exaggerate,
+                  "Frame images draw rest + K (x - rest): small motions made visible (the frame "
+                  "meshes keep the true positions)")
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
       ->capture_default_str()
       ->check(inRange(32, 4096));
