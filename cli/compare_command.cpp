@@ -17,6 +17,7 @@
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/studies/convergence_study.h"
 #include "render/figure_grid.h"
@@ -36,14 +37,15 @@ std::string formatError(double error) {
 bool isCompareFile(const std::string& name) {
   if (name == "compare.png" || name == "compare.json") return true;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
-  for (const char* family : {"patch48-", "stripe-", "criss-", "delaunay-"})
+  for (const char* family : {"patch48-", "stripe-", "criss-", "delaunay-", "mesh-"})
     if (png && name.rfind(family, 0) == 0) return true;
   return false;
 }
 
 // The options that need no mesh: both lists given, the sizes and the solve kind.
 void checkCompareOptions(const CompareOptions& o) {
-  if (o.families.empty()) throw InputError("--families: give at least one mesh family");
+  if (o.families.empty() && o.meshFiles.empty())
+    throw InputError("--families: give at least one mesh family (or --mesh FILE)");
   if (o.energies.empty()) throw InputError("--energies: give at least one energy");
   if (o.size < 64 || o.size > 4096)
     throw InputError("--size " + std::to_string(o.size) + ": expected 64 .. 4096 pixels");
@@ -52,11 +54,29 @@ void checkCompareOptions(const CompareOptions& o) {
   if (o.n < 4) throw InputError("--n " + std::to_string(o.n) + ": expected at least 4");
 }
 
-// The rows: one generated mesh per family, with the family's name.
+// The rows: one generated mesh per family, with the family's name, then the user's meshes, named
+// mesh-<file stem> (the row label the file name).
 struct CompareFamilies {
   std::vector<modeling::Mesh> meshes;
-  std::vector<std::string> names;
+  std::vector<std::string> names, labels;
 };
+
+// A user's mesh for the test problem: flat, z = 0 at every vertex (the rings are lifted onto p).
+modeling::Mesh readFlatMesh(const std::string& path) {
+  modeling::Mesh mesh = modeling::readMesh(path);
+  const double height = mesh.positions.col(2).cwiseAbs().maxCoeff();
+  const double extent =
+      (mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff()).maxCoeff();
+  if (height > 1e-12 * extent) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", height);
+    throw InputError("--mesh " + path +
+                     ": the test problem lifts a flat mesh (z = 0 at every vertex) onto z = p(x, "
+                     "y); this one has |z| up to " +
+                     text);
+  }
+  return mesh;
+}
 
 CompareFamilies generateFamilies(const CompareOptions& o) {
   CompareFamilies families;
@@ -70,6 +90,12 @@ CompareFamilies generateFamilies(const CompareOptions& o) {
     generator.n = o.n;
     families.meshes.push_back(modeling::generateMesh(generator));
     families.names.push_back(std::string(modeling::meshFamilyName(generator.family)));
+    families.labels.push_back(families.names.back());
+  }
+  for (const std::string& path : o.meshFiles) {
+    families.meshes.push_back(readFlatMesh(path));
+    families.names.push_back("mesh-" + std::filesystem::path(path).stem().string());
+    families.labels.push_back(std::filesystem::path(path).filename().string());
   }
   return families;
 }
@@ -88,10 +114,11 @@ std::vector<optimize::EnergyVariant> parseVariants(const CompareOptions& o) {
 
 // Panels are named <family>-<energy spec>.png: a repeated row or column would overwrite one.
 void requireDistinct(const CompareOptions& o, const std::vector<std::string>& familyNames) {
-  for (size_t i = 0; i < o.families.size(); ++i)
+  for (size_t i = 0; i < familyNames.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (familyNames[i] == familyNames[j])
-        throw InputError("--families: " + familyNames[i] + " is given twice");
+        throw InputError((i < o.families.size() ? "--families: " : "--mesh: ") + familyNames[i] +
+                         " is given twice");
   for (size_t i = 0; i < o.energies.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (o.energies[i] == o.energies[j])
@@ -276,10 +303,11 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
   const PanelSettings settings{variants, surface, solver};
   CompareOutputs out;
   out.grid.title = std::string(o.solve == "linearized" ? "Linearized" : "Nonlinear") +
-                   " minimizers, boundary rings on z = p(x, y), p = " + o.boundary +
-                   " (n = " + std::to_string(o.n) + ", " + styleName +
+                   " minimizers, boundary rings on z = p(x, y), p = " + o.boundary + " (" +
+                   (o.families.empty() ? std::string() : "n = " + std::to_string(o.n) + ", ") +
+                   styleName +
                    "). Over each panel its C2 error: max |z - p| / max |p| over the free vertices";
-  out.grid.rowLabels = families.names;
+  out.grid.rowLabels = families.labels;
   out.grid.columnLabels.push_back("exact p (reference)");
   for (const auto& v : variants) out.grid.columnLabels.push_back(v.label);
   for (size_t f = 0; f < families.meshes.size(); ++f) {
@@ -313,6 +341,9 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
                   "Mesh families (rows): patch48, stripe, criss, delaunay")
       ->delimiter(',')
       ->capture_default_str();
+  files->inputs("--mesh", o.meshFiles,
+                "A flat mesh of yours (z = 0) as a row after the families (repeatable; without "
+                "--families, the only rows); panels mesh-<stem>-<energy>.png");
   sub->add_option("--energies", o.energies,
                   "Energies (columns): " +
                       energyNames([](const auto&) { return true; }, ", ", ", ") + ", ...")
@@ -347,7 +378,10 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
       "energies, each panel titled with its C2 error), DIR/<family>-exact.png, "
       "DIR/<family>-<energy>.png and DIR/compare.json.\n"
       "Example: flexure compare -o cmp --families patch48,delaunay --energies hinge,midedge");
-  files->onRun(global, [options, &global] { runCompare(*options, global, "flexure compare"); });
+  files->onRun(global, [options, &global, sub] {
+    if (!options->meshFiles.empty() && sub->count("--families") == 0) options->families.clear();
+    runCompare(*options, global, "flexure compare");
+  });
 }
 
 }  // namespace flexure::cli

@@ -374,6 +374,20 @@ sys.exit(0 if legends[0] == legends[1] == legends[2] else 1)
 PY
 done
 grep -q '"style": "error"' cmp-error/compare.json || fail "compare --style error: style not in compare.json"
+# The user's flat mesh as a row (alone without --families, after them with it); a curved one is
+# refused before any work.
+run 0 mesh --family delaunay --n 8 -o mine.off --quiet
+run 0 compare -o cmp-mine --mesh mine.off --energies hinge,midedge --n 8 --size 96 --quiet
+for f in compare.png mesh-mine-exact.png mesh-mine-hinge.png mesh-mine-midedge.png; do
+  is_png "cmp-mine/$f" || fail "compare --mesh: no $f"
+done
+absent cmp-mine/patch48-hinge.png
+run 0 compare -o cmp-mine2 --mesh mine.off --families patch48 --energies hinge --n 8 --size 96 --quiet
+is_png cmp-mine2/patch48-hinge.png || fail "compare --mesh --families: no family row"
+is_png cmp-mine2/mesh-mine-hinge.png || fail "compare --mesh --families: no mesh row"
+run 2 compare -o badcmp --mesh render-bowl.obj; stderr_has "--mesh render-bowl.obj"; stderr_has "flat"
+absent badcmp
+run 2 compare -o badcmp --mesh missing.obj; stderr_has "missing.obj"; absent badcmp
 run 2 compare -o badcmp --families stripe --n 7; stderr_has "stripe"; absent badcmp
 # The demo run above wrote its small comparison.
 for f in compare.png compare.json patch48-midedge.png delaunay-quadfit.png; do
