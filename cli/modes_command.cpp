@@ -543,7 +543,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_flag("--write-shapes", o.writeShapes,
                 "Also write mode-<energy>-<k>.obj: the rest mesh displaced by each mode");
   sub->add_option("--scale", o.scale,
-                  "--write-shapes: the largest displacement, as a fraction of L")
+                  "The largest displacement of the --write-shapes meshes and of a shell's 3-D "
+                  "figure, as a fraction of L")
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--size", o.size, "Panel size of the figure in pixels")
