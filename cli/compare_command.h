@@ -15,6 +15,9 @@ struct CompareOptions {
   std::string outputDir = "compare";
   std::vector<std::string> families = {"patch48", "stripe", "delaunay"};  // rows
   std::vector<std::string> energies = curvature::energyNameList();        // the registered energies
+  // Flat meshes (z = 0) of the user's, one row each after the families (rows and files named
+  // mesh-<file stem>).
+  std::vector<std::string> meshFiles;
   std::string boundary = "quadratic:0.3,-0.7,0.5";
   int n = 16;
   std::string solve = "linearized";  // or "nonlinear"

@@ -2,6 +2,7 @@
 // bending energies (optimize/modes/vibration_modes.h), with the Chladni figure (mode shapes with
 // their nodal lines), a JSON report and, for the square plate, the errors against exact or
 // tabulated frequencies.
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -258,14 +259,65 @@ struct ModeContext {
   const Eigen::MatrixX3d& normals;  // the rest vertex normals
   const std::vector<double>& reference;
   double length;  // L
+  bool flat;      // the rest mesh is a flat plate: a Chladni map seen from above; else a 3-D view
 };
 
-// The normal displacement, whose zero set the nodal lines are, with the lines.
+// Whether the rest positions lie in a plane: the smallest principal extent (the singular values of
+// the centred positions) at most 1e-9 of the largest.
+bool isFlatPlate(const modeling::Positions& rest) {
+  const Eigen::MatrixX3d centred = rest.rowwise() - rest.colwise().mean();
+  const Eigen::Vector3d extents = Eigen::JacobiSVD<Eigen::MatrixX3d>(centred).singularValues();
+  return extents(2) <= 1e-9 * extents(0);
+}
+
+// What a closed or curved mesh is, for the figure's title.
+std::string surfaceKind(const modeling::Stencils& stencils) {
+  const auto& flaps = stencils.faceFlaps;
+  const bool closed = (flaps.array() >= 0).all();
+  return closed ? "closed surface" : "shell";
+}
+
+int modePanelWidth(const ModeContext& c) {
+  return c.o.size + (c.flat ? 0 : render::kLegendWidth);
+}
+
+// A curved or closed mesh's mode in 3-D: the rest mesh displaced along the mode as its shape file
+// is (largest displacement scale × L), coloured by the normal component w = u·n of the mode on a
+// diverging map (its own largest |w|), the nodal lines w = 0 drawn black on the surface.
+render::Image shellModePanel(const optimize::VibrationMode& mode, const std::vector<double>& w,
+                             const ModeContext& c) {
+  const modeling::Positions& rest = c.plate.mesh.positions;
+  modeling::Mesh shaped = c.plate.mesh;
+  shaped.positions += (c.o.scale * c.length / mode.shape.rowwise().norm().maxCoeff()) * mode.shape;
+  render::RenderOptions look;
+  look.style = render::RenderStyle::Curvature;
+  look.width = modePanelWidth(c);
+  look.height = c.o.size;
+  look.azimuthDegrees = 25.0;
+  look.elevationDegrees = 30.0;
+  look.vertexScalars = w;
+  look.zeroContour = true;
+  double largest = 0.0;
+  for (const double value : w) largest = std::max(largest, std::abs(value));
+  look.curvatureMax = std::max(largest, 1e-300);
+  look.rangeNote = "largest";
+  look.scalarLabel = "normal component of the mode";
+  look.scalarSymbol = "w";
+  look.framingPoints.resize(2 * rest.rows(), 3);
+  look.framingPoints << rest, shaped.positions;
+  return render::renderMesh(shaped, look);
+}
+
+// The normal displacement, whose zero set the nodal lines are, with the lines: a map seen from
+// above for a flat plate, a 3-D view of the displaced shape otherwise.
 render::Image modePanel(const optimize::VibrationMode& mode, const ModeContext& c) {
+  std::vector<double> w;
+  for (int v = 0; v < c.plate.mesh.vertexCount(); ++v)
+    w.push_back(mode.shape.row(v).dot(c.normals.row(v)));
+  if (!c.flat) return shellModePanel(mode, w, c);
   render::FieldMap map;
   map.mesh = &c.plate.mesh;
-  for (int v = 0; v < c.plate.mesh.vertexCount(); ++v)
-    map.values.push_back(mode.shape.row(v).dot(c.normals.row(v)));
+  map.values = std::move(w);
   map.lines = optimize::nodalSegments(c.stencils, c.rest, mode.shape);
   map.size = c.o.size;
   return render::renderFieldMap(map);
@@ -356,8 +408,9 @@ void addRun(const EnergyRun& run, optimize::Support support, const ModeContext& 
   for (int k = flexible; k < c.o.count; ++k) {  // spurious zero modes took these places
     out.table[k].push_back(std::nan(""));
     render::Image blank;
-    blank.width = blank.height = c.o.size;
-    blank.rgba.assign(4 * c.o.size * c.o.size, 255);
+    blank.width = modePanelWidth(c);
+    blank.height = c.o.size;
+    blank.rgba.assign(4 * static_cast<size_t>(blank.width) * blank.height, 255);
     out.grid.panels.back().push_back(blank);
     out.grid.panelTitles.back().push_back("(not computed)");
   }
@@ -371,11 +424,20 @@ std::vector<double> referenceLambdas(const ModesOptions& o, optimize::Support su
       support, support == optimize::Support::Clamped ? std::min(o.count, 6) : o.count);
 }
 
-std::string figureTitle(const optimize::ModesOptions& base, const Plate& plate) {
+// "free plate, patch48 n = 16: …" for a flat plate; for a curved or closed mesh what it is and
+// how its modes are drawn ("sphere.off, a free closed surface: …").
+std::string figureTitle(const optimize::ModesOptions& base, const Plate& plate, bool flat,
+                        const modeling::Stencils& stencils) {
   const long held = std::count(base.extraFixed.begin(), base.extraFixed.end(), true);
-  return std::string(optimize::supportName(base.support)) + " plate" +
-         (held > 0 ? " held at " + counted(held, "vertex", "vertices") : "") + ", " + plate.source +
-         ": vibration modes, nodal lines black";
+  const std::string heldText = held > 0 ? " held at " + counted(held, "vertex", "vertices") : "";
+  if (!flat) {
+    return plate.source + ", a " + std::string(optimize::supportName(base.support)) + " " +
+           surfaceKind(stencils) + heldText +
+           ": vibration modes in 3-D, the rest shape displaced along each mode, coloured by its "
+           "normal component, nodal lines black";
+  }
+  return std::string(optimize::supportName(base.support)) + " plate" + heldText + ", " +
+         plate.source + ": vibration modes, nodal lines black";
 }
 
 void printTableHeader(const std::vector<EnergyRun>& runs, bool withReference) {
@@ -448,13 +510,14 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   // The report, the table and the figure.
   const std::vector<double> reference = referenceLambdas(o, base.support);
   ModesOutputs out;
-  out.grid.title = figureTitle(base, plate);
+  const bool flat = isFlatPlate(rest.positions);
+  out.grid.title = figureTitle(base, plate, flat, stencils);
   for (int k = 1; k <= o.count; ++k) out.grid.columnLabels.push_back("mode " + std::to_string(k));
   out.table.resize(o.count);
   printTableHeader(runs, !reference.empty());
   const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
   const ModeContext context{
-      o, plate, stencils, rest, normals, reference, runs.front().result.length};
+      o, plate, stencils, rest, normals, reference, runs.front().result.length, flat};
   for (const EnergyRun& run : runs) addRun(run, base.support, context, out);
   printTableRows(out.table, reference);
   const render::Image figure = render::composeFigureGrid(out.grid);
@@ -532,7 +595,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_flag("--write-shapes", o.writeShapes,
                 "Also write mode-<energy>-<k>.obj: the rest mesh displaced by each mode");
   sub->add_option("--scale", o.scale,
-                  "--write-shapes: the largest displacement, as a fraction of L")
+                  "The largest displacement of the --write-shapes meshes and of a shell's 3-D "
+                  "figure, as a fraction of L")
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--size", o.size, "Panel size of the figure in pixels")

@@ -86,6 +86,8 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"RenderOptions.errorMax", "--error-max"},
       {"RenderOptions.curvatureMax", "--curvature-max"},
       {"RenderOptions.background", "--background"},
+      {"RenderOptions.referencePositions", "--reference"},
+      {"RenderOptions.exaggeration", "--exaggerate"},
   };
   return rows;
 }

@@ -1,5 +1,6 @@
 // flexure render: an offscreen image of a mesh (reflection lines, isophotes, highlight lines,
-// shading, the error against a polynomial surface, or a mean-curvature map), written as PNG. The
+// shading, the error against a polynomial surface, a mean-curvature map, or the displacement from a
+// reference mesh, optionally exaggerated), written as PNG. The
 // curvature map's values come from curvature/ here, so that render/ does not depend on it.
 #include <cctype>
 #include <chrono>
@@ -30,6 +31,8 @@ struct RenderCommandOptions {
   std::optional<double> errorMax;
   std::string curvatureEnergy;
   std::optional<double> curvatureMax;
+  std::string reference;
+  std::optional<double> exaggerate;
   render::RenderOptions render;
 };
 
@@ -76,8 +79,26 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
     throw InputError("--curvature-energy and --curvature-max apply to --style curvature only");
   }
 
+  if (r.style == render::RenderStyle::Displacement && o.reference.empty())
+    throw InputError("--style displacement needs --reference REST (a mesh with the same vertices)");
+  if (o.exaggerate && o.reference.empty())
+    throw InputError("--exaggerate scales the displacement from --reference: give it");
+  if (o.exaggerate) r.exaggeration = *o.exaggerate;
+
   std::vector<std::string> notices;
   const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
+  if (!o.reference.empty()) {
+    const modeling::Mesh reference = modeling::readMesh(o.reference, &notices);
+    if (reference.vertexCount() != mesh.vertexCount() ||
+        reference.faceCount() != mesh.faceCount() || reference.triangles != mesh.triangles) {
+      throw InputError(
+          "--reference " + o.reference + ": " + std::to_string(reference.vertexCount()) +
+          " vertices and " + std::to_string(reference.faceCount()) + " faces, but " + o.input +
+          " has " + std::to_string(mesh.vertexCount()) + " and " +
+          std::to_string(mesh.faceCount()) + ", or other faces (the same connectivity is needed)");
+    }
+    r.referencePositions = reference.positions;
+  }
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure render: " << notice << '\n';
   const auto start = std::chrono::steady_clock::now();
@@ -104,8 +125,8 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   files->input("input", o.input, "Mesh file (.obj, .off, .ply, .stl)")->required();
   files->output("-o,--output", o.output, "Output image (.png)")->required();
   sub->add_option("--style", o.style,
-                  "reflection | isophote | highlight | shaded | error | curvature (default "
-                  "reflection)");
+                  "reflection | isophote | highlight | shaded | error | curvature | displacement "
+                  "(default reflection)");
   sub->add_option("--width", o.render.width, "Image width in pixels (default 1024)")
       ->check(inRange(16, 8192));
   sub->add_option("--height", o.render.height, "Image height in pixels (default 1024)")
@@ -138,6 +159,13 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--curvature-max", o.curvatureMax,
                   "Curvature style: the colour map spans [-M, M] (default: the 98th percentile of "
                   "|H| over the vertices)");
+  files->input("--reference", o.reference,
+               "A mesh with the same vertices and faces (e.g. the rest state): displacement "
+               "style colours |x - x_ref|; with --exaggerate the shape is drawn about it");
+  sub->add_option("--exaggerate", o.exaggerate,
+                  "Draw x_ref + K (x - x_ref): small displacements made visible (needs "
+                  "--reference; colours keep the true distances)")
+      ->check(CLI::PositiveNumber);
   sub->footer(
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "

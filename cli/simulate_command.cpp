@@ -45,8 +45,9 @@ struct SimulateOptions {
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
-  std::string renderStyle = "reflection";  // "none": no frame images
+  std::string renderStyle = "shaded";  // "none": no frame images
   int renderSize = 480;
+  double exaggerate = 1.0;  // frames drawn as rest + exaggerate (x − rest)
   std::string video;        // an MP4 of the frame images (ffmpeg); empty: none
   int checkpointEvery = 0;  // steps between checkpoints; 0: none
   std::string resumeDir;    // a checkpoint's output directory to continue from; empty: none
@@ -186,10 +187,15 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
   if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);
-    if (look->style == render::RenderStyle::Error || look->style == render::RenderStyle::Curvature)
+    // Highlight lines alias into moiré at frame sizes on a gently curved sheet; error and
+    // curvature need a surface or a field the frames do not have.
+    if (look->style == render::RenderStyle::Error ||
+        look->style == render::RenderStyle::Curvature ||
+        look->style == render::RenderStyle::Highlight)
       throw InputError("--render-style " + o.renderStyle +
-                       ": expected reflection, isophote, highlight, shaded or none");
+                       ": expected shaded, reflection, isophote, displacement or none");
     look->width = look->height = o.renderSize;
+    if (look->style == render::RenderStyle::Displacement) look->width += render::kLegendWidth;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
   }
@@ -256,6 +262,7 @@ struct Recording {
   std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity,
                                              // (contact,) total
   std::vector<std::pair<std::string, modeling::Mesh>> frames;
+  std::vector<double> frameTimes;                                     // s, one per frame
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
   Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact)
@@ -292,6 +299,7 @@ struct Recording {
     modeling::Mesh m = restMesh;
     m.positions = stepper.positions();
     frames.emplace_back(name, std::move(m));
+    frameTimes.push_back(stepper.time());
   }
 };
 
@@ -364,6 +372,7 @@ void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
       {"csv", recording.csv.str()},
       {"history", recording.history},
       {"frames", frames},
+      {"frame_times", recording.frameTimes},
       {"smallest_distance", std::isfinite(recording.smallestDistance)
                                 ? nlohmann::json(recording.smallestDistance)
                                 : nlohmann::json(nullptr)}};
@@ -420,6 +429,7 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
       m.positions = matrixFrom(frame, n, 3);
       recording.frames.emplace_back(name, std::move(m));
     }
+    recording.frameTimes = c.at("frame_times").get<std::vector<double>>();
     if (!c.at("smallest_distance").is_null())
       recording.smallestDistance = c.at("smallest_distance");
     return c.at("step");
@@ -574,19 +584,53 @@ render::LinePlot energyPlot(const Recording& recording, const std::string& title
   return plot;
 }
 
-// The frames rendered with one camera for the whole run, framed on every frame's vertices, in
-// DIR/frames/ (the earlier runs' images there that this one did not write go), and the video.
+// The obstacles as the renderer draws them.
+void addObstacles(const std::vector<optimize::Obstacle>& obstacles, render::RenderOptions& look) {
+  for (const optimize::Obstacle& obstacle : obstacles) {
+    if (obstacle.kind == optimize::Obstacle::Kind::Sphere)
+      look.spheres.push_back({obstacle.vector, obstacle.scalar});
+    else if (obstacle.kind == optimize::Obstacle::Kind::Plane)
+      look.planes.push_back({obstacle.vector, obstacle.scalar});
+  }
+}
+
+// The frames rendered with one camera for the whole run, framed on every frame's drawn vertices
+// (rest + exaggerate (x − rest)) and the obstacles, with the frame's time and, for the
+// displacement style, one colour scale (the largest displacement of the run), in DIR/frames/ (the
+// earlier runs' images there that this one did not write go), and the video.
 void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
                       render::OffscreenContext& context, const Recording& recording,
-                      int vertexCount, const std::filesystem::path& dir) {
+                      const modeling::Positions& rest,
+                      const std::vector<optimize::Obstacle>& obstacles,
+                      const std::filesystem::path& dir) {
   const auto& frames = recording.frames;
+  const Eigen::Index vertexCount = rest.rows();
+  look.referencePositions = rest;
+  look.exaggeration = o.exaggerate;
+  addObstacles(obstacles, look);
   look.framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * vertexCount, 3);
-  for (size_t f = 0; f < frames.size(); ++f)
-    look.framingPoints.middleRows(f * vertexCount, vertexCount) = frames[f].second.positions;
+  double largestDisplacement = 0.0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const modeling::Positions& x = frames[f].second.positions;
+    look.framingPoints.middleRows(f * vertexCount, vertexCount) = rest + o.exaggerate * (x - rest);
+    largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
+  }
+  if (look.style == render::RenderStyle::Displacement) {
+    look.displacementMax = std::max(largestDisplacement, 1e-12);
+    look.rangeNote = "largest of the run";
+  }
   const std::filesystem::path frameDir = dir / "frames";
   modeling::createOutputDirectory(frameDir.string());
   std::vector<std::string> pngs, names;
-  for (const auto& [name, mesh] : frames) {
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const auto& [name, mesh] = frames[f];
+    char caption[80];
+    if (o.exaggerate != 1.0)
+      std::snprintf(caption, sizeof caption, "t = %.3f s, displacement ×%g",
+                    recording.frameTimes[f], o.exaggerate);
+    else
+      std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
+    look.caption = caption;
     names.push_back(name.substr(0, name.size() - 4) + ".png");
     pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
     modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
@@ -599,8 +643,8 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
 // `dir`; the files of an earlier run there that this one did not write go at the commit.
 void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOptions>& look,
                   render::OffscreenContext* context, const Recording& recording,
-                  const std::string& title, const nlohmann::json& report, int vertexCount,
-                  const std::filesystem::path& dir) {
+                  const std::string& title, const nlohmann::json& report,
+                  const optimize::Problem& body, const std::filesystem::path& dir) {
   const render::LinePlot plot = energyPlot(recording, title);
   modeling::createOutputDirectory(dir.string());
   std::vector<std::string> written = {"energies.csv", "energies.png", "report.json"};
@@ -610,7 +654,8 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
   }
   removeStaleFrames(dir, written);
   if (look)
-    writeFrameImages(o, *look, *context, recording, vertexCount, dir);
+    writeFrameImages(o, *look, *context, recording, body.rest.positions, body.obstacles.obstacles(),
+                     dir);
   else
     removeStaleFrames(dir / "frames", {});
   modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
@@ -675,14 +720,14 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     // The frames computed before the failure are results: written and committed at once (each
     // file atomically), with the report saying the run is partial.
     modeling::OutputBatch partial;
-    writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
+    writeOutputs(o, look, context.get(), recording, title, report, body, dir);
     partial.commit();
     throw NumericalError("the simulation could not proceed " + run.failure + "; the " +
                          std::to_string(recording.frames.size()) + " frames to t = " +
                          std::to_string(stepper.time()) + " are in " + dir.string() + "; see " +
                          (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
   }
-  writeOutputs(o, look, context.get(), recording, title, report, vertexCount, dir);
+  writeOutputs(o, look, context.get(), recording, title, report, body, dir);
   if (!global.quiet) {
     std::fprintf(stderr,
                  "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
@@ -697,8 +742,8 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
 // failing step), --checkpoint and --resume themselves.
 std::string motionOptions(const CLI::App& sub) {
   static const std::vector<std::string> free = {
-      "output",     "duration", "min-dt", "render-style", "render-size", "video",
-      "checkpoint", "resume",   "quiet",  "verbose",      "force"};
+      "output",     "duration",   "min-dt", "render-style", "render-size", "video",
+      "exaggerate", "checkpoint", "resume", "quiet",        "verbose",     "force"};
   std::istringstream lines(sub.config_to_str(true, false));
   std::string line, kept;
   while (std::getline(lines, line)) {
@@ -744,9 +789,15 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str()
       ->check(positive());
   sub->add_option("--render-style", o.renderStyle,
-                  "Each frame also as frames/frame-NNNNN.png: reflection | shaded | isophote | "
-                  "highlight | none")
+                  "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
+                  "shaded | reflection | isophote | displacement (coloured by the distance from "
+                  "the rest mesh) | none")
       ->capture_default_str();
+  sub->add_option("--exaggerate", o.exaggerate,
+                  "Frame images draw rest + K (x - rest): small motions made visible (the frame "
+                  "meshes keep the true positions)")
+      ->capture_default_str()
+      ->check(positive());
   sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
       ->capture_default_str()
       ->check(inRange(32, 4096));

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include "modeling/atomic_write.h"
@@ -29,7 +30,99 @@ constexpr const char* kFont = "DejaVu Sans";
 
 // The styles that colour a per-vertex scalar and draw a legend.
 bool hasLegend(RenderStyle style) {
-  return style == RenderStyle::Error || style == RenderStyle::Curvature;
+  return style == RenderStyle::Error || style == RenderStyle::Curvature ||
+         style == RenderStyle::Displacement;
+}
+
+// What is drawn: the mesh at its drawn positions (x̄ + k (x − x̄) when exaggerated), the obstacles
+// as one triangle mesh, and the points the camera frames.
+struct Scene {
+  modeling::Mesh mesh;
+  modeling::Mesh obstacles;
+  modeling::Positions framingPoints;
+};
+
+// A sphere of `radius` about `centre` as a latitude–longitude mesh, kSphereSlices around and
+// kSphereStacks pole to pole, appended to `out`.
+constexpr int kSphereSlices = 48, kSphereStacks = 24;
+void appendSphere(const SphereObstacle& sphere, modeling::Mesh& out) {
+  const int first = out.vertexCount();
+  const int ringCount = kSphereStacks - 1;
+  modeling::Positions points(2 + ringCount * kSphereSlices, 3);
+  points.row(0) = (sphere.centre + sphere.radius * Eigen::Vector3d::UnitZ()).transpose();
+  points.row(1) = (sphere.centre - sphere.radius * Eigen::Vector3d::UnitZ()).transpose();
+  for (int i = 0; i < ringCount; ++i) {
+    const double polar = kPi * (i + 1) / kSphereStacks;
+    for (int j = 0; j < kSphereSlices; ++j) {
+      const double around = 2.0 * kPi * j / kSphereSlices;
+      const Eigen::Vector3d u(std::sin(polar) * std::cos(around),
+                              std::sin(polar) * std::sin(around), std::cos(polar));
+      points.row(2 + i * kSphereSlices + j) = (sphere.centre + sphere.radius * u).transpose();
+    }
+  }
+  const auto ring = [&](int i, int j) { return first + 2 + i * kSphereSlices + j % kSphereSlices; };
+  std::vector<Eigen::Vector3i> faces;
+  for (int j = 0; j < kSphereSlices; ++j) {
+    faces.emplace_back(first, ring(0, j), ring(0, j + 1));
+    faces.emplace_back(first + 1, ring(ringCount - 1, j + 1), ring(ringCount - 1, j));
+    for (int i = 0; i + 1 < ringCount; ++i) {
+      faces.emplace_back(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
+      faces.emplace_back(ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
+    }
+  }
+  out.positions.conservativeResize(first + points.rows(), 3);
+  out.positions.bottomRows(points.rows()) = points;
+  const Eigen::Index faceStart = out.triangles.rows();
+  out.triangles.conservativeResize(faceStart + static_cast<Eigen::Index>(faces.size()), 3);
+  for (size_t f = 0; f < faces.size(); ++f)
+    out.triangles.row(faceStart + static_cast<Eigen::Index>(f)) = faces[f].transpose();
+}
+
+// The plane as a square of half side `halfSide` centred on the foot of `centre` on the plane.
+void appendPlane(const PlaneObstacle& plane, const Eigen::Vector3d& centre, double halfSide,
+                 modeling::Mesh& out) {
+  const Eigen::Vector3d n = plane.normal.normalized();
+  const Eigen::Vector3d foot = centre - (n.dot(centre) - plane.offset / plane.normal.norm()) * n;
+  const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+  const int first = out.vertexCount();
+  out.positions.conservativeResize(first + 4, 3);
+  const double signs[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int k = 0; k < 4; ++k)
+    out.positions.row(first + k) =
+        (foot + halfSide * (signs[k][0] * u + signs[k][1] * w)).transpose();
+  const Eigen::Index faceStart = out.triangles.rows();
+  out.triangles.conservativeResize(faceStart + 2, 3);
+  out.triangles.row(faceStart) << first, first + 1, first + 2;
+  out.triangles.row(faceStart + 1) << first, first + 2, first + 3;
+}
+
+// The drawn mesh, the obstacles and the framed points: the given framing points (or the drawn
+// mesh's), every sphere, and every plane's square, sized and centred by those points' bounding box.
+Scene buildScene(const modeling::Mesh& mesh, const RenderOptions& o) {
+  Scene scene;
+  scene.mesh = mesh;
+  if (o.referencePositions.rows() > 0 && o.exaggeration != 1.0) {
+    scene.mesh.positions =
+        o.referencePositions + o.exaggeration * (mesh.positions - o.referencePositions);
+  }
+  const modeling::Positions& base =
+      o.framingPoints.rows() > 0 ? o.framingPoints : scene.mesh.positions;
+  scene.obstacles.positions.resize(0, 3);
+  scene.obstacles.triangles.resize(0, 3);
+  for (const SphereObstacle& sphere : o.spheres) appendSphere(sphere, scene.obstacles);
+  if (!o.planes.empty()) {
+    const Eigen::Vector3d lo = base.colwise().minCoeff().transpose();
+    const Eigen::Vector3d hi = base.colwise().maxCoeff().transpose();
+    const Eigen::Vector3d centre = 0.5 * (lo + hi);
+    const double radius =
+        std::max((base.rowwise() - centre.transpose()).rowwise().norm().maxCoeff(), 1e-9);
+    for (const PlaneObstacle& plane : o.planes)
+      appendPlane(plane, centre, kPlaneHalfSide * radius, scene.obstacles);
+  }
+  scene.framingPoints.resize(base.rows() + scene.obstacles.positions.rows(), 3);
+  scene.framingPoints.topRows(base.rows()) = base;
+  scene.framingPoints.bottomRows(scene.obstacles.positions.rows()) = scene.obstacles.positions;
+  return scene;
 }
 
 // What the shaders see. The "frame" is the camera-aligned object frame: origin at the mesh's
@@ -56,8 +149,8 @@ Eigen::Matrix3d viewRotation(double azimuthDegrees, double elevationDegrees) {
   return rows;
 }
 
-Camera frameCamera(const modeling::Mesh& mesh, const RenderOptions& o, int width, int height) {
-  const modeling::Positions& points = o.framingPoints.rows() > 0 ? o.framingPoints : mesh.positions;
+Camera frameCamera(const modeling::Positions& points, const RenderOptions& o, int width,
+                   int height) {
   const Eigen::Vector3d lo = points.colwise().minCoeff().transpose();
   const Eigen::Vector3d hi = points.colwise().maxCoeff().transpose();
   Camera camera;
@@ -119,15 +212,15 @@ Camera frameCamera(const modeling::Mesh& mesh, const RenderOptions& o, int width
 }
 
 // One record per triangle corner (no index buffer, so flat normals and the edge overlay's
-// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1).
-constexpr int kFloatsPerCorner = 7;
+// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), material
+// (1: 0 the mesh, 1 an obstacle).
+constexpr int kFloatsPerCorner = 8;
 
-std::vector<float> cornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smooth,
-                              const std::vector<double>& scalars) {
+void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smooth,
+                      const std::vector<double>& scalars, float material,
+                      std::vector<float>& soup) {
   const Eigen::MatrixX3d normals =
       smooth ? modeling::vertexNormals(mesh.positions, mesh.triangles) : Eigen::MatrixX3d();
-  std::vector<float> soup;
-  soup.reserve(static_cast<std::size_t>(mesh.faceCount()) * 3 * kFloatsPerCorner);
   for (int f = 0; f < mesh.faceCount(); ++f) {
     const auto t = mesh.triangles.row(f);
     Eigen::Vector3d faceNormal = Eigen::Vector3d::Zero();
@@ -145,9 +238,9 @@ std::vector<float> cornerSoup(const modeling::Mesh& mesh, const Camera& camera, 
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(p(i)));
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(n(i)));
       soup.push_back(scalars.empty() ? 0.0f : static_cast<float>(scalars[v]));
+      soup.push_back(material);
     }
   }
-  return soup;
 }
 
 // Vertex stage: frame coordinates in, clip coordinates out; the corner's barycentric coordinate
@@ -156,13 +249,16 @@ const char* const kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in float scalar;
+layout(location = 3) in float material;
 uniform mat4 frameToClip;
 out vec3 framePosition;
 out vec3 frameNormal;
 out float vertexScalar;
+out float vertexMaterial;
 out vec3 barycentric;
 void main() {
   framePosition = position;
+  vertexMaterial = material;
   frameNormal = normal;
   vertexScalar = scalar;
   barycentric = vec3(0.0);
@@ -187,8 +283,11 @@ void main() {
 //              n; s = N/2 · (q·d). Dark lines where the normal line passes a light (s near an
 //              integer); grey where n_z <= 0 (the normal line misses the plane).
 //  shaded      Lambert plus a Blinn-Phong highlight: c (0.15 + 0.85 max(n·L, 0)) + 0.25 (n·H)^40.
-//  scalar      (error, curvature) the interpolated vertex scalar through the colour map on
-//              [lo, hi], unlit so that the colour reads as a value.
+//  scalar      (error, curvature, displacement) the interpolated vertex scalar through the
+//              colour map on [lo, hi], unlit so that the colour reads as a value; with the zero
+//              contour, black where |s| < 0.75 fwidth(s), fading out by 1.25 fwidth(s) (a line
+//              about two pixels wide along the level set s = 0).
+//  obstacle    (material 1, every style) Lambert in the obstacle colour: c (0.3 + 0.7 max(n·L, 0)).
 //
 // Stripes are dark where s is within w/2 of an integer (w = the dark fraction of a period); the
 // edges are smoothed over one pixel, |∇s| ≈ fwidth(s), against aliasing. The edge overlay paints
@@ -197,6 +296,7 @@ const char* const kFragmentShader = R"(#version 450 core
 in vec3 framePosition;
 in vec3 frameNormal;
 in float vertexScalar;
+in float vertexMaterial;
 in vec3 barycentric;
 uniform int style;  // 0 reflection, 1 isophote, 2 highlight, 3 shaded, 4 scalar
 uniform int perspective;
@@ -209,6 +309,8 @@ uniform int edges;
 uniform vec2 scalarRange;
 uniform int stopCount;
 uniform vec3 stops[16];
+uniform int zeroContour;
+uniform vec3 obstacleColour;
 out vec4 colour;
 
 const vec3 darkStripeColour = vec3(0.06);
@@ -236,6 +338,10 @@ void main() {
   vec3 v = perspective != 0 ? normalize(eye - framePosition) : vec3(0.0, 0.0, 1.0);
   vec3 d = vec3(stripeAcross, 0.0);
   vec3 c;
+  if (vertexMaterial > 0.5) {
+    colour = vec4(obstacleColour * (0.3 + 0.7 * max(dot(n, lightDirection), 0.0)), 1.0);
+    return;
+  }
   if (style == 0) {
     vec3 r = reflect(-v, n);
     c = mix(lightStripeColour, darkStripeColour, darkStripe(0.5 * stripeCount * (dot(r, d) + 1.0)));
@@ -256,6 +362,10 @@ void main() {
         vec3(0.25 * pow(max(dot(n, halfway), 0.0), 40.0));
   } else {
     c = colourMap(vertexScalar);
+    if (zeroContour != 0) {
+      float pixel = max(fwidth(vertexScalar), 1e-30);
+      c = mix(vec3(0.0), c, smoothstep(0.75 * pixel, 1.25 * pixel, abs(vertexScalar)));
+    }
   }
   if (edges != 0) {
     vec3 nearEdge = smoothstep(vec3(0.0), 1.2 * fwidth(barycentric), barycentric);
@@ -359,7 +469,7 @@ void createFramebuffers(const GlFunctions& gl, GlObjects& objects, int width, in
   throwOnGlError(gl, "creating the framebuffers");
 }
 
-// The corner soup into a vertex buffer: position (3), normal (3) and scalar (1) per corner.
+// The corner soup into a vertex buffer: position (3), normal (3), scalar (1), material (1).
 void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vector<float>& soup) {
   gl.GenVertexArrays(1, &objects.vertexArray);
   gl.BindVertexArray(objects.vertexArray);
@@ -373,7 +483,9 @@ void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vect
                          reinterpret_cast<const void*>(3 * sizeof(float)));
   gl.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
                          reinterpret_cast<const void*>(6 * sizeof(float)));
-  for (GLuint attribute = 0; attribute < 3; ++attribute) gl.EnableVertexAttribArray(attribute);
+  gl.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
+                         reinterpret_cast<const void*>(7 * sizeof(float)));
+  for (GLuint attribute = 0; attribute < 4; ++attribute) gl.EnableVertexAttribArray(attribute);
   throwOnGlError(gl, "uploading the mesh");
 }
 
@@ -383,7 +495,7 @@ void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
   const auto uniform = [&](const char* name) { return gl.GetUniformLocation(program, name); };
   Eigen::Matrix4f clip = camera.frameToClip.cast<float>();  // column-major, as GL expects
   gl.UniformMatrix4fv(uniform("frameToClip"), 1, GL_FALSE, clip.data());
-  const int styleCode[] = {0, 1, 2, 3, 4, 4};
+  const int styleCode[] = {0, 1, 2, 3, 4, 4, 4};
   gl.Uniform1i(uniform("style"), styleCode[static_cast<int>(o.style)]);
   gl.Uniform1i(uniform("perspective"), camera.perspective ? 1 : 0);
   gl.Uniform3f(uniform("eye"), static_cast<float>(camera.eye(0)), static_cast<float>(camera.eye(1)),
@@ -398,6 +510,9 @@ void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
   gl.Uniform1f(uniform("stripeCount"), static_cast<float>(o.stripeCount));
   gl.Uniform1f(uniform("stripeWidth"), static_cast<float>(o.stripeWidth));
   gl.Uniform1i(uniform("edges"), o.edges ? 1 : 0);
+  gl.Uniform1i(uniform("zeroContour"), o.zeroContour ? 1 : 0);
+  gl.Uniform3f(uniform("obstacleColour"), static_cast<float>(o.obstacleColour.r),
+               static_cast<float>(o.obstacleColour.g), static_cast<float>(o.obstacleColour.b));
   gl.Uniform2f(uniform("scalarRange"), static_cast<float>(scalarMin),
                static_cast<float>(scalarMax));
   std::vector<float> stops;
@@ -457,9 +572,9 @@ Image imageFromBottomUp(const std::vector<std::uint8_t>& bottomUp, int width, in
 
 // Draws the mesh with GL into an image of `width` × `height` (the whole image, or the part left
 // of the legend).
-Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const RenderOptions& o,
-                int width, int height, const std::vector<double>& scalars, double scalarMin,
-                double scalarMax, const ColourMap& map, RenderTimings* timings = nullptr) {
+Image rasterize(OffscreenContext& context, const Scene& scene, const RenderOptions& o, int width,
+                int height, const std::vector<double>& scalars, double scalarMin, double scalarMax,
+                const ColourMap& map, RenderTimings* timings = nullptr) {
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](Clock::time_point from) {
     return std::chrono::duration<double>(Clock::now() - from).count();
@@ -472,12 +587,17 @@ Image rasterize(OffscreenContext& context, const modeling::Mesh& mesh, const Ren
   GlObjects objects(gl);
   createFramebuffers(gl, objects, width, height, samples);
 
-  const Camera camera = frameCamera(mesh, o, width, height);
-  const std::vector<float> soup = cornerSoup(mesh, camera, o.smoothNormals, scalars);
+  const Camera camera = frameCamera(scene.framingPoints, o, width, height);
+  std::vector<float> soup;
+  soup.reserve(static_cast<std::size_t>(scene.mesh.faceCount() + scene.obstacles.faceCount()) * 3 *
+               kFloatsPerCorner);
+  appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, soup);
+  appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, soup);
   objects.program = linkProgram(gl);
   uploadCornerSoup(gl, objects, soup);
   setUniforms(gl, objects.program, camera, o, scalarMin, scalarMax, map);
-  drawTriangles(gl, objects, o, width, height, static_cast<GLsizei>(mesh.faceCount()));
+  drawTriangles(gl, objects, o, width, height,
+                static_cast<GLsizei>(scene.mesh.faceCount() + scene.obstacles.faceCount()));
   Clock::time_point readStart = Clock::now();
   if (timings) {
     gl.Finish();  // llvmpipe draws lazily: without this the draw would be timed as the readback
@@ -503,11 +623,50 @@ std::string tickLabel(double value, double step) {
   return label;
 }
 
+// Whole decades in [minimum, maximum] (decimal logarithms), every one or every k-th so that there
+// are at most eight.
+std::vector<double> decadeTicks(double minimum, double maximum) {
+  const double first = std::ceil(minimum - 1e-9), last = std::floor(maximum + 1e-9);
+  const double stride = std::max(1.0, std::ceil((last - first + 1.0) / 8.0));
+  std::vector<double> ticks;
+  for (double k = first; k <= last; k += stride) ticks.push_back(k);
+  return ticks;
+}
+
+std::string decadeLabel(double exponent) {
+  char label[16];
+  std::snprintf(label, sizeof label, "1e%d", static_cast<int>(std::lround(exponent)));
+  return label;
+}
+
+// `text` at the top left of `image`, in black or white against the background.
+Image withCaption(const Image& image, const RenderOptions& o) {
+  if (o.caption.empty()) return image;
+  const CairoSurface surface = surfaceFromImage(image);
+  CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
+  const double luminance =
+      0.2126 * o.background.r + 0.7152 * o.background.g + 0.0722 * o.background.b;
+  const double ink = luminance > 0.5 ? 0.0 : 1.0;
+  cairo_set_source_rgb(cr.get(), ink, ink, ink);
+  cairo_select_font_face(cr.get(), kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  const double size = std::clamp(0.04 * image.height, 10.0, 24.0);
+  const double fitted = std::min(
+      size, size * (image.width - 2.0 * kTextMargin) / textWidth(cr.get(), o.caption, size));
+  cairo_set_font_size(cr.get(), fitted);
+  cairo_move_to(cr.get(), 2.0 * kTextMargin, 2.0 * kTextMargin + fitted);
+  cairo_show_text(cr.get(), o.caption.c_str());
+  cairo_surface_flush(surface.get());
+  return imageFromSurface(surface.get());
+}
+
 // The mesh image on the left, and on the right a vertical colour bar of `map` from `minimum`
 // (bottom) to `maximum` (top) with ticks at legendTicks, and above it `title` and `range` (how
 // the range was chosen), each fitted to the legend's width.
+// On a log scale `minimum` and `maximum` are decimal logarithms, the ticks whole decades labelled
+// "1e-5".
 Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum, double maximum,
-                 const ColourMap& map, const std::string& title, const std::string& range) {
+                 const ColourMap& map, const std::string& title, const std::string& range,
+                 bool logarithmic = false) {
   CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, o.width, o.height),
                        &cairo_surface_destroy);
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
@@ -534,7 +693,8 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
   cairo_stroke(cr.get());
   cairo_select_font_face(cr.get(), kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   const double textSize = std::clamp(0.022 * o.height, 10.0, 15.0);
-  const std::vector<double> ticks = legendTicks(minimum, maximum);
+  const std::vector<double> ticks =
+      logarithmic ? decadeTicks(minimum, maximum) : legendTicks(minimum, maximum);
   const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : maximum - minimum;
   const double labelLeft = barLeft + barWidth + 8.0;
   const double labelWidth = o.width - kTextMargin - labelLeft;
@@ -543,7 +703,7 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
     cairo_move_to(cr.get(), barLeft + barWidth, std::round(y) + 0.5);
     cairo_rel_line_to(cr.get(), 5.0, 0.0);
     cairo_stroke(cr.get());
-    const std::string label = tickLabel(tick, step);
+    const std::string label = logarithmic ? decadeLabel(tick) : tickLabel(tick, step);
     const double size =
         std::min(textSize, textSize * labelWidth / textWidth(cr.get(), label, textSize));
     cairo_set_font_size(cr.get(), size);
@@ -566,9 +726,9 @@ Image withLegend(const Image& meshImage, const RenderOptions& o, double minimum,
 // in): each end x maps to the frame, p = (x − c) · worldToFrame, to clip coordinates
 // q = frameToClip (p, 1), and to the pixel ((q_x / q_w + 1) w / 2, (1 − q_y / q_w) h / 2), image
 // rows top to bottom as GL's viewport maps them, flipped.
-Image withOutline(const Image& meshImage, const modeling::Mesh& mesh, const RenderOptions& o) {
+Image withOutline(const Image& meshImage, const Scene& scene, const RenderOptions& o) {
   if (o.outlineSegments.rows() == 0) return meshImage;
-  const Camera camera = frameCamera(mesh, o, meshImage.width, meshImage.height);
+  const Camera camera = frameCamera(scene.framingPoints, o, meshImage.width, meshImage.height);
   const CairoSurface surface = surfaceFromImage(meshImage);
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
   cairo_set_source_rgb(cr.get(), o.outlineColour.r, o.outlineColour.g, o.outlineColour.b);
@@ -591,6 +751,82 @@ Image withOutline(const Image& meshImage, const modeling::Mesh& mesh, const Rend
   return imageFromSurface(surface.get());
 }
 
+// What a legend style colours: the per-vertex values, the colour map's range (decimal logarithms
+// on a log scale), the map, and the legend's title and range words.
+struct ScalarField {
+  std::vector<double> values;
+  double minimum = 0.0, maximum = 1.0;
+  const ColourMap* map = nullptr;
+  std::string title, range;
+  bool logarithmic = false;
+};
+
+std::string rangeWords(const RenderOptions& o, const std::string& rule) {
+  return o.rangeNote.empty() ? rule : o.rangeNote;
+}
+
+// The curvature style: a signed field on [−m, m], symmetric so that white is 0.
+ScalarField curvatureField(const modeling::Mesh& mesh, const RenderOptions& o) {
+  ScalarField field;
+  field.values = o.vertexScalars;
+  if (static_cast<int>(field.values.size()) != mesh.vertexCount()) {
+    throw InputError("render: " + std::to_string(field.values.size()) + " curvature values for " +
+                     std::to_string(mesh.vertexCount()) + " vertices");
+  }
+  for (double value : field.values)
+    if (!std::isfinite(value)) throw InputError("render: a curvature value is not finite");
+  const double bound = o.curvatureMax ? *o.curvatureMax : curvatureRange(field.values);
+  char range[128];
+  std::snprintf(range, sizeof range, "|%s| ≤ %.3g (%s)", o.scalarSymbol.c_str(), bound,
+                rangeWords(o, o.curvatureMax ? "given" : curvatureRangeRule(field.values)).c_str());
+  field.minimum = -bound;
+  field.maximum = bound;
+  field.map = &divergingColourMap();
+  field.title = o.scalarLabel;
+  field.range = range;
+  return field;
+}
+
+// A magnitude on [0, max] (given or the largest; an all-zero field still needs a non-empty range:
+// it then shows the colour of 0), or on a log scale [log10 floor, log10 max].
+ScalarField magnitudeField(std::vector<double> values, std::optional<double> givenMaximum,
+                           std::optional<double> logFloor, const RenderOptions& o) {
+  ScalarField field;
+  const double largest = *std::max_element(values.begin(), values.end());
+  const double maximum = givenMaximum ? *givenMaximum : std::max(largest, 1e-12);
+  char range[128];
+  field.map = &sequentialColourMap();
+  if (logFloor && *logFloor < maximum) {
+    for (double& v : values) v = std::log10(std::max(v, *logFloor));
+    field.minimum = std::log10(*logFloor);
+    field.maximum = std::log10(maximum);
+    field.logarithmic = true;
+    std::snprintf(range, sizeof range, "%.2g to %.3g, log scale (%s)", *logFloor, maximum,
+                  rangeWords(o, givenMaximum ? "given" : "largest").c_str());
+  } else {
+    field.maximum = maximum;
+    std::snprintf(range, sizeof range, "0 to %.3g (%s)", maximum,
+                  rangeWords(o, givenMaximum ? "given" : "largest").c_str());
+  }
+  field.values = std::move(values);
+  field.range = range;
+  return field;
+}
+
+ScalarField legendField(const modeling::Mesh& mesh, const RenderOptions& o) {
+  if (o.style == RenderStyle::Curvature) return curvatureField(mesh, o);
+  if (o.style == RenderStyle::Displacement) {
+    ScalarField field = magnitudeField(vertexDisplacements(mesh.positions, o.referencePositions),
+                                       o.displacementMax, std::nullopt, o);
+    field.title = "|x − x̄| (mesh length unit)";
+    return field;
+  }
+  ScalarField field =
+      magnitudeField(vertexSurfaceErrors(mesh, o.surface), o.errorMax, o.errorLogFloor, o);
+  field.title = "|z − p(x, y)|";
+  return field;
+}
+
 cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned int length) {
   static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
   return CAIRO_STATUS_SUCCESS;
@@ -599,12 +835,14 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
 }  // namespace
 
 RenderStyle parseRenderStyle(std::string_view name) {
-  for (RenderStyle style : {RenderStyle::Reflection, RenderStyle::Isophote, RenderStyle::Highlight,
-                            RenderStyle::Shaded, RenderStyle::Error, RenderStyle::Curvature}) {
+  for (RenderStyle style :
+       {RenderStyle::Reflection, RenderStyle::Isophote, RenderStyle::Highlight, RenderStyle::Shaded,
+        RenderStyle::Error, RenderStyle::Curvature, RenderStyle::Displacement}) {
     if (renderStyleName(style) == name) return style;
   }
-  throw InputError("unknown render style '" + std::string(name) +
-                   "' (known: reflection, isophote, highlight, shaded, error, curvature)");
+  throw InputError(
+      "unknown render style '" + std::string(name) +
+      "' (known: reflection, isophote, highlight, shaded, error, curvature, displacement)");
 }
 
 std::string_view renderStyleName(RenderStyle style) {
@@ -621,6 +859,8 @@ std::string_view renderStyleName(RenderStyle style) {
       return "error";
     case RenderStyle::Curvature:
       return "curvature";
+    case RenderStyle::Displacement:
+      return "displacement";
   }
   return "?";
 }
@@ -646,6 +886,32 @@ std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
     errors[v] = std::abs(x(2) - surface.height(x(0), x(1)));
   }
   return errors;
+}
+
+ErrorScale sharedErrorScale(const std::vector<std::vector<double>>& panelErrors) {
+  ErrorScale scale;
+  double largest = 0.0, smallestPositiveMaximum = std::numeric_limits<double>::infinity();
+  for (const std::vector<double>& errors : panelErrors) {
+    if (errors.empty()) continue;
+    const double panelMaximum = *std::max_element(errors.begin(), errors.end());
+    largest = std::max(largest, panelMaximum);
+    if (panelMaximum > 0.0)
+      smallestPositiveMaximum = std::min(smallestPositiveMaximum, panelMaximum);
+  }
+  scale.errorMax = std::max(largest, 1e-12);
+  if (largest > 0.0 && largest > std::pow(10.0, kLogScaleDecades) * smallestPositiveMaximum)
+    scale.errorLogFloor = std::max(0.1 * smallestPositiveMaximum, 1e-16 * largest);
+  return scale;
+}
+
+std::vector<double> vertexDisplacements(const modeling::Positions& positions,
+                                        const modeling::Positions& reference) {
+  if (positions.rows() != reference.rows()) {
+    throw InputError("render: the reference has " + std::to_string(reference.rows()) +
+                     " vertices, the mesh " + std::to_string(positions.rows()));
+  }
+  const Eigen::VectorXd distances = (positions - reference).rowwise().norm();
+  return std::vector<double>(distances.data(), distances.data() + distances.size());
 }
 
 std::vector<double> legendTicks(double minimum, double maximum) {
@@ -718,6 +984,23 @@ void RenderOptions::validate() const {
     fail("curvatureMax (the curvature colour-map bound) must be positive");
   if (style == RenderStyle::Curvature && vertexScalars.empty())
     fail("vertexScalars: the curvature style needs a value per vertex");
+  if (errorLogFloor && !(*errorLogFloor > 0.0 && std::isfinite(*errorLogFloor)))
+    fail("errorLogFloor (the bottom of the log error scale) must be positive");
+  if (displacementMax && !(*displacementMax > 0.0 && std::isfinite(*displacementMax)))
+    fail("displacementMax (the displacement colour-map maximum) must be positive");
+  if (style == RenderStyle::Displacement && referencePositions.rows() == 0)
+    fail("referencePositions: the displacement style needs the reference mesh's positions");
+  if (!(exaggeration > 0.0 && std::isfinite(exaggeration)))
+    fail("exaggeration must be a positive finite factor");
+  if (exaggeration != 1.0 && referencePositions.rows() == 0)
+    fail("exaggeration scales the displacement from referencePositions: give them");
+  if (!referencePositions.allFinite()) fail("referencePositions must be finite");
+  for (const SphereObstacle& sphere : spheres)
+    if (!(sphere.radius > 0.0 && std::isfinite(sphere.radius)) || !sphere.centre.allFinite())
+      fail("spheres: a sphere needs a finite centre and a positive radius");
+  for (const PlaneObstacle& plane : planes)
+    if (!(plane.normal.norm() > 0.0) || !plane.normal.allFinite() || !std::isfinite(plane.offset))
+      fail("planes: a plane needs a finite non-zero normal and a finite offset");
   if (outlineSegments.rows() % 2 != 0 || !outlineSegments.allFinite()) {
     fail("outlineSegments needs finite segment ends in pairs (" +
          std::to_string(outlineSegments.rows()) + " rows)");
@@ -740,45 +1023,28 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                  const RenderOptions& options, RenderTimings* timings) {
   options.validate();
   if (mesh.faceCount() == 0) throw InputError("render: the mesh has no faces");
+  if (options.referencePositions.rows() > 0 &&
+      options.referencePositions.rows() != mesh.vertexCount()) {
+    throw InputError("render: the reference has " +
+                     std::to_string(options.referencePositions.rows()) + " vertices, the mesh " +
+                     std::to_string(mesh.vertexCount()));
+  }
+  const Scene scene = buildScene(mesh, options);
   if (!hasLegend(options.style)) {
-    return withOutline(rasterize(context, mesh, options, options.width, options.height, {}, 0.0,
-                                 1.0, sequentialColourMap(), timings),
-                       mesh, options);
+    return withCaption(withOutline(rasterize(context, scene, options, options.width, options.height,
+                                             {}, 0.0, 1.0, sequentialColourMap(), timings),
+                                   scene, options),
+                       options);
   }
+  const ScalarField field = legendField(mesh, options);
   const int meshWidth = options.width - kLegendWidth;
-  if (options.style == RenderStyle::Curvature) {
-    const std::vector<double>& values = options.vertexScalars;
-    if (static_cast<int>(values.size()) != mesh.vertexCount()) {
-      throw InputError("render: " + std::to_string(values.size()) + " curvature values for " +
-                       std::to_string(mesh.vertexCount()) + " vertices");
-    }
-    for (double value : values)
-      if (!std::isfinite(value)) throw InputError("render: a curvature value is not finite");
-    // Symmetric about 0, so that white is 0.
-    const double bound = options.curvatureMax ? *options.curvatureMax : curvatureRange(values);
-    char range[96];
-    std::snprintf(range, sizeof range, "|%s| ≤ %.3g (%s)", options.scalarSymbol.c_str(), bound,
-                  options.curvatureMax ? "given" : curvatureRangeRule(values).c_str());
-    const Image meshImage =
-        withOutline(rasterize(context, mesh, options, meshWidth, options.height, values, -bound,
-                              bound, divergingColourMap(), timings),
-                    mesh, options);
-    return withLegend(meshImage, options, -bound, bound, divergingColourMap(), options.scalarLabel,
-                      range);
-  }
-  const std::vector<double> errors = vertexSurfaceErrors(mesh, options.surface);
-  const double largest = *std::max_element(errors.begin(), errors.end());
-  // An all-zero field still needs a non-empty range: it then shows the colour of 0.
-  const double maximum = options.errorMax ? *options.errorMax : std::max(largest, 1e-12);
   const Image meshImage =
-      withOutline(rasterize(context, mesh, options, meshWidth, options.height, errors, 0.0, maximum,
-                            sequentialColourMap(), timings),
-                  mesh, options);
-  char range[64];
-  std::snprintf(range, sizeof range, "0 to %.3g (%s)", maximum,
-                options.errorMax ? "given" : "largest");
-  return withLegend(meshImage, options, 0.0, maximum, sequentialColourMap(), "|z − p(x, y)|",
-                    range);
+      withOutline(rasterize(context, scene, options, meshWidth, options.height, field.values,
+                            field.minimum, field.maximum, *field.map, timings),
+                  scene, options);
+  return withCaption(withLegend(meshImage, options, field.minimum, field.maximum, *field.map,
+                                field.title, field.range, field.logarithmic),
+                     options);
 }
 
 Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options) {

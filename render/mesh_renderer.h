@@ -1,7 +1,9 @@
 // Offscreen renders of a triangle mesh (OSMesa, GLSL 4.50): reflection lines, isophotes,
 // highlight lines, plain shading and per-vertex scalar fields with a colour map and legend (the
 // `error` style: |z − p(x, y)| against a polynomial surface; the `curvature` style: a signed
-// per-vertex field the caller computes, on a diverging map). PNG out, written atomically.
+// per-vertex field the caller computes, on a diverging map; the `displacement` style: the distance
+// |x_v − x̄_v| from a reference mesh of the same connectivity). Obstacles (spheres, planes) and a
+// caption can be drawn with the mesh. PNG out, written atomically.
 //
 // Camera. The mesh is centred on its bounding-box centre c and scaled by its bounding radius
 // R = max |x_v − c|. The camera looks at c from the direction
@@ -21,6 +23,7 @@
 // mesh's shape relative to the view.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -36,10 +39,10 @@ namespace flexure::render {
 
 class OffscreenContext;
 
-enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error, Curvature };
+enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error, Curvature, Displacement };
 
-// "reflection" | "isophote" | "highlight" | "shaded" | "error" | "curvature"; InputError listing
-// them otherwise.
+// "reflection" | "isophote" | "highlight" | "shaded" | "error" | "curvature" | "displacement";
+// InputError listing them otherwise.
 RenderStyle parseRenderStyle(std::string_view name);
 std::string_view renderStyleName(RenderStyle style);
 
@@ -51,6 +54,20 @@ struct Rgb {
 Rgb parseColour(std::string_view text);
 
 enum class Projection { Orthographic, Perspective };
+
+// Obstacles drawn with the mesh (the shapes of optimize/dynamics/obstacles.h, which render/ does
+// not depend on): the sphere |x − centre| = radius, and the plane normal·x = offset, drawn as a
+// square of half side kPlaneHalfSide × the framed points' radius (about their bounding-box centre)
+// centred on the foot of that centre.
+struct SphereObstacle {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1.0;
+};
+struct PlaneObstacle {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double offset = 0.0;
+};
+inline constexpr double kPlaneHalfSide = 1.0;
 
 struct RenderOptions {
   RenderStyle style = RenderStyle::Reflection;
@@ -72,6 +89,19 @@ struct RenderOptions {
   // [0, max over the vertices] when empty (a mesh exactly on p is all the colour of 0).
   modeling::PolynomialSurface surface;
   std::optional<double> errorMax;
+  // The `error` style on a log scale: log10 |z − p| over [log10 errorLogFloor, log10 max] (values
+  // below the floor take the bottom colour), for fields spanning decades (sharedErrorScale).
+  std::optional<double> errorLogFloor;
+  // The `displacement` style and exaggeration: the reference positions x̄ (#V by 3, the mesh's
+  // connectivity), the colour range [0, displacementMax] of |x_v − x̄_v| (empty: the largest), in
+  // the mesh's length unit. Every style draws x̄ + exaggeration (x − x̄) when x̄ is given (the
+  // colours keep the true distances).
+  modeling::Positions referencePositions;
+  std::optional<double> displacementMax;
+  double exaggeration = 1.0;
+  // Replaces the legend's words on how its range was chosen ("largest", "given") when not empty,
+  // e.g. "shared by all panels".
+  std::string rangeNote;
   // Points the camera frames in place of the mesh's vertices (#P by 3; empty: the mesh's), so
   // that renders of a mesh before and after a change share one framing.
   modeling::Positions framingPoints;
@@ -83,6 +113,16 @@ struct RenderOptions {
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
   std::string scalarLabel = "H", scalarSymbol = "H";
+  // The `curvature` style: the zero level set of vertexScalars drawn as dark lines about two
+  // pixels wide (a mode's nodal lines), hidden where the surface hides it.
+  bool zeroContour = false;
+  // Obstacles drawn shaded in obstacleColour, framed with the mesh (every style).
+  std::vector<SphereObstacle> spheres;
+  std::vector<PlaneObstacle> planes;
+  Rgb obstacleColour{0.86, 0.62, 0.36};
+  // A line of text at the top left of the image (e.g. a frame's time), in black or white against
+  // the background.
+  std::string caption;
   // Line segments drawn over the render (#2S by 3: rows 2s and 2s + 1 are the ends of segment s,
   // in the mesh's coordinates), e.g. the outline of a region: projected with the render's camera
   // and stroked with Cairo on top of the surface (never hidden by it), `outlineWidth` pixels wide
@@ -110,8 +150,19 @@ inline constexpr double kCurvatureRangePercentile = 98.0;
 double curvatureRange(const std::vector<double>& values);
 std::string curvatureRangeRule(const std::vector<double>& values);
 
-// Width in pixels of the legend strip on the right of `error` and `curvature` renders (the mesh is
-// framed in the remaining width).
+// One colour scale for several `error` renders (a figure's panels), from every panel's vertex
+// errors: errorMax the largest error over all panels (1e-12 when all are 0); when the largest
+// panel maximum exceeds kLogScaleDecades decades times the smallest positive one, a log scale with
+// errorLogFloor one decade under that smallest maximum (and at least 1e-16 × errorMax).
+inline constexpr double kLogScaleDecades = 2.0;
+struct ErrorScale {
+  double errorMax = 1e-12;
+  std::optional<double> errorLogFloor;
+};
+ErrorScale sharedErrorScale(const std::vector<std::vector<double>>& panelErrors);
+
+// Width in pixels of the legend strip on the right of `error`, `curvature` and `displacement`
+// renders (the mesh is framed in the remaining width).
 inline constexpr int kLegendWidth = 130;
 
 // Renders `mesh` (a valid mesh: see mesh.h) with an 8× multisampled framebuffer (fewer when the GL
@@ -133,6 +184,11 @@ Image renderMesh(const modeling::Mesh& mesh, const RenderOptions& options);
 // The per-vertex values the `error` style colours: |z_v − p(x_v, y_v)|, #V.
 std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
                                         const modeling::PolynomialSurface& surface);
+
+// The per-vertex values the `displacement` style colours: |x_v − x̄_v|, #V; InputError when the
+// vertex counts differ.
+std::vector<double> vertexDisplacements(const modeling::Positions& positions,
+                                        const modeling::Positions& reference);
 
 // The image as PNG bytes (8-bit RGB, opaque; deterministic), and written to `path` atomically.
 std::string encodePng(const Image& image);

@@ -314,6 +314,17 @@ run 2 render render-bowl.obj -o bad.png --background teal; stderr_has "teal"; ab
 run 2 render render-bowl.obj -o bad.png --stripe-width 2; stderr_has "--stripe-width (the dark fraction"; absent bad.png
 run 2 render render-bowl.obj -o bad.jpg; stderr_has "bad.jpg"; absent bad.jpg
 run 2 render missing.obj -o bad.png; stderr_has "missing.obj"; absent bad.png
+# Displacement from a reference of the same connectivity (itself: all 0), and exaggeration.
+run 0 mesh --family patch48 --n 8 -o render-flat.obj --quiet
+run 0 render render-bowl.obj -o bowl-displacement.png --style displacement --reference render-flat.obj --width 300 --height 200
+stderr_has "wrote bowl-displacement.png (300 x 200, displacement"
+run 0 render render-bowl.obj -o bowl-exaggerated.png --style shaded --reference render-flat.obj --exaggerate 3 --elevation 20 --quiet
+is_png bowl-exaggerated.png || fail "render --exaggerate: no PNG"
+run 2 render render-bowl.obj -o bad.png --style displacement; stderr_has "--reference"; absent bad.png
+run 2 render render-bowl.obj -o bad.png --exaggerate 3; stderr_has "--reference"; absent bad.png
+run 0 mesh --family patch48 --n 4 -o render-small.obj --quiet
+run 2 render render-bowl.obj -o bad.png --style displacement --reference render-small.obj
+stderr_has "render-small.obj"; stderr_has "same connectivity"; absent bad.png
 FLEXURE_OSMESA_LIBRARY=/nonexistent/libOSMesa.so run 2 render render-bowl.obj -o bad.png
 stderr_has "OSMesa: cannot load /nonexistent/libOSMesa.so"; absent bad.png
 
@@ -367,6 +378,37 @@ absent badcmp
 run 2 compare -o badcmp --energies hinge,frobenius; stderr_has "frobenius"; absent badcmp
 run 2 compare -o badcmp --boundary "quadratic:1,0"; stderr_has "quadratic:1,0"; absent badcmp
 run 2 compare -o badcmp --style curvy; stderr_has "curvy"; absent badcmp
+run 2 compare -o badcmp --style displacement; stderr_has "--style displacement"; absent badcmp
+# error and curvature: one colour scale for the figure, so every panel's legend is the same pixels
+# (the error's a log scale here: the panels span 1e-2 to 1e-14).
+for style in error curvature; do
+  run 0 compare -o "cmp-$style" --style "$style" --families patch48 --energies hinge,midedge --n 8 --size 96 --quiet
+  PYTHONPATH="$support" python3 - "cmp-$style" <<'PY' || fail "compare --style $style: the panels' legends differ"
+import sys
+from png_pixels import read_png
+legends = []
+for name in ("patch48-exact", "patch48-hinge", "patch48-midedge"):
+    w, h, rows = read_png(f"{sys.argv[1]}/{name}.png")
+    assert w == 96 + 130, w
+    legends.append([row[96:] for row in rows])
+sys.exit(0 if legends[0] == legends[1] == legends[2] else 1)
+PY
+done
+grep -q '"style": "error"' cmp-error/compare.json || fail "compare --style error: style not in compare.json"
+# The user's flat mesh as a row (alone without --families, after them with it); a curved one is
+# refused before any work.
+run 0 mesh --family delaunay --n 8 -o mine.off --quiet
+run 0 compare -o cmp-mine --mesh mine.off --energies hinge,midedge --n 8 --size 96 --quiet
+for f in compare.png mesh-mine-exact.png mesh-mine-hinge.png mesh-mine-midedge.png; do
+  is_png "cmp-mine/$f" || fail "compare --mesh: no $f"
+done
+absent cmp-mine/patch48-hinge.png
+run 0 compare -o cmp-mine2 --mesh mine.off --families patch48 --energies hinge --n 8 --size 96 --quiet
+is_png cmp-mine2/patch48-hinge.png || fail "compare --mesh --families: no family row"
+is_png cmp-mine2/mesh-mine-hinge.png || fail "compare --mesh --families: no mesh row"
+run 2 compare -o badcmp --mesh render-bowl.obj; stderr_has "--mesh render-bowl.obj"; stderr_has "flat"
+absent badcmp
+run 2 compare -o badcmp --mesh missing.obj; stderr_has "missing.obj"; absent badcmp
 run 2 compare -o badcmp --families stripe --n 7; stderr_has "stripe"; absent badcmp
 # The demo run above wrote its small comparison.
 for f in compare.png compare.json patch48-midedge.png delaunay-quadfit.png; do

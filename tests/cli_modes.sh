@@ -70,6 +70,20 @@ run 0 modes --mesh bent.obj --energy midedge --dof xyz --membrane stvk --clamp r
   -o shell --quiet
 json_check shell "[m['kind'] for m in d['energies'][0]['modes']] == ['flexible'] * 2" "shell modes"
 
+# A curved shell's modes are drawn in 3-D with a legend per panel (110 + 3 (96 + 130 + 10) wide); a
+# flat plate keeps the Chladni map seen from above (110 + 3 (96 + 10)).
+run 0 mesh --family patch48 --n 8 --height quadratic:1,0,1 -o bowl.obj --quiet
+run 0 modes --mesh bowl.obj --support free --dof xyz --membrane stvk --energy cotan --count 3 \
+  --size 96 -o shell --quiet
+run 0 modes --family patch48 --n 8 --energy cotan --support free --count 3 --size 96 -o flat --quiet
+PYTHONPATH="$(dirname "${BASH_SOURCE[0]}")/support" python3 - <<'PY' || fail "modes: the shell is not drawn in 3-D, or the plate not from above"
+import sys
+from png_pixels import read_png
+shell_width = read_png("shell/chladni.png")[0]
+flat_width = read_png("flat/chladni.png")[0]
+sys.exit(0 if (shell_width, flat_width) == (110 + 3 * 236, 110 + 3 * 106) else 1)
+PY
+
 # The spectrum as a convergence study: orders per energy and family, files, stale ones removed.
 run 0 converge --measure modes --support clamped --energies midedge,hinge --families patch48 \
   --n 8 --levels 3 --count 3 -o spectrum

@@ -148,6 +148,25 @@ head -1 drop/energies.csv | grep -qx "time,kinetic,hinge,stvk,gravity,contact,to
   || fail "energies.csv header with contact: $(head -1 drop/energies.csv)"
 report_check drop "d['completed'] and 0 < d['smallest_obstacle_distance'] < d['obstacle_layer'] \
   and len(d['obstacles']) == 2" "contact without penetration"
+# The frames show the scene: shaded (the default), the obstacles drawn in their warm colour, the
+# time written at the top left; highlight lines (moiré at frame sizes) are refused.
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 \
+  --obstacle sphere:0,0,-0.32,0.3 --damping rayleigh:2,0 --dt 0.01 --duration 0.1 --fps 10 \
+  --render-size 160 -o scene --quiet
+PYTHONPATH="$(dirname "${BASH_SOURCE[0]}")/support" python3 - <<'PY' || fail "simulate frames: no obstacle or no time stamp"
+import sys
+from png_pixels import read_png
+w, h, rows = read_png("scene/frames/frame-00001.png")
+warm = sum(1 for row in rows for (r, g, b) in row if r > g + 30 and g > b + 30 and r > 120)
+ink = sum(1 for row in rows[:20] for (r, g, b) in row[:80] if r < 100 and g < 100 and b < 100)
+sys.exit(0 if (w, h) == (160, 160) and warm > 200 and ink > 10 else 1)
+PY
+run 0 simulate --rest sheet.obj --energy hinge --membrane stvk --gravity 0,0,-9.81 --pin rings:1 \
+  --dt 0.01 --duration 0.05 --fps 20 --render-size 96 --render-style displacement --exaggerate 5 \
+  -o scene-displacement --quiet
+is_png scene-displacement/frames/frame-00001.png || fail "simulate --render-style displacement: no frame"
+run 2 simulate --rest sheet.obj --energy hinge --membrane stvk --dt 0.01 --duration 0.1 \
+  --render-style highlight -o bad; stderr_has "--render-style highlight"; absent bad
 # minimize under gravity held up by a plane: converged, every vertex above it.
 run 0 minimize --rest plate.obj --energy cotan --boundary quadratic:0,0,0 --gravity 0,0,-200 \
   --obstacle plane:0,0,1,-0.02 -o held.obj --report held.json --quiet

@@ -415,5 +415,140 @@ TEST(Render, BadOptionsAreInputErrors) {
   EXPECT_DOUBLE_EQ(c.b, 0.0);
 }
 
+// The obstacle colour (RenderOptions::obstacleColour, lit): warm, red above green above blue.
+bool isObstacle(const Image& image, int x, int y) {
+  const auto p = image.pixel(x, y);
+  return p[0] > p[1] + 30 && p[1] > p[2] + 30 && p[0] > 120;
+}
+
+// A sphere beside the unit square, seen from above: the framed points span x ∈ [−½, 1.3] and
+// y ∈ [−½, ½], so the sphere's centre (1, 0, 0) projects to x = (0.6 / (1.06 · 0.9) + 1) / 2 of
+// the width, on the middle row; a floor under the square shows around it.
+TEST(Render, ObstaclesAreDrawnWhereTheyProject) {
+  const modeling::Mesh plane = squareMesh(8);
+  RenderOptions options = headOn(RenderStyle::Shaded, 256, 256);
+  const int sphereX = static_cast<int>((0.6 / (1.06 * 0.9) + 1.0) / 2.0 * 256);
+  const Image without = render::renderMesh(plane, options);
+  options.spheres.push_back({Eigen::Vector3d(1.0, 0.0, 0.0), 0.3});
+  const Image with = render::renderMesh(plane, options);
+  EXPECT_FALSE(isObstacle(without, 128, 128));
+  EXPECT_TRUE(isObstacle(with, sphereX, 128));
+  EXPECT_TRUE(isBackground(with, sphereX, 128 - static_cast<int>(0.45 / (1.06 * 0.9) * 128)));
+  EXPECT_FALSE(isObstacle(with, 100, 128)) << "the square stays the surface colour";
+
+  RenderOptions floor = headOn(RenderStyle::Reflection, 256, 256);
+  floor.planes.push_back({Eigen::Vector3d(0.0, 0.0, 2.0), -0.4});  // z = −0.2
+  const Image floored = render::renderMesh(plane, floor);
+  EXPECT_FALSE(isObstacle(floored, 128, 128)) << "the square hides the floor under it";
+  EXPECT_TRUE(isObstacle(floored, 12, 128)) << "the floor shows beyond the square";
+  floor.spheres.push_back({Eigen::Vector3d(0.0, 0.0, 0.0), -1.0});
+  EXPECT_THROW(render::renderMesh(plane, floor), InputError);
+}
+
+// Displacement from the mesh itself is 0 everywhere: one colour, the map's colour of 0; from a
+// lifted copy the colours spread; an exaggerated render draws x̄ + k (x − x̄).
+TEST(Render, DisplacementAgainstItselfIsUniform) {
+  const modeling::Mesh mesh = heightFieldMesh(12, "quadratic:0.5,0,0.5");
+  RenderOptions options = headOn(RenderStyle::Displacement, 386, 256);
+  options.referencePositions = mesh.positions;
+  const Image same = render::renderMesh(mesh, options);
+  const auto mask = interiorMask(same);
+  const std::array<std::uint8_t, 4> zeroColour{68, 1, 84, 255};
+  int worst = 0;
+  for (int y = 0; y < same.height; ++y)
+    for (int x = 0; x < same.width - render::kLegendWidth; ++x)
+      if (mask[y][x]) worst = std::max(worst, channelDistance(zeroColour, same.pixel(x, y)));
+  EXPECT_GT(countInterior(mask), 10000);
+  EXPECT_LE(worst, 1);
+
+  modeling::Mesh flat = squareMesh(12);
+  options.referencePositions = flat.positions;
+  EXPECT_EQ(render::vertexDisplacements(mesh.positions, flat.positions).size(),
+            static_cast<size_t>(mesh.vertexCount()));
+  const Image lifted = render::renderMesh(mesh, options);
+  const auto liftedMask = interiorMask(lifted);
+  int spread = 0;
+  for (int y = 0; y < lifted.height; ++y)
+    for (int x = 0; x < lifted.width - render::kLegendWidth; ++x)
+      if (liftedMask[y][x])
+        spread = std::max(spread, channelDistance(zeroColour, lifted.pixel(x, y)));
+  EXPECT_GT(spread, 150);
+
+  RenderOptions shaded = headOn(RenderStyle::Shaded, 128, 128);
+  shaded.elevationDegrees = 20.0;
+  shaded.referencePositions = flat.positions;
+  const Image once = render::renderMesh(mesh, shaded);
+  shaded.exaggeration = 3.0;
+  EXPECT_NE(render::renderMesh(mesh, shaded).rgba, once.rgba) << "exaggerated";
+
+  options.referencePositions = squareMesh(8).positions;
+  EXPECT_THROW(render::renderMesh(mesh, options), InputError) << "another vertex count";
+  options.referencePositions.resize(0, 3);
+  EXPECT_THROW(render::renderMesh(mesh, options), InputError) << "no reference";
+}
+
+// One scale for a figure: panels with errors 1e-12 and 1e-3 get a log scale, on which they take
+// different colours (each on its own scale both would be the top colour).
+TEST(Render, SharedErrorScaleSeparatesPanelsDecadesApart) {
+  const std::string spec = "quadratic:1,0,1";
+  const auto offBy = [&](double error) {
+    modeling::Mesh mesh = heightFieldMesh(8, spec);
+    mesh.positions.col(2).array() += error;
+    return mesh;
+  };
+  const modeling::Mesh tiny = offBy(1e-12), large = offBy(1e-3);
+  RenderOptions options = headOn(RenderStyle::Error, 386, 256);
+  options.surface = modeling::PolynomialSurface::parse(spec);
+  const render::ErrorScale scale =
+      render::sharedErrorScale({render::vertexSurfaceErrors(tiny, options.surface),
+                                render::vertexSurfaceErrors(large, options.surface)});
+  EXPECT_NEAR(scale.errorMax, 1e-3, 1e-12);
+  ASSERT_TRUE(scale.errorLogFloor.has_value());
+  EXPECT_LT(*scale.errorLogFloor, 1e-12);
+  const auto centreColour = [&](const modeling::Mesh& mesh, const RenderOptions& o) {
+    return render::renderMesh(mesh, o).pixel(128, 128);
+  };
+  EXPECT_LE(channelDistance(centreColour(tiny, options), centreColour(large, options)), 2)
+      << "each panel on its own scale: both at the top of it";
+  options.errorMax = scale.errorMax;
+  options.errorLogFloor = scale.errorLogFloor;
+  EXPECT_GT(channelDistance(centreColour(tiny, options), centreColour(large, options)), 100);
+
+  // Panels within two decades stay on a linear scale.
+  EXPECT_FALSE(render::sharedErrorScale({{0.0, 1e-3}, {2e-2}}).errorLogFloor.has_value());
+  EXPECT_NEAR(render::sharedErrorScale({{0.0, 1e-3}, {2e-2}}).errorMax, 2e-2, 1e-15);
+}
+
+// The zero contour of a curvature-style field (a mode's nodal line) is dark where the field
+// changes sign and nowhere else; a caption puts ink at the top left.
+TEST(Render, ZeroContourAndCaption) {
+  const modeling::Mesh plane = squareMesh(16);
+  RenderOptions options = headOn(RenderStyle::Curvature, 386, 256);
+  for (int v = 0; v < plane.vertexCount(); ++v)
+    options.vertexScalars.push_back(plane.positions(v, 0));
+  const Image plain = render::renderMesh(plane, options);
+  options.zeroContour = true;
+  const Image contoured = render::renderMesh(plane, options);
+  const auto dark = [](const Image& image, int x, int y) {
+    const auto p = image.pixel(x, y);
+    return p[0] < 40 && p[1] < 40 && p[2] < 40;
+  };
+  EXPECT_FALSE(dark(plain, 128, 128));
+  EXPECT_TRUE(dark(contoured, 128, 128));
+  EXPECT_TRUE(dark(contoured, 128, 60));
+  EXPECT_FALSE(dark(contoured, 140, 128));
+  EXPECT_FALSE(dark(contoured, 60, 128));
+
+  RenderOptions captioned = headOn(RenderStyle::Shaded, 256, 256);
+  const Image bare = render::renderMesh(plane, captioned);
+  captioned.caption = "t = 0.50 s";
+  const Image withText = render::renderMesh(plane, captioned);
+  int ink = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 120; ++x)
+      ink += channelDistance(withText.pixel(x, y), bare.pixel(x, y)) > 100;
+  EXPECT_GT(ink, 30);
+}
+
 }  // namespace
 }  // namespace flexure
