@@ -74,6 +74,11 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"SpectrumStudyOptions.count", "--count"},
       {"SpectrumStudyOptions.support", "--support"},
       {"GeneratorOptions.aspect", "--aspect"},
+      // the comparison figure (flexure compare)
+      {"ComparisonOptions.rows", "--families/--mesh"},
+      {"ComparisonOptions.energies", "--energies"},
+      {"ComparisonOptions.size", "--size"},
+      {"ComparisonOptions.style", "--style"},
       // renders
       {"RenderOptions.width", "--width"},
       {"RenderOptions.height", "--height"},

@@ -26,6 +26,7 @@
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
+#include "reports/comparison_figure.h"
 #include "reports/output_files.h"
 #include "reports/spectrum_outputs.h"
 #include "reports/study_outputs.h"
@@ -200,7 +201,7 @@ py::tuple spectrum(const SpectrumArguments& a, bool tables, const std::string& o
   return py::make_tuple(json, files);
 }
 
-// The comparison figure as the CLI's runCompare composes it (cli/compare_command.cpp).
+// The comparison figure's arguments (reports/comparison_figure.h composes it).
 struct CompareArguments {
   std::vector<std::string> families = {"patch48", "stripe", "delaunay"};
   std::vector<std::string> energies = curvature::energyNameList();
@@ -211,77 +212,30 @@ struct CompareArguments {
   int size = 400, stripes = 12, threads = 2;
 };
 
-std::string formatError(double error) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2e", error);
-  return text;
-}
-
-render::FigureGrid compareGrid(const CompareArguments& a, render::OffscreenContext& context,
-                               py::list& panels) {
-  if (a.families.empty()) throw InputError("families: give at least one mesh family");
-  if (a.energies.empty()) throw InputError("energies: give at least one energy");
+// The figure's options from Python's arguments; the families' meshes generated.
+reports::ComparisonOptions comparisonOptions(const CompareArguments& a) {
   if (a.size < 64 || a.size > 4096)
     throw InputError("size " + std::to_string(a.size) + ": expected 64 .. 4096 pixels");
   if (a.solve != "linearized" && a.solve != "nonlinear")
     throw InputError("solve " + a.solve + ": expected linearized or nonlinear");
   if (a.n < 4) throw InputError("n " + std::to_string(a.n) + ": expected at least 4");
-  std::vector<optimize::EnergyVariant> variants;
-  for (const std::string& spec : a.energies) variants.push_back(optimize::parseEnergyVariant(spec));
-  const modeling::PolynomialSurface surface = modeling::PolynomialSurface::parse(a.boundary);
-  render::RenderOptions look;
-  look.style = render::parseRenderStyle(a.style);
-  look.width = look.height = a.size;
-  look.stripeCount = a.stripes;
-  if (look.style == render::RenderStyle::Error) {
-    look.surface = surface;
-    look.width += render::kLegendWidth;
-  }
-  optimize::MinimizeOptions solver;
-  solver.threads = a.threads;
-  render::FigureGrid grid;
-  grid.title = std::string(a.solve == "linearized" ? "Linearized" : "Nonlinear") +
-               " minimizers, boundary rings on z = p(x, y), p = " + a.boundary +
-               " (n = " + std::to_string(a.n) + ", " +
-               std::string(render::renderStyleName(look.style)) +
-               "). Over each panel its C2 error: max |z - p| / max |p| over the free vertices";
-  grid.columnLabels.push_back("exact p (reference)");
-  for (const auto& v : variants) grid.columnLabels.push_back(v.label);
+  reports::ComparisonOptions o;
   for (const std::string& name : a.families) {
     modeling::GeneratorOptions generator;
     generator.family = modeling::parseMeshFamily(name);
     generator.n = a.n;
-    const modeling::Mesh mesh = modeling::generateMesh(generator);
     const std::string familyName(modeling::meshFamilyName(generator.family));
-    grid.rowLabels.push_back(familyName);
-    grid.panels.emplace_back();
-    grid.panelTitles.emplace_back();
-    modeling::Mesh exact = mesh;
-    modeling::applyHeightField(surface, exact.positions);
-    grid.panels.back().push_back(render::renderMesh(context, exact, look));
-    grid.panelTitles.back().push_back("C2 = 0 (z = p exactly)");
-    for (const optimize::EnergyVariant& variant : variants) {
-      const optimize::FlatPlateProblem problem(mesh, variant.bending);
-      const optimize::MinimizeResult result = optimize::solveWithSurfaceBoundary(
-          problem, surface, variant.normals, a.solve == "linearized", solver);
-      const double error = optimize::reproductionError(problem.rest.positions, result.positions,
-                                                       problem.boundary.fixedVertex, surface);
-      modeling::Mesh minimizer = mesh;
-      minimizer.positions = result.positions;
-      grid.panels.back().push_back(render::renderMesh(context, minimizer, look));
-      grid.panelTitles.back().push_back("C2 " + formatError(error) +
-                                        (result.report.converged ? "" : " (not converged)"));
-      py::dict panel;
-      panel["family"] = familyName;
-      panel["energy"] = variant.label;
-      panel["c2_error"] = error;
-      panel["converged"] = result.report.converged;
-      panel["iterations"] = result.report.iterations;
-      panel["final_energy"] = result.report.finalEnergy;
-      panels.append(panel);
-    }
+    o.rows.push_back({modeling::generateMesh(generator), familyName, familyName});
   }
-  return grid;
+  o.energies = a.energies;
+  o.boundary = a.boundary;
+  o.linearized = a.solve == "linearized";
+  o.style = render::parseRenderStyle(a.style);
+  o.size = a.size;
+  o.stripes = a.stripes;
+  o.cellsPerSide = a.n;
+  o.solver.threads = a.threads;
+  return o;
 }
 
 // (H × W × 3 uint8 figure, the panels' C2 errors as compare.json's "panels").
@@ -290,8 +244,19 @@ py::tuple compareFigure(const CompareArguments& a) {
   // (OSMesa's current context is per thread).
   render::OffscreenContext context;
   context.makeCurrent();
+  const reports::Comparison comparison = reports::compareEnergies(comparisonOptions(a), context);
+  const render::Image figure = render::composeFigureGrid(comparison.grid);
   py::list panels;
-  const render::Image figure = render::composeFigureGrid(compareGrid(a, context, panels));
+  for (const reports::ComparisonPanel& p : comparison.panels) {
+    py::dict panel;
+    panel["family"] = p.row;
+    panel["energy"] = p.energy;
+    panel["c2_error"] = p.c2Error;
+    panel["converged"] = p.converged;
+    panel["iterations"] = p.iterations;
+    panel["final_energy"] = p.finalEnergy;
+    panels.append(panel);
+  }
   py::array_t<std::uint8_t> pixels(
       {py::ssize_t(figure.height), py::ssize_t(figure.width), py::ssize_t(3)});
   auto w = pixels.mutable_unchecked<3>();

@@ -122,6 +122,17 @@ def test_compare_figure_equals_compare_png(cli, tmp_path):
         assert math.isclose(p["c2_error"], c["c2_error"], rel_tol=1e-12, abs_tol=1e-300)
 
 
+@pytest.mark.parametrize("style", ["error", "curvature"])
+def test_compare_figure_scalar_styles_share_the_cli_scale(cli, tmp_path, style):
+    # One colour scale over the figure (reports/comparison_figure.h), as flexure compare draws it.
+    flags = ["--families", "patch48", "--energies", "hinge,midedge", "--n", "8", "--size", "96",
+             "--style", style]
+    cli("-q", "compare", *flags, "-o", tmp_path)
+    image, _ = flexure.compare_figure(families=["patch48"], energies=["hinge", "midedge"], n=8,
+                                      size=96, style=style)
+    assert np.array_equal(image, flexure.read_png(tmp_path / "compare.png"))
+
+
 def test_compare_figure_bad_options():
     with pytest.raises(ValueError, match="size"):
         flexure.compare_figure(size=32)
