@@ -14,6 +14,7 @@
 
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
+#include "modeling/polynomial_surface.h"
 
 namespace flexure::cli {
 namespace {
@@ -213,6 +214,19 @@ CLI::Validator seedValue() {
         return "";
       },
       "0 .. 2^64-1");
+}
+
+CLI::Validator surfaceSpec() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        try {
+          modeling::PolynomialSurface::parse(value);
+        } catch (const InputError& e) {
+          return e.what();
+        }
+        return "";
+      },
+      "quadratic:a,b,c | polynomial:EXPR");
 }
 
 }  // namespace flexure::cli

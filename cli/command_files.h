@@ -69,6 +69,10 @@ CLI::Validator inRange(double lo, double hi);
 CLI::Validator positive();
 // A random seed: an integer in [0, 2^64 − 1], a negative one refused rather than wrapped.
 CLI::Validator seedValue();
+// A surface z = p(x, y) as modeling::PolynomialSurface::parse reads it (quadratic:a,b,c or
+// polynomial:EXPR), read when the flags are, so `flexure run` refuses a misspelt one before any
+// step runs.
+CLI::Validator surfaceSpec();
 // The largest --threads: 4 threads per core leaves room for hyper-threaded or shared machines
 // while refusing values that only thrash (64 on 2 cores).
 int maxThreads();

@@ -202,7 +202,8 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--boundary", o.boundary,
                   "Boundary data: rings 0 and 1 lifted onto z = p(x, y) (quadratic:a,b,c or "
                   "polynomial:EXPR)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(surfaceSpec());
   sub->add_option("--n", o.n, "Cells per side of the meshes")
       ->capture_default_str()
       ->check(inRange(4, 256));

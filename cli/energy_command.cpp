@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "cli/bending_arguments.h"
+#include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "curvature/bending_energy.h"
@@ -109,7 +110,8 @@ void registerEnergyCommand(CLI::App& app, const GlobalOptions&) {
       ->required();
   sub->add_option("--boundary-surface", options->boundarySurface,
                   "midedge: clamp boundary xi to this surface's normals (quadratic:a,b,c or "
-                  "polynomial:EXPR); free otherwise");
+                  "polynomial:EXPR); free otherwise")
+      ->check(surfaceSpec());
   sub->add_flag("--linearized", options->linearized,
                 "The second-order expansion about rest, E_lin(delta) = |J delta|^2");
   sub->add_flag("--json", options->json, "Print the result as JSON");

@@ -99,7 +99,8 @@ void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
                   "Cell height / width (patch48, criss: default 1; stripe: 2)")
       ->check(positive());
   sub->add_option("--height", options->height,
-                  "Height field z = p(x, y): quadratic:a,b,c or polynomial:EXPR");
+                  "Height field z = p(x, y): quadratic:a,b,c or polynomial:EXPR")
+      ->check(surfaceSpec());
   files->output("-o,--output", options->output, "Output mesh (.obj, .off or .ply)")->required();
   sub->footer(
       "Example: flexure mesh --family delaunay --n 32 --seed 7 --height quadratic:1,0,1 -o d.obj");

@@ -289,7 +289,8 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--boundary", options->boundary,
                   "Fixed vertices lifted onto z = p(x, y) at their rest x, y (quadratic:a,b,c or "
-                  "polynomial:EXPR); the interior starts at rest");
+                  "polynomial:EXPR); the interior starts at rest")
+      ->check(surfaceSpec());
   files->input("--init", options->initFile,
                "A mesh (rest connectivity) giving the fixed vertices' values and the start");
   sub->add_option("--start", options->start,

@@ -259,5 +259,15 @@ sed 's/"membrane": "stvk",/"membrane": "stvk", "damping": "viscous:1",/' misspel
   | sed 's/midedgee/midedge/' > damping.json
 run 2 run damping.json; stderr_has "--damping viscous:1"; stderr_has "step 2 would fail"
 absent step1.obj; absent step2
+# A boundary surface is read with the flags too (minimize, compare, energy, mesh --height).
+cat > surface.json <<'SPEC'
+{"steps": [
+  {"command": "mesh", "options": {"family": "patch48", "n": 4, "o": "step1.obj"}},
+  {"command": "minimize", "options": {"rest": "step1.obj", "energy": "hinge",
+                                      "boundary": "quadratc:1,0,1", "o": "step2.obj"}}
+]}
+SPEC
+run 2 run surface.json; stderr_has "--boundary: bad surface 'quadratc:1,0,1'"
+stderr_has "step 2 would fail"; absent step1.obj; absent step2.obj
 
 finish cli_simulate
