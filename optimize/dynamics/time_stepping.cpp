@@ -638,7 +638,10 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
   time_ = t;
   double stiffeningWork = 0.0;
   if (!barrier_.empty()) {
-    barrier_.adapt(x_, v_, mass_);  // the next step's contact stiffness (obstacles.h)
+    // The next step's contact stiffness (obstacles.h): its raises inside the layer add at most
+    // half the energy tolerance of the scale over the run.
+    const double budget = 0.5 * options_.energyTolerance * balance_.scale(e) - balance_.stiffening;
+    barrier_.adapt(x_, v_, mass_, std::max(0.0, budget));
     stiffeningWork = barrier_.energy(x_) - e.contact;
   }
   balance_.record(e, dissipation, stiffeningWork);
