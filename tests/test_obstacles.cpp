@@ -196,7 +196,8 @@ TEST(Obstacles, AdaptiveStiffnessInsideTheLayerSpendsAtMostTheBudget) {
 // gives it back on rebound). A patch48 sheet (n = 12, hinge) dropped undamped 0.05 onto a sphere
 // (the drape scene): before the budget the raises added 11 % of the peak kinetic energy in 0.3 s,
 // the total (contact at the current κ) rising by as much, and more at smaller steps (the growth is
-// per step). Now the raises stay within half the energy tolerance of the peak kinetic energy.
+// per step). Now, undamped, the raises stay within half the energy tolerance of the peak kinetic
+// energy (their budget: that plus the work done against damping).
 TEST(Obstacles, StiffeningInsideTheLayerStaysWithinTheEnergyBudget) {
   const testing::Plate plate(
       modeling::MeshFamily::Patch48, 12, Discretization::Hinge, 1e3,

@@ -39,8 +39,9 @@
 // there adds (κ_new − κ_v) b_v(d)/κ_v to the motion — energy the pressed barrier gives back as
 // kinetic energy on rebound, and which the twofold-per-step rule makes grow as the step shrinks
 // (a sphere dropped on a plane: 13 %, 13 %, 16 % of its peak kinetic energy at h = 0.01, 0.005,
-// 0.0025). So the raises inside the layer take at most a budget of energy (the time stepper's:
-// half its energy tolerance of the peak kinetic energy over the run), vertex by vertex.
+// 0.0025). So the raises inside the layer spend at most a budget of energy, vertex by vertex (the
+// time stepper's: S, their energy over the run, at most the work done against damping plus half
+// its energy tolerance of the peak kinetic energy, so that they never lift the total above E(0)).
 //
 // Feasibility: a step x + α δ of the solvers is capped by stepBound (continuous collision
 // detection in closed form: the first α at which a vertex moving on a straight line reaches the
