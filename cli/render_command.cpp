@@ -122,8 +122,7 @@ modeling::Mesh readDrawableMesh(const std::string& path, render::RenderOptions& 
     if (check.valid() || !marked) throw;
     r.markedFaces = *marked;
     const std::string summary = problemSummary(check);
-    r.caption = "invalid mesh: " + summary + "; " + std::to_string(marked->size()) +
-                " faces at them marked red";
+    r.caption = "invalid: " + summary + " (red: " + std::to_string(marked->size()) + " faces)";
     std::cerr << "flexure render: warning: " << path << " is not a valid mesh (" << summary
               << "); drawn with the " << marked->size() << " faces at its problems in red:\n"
               << refused.what() << '\n';
