@@ -93,6 +93,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"RenderOptions.background", "--background"},
       {"RenderOptions.referencePositions", "--reference"},
       {"RenderOptions.exaggeration", "--exaggerate"},
+      {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
   };
   return rows;
 }

@@ -4,6 +4,8 @@
 // curvature map's values come from curvature/ here, so that render/ does not depend on it.
 #include <cctype>
 #include <chrono>
+#include <climits>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -12,6 +14,7 @@
 #include "cli/commands.h"
 #include "curvature/mean_curvature_field.h"
 #include "modeling/errors.h"
+#include "modeling/mesh_check.h"
 #include "modeling/mesh_io.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
@@ -41,6 +44,90 @@ bool endsWithPng(const std::string& path) {
   std::string extension = path.substr(path.size() - 4);
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return extension == ".png";
+}
+
+// The indices an element of a mesh problem names (mesh_check.cpp's words): "face F (vertices …)"
+// and "faces F and G" name faces, "vertex V" a vertex, "edge (A, B)" its two end vertices.
+void namedElements(const std::string& element, std::vector<int>& faces,
+                   std::vector<int>& vertices) {
+  std::vector<int> numbers;
+  for (const char* c = element.c_str(); *c != '\0';) {
+    if (std::isdigit(static_cast<unsigned char>(*c))) {
+      char* end = nullptr;
+      numbers.push_back(static_cast<int>(std::strtol(c, &end, 10)));
+      c = end;
+    } else {
+      ++c;
+    }
+  }
+  if (element.rfind("faces ", 0) == 0) {
+    faces.insert(faces.end(), numbers.begin(), numbers.end());
+  } else if (element.rfind("face ", 0) == 0 && !numbers.empty()) {
+    faces.push_back(numbers.front());
+    if (numbers.size() > 1) vertices.insert(vertices.end(), numbers.begin() + 1, numbers.end());
+  } else if (element.rfind("vertex ", 0) == 0 || element.rfind("edge ", 0) == 0) {
+    vertices.insert(vertices.end(), numbers.begin(), numbers.end());
+  }
+}
+
+// A mesh that `info` refuses but that can be drawn: its problems' faces, and every face at a vertex
+// they name (a zero-area face covers no pixel; its neighbours show where it is), are marked.
+// Problems that leave nothing to draw (no faces, coordinates that are not finite or overflow)
+// are not drawable: nullopt.
+std::optional<std::vector<int>> markedFaces(const modeling::Mesh& mesh,
+                                            const modeling::MeshCheck& check) {
+  using Kind = modeling::MeshProblemKind;
+  for (Kind fatal :
+       {Kind::Empty, Kind::VertexIndexOutOfRange, Kind::NonFiniteCoordinate, Kind::AreaOverflow})
+    if (check.problemCounts[static_cast<int>(fatal)] > 0) return std::nullopt;
+  std::vector<int> faces, vertices;
+  for (const modeling::MeshProblem& p : check.problems) namedElements(p.element, faces, vertices);
+  std::vector<char> atVertex(mesh.vertexCount(), 0), marked(mesh.faceCount(), 0);
+  for (int v : vertices)
+    if (v >= 0 && v < mesh.vertexCount()) atVertex[v] = 1;
+  for (int f : faces)
+    if (f >= 0 && f < mesh.faceCount()) marked[f] = 1;
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (atVertex[mesh.triangles(f, k)]) marked[f] = 1;
+  std::vector<int> result;
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    if (marked[f]) result.push_back(f);
+  return result;
+}
+
+// "3 non_manifold_vertex, 1 zero_area_face": each kind found and how often.
+std::string problemSummary(const modeling::MeshCheck& check) {
+  std::string text;
+  for (size_t k = 0; k < check.problemCounts.size(); ++k) {
+    if (check.problemCounts[k] == 0) continue;
+    if (!text.empty()) text += ", ";
+    text += std::to_string(check.problemCounts[k]) + " " +
+            std::string(modeling::meshProblemName(static_cast<modeling::MeshProblemKind>(k)));
+  }
+  return text;
+}
+
+// The mesh to draw: a valid one as every command reads it; one that only the mesh checks refuse,
+// as read, with its problems' faces in r.markedFaces, a caption saying what is marked and a
+// warning on stderr (always: the picture is not of a usable mesh). Anything else rethrows.
+modeling::Mesh readDrawableMesh(const std::string& path, render::RenderOptions& r,
+                                std::vector<std::string>& notices) {
+  try {
+    return modeling::readMesh(path, &notices);
+  } catch (const InputError& refused) {
+    const modeling::Mesh mesh = modeling::triangulatePolygons(modeling::readPolygonSoup(path));
+    const modeling::MeshCheck check = modeling::checkMesh(mesh, INT_MAX);
+    const std::optional<std::vector<int>> marked = markedFaces(mesh, check);
+    if (check.valid() || !marked) throw;
+    r.markedFaces = *marked;
+    const std::string summary = problemSummary(check);
+    r.caption = "invalid: " + summary + " (red: " + std::to_string(marked->size()) + " faces)";
+    std::cerr << "flexure render: warning: " << path << " is not a valid mesh (" << summary
+              << "); drawn with the " << marked->size() << " faces at its problems in red:\n"
+              << refused.what() << '\n';
+    return mesh;
+  }
 }
 
 void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
@@ -86,7 +173,7 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   if (o.exaggerate) r.exaggeration = *o.exaggerate;
 
   std::vector<std::string> notices;
-  const modeling::Mesh mesh = modeling::readMesh(o.input, &notices);
+  const modeling::Mesh mesh = readDrawableMesh(o.input, r, notices);
   if (!o.reference.empty()) {
     const modeling::Mesh reference = modeling::readMesh(o.reference, &notices);
     if (reference.vertexCount() != mesh.vertexCount() ||

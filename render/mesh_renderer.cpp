@@ -213,12 +213,13 @@ Camera frameCamera(const modeling::Positions& points, const RenderOptions& o, in
 
 // One record per triangle corner (no index buffer, so flat normals and the edge overlay's
 // barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), material
-// (1: 0 the mesh, 1 an obstacle).
+// (1: 0 the mesh, 1 an obstacle, 2 a marked face of the mesh).
 constexpr int kFloatsPerCorner = 8;
 
+// `marked`: per face (#F, or empty), whether it takes material 2 instead of `material`.
 void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smooth,
                       const std::vector<double>& scalars, float material,
-                      std::vector<float>& soup) {
+                      const std::vector<char>& marked, std::vector<float>& soup) {
   const Eigen::MatrixX3d normals =
       smooth ? modeling::vertexNormals(mesh.positions, mesh.triangles) : Eigen::MatrixX3d();
   for (int f = 0; f < mesh.faceCount(); ++f) {
@@ -238,7 +239,7 @@ void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smo
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(p(i)));
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(n(i)));
       soup.push_back(scalars.empty() ? 0.0f : static_cast<float>(scalars[v]));
-      soup.push_back(material);
+      soup.push_back(!marked.empty() && marked[f] ? 2.0f : material);
     }
   }
 }
@@ -288,6 +289,9 @@ void main() {
 //              contour, black where |s| < 0.75 fwidth(s), fading out by 1.25 fwidth(s) (a line
 //              about two pixels wide along the level set s = 0).
 //  obstacle    (material 1, every style) Lambert in the obstacle colour: c (0.3 + 0.7 max(n·L, 0)).
+//  marked      (material 2, a face RenderOptions.markedFaces names, every style) Lambert in the
+//              marking colour, brighter: c (0.55 + 0.45 max(n·L, 0)), so that it reads as that
+//              colour.
 //
 // Stripes are dark where s is within w/2 of an integer (w = the dark fraction of a period); the
 // edges are smoothed over one pixel, |∇s| ≈ fwidth(s), against aliasing. The edge overlay paints
@@ -311,6 +315,7 @@ uniform int stopCount;
 uniform vec3 stops[16];
 uniform int zeroContour;
 uniform vec3 obstacleColour;
+uniform vec3 markedColour;
 out vec4 colour;
 
 const vec3 darkStripeColour = vec3(0.06);
@@ -338,6 +343,10 @@ void main() {
   vec3 v = perspective != 0 ? normalize(eye - framePosition) : vec3(0.0, 0.0, 1.0);
   vec3 d = vec3(stripeAcross, 0.0);
   vec3 c;
+  if (vertexMaterial > 1.5) {
+    colour = vec4(markedColour * (0.55 + 0.45 * max(dot(n, lightDirection), 0.0)), 1.0);
+    return;
+  }
   if (vertexMaterial > 0.5) {
     colour = vec4(obstacleColour * (0.3 + 0.7 * max(dot(n, lightDirection), 0.0)), 1.0);
     return;
@@ -513,6 +522,8 @@ void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
   gl.Uniform1i(uniform("zeroContour"), o.zeroContour ? 1 : 0);
   gl.Uniform3f(uniform("obstacleColour"), static_cast<float>(o.obstacleColour.r),
                static_cast<float>(o.obstacleColour.g), static_cast<float>(o.obstacleColour.b));
+  gl.Uniform3f(uniform("markedColour"), static_cast<float>(o.markedColour.r),
+               static_cast<float>(o.markedColour.g), static_cast<float>(o.markedColour.b));
   gl.Uniform2f(uniform("scalarRange"), static_cast<float>(scalarMin),
                static_cast<float>(scalarMax));
   std::vector<float> stops;
@@ -591,8 +602,11 @@ Image rasterize(OffscreenContext& context, const Scene& scene, const RenderOptio
   std::vector<float> soup;
   soup.reserve(static_cast<std::size_t>(scene.mesh.faceCount() + scene.obstacles.faceCount()) * 3 *
                kFloatsPerCorner);
-  appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, soup);
-  appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, soup);
+  std::vector<char> marked;
+  if (!o.markedFaces.empty()) marked.assign(scene.mesh.faceCount(), 0);
+  for (int f : o.markedFaces) marked[f] = 1;
+  appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, marked, soup);
+  appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, {}, soup);
   objects.program = linkProgram(gl);
   uploadCornerSoup(gl, objects, soup);
   setUniforms(gl, objects.program, camera, o, scalarMin, scalarMax, map);
@@ -1029,6 +1043,11 @@ Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,
                      std::to_string(options.referencePositions.rows()) + " vertices, the mesh " +
                      std::to_string(mesh.vertexCount()));
   }
+  for (int f : options.markedFaces)
+    if (f < 0 || f >= mesh.faceCount())
+      throw InputError("RenderOptions.markedFaces: face " + std::to_string(f) +
+                       " is not a face of the mesh (" + std::to_string(mesh.faceCount()) +
+                       " faces)");
   const Scene scene = buildScene(mesh, options);
   if (!hasLegend(options.style)) {
     return withCaption(withOutline(rasterize(context, scene, options, options.width, options.height,

@@ -120,6 +120,10 @@ struct RenderOptions {
   std::vector<SphereObstacle> spheres;
   std::vector<PlaneObstacle> planes;
   Rgb obstacleColour{0.86, 0.62, 0.36};
+  // Faces drawn in markedColour, lit, over every style (e.g. the faces at a mesh's problems,
+  // modeling/mesh_check.h); indices into the mesh's faces.
+  std::vector<int> markedFaces;
+  Rgb markedColour{0.9, 0.1, 0.1};
   // A line of text at the top left of the image (e.g. a frame's time), in black or white against
   // the background.
   std::string caption;

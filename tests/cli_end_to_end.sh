@@ -314,6 +314,16 @@ run 2 render render-bowl.obj -o bad.png --background teal; stderr_has "teal"; ab
 run 2 render render-bowl.obj -o bad.png --stripe-width 2; stderr_has "--stripe-width (the dark fraction"; absent bad.png
 run 2 render render-bowl.obj -o bad.jpg; stderr_has "bad.jpg"; absent bad.jpg
 run 2 render missing.obj -o bad.png; stderr_has "missing.obj"; absent bad.png
+# A mesh that info refuses (a triangle touching a square at one vertex, an unreferenced vertex)
+# is drawn with the faces at its problems marked, exit 0 and a warning naming them; a file that
+# cannot be read (a face naming vertex 9 of 4) is still refused.
+printf 'OFF\n7 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n5 5 5\n2 1 0\n2 2 0\n3 0 1 2\n3 0 2 3\n3 2 5 6\n' > render-touching.off
+run 0 render render-touching.off -o touching.png --style shaded --width 200 --height 200
+stderr_has "warning: render-touching.off is not a valid mesh (1 unreferenced_vertex, 1 non_manifold_vertex)"
+stderr_has "drawn with the 3 faces at its problems in red"; stderr_has "vertex 4: is used by no face"
+is_png touching.png || fail "render: touching.png is not a PNG"
+printf 'OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 9\n' > render-unreadable.off
+run 2 render render-unreadable.off -o bad.png; stderr_has "render-unreadable.off"; absent bad.png
 # Displacement from a reference of the same connectivity (itself: all 0), and exaggeration.
 run 0 mesh --family patch48 --n 8 -o render-flat.obj --quiet
 run 0 render render-bowl.obj -o bowl-displacement.png --style displacement --reference render-flat.obj --width 300 --height 200

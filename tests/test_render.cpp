@@ -137,6 +137,32 @@ TEST(Render, PlaneSeenHeadOnReflectsOneColour) {
   }
 }
 
+// Marked faces (RenderOptions.markedFaces, the faces at an invalid mesh's problems) take the
+// marking colour over every style: the left half of a square seen head-on is red, the right half
+// is not; a face index that is not the mesh's is refused.
+TEST(Render, MarkedFacesTakeTheMarkingColour) {
+  const modeling::Mesh mesh = squareMesh(8);
+  const double middle = mesh.positions.col(0).mean();
+  for (RenderStyle style : {RenderStyle::Shaded, RenderStyle::Reflection}) {
+    RenderOptions options = headOn(style);
+    for (int f = 0; f < mesh.faceCount(); ++f) {
+      double x = 0.0;
+      for (int k = 0; k < 3; ++k) x += mesh.positions(mesh.triangles(f, k), 0) / 3.0;
+      if (x < middle) options.markedFaces.push_back(f);
+    }
+    const Image image = render::renderMesh(mesh, options);
+    const auto left = image.pixel(64, 128), right = image.pixel(192, 128);
+    EXPECT_GT(left[0], 200) << renderStyleName(style);
+    EXPECT_LT(left[1], 50) << renderStyleName(style);
+    EXPECT_LT(left[2], 50) << renderStyleName(style);
+    // Unmarked: the shaded grey-blue or a stripe's grey, red no more than green.
+    EXPECT_LT(std::abs(int(right[0]) - int(right[1])), 40) << renderStyleName(style);
+  }
+  RenderOptions options = headOn(RenderStyle::Shaded);
+  options.markedFaces = {mesh.faceCount()};
+  EXPECT_THROW(render::renderMesh(mesh, options), InputError);
+}
+
 TEST(Render, CylinderReflectionLinesAreStraight) {
   // Axis along y (image up), vertical stripes: the reflected direction depends on x alone, so
   // every column is one colour and the stripes run straight along the axis.

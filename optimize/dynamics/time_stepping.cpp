@@ -638,7 +638,12 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
   time_ = t;
   double stiffeningWork = 0.0;
   if (!barrier_.empty()) {
-    barrier_.adapt(x_, v_, mass_);  // the next step's contact stiffness (obstacles.h)
+    // The next step's contact stiffness (obstacles.h). Its raises inside the layer add energy:
+    // with S at most D + ½ tolerance × the scale they never lift the total above E(0) by more
+    // than half the tolerance (damping's work D pays for the rest).
+    const double budget = 0.5 * options_.energyTolerance * balance_.scale(e) + balance_.dissipated +
+                          dissipation - balance_.stiffening;
+    barrier_.adapt(x_, v_, mass_, std::max(0.0, budget));
     stiffeningWork = barrier_.energy(x_) - e.contact;
   }
   balance_.record(e, dissipation, stiffeningWork);
