@@ -2,8 +2,6 @@
 // direction, manifoldness, conserved rest area, no sliver made, no energy made, two pieces.
 #include <gtest/gtest.h>
 
-#include <iostream>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -259,9 +257,6 @@ void expectCleanCut(const StripCrack& strip) {
     EXPECT_GE(smallestAngle(cut.rest, f), 10.0) << "face " << f;
   }
   EXPECT_EQ(made > 0, cut.facesSplit > 0);
-  std::cout << "faces split " << cut.facesSplit << ", vertices added " << cut.verticesAdded
-            << ", duplicated " << cut.verticesDuplicated << ", budge " << cut.budge << ", angle "
-            << degrees << "°\n";
   // Two pieces; the split makes no energy.
   EXPECT_EQ(connectedComponents(cut.rest), 2);
   EXPECT_LE(elasticEnergy(cut.rest, cut.current),
@@ -350,6 +345,47 @@ TEST(CrackCut, ACrackTipInsideTheMeshLeavesOnePiece) {
   EXPECT_EQ(connectedComponents(cut.rest), 1);
   EXPECT_GT(cut.verticesDuplicated, 0);
   EXPECT_NEAR(totalArea(cut.rest), totalArea(rest), 1e-12);
+}
+
+// One fracture check on a strip pulled apart and moving: the pieces get the velocities of the
+// points they were cut from, pins stay with their vertices, and the fragments are the two halves.
+TEST(FractureShell, CarriesVelocitiesAndPinsAndGivesTwoFragments) {
+  const Mesh rest = rotated(patch(16), 15.0);
+  const Positions current = pulledApart(rest, 0.1);
+  Positions velocities = Positions::Zero(rest.vertexCount(), 3);
+  std::vector<bool> held(rest.vertexCount(), false);
+  for (int v = 0; v < rest.vertexCount(); ++v) {
+    velocities.row(v) << 2.0 * rest.positions(v, 0), 0.0, 1.0;  // stretching, and rising
+    held[v] = std::abs(rest.positions(v, 0)) > 0.45;
+  }
+  FractureOptions options;
+  options.fractureStrain = greenStrain(1.1) * 2.0;
+  options.thickness = 0.01;
+  EXPECT_FALSE(optimize::fractureShell(rest, current, velocities, held, options).has_value());
+  options.fractureStrain = greenStrain(1.0 + 0.1 * std::cos(0.15 * kPi));
+  const auto shell = optimize::fractureShell(rest, current, velocities, held, options);
+  ASSERT_TRUE(shell.has_value());
+  ASSERT_EQ(shell->velocities.rows(), shell->rest.vertexCount());
+  for (int v = 0; v < shell->rest.vertexCount(); ++v) {
+    // The velocity field is affine in the rest position: interpolation reproduces it exactly.
+    EXPECT_NEAR(shell->velocities(v, 0), 2.0 * shell->rest.positions(v, 0), 1e-14);
+    EXPECT_EQ(shell->velocities(v, 2), 1.0);
+    if (v < rest.vertexCount()) {
+      EXPECT_EQ(shell->heldVertex[v], held[v]);
+    } else {
+      EXPECT_FALSE(shell->heldVertex[v]);  // the crack runs through the middle
+    }
+  }
+  const std::vector<Mesh> fragments = optimize::meshFragments(shell->rest);
+  ASSERT_EQ(fragments.size(), 2u);
+  double area = 0.0;
+  for (const Mesh& fragment : fragments) {
+    EXPECT_TRUE(modeling::checkMesh(fragment).valid());
+    EXPECT_EQ(connectedComponents(fragment), 1);
+    area += totalArea(fragment);
+  }
+  EXPECT_NEAR(area, totalArea(rest), 1e-12);
+  EXPECT_EQ(fragments[0].faceCount() + fragments[1].faceCount(), shell->rest.faceCount());
 }
 
 TEST(CrackCut, BadSeedsNameTheProblem) {

@@ -162,4 +162,76 @@ std::optional<FacePrincipalStrain> criticalFace(const Mesh& rest,
   return critical;
 }
 
+std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x,
+                                            const Positions& v, const std::vector<bool>& heldVertex,
+                                            const FractureOptions& options) {
+  if (v.rows() != rest.vertexCount() ||
+      (!heldVertex.empty() && static_cast<int>(heldVertex.size()) != rest.vertexCount())) {
+    throw InputError("fracture: the velocities or held vertices do not match the rest mesh's " +
+                     std::to_string(rest.vertexCount()) + " vertices");
+  }
+  const std::optional<FacePrincipalStrain> critical = criticalFace(rest, x, options);
+  if (!critical) return std::nullopt;
+  const std::vector<FacePrincipalStrain> strains = facePrincipalStrains(rest, x, options.thickness);
+  std::vector<bool> cracking(rest.faceCount());
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    cracking[f] = strains[f].strain > options.fractureStrain;
+  }
+  FracturedShell shell;
+  shell.critical = *critical;
+  shell.cut =
+      modeling::cutAlongCrack(rest, x, {critical->face, critical->crackDirection}, cracking);
+  shell.rest = shell.cut.rest;
+  shell.positions = shell.cut.current;
+  const int vertexCount = shell.rest.vertexCount();
+  shell.velocities.resize(vertexCount, 3);
+  if (!heldVertex.empty()) shell.heldVertex.resize(vertexCount);
+  for (int i = 0; i < vertexCount; ++i) {
+    const modeling::VertexSource& s = shell.cut.sources[i];
+    shell.velocities.row(i) = (1.0 - s.t) * v.row(s.a) + s.t * v.row(s.b);
+    if (!heldVertex.empty()) shell.heldVertex[i] = heldVertex[s.a] && heldVertex[s.b];
+  }
+  return shell;
+}
+
+std::vector<Mesh> meshFragments(const Mesh& mesh) {
+  std::vector<int> parent(mesh.vertexCount());
+  for (int i = 0; i < mesh.vertexCount(); ++i) parent[i] = i;
+  const auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    parent[root(mesh.triangles(f, 0))] = root(mesh.triangles(f, 1));
+    parent[root(mesh.triangles(f, 1))] = root(mesh.triangles(f, 2));
+  }
+  std::unordered_map<int, int> fragmentOfRoot;
+  std::vector<int> fragmentOf(mesh.vertexCount()), indexIn(mesh.vertexCount());
+  std::vector<std::vector<int>> vertices;
+  for (int i = 0; i < mesh.vertexCount(); ++i) {
+    const auto [entry, added] =
+        fragmentOfRoot.try_emplace(root(i), static_cast<int>(vertices.size()));
+    if (added) vertices.emplace_back();
+    fragmentOf[i] = entry->second;
+    indexIn[i] = static_cast<int>(vertices[entry->second].size());
+    vertices[entry->second].push_back(i);
+  }
+  std::vector<Mesh> fragments(vertices.size());
+  std::vector<std::vector<int>> faces(vertices.size());
+  for (int f = 0; f < mesh.faceCount(); ++f) faces[fragmentOf[mesh.triangles(f, 0)]].push_back(f);
+  for (std::size_t k = 0; k < fragments.size(); ++k) {
+    fragments[k].positions.resize(static_cast<int>(vertices[k].size()), 3);
+    for (std::size_t i = 0; i < vertices[k].size(); ++i) {
+      fragments[k].positions.row(static_cast<int>(i)) = mesh.positions.row(vertices[k][i]);
+    }
+    fragments[k].triangles.resize(static_cast<int>(faces[k].size()), 3);
+    for (std::size_t j = 0; j < faces[k].size(); ++j) {
+      for (int c = 0; c < 3; ++c) {
+        fragments[k].triangles(static_cast<int>(j), c) = indexIn[mesh.triangles(faces[k][j], c)];
+      }
+    }
+  }
+  return fragments;
+}
+
 }  // namespace flexure::optimize

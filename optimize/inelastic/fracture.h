@@ -23,6 +23,7 @@
 #include <optional>
 #include <vector>
 
+#include "modeling/crack_cut.h"
 #include "modeling/mesh.h"
 
 namespace flexure::optimize {
@@ -65,5 +66,31 @@ std::vector<FacePrincipalStrain> facePrincipalStrains(
 std::optional<FacePrincipalStrain> criticalFace(
     const modeling::Mesh& rest, const Eigen::Ref<const modeling::Positions>& current,
     const FractureOptions& options);
+
+// A shell after one fracture check that cracked: the cut rest mesh (its rest state is rebuilt from
+// it by buildProblem), the configuration and velocities carried over per vertex (a vertex made on
+// an edge interpolates its ends, a duplicated one inherits its original's), the held vertices (a
+// new vertex is held when both ends of its edge are) and the crack.
+struct FracturedShell {
+  modeling::Mesh rest;
+  modeling::Positions positions;   // #V' by 3
+  modeling::Positions velocities;  // #V' by 3
+  std::vector<bool> heldVertex;    // #V' (empty when the input's was)
+  FacePrincipalStrain critical;    // the face the crack started from, before the cut
+  modeling::CrackCut cut;
+};
+
+// Checks the criterion on (rest, x) and, when a face is critical, cuts the shell along the crack
+// from it through every face over ε_f (modeling::cutAlongCrack). Empty when no face exceeds ε_f.
+// InputError for bad options or sizes that do not match the rest mesh.
+std::optional<FracturedShell> fractureShell(const modeling::Mesh& rest,
+                                            const modeling::Positions& x,
+                                            const modeling::Positions& v,
+                                            const std::vector<bool>& heldVertex,
+                                            const FractureOptions& options);
+
+// The connected components of `mesh` (through shared vertices), each its own mesh with its
+// vertices renumbered in their order: the fragments a fractured shell is written as.
+std::vector<modeling::Mesh> meshFragments(const modeling::Mesh& mesh);
 
 }  // namespace flexure::optimize
