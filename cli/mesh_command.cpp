@@ -69,10 +69,7 @@ void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
   generator.n = o.n;
   generator.seed = o.seed;
   if (o.aspect != 0.0) generator.aspect = o.aspect;
-  const bool shell = generator.family == modeling::MeshFamily::Cylinder ||
-                     generator.family == modeling::MeshFamily::Sphere ||
-                     generator.family == modeling::MeshFamily::Hemisphere;
-  if (shell && !o.height.empty()) {
+  if (modeling::isShellFamily(generator.family) && !o.height.empty()) {
     throw InputError("--height lifts the flat families only; a " + o.family + " is not a graph");
   }
   const std::optional<modeling::PolynomialSurface> surface =

@@ -234,6 +234,21 @@ MeshFamily parseMeshFamily(std::string_view name) {
                    "'; expected patch48, stripe, criss, delaunay, cylinder, sphere or hemisphere");
 }
 
+bool isShellFamily(MeshFamily family) {
+  return family == MeshFamily::Cylinder || family == MeshFamily::Sphere ||
+         family == MeshFamily::Hemisphere;
+}
+
+MeshFamily parsePlateFamily(std::string_view name) {
+  const MeshFamily family = parseMeshFamily(name);
+  if (isShellFamily(family)) {
+    throw InputError("'" + std::string(name) +
+                     "' is a shell; the plate problems take the square's families patch48, "
+                     "stripe, criss or delaunay");
+  }
+  return family;
+}
+
 std::string_view meshFamilyName(MeshFamily family) {
   switch (family) {
     case MeshFamily::Patch48:

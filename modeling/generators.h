@@ -53,6 +53,10 @@ struct GeneratorOptions {
 // "patch48" | "stripe" | "criss" | "delaunay" | "cylinder" | "sphere" | "hemisphere"; throws
 // InputError listing the names otherwise.
 MeshFamily parseMeshFamily(std::string_view name);
+// The same for the plate problems (studies, comparisons, plate modes): a shell's name is refused
+// with an InputError saying that they take the square's families.
+MeshFamily parsePlateFamily(std::string_view name);
+bool isShellFamily(MeshFamily family);
 std::string_view meshFamilyName(MeshFamily family);
 
 // Throws InputError when the options do not validate.

@@ -650,6 +650,18 @@ TEST(GeneratorsShells, CylinderIsAnOpenTubeWithTwoBoundaryLoops) {
   }
 }
 
+TEST(GeneratorsShells, PlateProblemsRefuseShells) {
+  EXPECT_EQ(parsePlateFamily("delaunay"), MeshFamily::Delaunay);
+  try {
+    parsePlateFamily("sphere");
+    FAIL() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("'sphere' is a shell"), std::string::npos);
+  }
+  EXPECT_THROW(parsePlateFamily("cylinder"), InputError);
+  EXPECT_THROW(parsePlateFamily("nonsense"), InputError);
+}
+
 TEST(GeneratorsShells, BadShellOptionsThrowHelpfulMessages) {
   EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Sphere, 6)).find("multiple of 4"),
             std::string::npos);
