@@ -54,7 +54,21 @@ class EdgeFaces {
         faceOf_[key(mesh.triangles(f, s), mesh.triangles(f, (s + 1) % 3))] = f;
       }
     }
+    boundaryVertex_.assign(mesh.vertexCount(), false);
+    facesAround_.resize(mesh.vertexCount());
+    for (int f = 0; f < mesh.faceCount(); ++f) {
+      for (int s = 0; s < 3; ++s) {
+        const int a = mesh.triangles(f, s);
+        const int b = mesh.triangles(f, (s + 1) % 3);
+        if (face(b, a) < 0) boundaryVertex_[a] = boundaryVertex_[b] = true;
+        facesAround_[a].push_back(f);
+      }
+    }
   }
+  // Whether v is on the boundary (an edge of it has a face on one side only): after a cut, the
+  // crack's lips and its tip too.
+  bool onBoundary(int v) const { return boundaryVertex_[v]; }
+  const std::vector<int>& facesAround(int v) const { return facesAround_[v]; }
   // The face with the directed edge a → b, −1 when none.
   int face(int a, int b) const {
     const auto found = faceOf_.find(key(a, b));
@@ -65,6 +79,8 @@ class EdgeFaces {
   std::int64_t key(int a, int b) const { return static_cast<std::int64_t>(a) * vertexCount_ + b; }
   std::int64_t vertexCount_;
   std::unordered_map<std::int64_t, int> faceOf_;
+  std::vector<bool> boundaryVertex_;
+  std::vector<std::vector<int>> facesAround_;
 };
 
 struct Exit {
@@ -115,6 +131,28 @@ Eigen::Vector3d unfold(const Mesh& mesh, const Eigen::Vector3d& d, int a, int b,
   return d.dot(along) * along + acrossComponent * across.normalized();
 }
 
+// The face around vertex w (other than `from`) that the line from w along d enters: the one whose
+// side opposite w it crosses; d projected into that face's plane. −1 when none.
+int faceEnteredAt(const Mesh& mesh, const EdgeFaces& edgeFaces, int w, int from,
+                  Eigen::Vector3d& d) {
+  const Eigen::Vector3d xw = rowOf(mesh.positions, w);
+  for (const int g : edgeFaces.facesAround(w)) {
+    if (g == from) continue;
+    int corner = 0;
+    while (mesh.triangles(g, corner) != w) ++corner;
+    const Eigen::Vector3d x1 = rowOf(mesh.positions, mesh.triangles(g, (corner + 1) % 3));
+    const Eigen::Vector3d x2 = rowOf(mesh.positions, mesh.triangles(g, (corner + 2) % 3));
+    const Eigen::Vector3d normal = (x1 - xw).cross(x2 - xw).normalized();
+    const Eigen::Vector3d inPlane = (d - d.dot(normal) * normal).normalized();
+    const Exit exit = exitOfFace(mesh, g, xw, inPlane, -1);
+    if (exit.side == (corner + 1) % 3) {
+      d = inPlane;
+      return g;
+    }
+  }
+  return -1;
+}
+
 // Marches from face `start`'s point p along d: the crossings and the faces entered after `start`.
 void march(const Mesh& mesh, const EdgeFaces& edgeFaces, const std::vector<bool>& cracking,
            int start, Eigen::Vector3d p, Eigen::Vector3d d, std::vector<CrackPoint>& points,
@@ -135,13 +173,28 @@ void march(const Mesh& mesh, const EdgeFaces& edgeFaces, const std::vector<bool>
     }
     const int a = mesh.triangles(face, exit.side);
     const int b = mesh.triangles(face, (exit.side + 1) % 3);
+    if (exit.t < 1e-9 || exit.t > 1.0 - 1e-9) {  // through a vertex: on into the face beyond it
+      const int w = exit.t < 0.5 ? a : b;
+      points.push_back(CrackPoint{w, -1, -1, 0.0, false});
+      const int next = edgeFaces.onBoundary(w) ? -1 : faceEnteredAt(mesh, edgeFaces, w, face, d);
+      if (next < 0 || !cracking[next] || visited[next]) return;
+      faces.push_back(next);
+      visited[next] = true;
+      p = exit.point;
+      face = next;
+      entrySide = -1;
+      continue;
+    }
     CrackPoint crossing{-1, a, b, exit.t, false};
     const int next = edgeFaces.face(b, a);
     if (next < 0) {  // the boundary
       points.push_back(crossing);
       return;
     }
-    if (!cracking[next] || visited[next]) {
+    // Not cracking, or the crack reaches a boundary vertex (an earlier crack's tip or lip, or the
+    // outer boundary): it ends at the nearer end of the edge.
+    const bool reachesBoundary = edgeFaces.onBoundary(exit.t < 0.5 ? a : b);
+    if (!cracking[next] || visited[next] || reachesBoundary) {
       crossing.tip = true;
       points.push_back(crossing);
       return;

@@ -4,8 +4,9 @@
 // The crack is the straightest line on the rest surface through the centroid of a seed face along a
 // given direction: marched face to face both ways, the direction unfolded across each edge about
 // it (the same angle to the edge on both sides), while the faces it enters are cracking. It ends on
-// the boundary or, at a face that is not cracking, at the nearer end of the edge it would cross
-// (the crack tip is a vertex, so no neighbour is left with a hanging vertex).
+// the boundary or, at a face that is not cracking or at an edge whose nearer end is on the
+// boundary, at that nearer end (the crack tip is a vertex, so no neighbour is left with a hanging
+// vertex; a crack grown later from near an earlier tip joins it there).
 //
 // Vertex budging: a crossing within `budge` (a fraction of the edge) of an edge end moves to that
 // end, and so does one whose segment would run along its own edge. The budge starts at

@@ -325,7 +325,7 @@ TEST(CrackCut, NoEnergyIsMadeOnACurvedStrip) {
 
 // A crack stopped by faces that are not cracking ends at a vertex inside the mesh: one piece,
 // still manifold, the tip not duplicated.
-TEST(CrackCut, ACrackTipInsideTheMeshLeavesOnePiece) {
+TEST(CrackCut, ACrackTipInsideTheMeshLeavesOnePieceAndGrowsLater) {
   const Mesh rest = patch(16);
   std::vector<bool> cracking(rest.faceCount(), false);
   int seedFace = -1;
@@ -345,6 +345,33 @@ TEST(CrackCut, ACrackTipInsideTheMeshLeavesOnePiece) {
   EXPECT_EQ(connectedComponents(cut.rest), 1);
   EXPECT_GT(cut.verticesDuplicated, 0);
   EXPECT_NEAR(totalArea(cut.rest), totalArea(rest), 1e-12);
+
+  // A later check grows the crack from its tip: the face past the tip, cracking now, starts a
+  // crack that runs to the outer boundary one way and stops on the first crack the other way.
+  const Eigen::Vector3d tip =
+      cut.crackRest
+          .row(cut.crackRest(0, 1) > cut.crackRest(cut.crackRest.rows() - 1, 1)
+                   ? 0
+                   : cut.crackRest.rows() - 1)
+          .transpose();
+  int pastTip = -1;
+  double nearest = 1e9;
+  for (int f = 0; f < cut.rest.faceCount(); ++f) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      centroid += cut.rest.positions.row(cut.rest.triangles(f, k)).transpose() / 3.0;
+    const double distance = (centroid - tip).norm();
+    if (centroid.y() > tip.y() && distance < nearest) nearest = distance, pastTip = f;
+  }
+  ASSERT_GE(pastTip, 0);
+  const CrackCut grown =
+      modeling::cutAlongCrack(cut.rest, cut.current, {pastTip, Eigen::Vector3d::UnitY()},
+                              std::vector<bool>(cut.rest.faceCount(), true));
+  EXPECT_TRUE(modeling::checkMesh(grown.rest).valid());
+  EXPECT_EQ(connectedComponents(grown.rest), 2) << "tip " << tip.transpose() << "\nfirst\n"
+                                                << cut.crackRest << "\ngrown\n"
+                                                << grown.crackRest;
+  EXPECT_NEAR(totalArea(grown.rest), totalArea(rest), 1e-12);
 }
 
 // One fracture check on a strip pulled apart and moving: the pieces get the velocities of the
