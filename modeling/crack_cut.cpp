@@ -155,12 +155,10 @@ int faceEnteredAt(const Mesh& mesh, const EdgeFaces& edgeFaces, int w, int from,
 
 // Marches from face `start`'s point p along d: the crossings and the faces entered after `start`.
 void march(const Mesh& mesh, const EdgeFaces& edgeFaces, const std::vector<bool>& cracking,
-           int start, Eigen::Vector3d p, Eigen::Vector3d d, std::vector<CrackPoint>& points,
-           std::vector<int>& faces) {
+           int start, Eigen::Vector3d p, Eigen::Vector3d d, std::vector<bool>& visited,
+           std::vector<CrackPoint>& points, std::vector<int>& faces) {
   int face = start;
   int entrySide = -1;
-  std::vector<bool> visited(mesh.faceCount(), false);
-  visited[start] = true;
   for (;;) {
     const Exit exit = exitOfFace(mesh, face, p, d, entrySide);
     if (exit.side < 0) {  // degenerate: stop at the nearest vertex of the face
@@ -219,8 +217,14 @@ CrackPath exactCrack(const Mesh& mesh, const EdgeFaces& edgeFaces, const CrackSe
                                    3.0;
   std::vector<CrackPoint> forward, backward;
   std::vector<int> forwardFaces, backwardFaces;
-  march(mesh, edgeFaces, cracking, seed.face, centroid, seed.direction, forward, forwardFaces);
-  march(mesh, edgeFaces, cracking, seed.face, centroid, -seed.direction, backward, backwardFaces);
+  // One record of the faces crossed for both ways: a crack that comes round a closed surface
+  // stops before a face the other way crossed (each face is split once).
+  std::vector<bool> visited(mesh.faceCount(), false);
+  visited[seed.face] = true;
+  march(mesh, edgeFaces, cracking, seed.face, centroid, seed.direction, visited, forward,
+        forwardFaces);
+  march(mesh, edgeFaces, cracking, seed.face, centroid, -seed.direction, visited, backward,
+        backwardFaces);
   CrackPath path;
   path.points.assign(backward.rbegin(), backward.rend());
   path.points.insert(path.points.end(), forward.begin(), forward.end());
