@@ -74,7 +74,7 @@ CompareFamilies generateFamilies(const CompareOptions& o) {
   for (const std::string& name : o.families) {
     modeling::GeneratorOptions generator;
     try {
-      generator.family = modeling::parseMeshFamily(name);
+      generator.family = modeling::parsePlateFamily(name);
     } catch (const InputError& e) {
       throw InputError(std::string("--families: ") + e.what());
     }

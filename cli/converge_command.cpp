@@ -79,7 +79,7 @@ optimize::StudyOptions studyOptions(const ConvergeCommandOptions& o, bool famili
     study.families.clear();
     for (const std::string& name : o.families) {
       try {
-        study.families.push_back(modeling::parseMeshFamily(name));
+        study.families.push_back(modeling::parsePlateFamily(name));
       } catch (const InputError& e) {
         throw InputError(std::string("--families: ") + e.what());
       }

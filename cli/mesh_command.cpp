@@ -61,12 +61,17 @@ struct MeshCommandOptions {
 
 void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
   modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
-  requireMemoryFor(o.n, o.aspect == 0.0 ? 1.0 : o.aspect);
+  // A tube's vertex count grows with its length as a square's with rows: 1/aspect.
+  const double aspect = o.aspect == 0.0 ? 1.0 : o.aspect;
+  requireMemoryFor(o.n, o.family == "cylinder" ? 1.0 / aspect : aspect);
   modeling::GeneratorOptions generator;
   generator.family = modeling::parseMeshFamily(o.family);
   generator.n = o.n;
   generator.seed = o.seed;
   if (o.aspect != 0.0) generator.aspect = o.aspect;
+  if (modeling::isShellFamily(generator.family) && !o.height.empty()) {
+    throw InputError("--height lifts the flat families only; a " + o.family + " is not a graph");
+  }
   const std::optional<modeling::PolynomialSurface> surface =
       o.height.empty() ? std::nullopt : std::optional(modeling::PolynomialSurface::parse(o.height));
 
@@ -85,18 +90,25 @@ void runMeshCommand(const MeshCommandOptions& o, const GlobalOptions& global) {
 void registerMeshCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<MeshCommandOptions>();
   CLI::App* sub = app.add_subcommand(
-      "mesh", "Generate a test-problem mesh of the square [-1/2, 1/2]^2 (flat, or a height field)");
-  sub->add_option("--family", options->family, "patch48 | stripe | criss | delaunay")
+      "mesh",
+      "Generate a test-problem mesh of the square [-1/2, 1/2]^2 (flat, or a height field) or a "
+      "shell (cylinder, sphere, hemisphere of radius 1/2)");
+  sub->add_option("--family", options->family,
+                  "patch48 | stripe | criss | delaunay | cylinder | sphere | hemisphere")
       ->capture_default_str();
   auto files = CommandFiles::of(*sub);
-  sub->add_option("-n,--n", options->n, "Cells per side (delaunay: boundary edges per side)")
+  sub->add_option(
+         "-n,--n", options->n,
+         "Cells per side (delaunay: boundary edges per side; shells: edges around, sphere and "
+         "hemisphere a multiple of 4)")
       ->capture_default_str()
       ->check(inRange(1, kMaxCellsPerSide));
   sub->add_option("--seed", options->seed, "Random seed of the delaunay sampling")
       ->capture_default_str()
       ->check(seedValue());
   sub->add_option("--aspect", options->aspect,
-                  "Cell height / width (patch48, criss: default 1; stripe: 2)")
+                  "Cell height / width (patch48, criss: default 1; stripe: 2); cylinder: length / "
+                  "diameter (default 1)")
       ->check(positive());
   sub->add_option("--height", options->height,
                   "Height field z = p(x, y): quadratic:a,b,c or polynomial:EXPR")

@@ -145,7 +145,7 @@ Plate readOrGeneratePlate(const ModesOptions& o) {
     return plate;
   }
   modeling::GeneratorOptions generator;
-  generator.family = modeling::parseMeshFamily(o.family);
+  generator.family = modeling::parsePlateFamily(o.family);
   generator.n = o.n;
   generator.seed = o.seed;
   plate.mesh = modeling::generateMesh(generator);

@@ -74,6 +74,8 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"SpectrumStudyOptions.count", "--count"},
       {"SpectrumStudyOptions.support", "--support"},
       {"GeneratorOptions.aspect", "--aspect"},
+      {"FractureOptions.fractureStrain", "--fracture-strain"},
+      {"FractureOptions.thickness", "--thickness"},
       // the comparison figure (flexure compare)
       {"ComparisonOptions.rows", "--families/--mesh"},
       {"ComparisonOptions.energies", "--energies"},

@@ -31,6 +31,18 @@ for family in patch48 stripe criss delaunay; do
   stdout_has '"euler_characteristic": 1'
 done
 run 0 info patch48.obj; stdout_has "valence, interior     4×24 8×25"; stdout_has "valid                 yes"
+# The shells: closed (χ = 2), one boundary loop (χ = 1), two (χ = 0); no height field on them,
+# and the plate problems refuse them.
+for shell in "sphere 2" "hemisphere 1" "cylinder 0"; do
+  read -r name chi <<< "$shell"
+  run 0 mesh --family "$name" --n 16 -o "$name.obj"
+  run 0 info "$name.obj" --json
+  stdout_has '"valid": true'
+  stdout_has "\"euler_characteristic\": $chi"
+done
+run 2 mesh --family sphere --n 6 -o x.obj; stderr_has "multiple of 4"; absent x.obj
+run 2 mesh --family cylinder --n 8 --height quadratic:1,0,1 -o x.obj; stderr_has "--height"; absent x.obj
+run 2 converge --families sphere --energies hinge -o x; stderr_has "'sphere' is a shell"; absent x
 run 0 mesh --family patch48 --n 4 --height quadratic:1,0,1 -o bowl.ply
 run 0 info bowl.ply --json; stdout_has '"max": ['
 

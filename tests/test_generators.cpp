@@ -2,15 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "modeling/errors.h"
+#include "modeling/mesh_check.h"
 
 namespace flexure::modeling {
 namespace {
@@ -462,6 +466,211 @@ TEST(DelaunayMesh, EmptyCircumcircles) {
   rhombus.triangles.resize(2, 3);
   rhombus.triangles << 0, 1, 2, 1, 0, 3;
   EXPECT_EQ(circumcircleViolations(rhombus), 2);
+}
+
+}  // namespace
+}  // namespace flexure::modeling
+
+// ---- shells: cylinder, sphere, hemisphere --------------------------------------------------
+
+namespace flexure::modeling {
+namespace {
+
+Eigen::Vector3d vertexOf(const Mesh& mesh, int f, int k) {
+  return mesh.positions.row(mesh.triangles(f, k)).transpose();
+}
+
+double surfaceArea(const Mesh& mesh) {
+  double area = 0.0;
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    const Eigen::Vector3d a = vertexOf(mesh, f, 0);
+    area += 0.5 * (vertexOf(mesh, f, 1) - a).cross(vertexOf(mesh, f, 2) - a).norm();
+  }
+  return area;
+}
+
+// The enclosed volume by the divergence theorem, Σ_T x0 · (x1 × x2) / 6 (closed meshes).
+double enclosedVolume(const Mesh& mesh) {
+  double volume = 0.0;
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    volume += vertexOf(mesh, f, 0).dot(vertexOf(mesh, f, 1).cross(vertexOf(mesh, f, 2))) / 6.0;
+  }
+  return volume;
+}
+
+// Connected loops of boundary edges (edges with one face).
+int boundaryLoops(const Mesh& mesh) {
+  std::map<Edge, int> uses;
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles(f, k);
+      const int b = mesh.triangles(f, (k + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::vector<int> parent(mesh.vertexCount());
+  for (int v = 0; v < mesh.vertexCount(); ++v) parent[v] = v;
+  const auto root = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::set<int> onBoundary;
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;
+    parent[root(edge.first)] = root(edge.second);
+    onBoundary.insert(edge.first);
+    onBoundary.insert(edge.second);
+  }
+  std::set<int> loops;
+  for (int v : onBoundary) loops.insert(root(v));
+  return static_cast<int>(loops.size());
+}
+
+double minAngleDegrees3d(const Mesh& mesh) {
+  double smallest = 180.0;
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = vertexOf(mesh, f, k);
+      const Eigen::Vector3d u = vertexOf(mesh, f, (k + 1) % 3) - a;
+      const Eigen::Vector3d w = vertexOf(mesh, f, (k + 2) % 3) - a;
+      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / kPi);
+    }
+  }
+  return smallest;
+}
+
+// Every face normal points away from `axis` through the origin (zero axis: from the origin).
+void expectOutward(const Mesh& mesh, const Eigen::Vector3d& axis) {
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    const Eigen::Vector3d a = vertexOf(mesh, f, 0);
+    const Eigen::Vector3d normal = (vertexOf(mesh, f, 1) - a).cross(vertexOf(mesh, f, 2) - a);
+    Eigen::Vector3d centre = (a + vertexOf(mesh, f, 1) + vertexOf(mesh, f, 2)) / 3.0;
+    centre -= axis * axis.dot(centre);
+    ASSERT_GT(normal.dot(centre), 0.0) << "face " << f;
+  }
+}
+
+Mesh shell(MeshFamily family, int n, std::optional<double> aspect = std::nullopt) {
+  GeneratorOptions options;
+  options.family = family;
+  options.n = n;
+  options.aspect = aspect;
+  return generateMesh(options);
+}
+
+int eulerCharacteristic(const Mesh& mesh) {
+  return mesh.vertexCount() - static_cast<int>(edgesOf(mesh).size()) + mesh.faceCount();
+}
+
+TEST(GeneratorsShells, NamesRoundTrip) {
+  for (MeshFamily family : {MeshFamily::Cylinder, MeshFamily::Sphere, MeshFamily::Hemisphere}) {
+    EXPECT_EQ(parseMeshFamily(meshFamilyName(family)), family);
+  }
+}
+
+TEST(GeneratorsShells, SphereIsClosedOutwardAndConvergesToTheBall) {
+  double previousError = 0.0;
+  for (int n : {4, 8, 16, 32, 64}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const Mesh mesh = shell(MeshFamily::Sphere, n);
+    EXPECT_TRUE(checkMesh(mesh).valid());
+    EXPECT_EQ(boundaryLoops(mesh), 0);
+    EXPECT_EQ(eulerCharacteristic(mesh), 2);
+    expectOutward(mesh, Eigen::Vector3d::Zero());
+    for (int v = 0; v < mesh.vertexCount(); ++v) {
+      EXPECT_NEAR(mesh.positions.row(v).norm(), 0.5, 1e-15);
+    }
+    // Inscribed: area and volume below π r²·4 = π and 4π r³/3 = π/6, by O(1/n²).
+    const double areaError = 1.0 - surfaceArea(mesh) / kPi;
+    const double volumeError = 1.0 - enclosedVolume(mesh) / (kPi / 6.0);
+    EXPECT_GT(areaError, 0.0);
+    EXPECT_GT(volumeError, 0.0);
+    EXPECT_LT(areaError * n * n, 10.5);
+    EXPECT_LT(volumeError * n * n, 19.5);
+    if (n >= 16) {
+      EXPECT_NEAR(areaError / previousError, 0.25, 0.05);
+    }
+    previousError = areaError;
+    if (n >= 8) {
+      EXPECT_GT(minAngleDegrees3d(mesh), 30.0);
+    }
+  }
+}
+
+TEST(GeneratorsShells, HemisphereHasOneBoundaryLoopOnTheEquator) {
+  for (int n : {4, 8, 16, 32, 64}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const Mesh mesh = shell(MeshFamily::Hemisphere, n);
+    EXPECT_TRUE(checkMesh(mesh).valid());
+    EXPECT_EQ(boundaryLoops(mesh), 1);
+    EXPECT_EQ(eulerCharacteristic(mesh), 1);
+    expectOutward(mesh, Eigen::Vector3d::Zero());
+    EXPECT_GE(mesh.positions.col(2).minCoeff(), 0.0);
+    int onEquator = 0;
+    for (int v = 0; v < mesh.vertexCount(); ++v) onEquator += mesh.positions(v, 2) == 0.0 ? 1 : 0;
+    EXPECT_EQ(onEquator, n);
+    const double areaError = 1.0 - surfaceArea(mesh) / (kPi / 2.0);
+    EXPECT_GT(areaError, 0.0);
+    EXPECT_LT(areaError * n * n, 10.5);
+    if (n >= 8) {
+      EXPECT_GT(minAngleDegrees3d(mesh), 30.0);
+    }
+  }
+}
+
+TEST(GeneratorsShells, CylinderIsAnOpenTubeWithTwoBoundaryLoops) {
+  for (int n : {3, 8, 16, 64}) {
+    for (double length : {1.0, 3.0}) {
+      SCOPED_TRACE("n = " + std::to_string(n) + " length " + std::to_string(length));
+      const Mesh mesh = shell(MeshFamily::Cylinder, n, length);
+      EXPECT_TRUE(checkMesh(mesh).valid());
+      EXPECT_EQ(boundaryLoops(mesh), 2);
+      EXPECT_EQ(eulerCharacteristic(mesh), 0);
+      expectOutward(mesh, Eigen::Vector3d::UnitZ());
+      EXPECT_DOUBLE_EQ(mesh.positions.col(2).maxCoeff(), 0.5 * length);
+      EXPECT_DOUBLE_EQ(mesh.positions.col(2).minCoeff(), -0.5 * length);
+      // Every triangle has a ring edge, the chord c = 2r sin(π/n), and its apex on the next ring
+      // half a step round: at height Δz above the chord and r (1 − cos(π/n)) out from it.
+      const double r = 0.5;
+      const double rings = std::round(length / (std::sqrt(3.0) / 2.0 * kPi / n));
+      const double dz = length / std::max(rings, 1.0);
+      const double chord = 2.0 * r * std::sin(kPi / n);
+      const double apexHeight = std::hypot(dz, r * (1.0 - std::cos(kPi / n)));
+      EXPECT_EQ(mesh.faceCount(), 2 * n * static_cast<int>(std::max(rings, 1.0)));
+      const double exact = mesh.faceCount() * 0.5 * chord * apexHeight;
+      EXPECT_NEAR(surfaceArea(mesh), exact, 1e-12 * exact);
+      // ... which tends to the tube's 2π r L = π L.
+      if (n == 64) {
+        EXPECT_NEAR(surfaceArea(mesh) / (kPi * length), 1.0, 2e-3);
+      }
+      if (n >= 8) {
+        EXPECT_GT(minAngleDegrees3d(mesh), 50.0);
+      }
+    }
+  }
+}
+
+TEST(GeneratorsShells, PlateProblemsRefuseShells) {
+  EXPECT_EQ(parsePlateFamily("delaunay"), MeshFamily::Delaunay);
+  try {
+    parsePlateFamily("sphere");
+    FAIL() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("'sphere' is a shell"), std::string::npos);
+  }
+  EXPECT_THROW(parsePlateFamily("cylinder"), InputError);
+  EXPECT_THROW(parsePlateFamily("nonsense"), InputError);
+}
+
+TEST(GeneratorsShells, BadShellOptionsThrowHelpfulMessages) {
+  EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Sphere, 6)).find("multiple of 4"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Hemisphere, 4, 1.0)).find("does not apply"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Cylinder, 2)).find("at least 3"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf(optionsFor(MeshFamily::Cylinder, 8, -1.0)).find("positive"),
+            std::string::npos);
 }
 
 }  // namespace

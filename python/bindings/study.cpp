@@ -69,7 +69,7 @@ std::vector<modeling::MeshFamily> meshFamilies(const std::vector<std::string>& n
   std::vector<modeling::MeshFamily> families;
   for (const std::string& name : names) {
     try {
-      families.push_back(modeling::parseMeshFamily(name));
+      families.push_back(modeling::parsePlateFamily(name));
     } catch (const InputError& e) {
       throw InputError(std::string("families: ") + e.what());
     }
@@ -222,7 +222,7 @@ reports::ComparisonOptions comparisonOptions(const CompareArguments& a) {
   reports::ComparisonOptions o;
   for (const std::string& name : a.families) {
     modeling::GeneratorOptions generator;
-    generator.family = modeling::parseMeshFamily(name);
+    generator.family = modeling::parsePlateFamily(name);
     generator.n = a.n;
     const std::string familyName(modeling::meshFamilyName(generator.family));
     o.rows.push_back({modeling::generateMesh(generator), familyName, familyName});

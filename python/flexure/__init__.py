@@ -63,11 +63,13 @@ def write_mesh(path, V, F):
 
 
 def mesh(family, n, seed=1, aspect=None):
-    """A test mesh of the square [−1/2, 1/2]² at z = 0 (the generators of ``flexure mesh``).
+    """A test mesh of the square [−1/2, 1/2]² at z = 0, or a shell (the generators of ``flexure mesh``).
 
-    family: "patch48" | "stripe" | "criss" | "delaunay"; n: cells per side (delaunay: boundary
-    segments per side; stripe: even); seed: delaunay's sampling seed; aspect: cell height / width
-    (None: the family's default). Returns ``(V, F)``: #V×3 float64 (unit length L = the square's
+    family: "patch48" | "stripe" | "criss" | "delaunay" | "cylinder" | "sphere" | "hemisphere";
+    n: cells per side (delaunay: boundary segments per side; stripe: even; shells: edges around
+    the circumference of radius 1/2, sphere and hemisphere a multiple of 4); seed: delaunay's
+    sampling seed; aspect: cell height / width, a cylinder's length / diameter (None: the
+    family's default). Returns ``(V, F)``: #V×3 float64 (unit length L = the square's
     side), #F×3 int32.
     """
     _checks.number(n, "n", positive=True, integer=True)

@@ -1,0 +1,96 @@
+// The fracture criterion of Gingold, Secord, Han, Grinspun & Zorin 2004 (seed 002, "Fracture"):
+// per face, the strain at the top and bottom fibres of a shell of thickness h,
+//
+//   E_± = E_m ± (h/2) E_b,
+//
+// E_m the membrane (Green) strain and E_b the bending strain, both 2×2 tensors in the rest face's
+// frame (curvature/face_frame.h). Where the largest eigenvalue of E_+ or E_− exceeds the fracture
+// strain ε_f the shell cracks perpendicular to that eigenvector (docs/energies.md, "Fracture").
+//
+//   E_m = ½ (Fᵀ F − I),  F = [x1 − x0, x2 − x0] [x̄1 − x̄0, x̄2 − x̄0]⁻¹ (3 × 2, rest frame),
+//
+// which is the strain whose quadratic form on each rest edge ē_i gives the change of its squared
+// length: ē_iᵀ E_m ē_i = (ℓ_i² − ℓ̄_i²) / 2.
+//
+//   E_b = Σ_i (φ_i − φ̄_i) ℓ̄_i / (2 Ā) n̂_i n̂_iᵀ,  φ = 2 tan(θ/2),
+//
+// the change of the triangle-averaged shape operator (curvature/triangle_averaged.h) over the
+// face's edges that have a neighbour (a boundary edge adds nothing), n̂_i the rest in-plane
+// normal of edge i, θ_i its bending angle.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "modeling/crack_cut.h"
+#include "modeling/mesh.h"
+
+namespace flexure::optimize {
+
+struct FractureOptions {
+  double fractureStrain = 0.0;  // ε_f > 0: the largest principal strain a face bears
+  double thickness = 0.0;       // h ≥ 0: the fibres at ± h/2 (0: the membrane strain alone)
+
+  // InputError naming FractureOptions.fractureStrain or .thickness: ε_f not positive and finite,
+  // h negative or not finite.
+  void validate() const;
+};
+
+// One face's strains in its rest frame (u, v): symmetric 2×2 tensors.
+struct FaceStrains {
+  Eigen::Matrix2d membrane = Eigen::Matrix2d::Zero();  // E_m
+  Eigen::Matrix2d bending = Eigen::Matrix2d::Zero();   // E_b, per unit length of thickness
+};
+
+// The largest principal fibre strain of a face and where it acts.
+struct FacePrincipalStrain {
+  int face = -1;
+  double strain = 0.0;                                        // λ_max of E_+ or E_−
+  Eigen::Vector3d strainDirection = Eigen::Vector3d::Zero();  // its eigenvector, unit, rest face
+  Eigen::Vector3d crackDirection = Eigen::Vector3d::Zero();   // n̄ × strainDirection
+  int fibre = 0;                                              // +1 top (E_+), −1 bottom (E_−)
+};
+
+// E_m and E_b of every face (#F) of `rest` deformed to `current` (#V by 3).
+std::vector<FaceStrains> faceStrains(const modeling::Mesh& rest,
+                                     const Eigen::Ref<const modeling::Positions>& current);
+
+// The largest principal fibre strain of every face (#F) for thickness h.
+std::vector<FacePrincipalStrain> facePrincipalStrains(
+    const modeling::Mesh& rest, const Eigen::Ref<const modeling::Positions>& current,
+    double thickness);
+
+// The face with the largest principal fibre strain when it exceeds ε_f; empty otherwise (no
+// crack). Validates `options`; InputError when `current` does not have the rest mesh's rows.
+std::optional<FacePrincipalStrain> criticalFace(
+    const modeling::Mesh& rest, const Eigen::Ref<const modeling::Positions>& current,
+    const FractureOptions& options);
+
+// A shell after one fracture check that cracked: the cut rest mesh (its rest state is rebuilt from
+// it by buildProblem), the configuration and velocities carried over per vertex (a vertex made on
+// an edge interpolates its ends, a duplicated one inherits its original's), the held vertices (a
+// new vertex is held when both ends of its edge are) and the crack.
+struct FracturedShell {
+  modeling::Mesh rest;
+  modeling::Positions positions;   // #V' by 3
+  modeling::Positions velocities;  // #V' by 3
+  std::vector<bool> heldVertex;    // #V' (empty when the input's was)
+  FacePrincipalStrain critical;    // the face the crack started from, before the cut
+  modeling::CrackCut cut;
+};
+
+// Checks the criterion on (rest, x) and, when a face is critical, cuts the shell along the crack
+// from it through every face over ε_f (modeling::cutAlongCrack). Empty when no face exceeds ε_f.
+// InputError for bad options or sizes that do not match the rest mesh.
+std::optional<FracturedShell> fractureShell(const modeling::Mesh& rest,
+                                            const modeling::Positions& x,
+                                            const modeling::Positions& v,
+                                            const std::vector<bool>& heldVertex,
+                                            const FractureOptions& options);
+
+// The connected components of `mesh` (through shared vertices), each its own mesh with its
+// vertices renumbered in their order: the fragments a fractured shell is written as.
+std::vector<modeling::Mesh> meshFragments(const modeling::Mesh& mesh);
+
+}  // namespace flexure::optimize
