@@ -47,6 +47,13 @@ struct StepStopRule {
   bool chordSteps = true;   // false: every iteration factors the Hessian at its iterate
   // The Newton steps' Hessian of E: Exact, or GaussNewton throughout.
   curvature::SecondDerivatives hessian = curvature::SecondDerivatives::Exact;
+  // With chordSteps, a Newton step first solves H δ = −∇f by conjugate gradients preconditioned
+  // by the kept factor F (preconditionedStep), and factors H only when that fails.
+  bool preconditionedSteps = true;
+  // Accepted when the residual r = −∇f − H δ has rᵀF⁻¹r ≤ pcgTolerance² ∇fᵀF⁻¹∇f, within
+  // pcgMaxIterations products with H (each one solve with F).
+  double pcgTolerance = 1e-3;
+  int pcgMaxIterations = 12;
 };
 
 struct NewtonResult {
@@ -56,6 +63,9 @@ struct NewtonResult {
   int newtonSteps = 0, chordSteps = 0;
   int factorizations = 0;
   int gaussNewtonSteps = 0, shiftedFactorizations = 0;  // the indefinite-Hessian rule's
+  // Newton steps solved by preconditioned conjugate gradients instead of a factorization, and the
+  // conjugate-gradient iterations made (those of attempts that fell back to factoring included).
+  int pcgSolves = 0, pcgIterations = 0;
   double initialValue = 0.0, finalValue = 0.0;
   Eigen::VectorXd gradient;  // ∇f at the last iterate
   double evaluationSeconds = 0.0, linearSolverSeconds = 0.0;
@@ -87,6 +97,8 @@ class NewtonLoop {
   void finishStatic(Objective& objective, Eigen::VectorXd& y, const HessianEvaluation& at,
                     const Eigen::VectorXd& delta, const std::string& why,
                     const StaticStopRule& rule, NewtonResult& result);
+  bool preconditionedStep(const std::vector<double>& hessian, const Eigen::VectorXd& gradient,
+                          const StepStopRule& rule, Eigen::VectorXd& delta, NewtonResult& result);
   bool searchStep(Objective& objective, const Eigen::VectorXd& y, const Eigen::VectorXd& gradient,
                   const Eigen::VectorXd& delta, double value, double decrement, double bound,
                   bool chord, Eigen::VectorXd& trial, HessianEvaluation& trialAt, bool& shortened);
