@@ -31,6 +31,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/hessian_assembly.h"
@@ -89,9 +90,62 @@ json iterationCosts(const std::vector<const curvature::EnergyTerm*>& terms,
           {"newton_iteration_seconds", gradient + hessian + factor + solve}};
 }
 
-json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
-               bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
-               double tolerance, json* costs) {
+// The fill-reducing orders of the step Hessian's factorization (issue #27 item 3), on the
+// iterationCosts matrix: the present choice (hessianOrder: geometric nested dissection of the
+// vertices, CHOLMOD's AMD where ξ are free), AMD, METIS and CHOLMOD's nested dissection. Per
+// order: the analysis (ordering included) seconds, nnz(L), and the fastest of three
+// factorizations and solves.
+json orderingCosts(const std::vector<const curvature::EnergyTerm*>& terms,
+                   const modeling::RestState& rest, const Eigen::VectorXd& restXi,
+                   const Eigen::VectorXd& mass, double dt) {
+  const int vertexCount = static_cast<int>(rest.positions.rows());
+  const std::vector<bool> free(3 * vertexCount + restXi.size(), true);
+  const optimize::HessianAssembly assembly(terms, free, vertexCount, curvature::Derivatives::All);
+  optimize::HessianEvaluation e =
+      assembly.evaluate(rest.positions, restXi, optimize::HessianProjection::Exact);
+  const std::vector<int>& unknowns = assembly.freeUnknowns();
+  for (int k = 0; k < assembly.size(); ++k)
+    if (unknowns[k] < 3 * vertexCount)
+      e.values[assembly.columnStart()[k + 1] - 1] += 4.0 * mass[unknowns[k] / 3] / (dt * dt);
+  optimize::CholeskyOptions options;  // as HessianFactorization's
+  options.stopAtNonPositivePivot = true;
+  options.cholmodWarnings = false;
+  json out = json::object();
+  const std::pair<const char*, optimize::FillReducingOrder> orders[] = {
+      {"present", optimize::FillReducingOrder::Amd},
+      {"amd", optimize::FillReducingOrder::Amd},
+      {"metis", optimize::FillReducingOrder::Metis},
+      {"nesdis", optimize::FillReducingOrder::NestedDissection}};
+  for (const auto& [name, ordering] : orders) {
+    auto start = Clock::now();
+    const std::vector<int> given = std::string(name) == "present"
+                                       ? optimize::hessianOrder(assembly, rest.positions)
+                                       : std::vector<int>();
+    options.ordering = ordering;
+    optimize::CholeskyFactor factor(assembly.size(), assembly.columnStart(), assembly.rowIndex(),
+                                    given, options);
+    const double analysis = secondsSince(start);
+    double factorSeconds = 1e30, solveSeconds = 1e30;
+    for (int run = 0; run < 3; ++run) {
+      start = Clock::now();
+      if (!factor.factor(e.values.data())) return {{"error", factor.failure()}};
+      factorSeconds = std::min(factorSeconds, secondsSince(start));
+      start = Clock::now();
+      factor.solve(e.gradient);
+      solveSeconds = std::min(solveSeconds, secondsSince(start));
+    }
+    out[name] = {{"analysis_seconds", analysis},
+                 {"factor_nonzeros", factor.factorNonzeros()},
+                 {"factor_seconds", factorSeconds},
+                 {"solve_seconds", solveSeconds}};
+  }
+  return out;
+}
+
+// The scene's body: StVK (Y = 1e3) + `energy`, gravity; on the sphere (drape) or hanging from
+// two corners.
+optimize::ProblemOptions sceneBody(const modeling::Mesh& mesh, const std::string& energy,
+                                   bool drape) {
   optimize::ProblemOptions body;
   body.bending.discretization = curvature::parseDiscretization(energy);
   curvature::MembraneOptions membrane;
@@ -106,6 +160,21 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
                           std::abs(mesh.positions(v, 1) + 0.5) < 1e-12;
   body.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   if (drape) body.obstacles = {optimize::parseObstacle("obstacle", "sphere:0,0,-0.35,0.3")};
+  return body;
+}
+
+json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, double dt) {
+  const optimize::Problem problem = optimize::buildProblem(mesh, sceneBody(mesh, energy, true));
+  optimize::TimeStepper stepper(problem, optimize::DynamicsOptions());
+  stepper.start(problem.rest.positions, modeling::Positions::Zero(mesh.vertexCount(), 3),
+                problem.restXi);
+  return orderingCosts(problem.termPointers(), problem.rest, problem.restXi, stepper.masses(), dt);
+}
+
+json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
+               bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
+               double tolerance, json* costs) {
+  const optimize::ProblemOptions body = sceneBody(mesh, energy, drape);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
@@ -260,6 +329,9 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "Runs of each before/after pair, alternated (best kept)")
       ->capture_default_str();
   app.add_option("--steps", steps, "Steps per energy")->capture_default_str();
+  bool orderings = false;
+  app.add_flag("--orderings", orderings,
+               "Only the step Hessian's fill-reducing orders: analysis, nnz(L), factor, solve");
   app.add_option("--duration", duration,
                  "Simulated seconds per energy (the issue's: 2); overrides --steps");
   app.add_option("--scene", scene, "drape (on a sphere) | hang (from two corners)")
@@ -308,6 +380,13 @@ int main(int argc, char** argv) {
         modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
     std::stringstream list(energies);
     for (std::string energy; std::getline(list, energy, ',');) {
+      if (orderings) {
+        records.push_back({{"energy", energy},
+                           {"vertices", mesh.vertexCount()},
+                           {"orderings", measureOrderings(mesh, energy, dt)}});
+        std::fprintf(stderr, "%s\n", records.back().dump().c_str());
+        continue;
+      }
       for (const char* hessian : {"exact", "gauss-newton"}) {
         if (hessians.find(hessian) == std::string::npos) continue;
         json costs;  // measured once per energy and size, shared by its before and after

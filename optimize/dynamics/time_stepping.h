@@ -101,8 +101,11 @@ struct DynamicsOptions {
   bool chordSteps = true;
   // With chordSteps, a Newton iteration first solves with the step's Hessian by conjugate
   // gradients preconditioned by the kept factor, and factors it only when those do not converge
-  // within a few iterations (StepStopRule::preconditionedSteps); false: it always factors.
-  bool preconditionedSteps = true;
+  // within a few iterations (StepStopRule::preconditionedSteps). Off by default: on the drape
+  // benchmark it halves the factorizations but, each chord step then costing a few solves instead
+  // of one, did not make steps faster (simulate_bench, PCG after/before: 0.7–1.0 at 2 500
+  // vertices, midedge 0.84 at 10 000; machine loaded).
+  bool preconditionedSteps = false;
   // Newton starts from x̂ + β h² a_n (the acceleration kept), and vertices within two barrier
   // layers of an obstacle from x_n, rather than everything from x̂ (a = 0).
   bool predictAcceleration = true;

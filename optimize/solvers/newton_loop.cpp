@@ -145,6 +145,7 @@ bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& 
     ++result.shiftedFactorizations;
   }
   haveFactor_ = ok;
+  chordHessian_.clear();
   result.linearSolverSeconds += secondsSince(t);
   return ok;
 }
@@ -162,6 +163,7 @@ bool NewtonLoop::factorNewtonStatic(Objective& objective, const Eigen::VectorXd&
   ++result.factorizations;
   const bool exact = factorization_.factor(h.values);
   result.linearSolverSeconds += secondsSince(t);
+  chordHessian_.clear();
   if (exact) return haveFactor_ = true;
   ++result.gaussNewtonSteps;
   h = evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
@@ -406,8 +408,11 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
     bool chord = false;
     if (rule.chordSteps && haveFactor_) {
       delta = -factorization_.solve(at.gradient);
+      // The chord steps of a Hessian solved by PCG are its PCG steps: F alone is older.
+      const bool solved = chordHessian_.empty() ||
+                          preconditionedStep(chordHessian_, at.gradient, rule, delta, result);
       decrement = -at.gradient.dot(delta);
-      chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
+      chord = solved && decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
     }
     bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
     if (!chord) {
@@ -433,7 +438,10 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
         result.stop = NewtonStop::NotPositiveDefinite;
         return result;
       }
-      if (!preconditioned) {
+      if (preconditioned) {
+        chordHessian_ = std::move(h.values);
+      } else {
+        chordHessian_.clear();
         freshFactor = true;
         delta = -factorization_.solve(at.gradient);
       }
