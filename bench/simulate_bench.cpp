@@ -16,6 +16,14 @@
 // record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the
 // same machine in the same run (the floor a contact step cannot go below: one Hessian, one
 // factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
+// Issue #27: --sizes (cells per side, default 49,99: 2 500 and 10 000 vertices; 199, 40 000, is
+// opt-in) and, per energy (default hinge, cotan, midedge, exact Hessian), --pcg both (default)
+// runs each scene with the Newton steps factoring (before) and solved by conjugate gradients
+// preconditioned by the kept factor (after, DynamicsOptions::preconditionedSteps), --repeat times
+// alternated, and prints a markdown table on stderr: steps/s before and after and their ratio,
+// factorizations, Hessians, PCG solves and iterations per step, the in-run unit costs and the
+// floor (one first-derivative evaluation + one solve with a fixed factor). --orderings measures
+// the step Hessian's fill-reducing orders instead (analysis, nnz(L), factorization, solve).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -31,6 +39,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/hessian_assembly.h"
@@ -89,9 +98,62 @@ json iterationCosts(const std::vector<const curvature::EnergyTerm*>& terms,
           {"newton_iteration_seconds", gradient + hessian + factor + solve}};
 }
 
-json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
-               bool gaussNewton, bool drape, bool chordSteps, bool predict, bool trace,
-               double tolerance) {
+// The fill-reducing orders of the step Hessian's factorization (issue #27 item 3), on the
+// iterationCosts matrix: the present choice (hessianOrder: geometric nested dissection of the
+// vertices, CHOLMOD's AMD where ξ are free), AMD, METIS and CHOLMOD's nested dissection. Per
+// order: the analysis (ordering included) seconds, nnz(L), and the fastest of three
+// factorizations and solves.
+json orderingCosts(const std::vector<const curvature::EnergyTerm*>& terms,
+                   const modeling::RestState& rest, const Eigen::VectorXd& restXi,
+                   const Eigen::VectorXd& mass, double dt) {
+  const int vertexCount = static_cast<int>(rest.positions.rows());
+  const std::vector<bool> free(3 * vertexCount + restXi.size(), true);
+  const optimize::HessianAssembly assembly(terms, free, vertexCount, curvature::Derivatives::All);
+  optimize::HessianEvaluation e =
+      assembly.evaluate(rest.positions, restXi, optimize::HessianProjection::Exact);
+  const std::vector<int>& unknowns = assembly.freeUnknowns();
+  for (int k = 0; k < assembly.size(); ++k)
+    if (unknowns[k] < 3 * vertexCount)
+      e.values[assembly.columnStart()[k + 1] - 1] += 4.0 * mass[unknowns[k] / 3] / (dt * dt);
+  optimize::CholeskyOptions options;  // as HessianFactorization's
+  options.stopAtNonPositivePivot = true;
+  options.cholmodWarnings = false;
+  json out = json::object();
+  const std::pair<const char*, optimize::FillReducingOrder> orders[] = {
+      {"present", optimize::FillReducingOrder::Amd},
+      {"amd", optimize::FillReducingOrder::Amd},
+      {"metis", optimize::FillReducingOrder::Metis},
+      {"nesdis", optimize::FillReducingOrder::NestedDissection}};
+  for (const auto& [name, ordering] : orders) {
+    auto start = Clock::now();
+    const std::vector<int> given = std::string(name) == "present"
+                                       ? optimize::hessianOrder(assembly, rest.positions)
+                                       : std::vector<int>();
+    options.ordering = ordering;
+    optimize::CholeskyFactor factor(assembly.size(), assembly.columnStart(), assembly.rowIndex(),
+                                    given, options);
+    const double analysis = secondsSince(start);
+    double factorSeconds = 1e30, solveSeconds = 1e30;
+    for (int run = 0; run < 3; ++run) {
+      start = Clock::now();
+      if (!factor.factor(e.values.data())) return {{"error", factor.failure()}};
+      factorSeconds = std::min(factorSeconds, secondsSince(start));
+      start = Clock::now();
+      factor.solve(e.gradient);
+      solveSeconds = std::min(solveSeconds, secondsSince(start));
+    }
+    out[name] = {{"analysis_seconds", analysis},
+                 {"factor_nonzeros", factor.factorNonzeros()},
+                 {"factor_seconds", factorSeconds},
+                 {"solve_seconds", solveSeconds}};
+  }
+  return out;
+}
+
+// The scene's body: StVK (Y = 1e3) + `energy`, gravity; on the sphere (drape) or hanging from
+// two corners.
+optimize::ProblemOptions sceneBody(const modeling::Mesh& mesh, const std::string& energy,
+                                   bool drape) {
   optimize::ProblemOptions body;
   body.bending.discretization = curvature::parseDiscretization(energy);
   curvature::MembraneOptions membrane;
@@ -106,9 +168,25 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
                           std::abs(mesh.positions(v, 1) + 0.5) < 1e-12;
   body.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   if (drape) body.obstacles = {optimize::parseObstacle("obstacle", "sphere:0,0,-0.35,0.3")};
+  return body;
+}
+
+json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, double dt) {
+  const optimize::Problem problem = optimize::buildProblem(mesh, sceneBody(mesh, energy, true));
+  optimize::TimeStepper stepper(problem, optimize::DynamicsOptions());
+  stepper.start(problem.rest.positions, modeling::Positions::Zero(mesh.vertexCount(), 3),
+                problem.restXi);
+  return orderingCosts(problem.termPointers(), problem.rest, problem.restXi, stepper.masses(), dt);
+}
+
+json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
+               bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
+               double tolerance, json* costs) {
+  const optimize::ProblemOptions body = sceneBody(mesh, energy, drape);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
+  options.preconditionedSteps = pcg;
   if (tolerance > 0.0) options.tolerance = tolerance;
   options.predictAcceleration = predict;
 
@@ -121,7 +199,8 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
   start = Clock::now();
   const auto first = stepper.step(dt);
   const double firstSeconds = secondsSince(start);
-  int iterations = 0, factorizations = 0, halvings = 0;
+  int iterations = 0, factorizations = 0, halvings = 0, hessians = 0, pcgSolves = 0,
+      pcgIterations = 0;
   double closest =
       stepper.barrier().empty() ? 0.0 : stepper.barrier().smallestDistance(stepper.positions());
   start = Clock::now();
@@ -131,20 +210,34 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
     // As flexure simulate does, a failed step is replaced by two half steps (one halving here).
     const auto advance = stepper.advance(dt, dt / 2);
     factorizations += advance.factorizations;
+    hessians += advance.hessians;
+    pcgSolves += advance.pcgSolves;
+    pcgIterations += advance.pcgIterations;
     halvings += advance.halvings;
-    if (!advance.completed) return {{"energy", energy}, {"error", advance.failure.failure}};
+    if (!advance.completed)
+      return {{"energy", energy},
+              {"vertices", mesh.vertexCount()},
+              {"pcg", pcg},
+              {"hessian", gaussNewton ? "gauss-newton" : "exact"},
+              {"error", advance.failure.failure}};
     iterations += advance.attemptedIterations;
     if (trace)
-      std::fprintf(stderr, "  step %4d t %.4f  %.3f s  iterations %d  factorizations %d\n", k,
-                   stepper.time(), secondsSince(stepStart), iterations - iterationsBefore,
-                   factorizations - factorizationsBefore);
+      std::fprintf(stderr,
+                   "  step %4d t %.4f  %.3f s  iterations %d  factorizations %d  PCG solves %d "
+                   "(%d iterations)\n",
+                   k, stepper.time(), secondsSince(stepStart), iterations - iterationsBefore,
+                   factorizations - factorizationsBefore, advance.pcgSolves, advance.pcgIterations);
     if (!stepper.barrier().empty())
       closest = std::min(closest, stepper.barrier().smallestDistance(stepper.positions()));
   }
   const double seconds = secondsSince(start);
   const optimize::EnergySample e = stepper.energies();
-  const json floor =
-      iterationCosts(problem.termPointers(), problem.rest, problem.restXi, stepper.masses(), dt);
+  const json floor = costs != nullptr && !costs->is_null()
+                         ? *costs
+                         : iterationCosts(problem.termPointers(), problem.rest, problem.restXi,
+                                          stepper.masses(), dt);
+  if (costs != nullptr) *costs = floor;
+  const double perStep = 1.0 / (steps - 1);
   return {{"energy", energy},
           {"scene", drape ? "drape" : "hang"},
           {"hessian", gaussNewton ? "gauss-newton" : "exact"},
@@ -156,8 +249,12 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
           {"seconds", seconds},
           {"steps_per_second", (steps - 1) / seconds},
           {"newton_iterations_per_step", double(iterations) / (steps - 1)},
-          {"factorizations_per_step", double(factorizations) / (steps - 1)},
+          {"factorizations_per_step", factorizations * perStep},
+          {"hessians_per_step", hessians * perStep},
+          {"pcg_solves_per_step", pcgSolves * perStep},
+          {"pcg_iterations_per_step", pcgIterations * perStep},
           {"chord_steps", chordSteps},
+          {"pcg", pcg},
           {"predict_acceleration", predict},
           {"halvings", halvings},
           {"smallest_sphere_distance", drape ? json(closest) : json(nullptr)},
@@ -174,17 +271,75 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
 
 }  // namespace
 
+// The before/after table on stderr (markdown): per size and energy, steps/s with the Newton
+// steps factoring (before) and solved by PCG on the kept factor (after), their ratio, the counts
+// per step, the in-run unit costs, and the floor of a step (one first-derivative evaluation and
+// one solve with a fixed factor).
+void printTable(const json& records) {
+  std::fprintf(stderr,
+               "\n| vertices | energy | steps/s before | steps/s after | after/before | "
+               "factorizations/step before → after | Hessians/step after | PCG solves/step | "
+               "PCG iterations/step | first derivatives ms | Hessian ms | factorization ms | "
+               "solve ms | floor ms | step/floor after |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const json& after : records) {
+    if (!after.value("pcg", false) || after.contains("error")) continue;
+    const json* before = nullptr;
+    for (const json& r : records)
+      if (!r.value("pcg", true) && r.value("energy", "") == after["energy"] &&
+          r.value("vertices", 0) == after["vertices"] && r.value("hessian", "") == after["hessian"])
+        before = &r;
+    const bool paired = before != nullptr && !before->contains("error");
+    const json& c = after["iteration_costs"];
+    const double floor = c.value("gradient_seconds", 0.0) + c.value("solve_seconds", 0.0);
+    const double stepSeconds = 1.0 / after["steps_per_second"].get<double>();
+    std::fprintf(
+        stderr,
+        "| %d | %s | %s | %.3g | %s | %s → %.2f | %.2f | %.2f | %.2f | %.1f | %.1f | %.1f | %.1f | "
+        "%.1f | %.1f |\n",
+        after["vertices"].get<int>(), after["energy"].get<std::string>().c_str(),
+        paired ? std::to_string((*before)["steps_per_second"].get<double>()).substr(0, 5).c_str()
+               : "failed",
+        after["steps_per_second"].get<double>(),
+        paired ? std::to_string(after["steps_per_second"].get<double>() /
+                                (*before)["steps_per_second"].get<double>())
+                     .substr(0, 4)
+                     .c_str()
+               : "–",
+        paired ? std::to_string((*before)["factorizations_per_step"].get<double>())
+                     .substr(0, 4)
+                     .c_str()
+               : "–",
+        after["factorizations_per_step"].get<double>(), after["hessians_per_step"].get<double>(),
+        after["pcg_solves_per_step"].get<double>(), after["pcg_iterations_per_step"].get<double>(),
+        1e3 * c.value("gradient_seconds", 0.0), 1e3 * c.value("hessian_seconds", 0.0),
+        1e3 * c.value("factor_seconds", 0.0), 1e3 * c.value("solve_seconds", 0.0), 1e3 * floor,
+        floor > 0.0 ? stepSeconds / floor : 0.0);
+  }
+}
+
 int main(int argc, char** argv) {
   flexure::optimize::reuseFreedMemory();
-  int n = 99, steps = 40;
+  int n = 99, steps = 40, repeat = 1;
   double dt = 1.0 / 200.0, duration = 0.0;
-  std::string scene = "drape";
-  std::string energies = "hinge,triavg,cotan,midedge,quadfit", hessians = "exact,gauss-newton";
+  std::string scene = "drape", sizes = "49,99", pcgModes = "both";
+  std::string energies = "hinge,cotan,midedge", hessians = "exact";
   CLI::App app(
       "flexure simulate benchmark: a ~10k-vertex sheet draping on a sphere (or hanging), "
       "Newmark, per energy");
-  app.add_option("--n", n, "Cells per side (n = 99: 10 000 vertices)")->capture_default_str();
+  app.add_option("--n", n, "Cells per side (n = 99: 10 000 vertices); overrides --sizes");
+  app.add_option("--sizes", sizes,
+                 "Cells per side, a list (49, 99, 199: 2 500, 10 000, 40 000 vertices)")
+      ->capture_default_str();
+  app.add_option("--pcg", pcgModes,
+                 "both (before: Newton steps factor; after: PCG on the kept factor), on, off")
+      ->capture_default_str();
+  app.add_option("--repeat", repeat, "Runs of each before/after pair, alternated (best kept)")
+      ->capture_default_str();
   app.add_option("--steps", steps, "Steps per energy")->capture_default_str();
+  bool orderings = false;
+  app.add_flag("--orderings", orderings,
+               "Only the step Hessian's fill-reducing orders: analysis, nnz(L), factor, solve");
   app.add_option("--duration", duration,
                  "Simulated seconds per energy (the issue's: 2); overrides --steps");
   app.add_option("--scene", scene, "drape (on a sphere) | hang (from two corners)")
@@ -212,19 +367,63 @@ int main(int argc, char** argv) {
     std::cerr << "--tolerance " << tolerance << ": expected a value > 0\n";
     return 2;
   }
+  if (pcgModes != "both" && pcgModes != "on" && pcgModes != "off") {
+    std::cerr << "--pcg " << pcgModes << ": expected both, on or off\n";
+    return 2;
+  }
   if (duration > 0.0) steps = static_cast<int>(std::lround(duration / dt)) + 1;
-  const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Patch48, n, 1, {}});
+  std::vector<int> cells;
+  if (app.count("--n") > 0) {
+    cells = {n};
+  } else {
+    std::stringstream sizeList(sizes);
+    for (std::string size; std::getline(sizeList, size, ',');) cells.push_back(std::stoi(size));
+  }
+  // PCG (after) first: the last record of an energy is the default stepper's, which
+  // bench/python_bench.py compares with Python's Simulation.
+  std::vector<bool> modes;
+  if (pcgModes != "off") modes.push_back(true);
+  if (pcgModes != "on") modes.push_back(false);
   json records = json::array();
-  std::stringstream list(energies);
-  for (std::string energy; std::getline(list, energy, ',');) {
-    for (const char* hessian : {"exact", "gauss-newton"}) {
-      if (hessians.find(hessian) == std::string::npos) continue;
-      json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton",
-                              scene == "drape", chordSteps, predict, trace, tolerance);
-      std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
-      records.push_back(record);
+  for (const int size : cells) {
+    const modeling::Mesh mesh =
+        modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
+    std::stringstream list(energies);
+    for (std::string energy; std::getline(list, energy, ',');) {
+      if (orderings) {
+        records.push_back({{"energy", energy},
+                           {"vertices", mesh.vertexCount()},
+                           {"orderings", measureOrderings(mesh, energy, dt)}});
+        std::fprintf(stderr, "%s\n", records.back().dump().c_str());
+        continue;
+      }
+      for (const char* hessian : {"exact", "gauss-newton"}) {
+        if (hessians.find(hessian) == std::string::npos) continue;
+        json costs;  // measured once per energy and size, shared by its before and after
+        std::vector<json> best(modes.size());
+        for (int run = 0; run < repeat; ++run)
+          for (size_t m = 0; m < modes.size(); ++m) {
+            json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton",
+                                    scene == "drape", chordSteps, modes[m], predict, trace,
+                                    tolerance, &costs);
+            if (best[m].is_null() || record.contains("error") ||
+                (!best[m].contains("error") &&
+                 record["steps_per_second"] > best[m]["steps_per_second"]))
+              best[m] = record;
+          }
+        for (json& record : best) {
+          std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
+          records.push_back(record);
+        }
+      }
     }
   }
-  std::cout << json({{"n", n}, {"dt", dt}, {"scene", scene}, {"records", records}}).dump(2) << "\n";
+  if (modes.size() == 2) printTable(records);
+  std::cout << json({{"n", cells.size() == 1 ? json(cells[0]) : json(cells)},
+                     {"dt", dt},
+                     {"scene", scene},
+                     {"records", records}})
+                   .dump(2)
+            << "\n";
   return 0;
 }

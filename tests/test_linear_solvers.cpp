@@ -71,6 +71,26 @@ TEST(CholeskyFactor, SolvesASymmetricMatrixOnAnyOrder) {
   }
 }
 
+// CHOLMOD's own orders (AMD, METIS, its nested dissection) solve the same system, and nnz(L)
+// is counted: between the tridiagonal matrix's own 2n − 1 entries and a dense triangle's.
+TEST(CholeskyFactor, SolvesOnEachFillReducingOrder) {
+  const int n = 40;
+  const Eigen::MatrixXd m = laplacian(n);
+  const UpperColumns upper(m);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  for (const optimize::FillReducingOrder ordering :
+       {optimize::FillReducingOrder::Amd, optimize::FillReducingOrder::Metis,
+        optimize::FillReducingOrder::NestedDissection}) {
+    CholeskyOptions options;
+    options.ordering = ordering;
+    CholeskyFactor factor(n, upper.columnStart, upper.rowIndex, {}, options);
+    ASSERT_TRUE(factor.factor(upper.values.data())) << factor.failure();
+    EXPECT_LT((m * factor.solve(b) - b).norm(), 1e-12 * b.norm());
+    EXPECT_GE(factor.factorNonzeros(), 2 * n - 1);
+    EXPECT_LE(factor.factorNonzeros(), n * (n + 1) / 2);
+  }
+}
+
 TEST(CholeskyFactor, ReportsAMatrixThatIsNotPositiveDefinite) {
   const int n = 6;
   const Eigen::MatrixXd m = laplacian(n) - 1.0 * Eigen::MatrixXd::Identity(n, n);  // λ_min < 0

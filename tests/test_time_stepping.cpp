@@ -436,6 +436,46 @@ TEST(TimeStepping, ChordStepsFollowThePlainNewtonTrajectory) {
   }
 }
 
+// The Newton steps solved by conjugate gradients preconditioned by the kept factor (a stale
+// factor of an earlier Hessian) instead of factoring each step's Hessian follow the trajectory of
+// the factoring stepper within a few step tolerances, with fewer factorizations, on the scene of
+// the previous test (contact, hinge, cotan and midedge).
+TEST(TimeStepping, PreconditionedStepsFollowTheFactoringTrajectory) {
+  for (const Discretization d :
+       {Discretization::Hinge, Discretization::Cotan, Discretization::Midedge}) {
+    const testing::Plate plate(modeling::MeshFamily::Patch48, 8, d, 1e3, onTheSphere);
+    DynamicsOptions o;
+    o.preconditionedSteps = true;
+    DynamicsOptions factoring = o;
+    factoring.preconditionedSteps = false;
+    TimeStepper pcg(plate.problem, o);
+    TimeStepper reference(plate.problem, factoring);
+    const modeling::Positions still = modeling::Positions::Zero(plate.mesh.vertexCount(), 3);
+    pcg.start(plate.rest.positions, still, plate.restXi);
+    reference.start(plate.rest.positions, still, plate.restXi);
+    int pcgFactorizations = 0, referenceFactorizations = 0, pcgSolves = 0, referencePcgSolves = 0;
+    double worst = 0.0;
+    for (int k = 0; k < 40; ++k) {
+      const auto a = pcg.step(1.0 / 200.0), b = reference.step(1.0 / 200.0);
+      ASSERT_TRUE(a.converged && b.converged) << k << ": " << a.failure << b.failure;
+      pcgFactorizations += a.factorizations;
+      referenceFactorizations += b.factorizations;
+      pcgSolves += a.pcgSolves;
+      referencePcgSolves += b.pcgSolves;
+      worst = std::max(worst, (pcg.positions() - reference.positions()).cwiseAbs().maxCoeff());
+    }
+    std::printf(
+        "%s: largest position difference %.2e, factorizations %d (factoring %d), %d PCG "
+        "solves\n",
+        std::string(curvature::discretizationName(d)).c_str(), worst, pcgFactorizations,
+        referenceFactorizations, pcgSolves);
+    EXPECT_EQ(referencePcgSolves, 0);
+    EXPECT_GT(pcgSolves, 0);
+    EXPECT_LT(pcgFactorizations, referenceFactorizations);
+    EXPECT_LT(worst, 3e-9);  // a few tolerances (1e-10 of √2), as the previous test's
+  }
+}
+
 // The drape benchmark's scene at 2 500 vertices with cotan: in contact the exact Hessian turns
 // indefinite (the membrane compressed over the sphere) and Newton falls back to its Gauss–Newton
 // part. Once those steps stop contracting, the exact Hessian must be tried again: with the

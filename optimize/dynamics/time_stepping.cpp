@@ -299,6 +299,9 @@ void TimeStepper::advanceInto(double h, double minStep, Advance& advance) {
   const Outcome outcome = step(h);
   advance.attemptedIterations += outcome.newtonIterations;
   advance.factorizations += outcome.factorizations;
+  advance.pcgSolves += outcome.pcgSolves;
+  advance.pcgIterations += outcome.pcgIterations;
+  advance.hessians += outcome.hessians;
   if (outcome.converged) {
     ++advance.steps;
     advance.newtonIterations += outcome.newtonIterations;
@@ -553,11 +556,15 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   rule.maxNewtonSteps = o.maxNewtonIterations;
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;
+  rule.preconditionedSteps = o.preconditionedSteps;
   const NewtonResult newton = im.loop.run(phi, y, rule);
   Outcome outcome;
   outcome.converged = newton.stop == NewtonStop::Converged;
   outcome.newtonIterations = newton.iterations;
   outcome.factorizations = newton.factorizations;
+  outcome.pcgSolves = newton.pcgSolves;
+  outcome.pcgIterations = newton.pcgIterations;
+  outcome.hessians = newton.newtonSteps + newton.gaussNewtonSteps;
   outcome.stop = newton.stop;
   if (!outcome.converged) {
     outcome.failure = stepFailure(newton);

@@ -99,6 +99,13 @@ struct DynamicsOptions {
   // iteration factors the Hessian at its iterate (plain Newton, the reference the tests compare
   // with).
   bool chordSteps = true;
+  // With chordSteps, a Newton iteration first solves with the step's Hessian by conjugate
+  // gradients preconditioned by the kept factor, and factors it only when those do not converge
+  // within a few iterations (StepStopRule::preconditionedSteps). Off by default: on the drape
+  // benchmark it halves the factorizations but, each chord step then costing a few solves instead
+  // of one, did not make steps faster (simulate_bench, PCG after/before: 0.7–1.0 at 2 500
+  // vertices, midedge 0.84 at 10 000; machine loaded).
+  bool preconditionedSteps = false;
   // Newton starts from x̂ + β h² a_n (the acceleration kept), and vertices within two barrier
   // layers of an obstacle from x_n, rather than everything from x̂ (a = 0).
   bool predictAcceleration = true;
@@ -185,6 +192,8 @@ class TimeStepper {
     // > 0: Newton converged but the step was refused, the balanced total having grown by this
     // fraction of the energy scale (DynamicsOptions::energyTolerance).
     double energyGrowth = 0.0;
+    int pcgSolves = 0, pcgIterations = 0;  // Newton steps solved by PCG instead, its iterations
+    int hessians = 0;  // Hessians assembled (Newton steps and their Gauss–Newton retries)
   };
   // Advances by h. On failure the state is unchanged.
   Outcome step(double h);
@@ -216,8 +225,9 @@ class TimeStepper {
     int maxNewtonIterations = 0;  // of one converged step
     int attemptedIterations = 0;  // over every step tried, failed ones too
     int factorizations = 0;       // over every step tried
-    Outcome failure;              // the last failed step's outcome (completed: none)
-    double failedStep = 0.0;      // its length, and the time it started from
+    int pcgSolves = 0, pcgIterations = 0, hessians = 0;  // over every step tried
+    Outcome failure;          // the last failed step's outcome (completed: none)
+    double failedStep = 0.0;  // its length, and the time it started from
     double failedTime = 0.0;
   };
   // Advances by h; a step that fails is replaced by two of h/2, recursively, while h/2 ≥ minStep.

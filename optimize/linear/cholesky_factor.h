@@ -24,6 +24,13 @@ enum class CholeskyMatrix {
   Gram,
 };
 
+// CHOLMOD's fill-reducing orders, for a factor given no order of its own.
+enum class FillReducingOrder {
+  Amd,               // approximate minimum degree
+  Metis,             // METIS' nested dissection (METIS_NodeND)
+  NestedDissection,  // CHOLMOD's nested dissection (METIS partitions, constrained minimum degree)
+};
+
 struct CholeskyOptions {
   CholeskyMatrix matrix = CholeskyMatrix::SymmetricUpper;
   // Supernodal (BLAS on dense blocks), or CHOLMOD's choice between simplicial and supernodal by
@@ -37,14 +44,17 @@ struct CholeskyOptions {
   bool cholmodWarnings = true;
   // Whether the row indices of each column are sorted (CHOLMOD sorts a copy when not).
   bool sortedColumns = true;
+  // The order CHOLMOD computes when the constructor is given none.
+  FillReducingOrder ordering = FillReducingOrder::Amd;
 };
 
 class CholeskyFactor {
  public:
   // The pattern: `rows` rows and columnStart.size() − 1 columns, column j holding rows
   // rowIndex[columnStart[j] .. columnStart[j + 1]). `order`: the elimination order of
-  // the n unknowns (order[k] = the unknown eliminated k-th), or empty for CHOLMOD's AMD — one
-  // ordering method, never AMD then METIS. Throws NumericalError when the analysis fails.
+  // the n unknowns (order[k] = the unknown eliminated k-th), or empty for CHOLMOD's
+  // options.ordering — one ordering method, never AMD then METIS. Throws NumericalError when the
+  // analysis fails.
   CholeskyFactor(int rows, std::vector<int> columnStart, std::vector<int> rowIndex,
                  const std::vector<int>& order, const CholeskyOptions& options);
   ~CholeskyFactor();
@@ -52,6 +62,8 @@ class CholeskyFactor {
   CholeskyFactor& operator=(const CholeskyFactor&) = delete;
 
   int size() const;  // n, the unknowns of a solve
+  // The factor's nonzeros, nnz(L), as the analysis counted them.
+  double factorNonzeros() const { return factorNonzeros_; }
   // The pattern as given.
   const std::vector<int>& columnStart() const;
   const std::vector<int>& rowIndex() const;
@@ -73,6 +85,7 @@ class CholeskyFactor {
   CholeskyOptions options_;
   std::string failure_;
   int factorizations_ = 0;
+  double factorNonzeros_ = 0.0;
 };
 
 }  // namespace flexure::optimize

@@ -24,6 +24,24 @@ std::string number(double value) {
 // error about √ of it): modified Newton converges linearly with that rate.
 constexpr double kChordContraction = 0.1;
 
+// H x for the symmetric H whose upper triangle (diagonal included) `values` holds in the
+// compressed columns (columnStart, rowIndex).
+Eigen::VectorXd symmetricProduct(const std::vector<int>& columnStart,
+                                 const std::vector<int>& rowIndex,
+                                 const std::vector<double>& values, const Eigen::VectorXd& x) {
+  Eigen::VectorXd product = Eigen::VectorXd::Zero(x.size());
+  for (long j = 0; j < x.size(); ++j) {
+    double column = 0.0;
+    for (int e = columnStart[j]; e < columnStart[j + 1]; ++e) {
+      const int i = rowIndex[e];
+      column += values[e] * x[i];
+      if (i != j) product[i] += values[e] * x[j];
+    }
+    product[j] += column;
+  }
+  return product;
+}
+
 }  // namespace
 
 const char* newtonStopMessage(NewtonStop stop) {
@@ -127,6 +145,7 @@ bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& 
     ++result.shiftedFactorizations;
   }
   haveFactor_ = ok;
+  chordHessian_.clear();
   result.linearSolverSeconds += secondsSince(t);
   return ok;
 }
@@ -144,6 +163,7 @@ bool NewtonLoop::factorNewtonStatic(Objective& objective, const Eigen::VectorXd&
   ++result.factorizations;
   const bool exact = factorization_.factor(h.values);
   result.linearSolverSeconds += secondsSince(t);
+  chordHessian_.clear();
   if (exact) return haveFactor_ = true;
   ++result.gaussNewtonSteps;
   h = evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
@@ -259,6 +279,50 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
   }
 }
 
+// The Newton step δ = −H⁻¹∇f by conjugate gradients on H preconditioned by the kept factor F of
+// an earlier Hessian (the stale-factor Newton–Krylov of Hecht, Lee, Shewchuk & O'Brien 2012,
+// "Updated sparse Cholesky factors for corotational elastodynamics": F ≈ H makes F⁻¹H's
+// spectrum cluster near 1, so a few iterations, each one product with H and one solve with F,
+// replace a factorization). On entry δ = −F⁻¹∇f (the chord step, the first preconditioned
+// residual from δ₀ = 0); on success δ is the step. Accepted when rᵀF⁻¹r ≤ η² ∇fᵀF⁻¹∇f
+// (η = rule.pcgTolerance: the residual in F's norm, the first one being the chord step's
+// decrement). false — δ unusable, H to be factored — after rule.pcgMaxIterations iterations, or
+// where pᵀHp ≤ 0 along a search direction p (H not positive definite: the factoring path's
+// indefinite-Hessian rule applies).
+bool NewtonLoop::preconditionedStep(const std::vector<double>& hessian,
+                                    const Eigen::VectorXd& gradient, const StepStopRule& rule,
+                                    Eigen::VectorXd& delta, NewtonResult& result) {
+  const auto t = Clock::now();
+  Eigen::VectorXd residual = -gradient, preconditioned = delta, direction = delta;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(gradient.size());
+  const double initial = residual.dot(preconditioned);
+  double current = initial;
+  bool converged = false;
+  for (int k = 0; k < rule.pcgMaxIterations && std::isfinite(current) && current > 0.0; ++k) {
+    ++result.pcgIterations;
+    const Eigen::VectorXd product =
+        symmetricProduct(assembly_.columnStart(), assembly_.rowIndex(), hessian, direction);
+    const double curvature = direction.dot(product);
+    if (!(curvature > 0.0)) break;
+    const double alpha = current / curvature;
+    x += alpha * direction;
+    residual -= alpha * product;
+    preconditioned = factorization_.solve(residual);
+    const double next = residual.dot(preconditioned);
+    if (next <= rule.pcgTolerance * rule.pcgTolerance * initial) {
+      converged = x.allFinite();
+      break;
+    }
+    direction = preconditioned + (next / current) * direction;
+    current = next;
+  }
+  result.linearSolverSeconds += secondsSince(t);
+  if (!converged) return false;
+  ++result.pcgSolves;
+  delta = std::move(x);
+  return true;
+}
+
 // Armijo on f from y along δ, α halved from α = bound. The first trial evaluates ∇f too, which
 // the next iteration uses when it passes (it usually does); later ones f alone, and ∇f where one
 // passes. A chord step gets two trials: one that fails them asks for a Newton step rather than a
@@ -344,8 +408,11 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
     bool chord = false;
     if (rule.chordSteps && haveFactor_) {
       delta = -factorization_.solve(at.gradient);
+      // The chord steps of a Hessian solved by PCG are its PCG steps: F alone is older.
+      const bool solved = chordHessian_.empty() ||
+                          preconditionedStep(chordHessian_, at.gradient, rule, delta, result);
       decrement = -at.gradient.dot(delta);
-      chord = decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
+      chord = solved && decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
     }
     bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
     if (!chord) {
@@ -354,8 +421,10 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
       HessianEvaluation h = evaluate(objective, y, hessian, result);
       at.energy = h.energy;
       at.gradient = std::move(h.gradient);
-      bool factored = factorization_.factor(h.values);
-      ++result.factorizations;
+      const bool preconditioned = rule.preconditionedSteps && rule.chordSteps && haveFactor_ &&
+                                  preconditionedStep(h.values, at.gradient, rule, delta, result);
+      bool factored = preconditioned || factorization_.factor(h.values);
+      if (!preconditioned) ++result.factorizations;
       if (!factored && !gaussNewton) {  // indefinite ∇²E (buckling, a compressed membrane)
         const HessianEvaluation gn =
             evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
@@ -369,8 +438,14 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
         result.stop = NewtonStop::NotPositiveDefinite;
         return result;
       }
-      freshFactor = trusted = true;
-      delta = -factorization_.solve(at.gradient);
+      if (preconditioned) {
+        chordHessian_ = std::move(h.values);
+      } else {
+        chordHessian_.clear();
+        freshFactor = true;
+        delta = -factorization_.solve(at.gradient);
+      }
+      trusted = true;
       decrement = -at.gradient.dot(delta);
       // The fallback's Newton steps converge only linearly: it stays while they contract
       // tenfold, and the next Newton step tries rule.hessian again once one does not (near the
