@@ -308,6 +308,11 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
               << result.report.solver << ", " << counted(result.report.iterations, "iteration")
               << ", " << counted(result.report.factorizations, "factorization") << ", "
               << result.report.totalSeconds << " s)\n";
+    if (plasticity.enabled())
+      std::cerr << "flexure minimize: plastic: " << plasticSection["yielded_elements"] << " of "
+                << plasticSection["elements"] << " " << plasticSection["element"].get<std::string>()
+                << "s yielded, dissipation " << plasticSection["plastic_dissipation"] << ", "
+                << counted(plasticSection["solves"].get<int>(), "solve") << "\n";
   }
 }
 
