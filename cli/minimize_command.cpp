@@ -15,6 +15,7 @@
 #include "cli/load_arguments.h"
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
+#include "cli/plasticity_arguments.h"
 #include "cli/solver_arguments.h"
 #include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
@@ -24,6 +25,7 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/inelastic/plasticity.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
 
@@ -42,6 +44,7 @@ struct MinimizeCommandOptions {
   bool linearized = false;
   optimize::MinimizeOptions solver;
   SolverArguments solverArguments;
+  PlasticityArguments plasticity;
 };
 
 void requireSameConnectivity(const std::string& file, const modeling::Mesh& mesh,
@@ -220,6 +223,40 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
   return p;
 }
 
+// Plastic forming (formPlastically): the minimizer after the load steps (and the release), with
+// the plastic state for the report's "plasticity" section.
+optimize::MinimizeResult formPlastically(const MinimizeCommandOptions& o,
+                                         optimize::Problem& problem,
+                                         const optimize::PlasticityOptions& plasticity,
+                                         const optimize::MinimizeOptions& solver,
+                                         nlohmann::json& section) {
+  if (o.linearized)
+    throw InputError("--linearized cannot form plastically: give --yield-curvature without it");
+  const optimize::FormingOptions forming = formingOptions(o.plasticity);
+  const optimize::FormingResult formed =
+      optimize::formPlastically(problem, plasticity, forming, solver);
+  const optimize::FormingReport& r = formed.report;
+  section = {{"yield_curvature", *plasticity.yieldCurvature},
+             {"hardening", plasticity.hardening},
+             {"load_steps", forming.loadSteps},
+             {"release", forming.release},
+             {"release_pins", r.releasePins},
+             {"element", problem.bending().elementKind()},
+             {"elements", problem.bending().elementCount()},
+             {"yielded_elements", r.yieldedElements},
+             {"plastic_dissipation", r.dissipation},
+             {"solves", r.solves},
+             {"settled", r.converged}};
+  optimize::MinimizeResult result;
+  result.positions = formed.positions;
+  result.xi = formed.xi;
+  result.report = r.lastSolve;
+  result.report.converged = r.converged;
+  if (!r.converged && r.lastSolve.converged)
+    result.report.termination = "the plastic updates did not settle within the update limit";
+  return result;
+}
+
 void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& global) {
   modeling::writableMeshFormatOf(o.output);  // an unusable output name fails before any work
   const curvature::BendingOptions b = bendingOptions(o.bending);
@@ -241,11 +278,15 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
   optimize::ProblemOptions options = problemOptions(o, b, dof, restMesh, stencils, global);
   options.obstacles = std::move(obstacles);
-  const optimize::Problem problem =
-      optimize::buildProblem(std::move(stencils), std::move(rest), options);
+  const optimize::PlasticityOptions plasticity = plasticityOptions(o.plasticity);
+  optimize::Problem problem = optimize::buildProblem(std::move(stencils), std::move(rest), options);
   if (options.boundarySurface) requireFiniteStartEnergy(o, problem);
-  const optimize::MinimizeResult result = optimize::minimize(problem, solver);
+  nlohmann::json plasticSection;
+  const optimize::MinimizeResult result =
+      plasticity.enabled() ? formPlastically(o, problem, plasticity, solver, plasticSection)
+                           : optimize::minimize(problem, solver);
   nlohmann::json report = reportJson(o, b, result, result.report.converged);
+  if (plasticity.enabled()) report["plasticity"] = plasticSection;
   if (!problem.obstacles.empty()) {
     report["obstacle_layer"] = problem.obstacles.layer();
     report["smallest_obstacle_distance"] = problem.obstacles.smallestDistance(result.positions);
@@ -267,6 +308,11 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
               << result.report.solver << ", " << counted(result.report.iterations, "iteration")
               << ", " << counted(result.report.factorizations, "factorization") << ", "
               << result.report.totalSeconds << " s)\n";
+    if (plasticity.enabled())
+      std::cerr << "flexure minimize: plastic: " << plasticSection["yielded_elements"] << " of "
+                << plasticSection["elements"] << " " << plasticSection["element"].get<std::string>()
+                << "s yielded, dissipation " << plasticSection["plastic_dissipation"] << ", "
+                << counted(plasticSection["solves"].get<int>(), "solve") << "\n";
   }
 }
 
@@ -304,6 +350,7 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
                 "Minimize the linearized energy E_lin exactly (one sparse solve)");
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->solver, /*tolerances=*/true);
+  addPlasticityArguments(*sub, options->plasticity);
   files->output("-o,--output", options->output, "Minimizer mesh (.obj, .off, .ply)")->required();
   files->output("--report", options->reportFile, "JSON report (written even when the solve fails)");
   sub->footer(

@@ -35,6 +35,13 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.solver", "--solver"},
       {"MinimizeOptions.linearized", "--linearized"},
+      {"PlasticityOptions.yieldCurvature", "--yield-curvature"},
+      {"PlasticityOptions.yieldStrain", "--yield-strain"},
+      {"PlasticityOptions.hardening", "--hardening"},
+      {"FormingOptions.loadSteps", "--load-steps"},
+      // no flags: the forming loop's limits
+      {"FormingOptions.maxUpdatesPerStep", "the forming's update limit"},
+      {"FormingOptions.tolerance", "the forming's tolerance"},
       {"BoundaryConditions.fixedVertex", "--fix"},
       // dynamics, modes, spectra, obstacles
       {"DynamicsOptions.integrator", "--integrator"},

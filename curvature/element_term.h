@@ -209,8 +209,20 @@ inline int elementVertexCount(const MidedgeResidual& r) {
   return 3 + r.flapCount;
 }
 
+// Residuals whose rest curvature a plastic update can move: a face's S̄_T (restShapeOperator,
+// with shapeOperator(blocks)) or a hinge's φ(θ̄_e).
+template <class Residual, class = void>
+struct HasRestShapeOperator : std::false_type {};
 template <class Residual>
-class ElementTerm : public EnergyTerm {
+struct HasRestShapeOperator<Residual,
+                            std::void_t<decltype(std::declval<Residual&>().restShapeOperator)>>
+    : std::true_type {};
+template <class Residual>
+constexpr bool kHasRestCurvature =
+    HasRestShapeOperator<Residual>::value || std::is_same_v<Residual, HingeBendingResidual>;
+
+template <class Residual>
+class ElementTerm : public EnergyTerm, public RestCurvatureState {
  public:
   // Element e is mesh element `elementIds[e]` of kind `elementKind` ("edge", "face", "vertex"),
   // which messages name.
@@ -229,6 +241,51 @@ class ElementTerm : public EnergyTerm {
   double coveredArea() const override { return coveredArea_; }
   bool usesEdgeUnknowns() const override { return usesEdgeUnknowns_; }
   const std::vector<Residual>& elements() const { return elements_; }
+
+  RestCurvatureState* restCurvatureState() override {
+    if constexpr (kHasRestCurvature<Residual>) return this;
+    return nullptr;
+  }
+  int components() const override { return HasRestShapeOperator<Residual>::value ? 3 : 1; }
+  int elementId(int e) const override { return elementIds_[e]; }
+  Eigen::MatrixXd elementCurvatures(const Positions& x, const Eigen::VectorXd& xi) const override {
+    Eigen::MatrixXd out(elements_.size(), components());
+    std::vector<const double*> blocks;
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
+      const auto row = static_cast<Eigen::Index>(e);
+      if constexpr (HasRestShapeOperator<Residual>::value) {
+        const Sym2<double> s = elements_[e].shapeOperator(blocks.data());
+        out.row(row) << s.a, s.b, s.c;
+      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
+        out(row, 0) = hingeAngleMeasure(elements_[e].angle(blocks.data()), elements_[e].measure);
+      }
+    }
+    return out;
+  }
+  Eigen::MatrixXd restCurvatures() const override {
+    Eigen::MatrixXd out(elements_.size(), components());
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      const auto row = static_cast<Eigen::Index>(e);
+      if constexpr (HasRestShapeOperator<Residual>::value) {
+        const Sym2<double>& s = elements_[e].restShapeOperator;
+        out.row(row) << s.a, s.b, s.c;
+      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
+        out(row, 0) = elements_[e].restMeasure;
+      }
+    }
+    return out;
+  }
+  void setRestCurvatures(const Eigen::MatrixXd& rest) override {
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      const auto row = static_cast<Eigen::Index>(e);
+      if constexpr (HasRestShapeOperator<Residual>::value) {
+        elements_[e].restShapeOperator = {rest(row, 0), rest(row, 1), rest(row, 2)};
+      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
+        elements_[e].restMeasure = rest(row, 0);
+      }
+    }
+  }
 
   void markTouchedVertices(std::vector<bool>& touched) const override {
     for (const Residual& element : elements_)

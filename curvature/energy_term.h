@@ -28,6 +28,24 @@ struct JacobianRows {
   std::vector<double> residuals;
 };
 
+// The rest curvature of a bending term's elements, which a plastic update moves
+// (optimize/inelastic/plasticity.h; Gingold et al. 2004, seed 002: the plastic strain is stored
+// like the elastic one). Per element, in element order, `components` numbers: a face energy's
+// shape operator S_T = [[a, b], [b, c]] in the face's rest frame (a, b, c), or a hinge's angle
+// measure φ(θ_e) (one number).
+class RestCurvatureState {
+ public:
+  virtual ~RestCurvatureState() = default;
+  virtual int components() const = 0;      // 3 (a face's shape operator) or 1 (a hinge angle)
+  virtual int elementId(int e) const = 0;  // the mesh element (face or edge) of element e
+  // #elements by components(): S_T (or φ(θ_e)) at positions `x` and edge unknowns `xi`.
+  virtual Eigen::MatrixXd elementCurvatures(const Positions& x,
+                                            const Eigen::VectorXd& xi) const = 0;
+  // #elements by components(): S̄_T (or φ(θ̄_e)), and its replacement.
+  virtual Eigen::MatrixXd restCurvatures() const = 0;
+  virtual void setRestCurvatures(const Eigen::MatrixXd& rest) = 0;
+};
+
 class EnergyTerm {
  public:
   virtual ~EnergyTerm() = default;
@@ -41,6 +59,10 @@ class EnergyTerm {
   virtual double coveredArea() const = 0;
   // Whether the term reads one midedge unknown ξ per edge (midedge only).
   virtual bool usesEdgeUnknowns() const { return false; }
+
+  // The elements' rest curvature, when the term has one a plastic update can move (the face
+  // shape-operator energies and the hinge); null otherwise.
+  virtual RestCurvatureState* restCurvatureState() { return nullptr; }
 
   // Sets touched[v] for every vertex an element of this term reads (touched has #V entries).
   virtual void markTouchedVertices(std::vector<bool>& touched) const = 0;

@@ -1,0 +1,48 @@
+#include "cli/plasticity_arguments.h"
+
+#include "cli/command_files.h"
+#include "modeling/errors.h"
+
+namespace flexure::cli {
+
+void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
+  sub.add_option("--yield-curvature", a.yieldCurvature,
+                 "Plastic bending: yield curvature kappa_y (a cylinder yields at kappa_y, a sphere "
+                 "at kappa_y/sqrt(3)); not cotan")
+      ->check(positive());
+  sub.add_option("--yield-strain", a.yieldStrain,
+                 "Plastic membrane: yield strain (not modelled yet: refused)")
+      ->check(positive());
+  sub.add_option("--hardening", a.hardening, "Linear kinematic hardening gamma >= 0")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub.add_option("--load-steps", a.loadSteps,
+                 "Plastic forming: reach the boundary values in K equal steps, each a static solve "
+                 "and the plastic update (default 1)")
+      ->check(CLI::PositiveNumber);
+  sub.add_flag("--release", a.release,
+               "Plastic forming: then hold only the three vertices of the central face and relax "
+               "(the sprung-back shape)");
+}
+
+optimize::PlasticityOptions plasticityOptions(const PlasticityArguments& a) {
+  if (!a.enabled() && (a.loadSteps || a.release || a.hardening != 0.0))
+    throw InputError(
+        "--load-steps, --release and --hardening need a yield value: give --yield-curvature");
+  optimize::PlasticityOptions o;
+  o.yieldCurvature = a.yieldCurvature;
+  o.yieldStrain = a.yieldStrain;
+  o.hardening = a.hardening;
+  o.validate();
+  return o;
+}
+
+optimize::FormingOptions formingOptions(const PlasticityArguments& a) {
+  optimize::FormingOptions o;
+  o.loadSteps = a.loadSteps.value_or(1);
+  o.release = a.release;
+  o.validate();
+  return o;
+}
+
+}  // namespace flexure::cli
