@@ -20,6 +20,14 @@
 //                               #V × 3 current positions X: one sparse matrix-vector product per
 //                               coordinate, about the least any gradient of a mesh energy costs.
 //
+// Second derivatives, on a 100 × 100 patch48 (10 201 vertices, as the simulate bench's scenes):
+//   BM_HingeElementHessian/<path> the hinge's exact element Hessians (all elements, one thread):
+//                               `jets` the second-order jets of the templated kernel, `closed` the
+//                               closed form (curvature/hinge_angle_derivatives.h) element_term.h
+//                               uses; the same configuration, so their ratio is the speed-up.
+//   BM_HessianAssembly/<energy> HessianAssembly::evaluate, exact, all unknowns free: E, ∇E and the
+//                               assembled sparse ∇²E, as each Newton iteration pays it.
+//
 // Each mesh size n is chosen so that its energy has about 10^6 elements: n = 578 for hinge
 // (3n² − 2n interior edges), n = 708 for triavg, quadfit (≈ 2n² − 4n interior faces) and midedge
 // (2n² faces), n = 1001 for cotan ((n − 1)² interior vertices). Counters: `elements/s` (elements
@@ -45,11 +53,13 @@
 #include <vector>
 
 #include "curvature/bending_energy.h"
+#include "curvature/element_term.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/linear/biharmonic.h"
+#include "optimize/solvers/hessian_assembly.h"
 
 namespace {
 
@@ -300,6 +310,81 @@ void laplacianFloor(benchmark::State& state, int n) {
   state.counters["nnz"] = static_cast<double>(laplacian.nonZeros());
 }
 
+// ---------------------------------------------------------------------------------------------
+// Second derivatives on the n = 100 patch.
+
+constexpr int kHessianPatch = 100;
+
+// The energy `d` on the n = 100 patch, at its current (lifted) state.
+struct HessianCase {
+  std::unique_ptr<EnergyTerm> term;
+  Eigen::VectorXd xi;
+};
+HessianCase hessianCase(Discretization d) {
+  const MeshData& mesh = meshData(kHessianPatch);
+  return {flexure::curvature::makeBendingEnergy(mesh.stencils, mesh.rest, optionsFor(d)),
+          Eigen::VectorXd::Zero(mesh.stencils.edgeCount())};
+}
+
+// Sums what it receives, so no element's work can be skipped.
+class SummingSink : public flexure::curvature::ElementHessianSink {
+ public:
+  void add(const flexure::curvature::ElementHessian& element) override {
+    sum += element.energy + element.hessian(0, 0);
+  }
+  double sum = 0.0;
+};
+
+void hingeElementHessian(benchmark::State& state, bool closedForm) {
+  using flexure::curvature::HingeBendingResidual;
+  const HessianCase c = hessianCase(Discretization::Hinge);
+  const Positions& x = meshData(kHessianPatch).current;
+  const auto& term =
+      dynamic_cast<const flexure::curvature::ElementTerm<HingeBendingResidual>&>(*c.term);
+  const std::vector<int> sizes = {3, 3, 3, 3};
+  std::vector<long> firstUnknown(4);
+  std::vector<const double*> blocks(4);
+  flexure::curvature::ElementHessian out;
+  SummingSink sink;
+  for (auto _ : state) {
+    for (const HingeBendingResidual& element : term.elements()) {
+      for (int k = 0; k < 4; ++k) {
+        blocks[k] = x.data() + 3 * element.vertices[k];
+        firstUnknown[k] = 3L * element.vertices[k];
+      }
+      const bool ok =
+          closedForm ? flexure::curvature::elementHessian(element, blocks, sizes, firstUnknown,
+                                                          flexure::curvature::Derivatives::All, out)
+                     : flexure::curvature::elementHessian<HingeBendingResidual>(
+                           element, blocks, sizes, firstUnknown,
+                           flexure::curvature::Derivatives::All, out);
+      if (!ok) state.SkipWithError("degenerate hinge");
+      sink.add(out);
+    }
+    benchmark::DoNotOptimize(sink.sum);
+  }
+  state.counters["elements"] = term.elementCount();
+  state.counters["elements/s"] =
+      benchmark::Counter(term.elementCount(), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void hessianAssembly(benchmark::State& state, Discretization d) {
+  const HessianCase c = hessianCase(d);
+  const Positions& x = meshData(kHessianPatch).current;
+  const long unknowns = x.size() + (c.term->usesEdgeUnknowns() ? c.xi.size() : 0);
+  const flexure::optimize::HessianAssembly assembly(
+      {c.term.get()}, std::vector<bool>(unknowns, true), static_cast<int>(x.rows()),
+      flexure::curvature::Derivatives::All);
+  for (auto _ : state) {
+    const flexure::optimize::HessianEvaluation h =
+        assembly.evaluate(x, c.xi, flexure::optimize::HessianProjection::Exact);
+    benchmark::DoNotOptimize(h.values.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["elements"] = c.term->elementCount();
+  state.counters["nnz"] = static_cast<double>(assembly.rowIndex().size());
+}
+
 void registerBenchmarks() {
   // Wall time (Ceres evaluates on worker threads); the CPU column is the whole process's CPU
   // time, so CPU / Time shows how many cores were busy.
@@ -326,6 +411,18 @@ void registerBenchmarks() {
         ->MinTime(1.0);
     configure(
         benchmark::RegisterBenchmark(("BM_EnergyGradient/" + name).c_str(), ceresEvaluate, c, true))
+        ->MinTime(1.0);
+  }
+  for (bool closedForm : {false, true}) {
+    const std::string name =
+        std::string("BM_HingeElementHessian/") + (closedForm ? "closed" : "jets");
+    configure(benchmark::RegisterBenchmark(name.c_str(), hingeElementHessian, closedForm))
+        ->MinTime(1.0);
+  }
+  for (const EnergyCase& c : energyCases()) {
+    const std::string name(flexure::curvature::discretizationName(c.discretization));
+    configure(benchmark::RegisterBenchmark(("BM_HessianAssembly/" + name).c_str(), hessianAssembly,
+                                           c.discretization))
         ->MinTime(1.0);
   }
 }

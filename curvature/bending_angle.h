@@ -35,4 +35,15 @@ T hingeAngleMeasure(const T& theta, HingeAngle measure) {
   return measure == HingeAngle::Theta ? theta : T(2.0) * tan(theta / T(2.0));
 }
 
+// dφ/dθ and d²φ/dθ² of that measure: 1 and 0 for θ; for φ = 2 tan(θ/2), with τ = tan(θ/2),
+// 1 + τ² and τ (1 + τ²).
+struct HingeAngleMeasureSlopes {
+  double first, second;
+};
+inline HingeAngleMeasureSlopes hingeAngleMeasureSlopes(double theta, HingeAngle measure) {
+  if (measure == HingeAngle::Theta) return {1.0, 0.0};
+  const double tau = std::tan(theta / 2.0), first = 1.0 + tau * tau;
+  return {first, tau * first};
+}
+
 }  // namespace flexure::curvature

@@ -224,4 +224,19 @@ bool elementHessian(const Residual& residual, const std::vector<const double*>& 
   });
 }
 
+// The hinge's element (hinge_bending.h) on the rest metric from the closed-form derivatives of θ
+// (hinge_angle_derivatives.h) instead of jets: with r = w (φ(θ) − φ̄), ∇r = w φ′ ∇θ and
+//
+//   ∇E_e = r ∇r,   ∇²E_e = ∇r ∇rᵀ + r w (φ″ ∇θ ∇θᵀ + φ′ ∇²θ);
+//
+// in height mode the rows and columns of the z's. On the current metric (r also scaled by the
+// hinge's metric factor) the jets above. Same contracts as the templates they overload.
+bool elementFirstDerivatives(const HingeBendingResidual& residual,
+                             const std::vector<const double*>& blocks,
+                             const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                             Derivatives derivatives, bool gaussNewton, ElementHessian& out);
+bool elementHessian(const HingeBendingResidual& residual, const std::vector<const double*>& blocks,
+                    const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                    Derivatives derivatives, ElementHessian& out);
+
 }  // namespace flexure::curvature

@@ -7,7 +7,10 @@
 // 2. element Hessians symmetric; the assembled gradient and energy equal Ceres';
 // 3. at a stress-free rest (every residual zero) ∇²E = JᵀJ;
 // 4. the coupling to moved fixed unknowns (the linearized predictor's right-hand side) equals
-//    the full Hessian's off-diagonal block times the move.
+//    the full Hessian's off-diagonal block times the move;
+// 5. the hinge's closed-form element derivatives (curvature/hinge_angle_derivatives.h) equal the
+//    second-order jets' on random and nearly flat hinges, and central differences of their own
+//    gradient.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -18,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "curvature/element_hessian.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/generators.h"
 #include "optimize/boundary_conditions.h"
@@ -424,6 +428,138 @@ TEST(Hessians, ProjectionIsPositiveSemidefinite) {
             -1e-6 * scale);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(projected).eigenvalues().minCoeff(),
             -1e-12 * scale);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The hinge's closed form against the jets it replaced.
+
+using curvature::ElementHessian;
+using curvature::HingeBendingResidual;
+using curvature::SecondDerivatives;
+
+// A hinge element on the four vertices of `x` (12 values: x_i, x_j, x_k, x_l).
+struct LoneHinge {
+  HingeBendingResidual residual;
+  Eigen::Matrix<double, 12, 1> x;
+  std::vector<const double*> blocks() const {
+    return {x.data(), x.data() + 3, x.data() + 6, x.data() + 9};
+  }
+  static const std::vector<int>& sizes() {
+    static const std::vector<int> s = {3, 3, 3, 3};
+    return s;
+  }
+  static const std::vector<long>& firstUnknowns() {
+    static const std::vector<long> f = {0, 3, 6, 9};
+    return f;
+  }
+  // The overloads element_term.h calls: closed form for the hinge (jets on the current metric).
+  ElementHessian closedForm(Derivatives d, SecondDerivatives kind) const {
+    ElementHessian out;
+    const bool ok =
+        kind == SecondDerivatives::Exact
+            ? curvature::elementHessian(residual, blocks(), sizes(), firstUnknowns(), d, out)
+            : curvature::elementFirstDerivatives(residual, blocks(), sizes(), firstUnknowns(), d,
+                                                 kind == SecondDerivatives::GaussNewton, out);
+    EXPECT_TRUE(ok);
+    return out;
+  }
+  // The generic templates: second-order jets (Exact), first-order jets (the others).
+  ElementHessian jets(Derivatives d, SecondDerivatives kind) const {
+    ElementHessian out;
+    const bool ok = kind == SecondDerivatives::Exact
+                        ? curvature::elementHessian<HingeBendingResidual>(
+                              residual, blocks(), sizes(), firstUnknowns(), d, out)
+                        : curvature::elementFirstDerivatives<HingeBendingResidual>(
+                              residual, blocks(), sizes(), firstUnknowns(), d,
+                              kind == SecondDerivatives::GaussNewton, out);
+    EXPECT_TRUE(ok);
+    return out;
+  }
+};
+
+// Random hinges: an edge along a random direction, two opposite vertices on either side, then
+// folded by a random angle in (−3, 3) (or, nearly flat, by a random 1e-7); jittered so nothing is
+// symmetric. Random weights and rest measures; both angle measures.
+std::vector<LoneHinge> randomHinges(std::mt19937& rng, bool nearlyFlat, int count) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<LoneHinge> out;
+  for (int n = 0; n < count; ++n) {
+    LoneHinge h;
+    h.residual.vertices = {0, 1, 2, 3};
+    h.residual.measure = n % 2 == 0 ? curvature::HingeAngle::Theta : curvature::HingeAngle::Tan;
+    h.residual.sqrtWeight = 0.5 + 2.0 * std::abs(u(rng));
+    h.residual.restMeasure = nearlyFlat && n % 4 < 2 ? 0.0 : 0.5 * u(rng);
+    const double fold = nearlyFlat ? 1e-7 * u(rng) : 3.0 * u(rng);
+    const double half = 0.5 * fold;  // each face's tilt out of the flat hinge's plane
+    const Eigen::Vector3d k(0.3 + 0.4 * u(rng), std::cos(half),
+                            std::sin(half) * (1.0 + 0.3 * u(rng)));
+    const Eigen::Vector3d l(0.5 + 0.4 * u(rng), -std::cos(half), std::sin(half));
+    Eigen::Matrix<double, 12, 1> x;
+    x << 0, 0, 0, 1.0 + 0.3 * u(rng), 0, 0, k, l;
+    // The faces (x_i, x_j, k) and (x_j, x_i, l) meet at π − fold (k's height jittered); then a
+    // random rigid motion.
+    const Eigen::Matrix3d rotation =
+        Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
+            .toRotationMatrix();
+    const Eigen::Vector3d shift(u(rng), u(rng), u(rng));
+    for (int v = 0; v < 4; ++v) h.x.segment<3>(3 * v) = rotation * x.segment<3>(3 * v) + shift;
+    out.push_back(h);
+  }
+  return out;
+}
+
+TEST(Hessians, HingeClosedFormEqualsJets) {
+  std::mt19937 rng(71);
+  for (bool nearlyFlat : {false, true}) {
+    for (const LoneHinge& h : randomHinges(rng, nearlyFlat, 200)) {
+      for (Derivatives d : {Derivatives::All, Derivatives::HeightOnly}) {
+        for (SecondDerivatives kind :
+             {SecondDerivatives::Exact, SecondDerivatives::GaussNewton, SecondDerivatives::None}) {
+          SCOPED_TRACE(std::string(nearlyFlat ? "nearly flat" : "random") +
+                       (d == Derivatives::All ? ", xyz" : ", height") + ", kind " +
+                       std::to_string(static_cast<int>(kind)));
+          const ElementHessian closed = h.closedForm(d, kind), jets = h.jets(d, kind);
+          ASSERT_EQ(closed.unknowns, jets.unknowns);
+          // |r| = √(2 E_e) to roundoff of w (φ − φ̄): r is small where φ ≈ φ̄.
+          const double w = h.residual.sqrtWeight, r = std::sqrt(2.0 * jets.energy);
+          EXPECT_NEAR(std::sqrt(2.0 * closed.energy), r,
+                      1e-14 * (r + w * (1.0 + 2.0 * std::abs(h.residual.restMeasure))));
+          const double gradientScale = jets.gradient.cwiseAbs().maxCoeff();
+          EXPECT_LE((closed.gradient - jets.gradient).cwiseAbs().maxCoeff(),
+                    1e-10 * gradientScale + 1e-300);
+          ASSERT_EQ(closed.hessian.rows(), jets.hessian.rows());
+          if (kind == SecondDerivatives::None) continue;
+          const double scale = jets.hessian.cwiseAbs().maxCoeff();
+          EXPECT_LE((closed.hessian - jets.hessian).cwiseAbs().maxCoeff(), 1e-10 * scale);
+          EXPECT_EQ(closed.hessian, closed.hessian.transpose());
+        }
+      }
+    }
+  }
+}
+
+// Central differences of the closed-form gradient, step 1e-6 on these O(1) hinges: truncation
+// and roundoff both ≈ 1e-10 of max |H| (as kDifferenceTolerance above).
+TEST(Hessians, HingeClosedFormAgainstDifferencesOfItsGradient) {
+  std::mt19937 rng(72);
+  for (bool nearlyFlat : {false, true}) {
+    for (const LoneHinge& h : randomHinges(rng, nearlyFlat, 50)) {
+      const ElementHessian exact = h.closedForm(Derivatives::All, SecondDerivatives::Exact);
+      const double step = 1e-6, scale = exact.hessian.cwiseAbs().maxCoeff();
+      for (int k = 0; k < 12; ++k) {
+        LoneHinge plus = h, minus = h;
+        plus.x[k] += step;
+        minus.x[k] -= step;
+        const Eigen::VectorXd column =
+            (plus.closedForm(Derivatives::All, SecondDerivatives::None).gradient -
+             minus.closedForm(Derivatives::All, SecondDerivatives::None).gradient) /
+            (2.0 * step);
+        EXPECT_LE((exact.hessian.col(k) - column).cwiseAbs().maxCoeff(),
+                  kDifferenceTolerance * scale)
+            << (nearlyFlat ? "nearly flat" : "random") << ", column " << k;
+      }
+    }
+  }
 }
 
 }  // namespace
