@@ -1,6 +1,5 @@
 #include "optimize/solvers/hessian_assembly.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <atomic>
@@ -10,6 +9,7 @@
 #include "modeling/errors.h"
 #include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/linear_algebra_threads.h"
+#include "optimize/solvers/projected_hessian.h"
 
 namespace flexure::optimize {
 namespace {
@@ -22,15 +22,6 @@ constexpr int kAssemblyParts = 2;
 
 int assemblyThreads() {
   return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, kAssemblyParts);
-}
-
-// The nearest positive semidefinite matrix to a symmetric `h` in the Frobenius norm: V max(Λ, 0)
-// Vᵀ.
-Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
-  if (eigen.eigenvalues().minCoeff() >= 0.0) return h;
-  const Eigen::VectorXd clamped = eigen.eigenvalues().cwiseMax(0.0);
-  return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
 // One thread's share of an evaluation: element contributions summed into its own arrays.
@@ -158,6 +149,10 @@ HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::Vec
                                             HessianProjection projection,
                                             const Eigen::VectorXd* fixedMove,
                                             curvature::SecondDerivatives kind) const {
+  if (kind == curvature::SecondDerivatives::Projected) {  // exact, then projected per element
+    projection = HessianProjection::PositiveSemidefinite;
+    kind = curvature::SecondDerivatives::Exact;
+  }
   std::vector<Accumulator> accumulators;
   accumulators.reserve(kAssemblyParts);
   for (int part = 0; part < kAssemblyParts; ++part)
