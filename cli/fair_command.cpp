@@ -129,11 +129,6 @@ RegionChoice chooseRegion(const FairCommandOptions& o, modeling::Mesh input,
       throw InputError("--region " + o.region + ": no boundary loop of " + o.input +
                        " has at most " + std::to_string(maxEdges) + " edges");
     }
-    if (modeling::countVertices(filled.newVertex) == 0) {
-      throw InputError("--region " + o.region + ": the " + std::to_string(filled.holes.size()) +
-                       " filled holes gained no interior vertex (each was closed by triangles "
-                       "alone): there is nothing to fair");
-    }
     choice.mesh = std::move(filled.mesh);
     choice.region = filled.newVertex;
     choice.filled = std::move(filled);
@@ -604,6 +599,26 @@ render::Image fairFigure(const FairCommandOptions& o, const FairSettings& s,
   return beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
 }
 
+// Holes whose fills gained no interior vertex (CGAL closed each by triangles alone): the filled
+// mesh is the result and there is nothing to fair. Writes it and the report; no figure.
+void writeFilledOnly(const FairCommandOptions& o, const RegionChoice& choice, bool quiet) {
+  const nlohmann::json report = {{"input", o.input},
+                                 {"output", o.output},
+                                 {"method", o.method},
+                                 {"region", {{"spec", o.region}, {"vertices", 0}}},
+                                 {"result", "filled"},
+                                 {"converged", true},
+                                 {"holes", holesJson(*choice.filled)}};
+  modeling::writeMesh(o.output, choice.mesh);
+  if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
+  if (!quiet) {
+    std::cerr << "flexure fair: wrote " << o.output << ": "
+              << counted(static_cast<long long>(choice.filled->holes.size()), "hole")
+              << " closed by triangles alone, no new vertex: nothing to fair"
+              << (o.renderFile.empty() ? "" : "; " + o.renderFile + " not drawn") << '\n';
+  }
+}
+
 void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const auto start = Clock::now();
   const FairSettings s = fairSettings(o);
@@ -615,6 +630,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     for (const std::string& notice : notices) std::cerr << "flexure fair: " << notice << '\n';
   const modeling::Stencils inputStencils = modeling::compileStencils(input);
   const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils, global.quiet);
+  if (choice.filled && modeling::countVertices(choice.region) == 0)
+    return writeFilledOnly(o, choice, global.quiet);
   const modeling::Mesh& mesh = choice.mesh;
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   modeling::requireFairableRegion(stencils, choice.region, o.input + ": --region " + o.region);

@@ -101,8 +101,37 @@ int loopLength(const CgalSurfaceMesh& sm, Halfedge loop) {
   return edges;
 }
 
+// Why the loop at `loop` is pinched, or "" when it is not: two of its distinct vertices lie within
+// kPinchedLoopDistance of its mean edge length of each other, so the loop passes twice through
+// one point (two holes touching there, or a slit over coincident vertices). CGAL fills the two
+// lobes as one patch whose triangles join them across the point and fold there
+// (elephant-with-holes' loop of 15 edges at vertex 1531 through the coincident 2552 and 2738: a
+// fold of 126° that no fairing of its one new vertex undoes).
+std::string pinchedLoop(const CgalSurfaceMesh& sm, Halfedge loop) {
+  std::vector<Vertex> vertices;
+  double perimeter = 0.0;
+  for (const Halfedge h : CGAL::halfedges_around_face(loop, sm)) {
+    vertices.push_back(sm.target(h));
+    perimeter += (point(sm, sm.target(h)) - point(sm, sm.source(h))).norm();
+  }
+  const double tolerance = kPinchedLoopDistance * perimeter / static_cast<double>(vertices.size());
+  for (std::size_t a = 0; a < vertices.size(); ++a) {
+    for (std::size_t b = a + 1; b < vertices.size(); ++b) {
+      if (vertices[a] != vertices[b] &&
+          (point(sm, vertices[a]) - point(sm, vertices[b])).norm() <= tolerance) {
+        const int first = std::min(static_cast<int>(vertices[a]), static_cast<int>(vertices[b]));
+        const int second = std::max(static_cast<int>(vertices[a]), static_cast<int>(vertices[b]));
+        return "the loop passes twice through one point (vertices " + std::to_string(first) +
+               " and " + std::to_string(second) +
+               " coincide): CGAL's fill would join its two sides across it";
+      }
+    }
+  }
+  return "";
+}
+
 // Fills the loop at `loop`: the new faces and vertices, and why the fill is not clean ("" when
-// it is).
+// it is): uncleanFill's reason, else pinchedLoop's (a pinched loop's fill is not clean either).
 struct LoopFill {
   std::vector<Face> faces;
   std::vector<Vertex> vertices;
@@ -111,10 +140,12 @@ struct LoopFill {
 
 LoopFill fillLoop(CgalSurfaceMesh& sm, Halfedge loop, int inputVertices) {
   LoopFill fill;
+  const std::string pinched = pinchedLoop(sm, loop);
   PMP::triangulate_and_refine_hole(sm, loop, std::back_inserter(fill.faces),
                                    std::back_inserter(fill.vertices));
   fill.problem = fill.faces.empty() ? std::string("CGAL could not triangulate it")
                                     : uncleanFill(sm, fill.faces, inputVertices);
+  if (fill.problem.empty()) fill.problem = pinched;
   return fill;
 }
 

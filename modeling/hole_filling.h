@@ -5,7 +5,8 @@
 //
 // Not every loop has a clean fill: a slit (a loop that runs along a crack and back over vertices
 // with the same coordinates, as in CGAL's elephant-with-holes.off) or a strongly non-planar loop
-// gets triangles of zero area or triangles folded onto their neighbours. Such loops are left open
+// gets triangles of zero area or triangles folded onto their neighbours, and a loop that passes
+// twice through one point gets triangles joining its two sides there. Such loops are left open
 // (FilledMesh::skipped says why), so that one bad loop does not spoil the others.
 #pragma once
 
@@ -22,6 +23,9 @@ namespace flexure::modeling {
 // neighbouring face's (a fold: the two triangles lie nearly on top of each other).
 inline constexpr double kCleanFillFlatness = 1e-6;
 inline constexpr double kCleanFillFoldDegrees = 150.0;
+// A loop is not filled when two of its vertices lie within this fraction of its mean edge length
+// of each other (a pinched loop: hole_filling.cpp, pinchedLoop).
+inline constexpr double kPinchedLoopDistance = 1e-6;
 
 struct FilledHole {
   int boundaryEdges = 0;  // edges (= vertices) of the loop

@@ -9,7 +9,8 @@ archive=/usr/share/doc/libcgal-dev/data.tar.gz
 work="$(mktemp -d "${TMPDIR:-/tmp}/flexure-real.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-meshes=(elephant holes cylinder mesh_with_border blobby-shuffled prim degtri_sliding polygon_mesh)
+meshes=(elephant holes cylinder mesh_with_border blobby-shuffled prim degtri_sliding polygon_mesh
+  corner_with_hole triangular_hole)
 tar xzf "$archive" $(printf 'data/meshes/%s.off ' "${meshes[@]}") data/meshes/sphere.stl \
   data/meshes/colored_tetra.ply data/meshes/b9.ply
 cd data/meshes
@@ -42,6 +43,21 @@ grep -qF "prim.off: line 24: data after the 7 faces the header counts" err.txt |
 expect degtri_sliding.off 2 '"zero_area_face":4'
 expect polygon_mesh.off 2 '"non_manifold_vertex":2'
 expect b9.ply 2 '"empty":1'  # a point cloud: vertices, no faces
+
+# flexure fair --region holes where CGAL closes every hole by triangles alone (no new vertex): the
+# filled mesh is the result, written with exit 0 (it exited 2, "nothing to fair").
+fill_only() {
+  local file=$1 faces=$2 loops=$3
+  "$FLEXURE" fair "$file" --region holes -o filled.off --report filled.json 2>err.txt
+  local got=$?
+  [ "$got" -eq 0 ] || { fail "fair $file --region holes: exit $got: $(cat err.txt)"; return; }
+  grep -qF "nothing to fair" err.txt || fail "fair $file: no notice: $(cat err.txt)"
+  expect filled.off 0 "\"faces\":$faces" "\"boundary_loops\":[$loops]"
+  grep -qF '"result": "filled"' filled.json || fail "fair $file: report: $(cat filled.json)"
+  rm -f filled.off filled.json
+}
+fill_only corner_with_hole.off 28 ''    # 26 faces (13 quads split) + 2 closing its 4-edge hole
+fill_only triangular_hole.off 7 3     # one 3-edge loop closed; the other, whose fill folds, left
 
 echo "real_meshes: $failures failures"
 [ "$failures" -eq 0 ]

@@ -157,6 +157,28 @@ TEST(HoleFilling, LoopsWithoutACleanFillAreSkipped) {
   EXPECT_EQ(modeling::boundaryLoops(modeling::compileStencils(filled.mesh)).size(), 1u);
 }
 
+// A loop through two coincident vertices (two holes touching at a point) is left open: CGAL's
+// fill joins its two sides across the point. elephant-with-holes' 15-edge loop at vertex 1531
+// passes through 2552 and 2738 (same coordinates); its fill of one new vertex folded by 126°,
+// and the geometric fairing of the elephant's holes then turned that face over (exit 3).
+TEST(HoleFilling, PinchedLoopsAreSkippedAndTheGeometricFairConverges) {
+  const modeling::FilledMesh filled = modeling::fillHoles(cgalMesh("elephant-with-holes.off"));
+  const auto pinched =
+      std::find_if(filled.skipped.begin(), filled.skipped.end(),
+                   [](const modeling::SkippedHole& h) { return h.loopVertex == 1531; });
+  ASSERT_NE(pinched, filled.skipped.end());
+  EXPECT_EQ(pinched->boundaryEdges, 15);
+  EXPECT_THAT(pinched->reason, ::testing::HasSubstr("vertices 2552 and 2738 coincide"));
+  EXPECT_TRUE(modeling::checkMesh(filled.mesh).valid());
+  const modeling::Stencils s = modeling::compileStencils(filled.mesh);
+  const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
+  const optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
+  const optimize::FairingOutcome r =
+      optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
+  EXPECT_TRUE(r.converged(false)) << r.failure(false) << r.fairing->report.termination;
+}
+
 TEST(HoleFilling, LongLoopsCanBeLeftOpen) {
   const Mesh holes = cgalMesh("holes.off");  // loops of 136, 36, 32, 28, 28, 28, 16 edges
   const modeling::FilledMesh filled = modeling::fillHoles(holes, 30);
