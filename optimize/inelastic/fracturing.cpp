@@ -83,7 +83,8 @@ bool FracturingDynamics::checkFracture(long step) {
   after.balance = before.balance;
   stepper->restore(after);
   const double released = totalBefore - stepper->energies().total();
-  after.balance.dissipated += released;
+  after.balance.initial -= released;
+  after.balance.last -= released;
   stepper->restore(after);
 
   CrackEvent event;
