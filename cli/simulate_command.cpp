@@ -29,6 +29,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/fracturing.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
 #include "render/plot.h"
@@ -52,6 +53,7 @@ struct SimulateOptions {
   int checkpointEvery = 0;  // steps between checkpoints; 0: none
   std::string resumeDir;    // a checkpoint's output directory to continue from; empty: none
   std::string fingerprint;  // the options that decide the motion, as a checkpoint records them
+  double fractureStrain = 0.0, thickness = 0.0;  // ε_f (0: no fracture) and h
 };
 
 // Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
@@ -106,7 +108,7 @@ bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
-  return name.rfind("frame-", 0) == 0 && (obj || png);
+  return (name.rfind("frame-", 0) == 0 && (obj || png)) || (name.rfind("fragment-", 0) == 0 && obj);
 }
 
 // Schedules the removal (at the commit) of the frame images in `frameDir` this run did not write.
@@ -240,7 +242,8 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::
 
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
 // (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
-optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions p,
+// `p` receives the held vertices and start positions (a cut mesh's problem is built from it).
+optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions& p,
                                 const modeling::Mesh& restMesh) {
   modeling::Stencils stencils = modeling::compileStencils(restMesh);
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
@@ -253,6 +256,34 @@ optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptio
   return optimize::buildProblem(std::move(stencils), std::move(rest), p);
 }
 
+// --fracture-strain ε_f and --thickness h (none without --fracture-strain), checked: not with
+// midedge (its edge unknowns do not carry across a cut) nor with checkpoints (they keep one mesh).
+std::optional<optimize::FractureOptions> fractureOptions(const SimulateOptions& o,
+                                                         const curvature::BendingOptions& b) {
+  if (o.fractureStrain == 0.0) {
+    if (o.thickness != 0.0)
+      throw InputError("--thickness: the fibres of the fracture criterion; give --fracture-strain");
+    return std::nullopt;
+  }
+  optimize::FractureOptions fracture;
+  fracture.fractureStrain = o.fractureStrain;
+  fracture.thickness = o.thickness;
+  try {
+    fracture.validate();
+  } catch (const InputError& e) {
+    throw InputError(std::string("--fracture-strain / --thickness: ") + e.what());
+  }
+  if (curvature::energyEntry(b.discretization).restEdgeUnknowns)
+    throw InputError(
+        "--fracture-strain: not with --energy midedge (its edge unknowns do not carry "
+        "across a cut); use hinge, cotan, triavg or quadfit");
+  if (o.checkpointEvery > 0 || !o.resumeDir.empty())
+    throw InputError(
+        "--fracture-strain: not with --checkpoint or --resume (a checkpoint keeps "
+        "one mesh; a crack changes it)");
+  return fracture;
+}
+
 // What a run records: the energies after every step (as the CSV text and as rows for the plot),
 // the frame meshes, and the smallest distance to an obstacle over the samples.
 struct Recording {
@@ -262,7 +293,8 @@ struct Recording {
   std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity,
                                              // (contact,) total
   std::vector<std::pair<std::string, modeling::Mesh>> frames;
-  std::vector<double> frameTimes;                                     // s, one per frame
+  std::vector<double> frameTimes;              // s, one per frame
+  std::vector<modeling::Positions> frameRest;  // each frame's rest positions (a cut changes them)
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
   Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact)
@@ -300,6 +332,7 @@ struct Recording {
     m.positions = stepper.positions();
     frames.emplace_back(name, std::move(m));
     frameTimes.push_back(stepper.time());
+    frameRest.push_back(restMesh.positions);
   }
 };
 
@@ -422,12 +455,14 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
     recording.csv.seekp(0, std::ios::end);
     recording.history = c.at("history").get<std::vector<std::vector<double>>>();
     recording.frames.clear();
+    recording.frameRest.clear();
     for (const auto& frame : c.at("frames")) {
       char name[32];
       std::snprintf(name, sizeof name, "frame-%05zu.obj", recording.frames.size());
       modeling::Mesh m = restMesh;
       m.positions = matrixFrom(frame, n, 3);
       recording.frames.emplace_back(name, std::move(m));
+      recording.frameRest.push_back(restMesh.positions);
     }
     recording.frameTimes = c.at("frame_times").get<std::vector<double>>();
     if (!c.at("smallest_distance").is_null())
@@ -440,21 +475,24 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
   }
 }
 
-// Steps of --dt to --duration: the energies after every step, a frame every 1/fps of simulated
-// time and at the last step, progress on stderr unless quiet.
-Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeStepper& stepper,
-             const modeling::Mesh& restMesh, Recording& recording, Run run, long firstStep,
+// Steps of --dt to --duration: the fracture check after every step, the energies after every
+// step, a frame (of the mesh as cut so far) every 1/fps of simulated time and at the last step,
+// progress on stderr unless quiet.
+Run simulate(const SimulateOptions& o, double minDt, bool quiet,
+             optimize::FracturingDynamics& dynamics, Recording& recording, Run run, long firstStep,
              const std::string& meshChecksum) {
   const auto clock = std::chrono::steady_clock::now();
   const long steps = std::lround(o.duration / o.dt);
   const double frameInterval = 1.0 / o.fps;
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
-  while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
+  while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advance(stepper, o.dt, minDt, run)) break;
+    if (!advance(dynamics.stepper(), o.dt, minDt, run)) break;
+    dynamics.checkFracture(run.steps);
+    optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
-      recording.frame(stepper, restMesh);
+      recording.frame(stepper, dynamics.restMesh());
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
     if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
@@ -467,9 +505,10 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet, optimize::TimeS
     }
   }
   // A failure may come after some halves of a step converged: the state reached is kept too.
+  const optimize::TimeStepper& stepper = dynamics.stepper();
   if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
     recording.sample(stepper);
-    recording.frame(stepper, restMesh);
+    recording.frame(stepper, dynamics.restMesh());
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
@@ -520,10 +559,44 @@ void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, 
                b.driftTime, b.driftStep, tail);
 }
 
+// The cracks (time, step, the face and strain they started from, the polyline in rest coordinates
+// and where it was, the energy the cut released) and the fragments at the end.
+nlohmann::json fractureReport(const SimulateOptions& o,
+                              const optimize::FracturingDynamics& fracturing) {
+  nlohmann::json cracks = nlohmann::json::array();
+  double released = 0.0;
+  for (const optimize::CrackEvent& c : fracturing.cracks()) {
+    nlohmann::json rest = nlohmann::json::array(), current = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < c.rest.rows(); ++k) {
+      rest.push_back({c.rest(k, 0), c.rest(k, 1), c.rest(k, 2)});
+      current.push_back({c.current(k, 0), c.current(k, 1), c.current(k, 2)});
+    }
+    cracks.push_back({{"time", c.time},
+                      {"step", c.step},
+                      {"face", c.critical.face},
+                      {"strain", c.critical.strain},
+                      {"fibre", c.critical.fibre},
+                      {"polyline_rest", rest},
+                      {"polyline_current", current},
+                      {"released_energy", c.released},
+                      {"fragments", c.fragments}});
+    released += c.released;
+  }
+  return {{"fracture_strain", o.fractureStrain},
+          {"thickness", o.thickness},
+          {"cracks", cracks},
+          {"released_energy", released},
+          {"fragments", fracturing.fragments().size()},
+          {"vertices", fracturing.restMesh().vertexCount()},
+          {"faces", fracturing.restMesh().faceCount()}};
+}
+
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
                                 const optimize::DynamicsOptions& dynamics,
-                                const optimize::Problem& body, const optimize::TimeStepper& stepper,
-                                const Run& run, const Recording& recording, int vertexCount) {
+                                const optimize::FracturingDynamics& fracturing, const Run& run,
+                                const Recording& recording, int vertexCount) {
+  const optimize::Problem& body = fracturing.problem();
+  const optimize::TimeStepper& stepper = fracturing.stepper();
   const std::vector<double>& last = recording.history.back();
   nlohmann::json report = {
       {"rest", o.restFile},
@@ -559,6 +632,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
     report["obstacle_layer"] = stepper.barrier().layer();
     report["smallest_obstacle_distance"] = recording.smallestDistance;
   }
+  if (fracturing.fractures()) report["fracture"] = fractureReport(o, fracturing);
   return report;
 }
 
@@ -600,19 +674,21 @@ void addObstacles(const std::vector<optimize::Obstacle>& obstacles, render::Rend
 // earlier runs' images there that this one did not write go), and the video.
 void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
                       render::OffscreenContext& context, const Recording& recording,
-                      const modeling::Positions& rest,
                       const std::vector<optimize::Obstacle>& obstacles,
                       const std::filesystem::path& dir) {
   const auto& frames = recording.frames;
-  const Eigen::Index vertexCount = rest.rows();
-  look.referencePositions = rest;
   look.exaggeration = o.exaggerate;
   addObstacles(obstacles, look);
-  look.framingPoints.resize(static_cast<Eigen::Index>(frames.size()) * vertexCount, 3);
+  Eigen::Index pointCount = 0;
+  for (const modeling::Positions& rest : recording.frameRest) pointCount += rest.rows();
+  look.framingPoints.resize(pointCount, 3);
   double largestDisplacement = 0.0;
+  Eigen::Index first = 0;
   for (size_t f = 0; f < frames.size(); ++f) {
     const modeling::Positions& x = frames[f].second.positions;
-    look.framingPoints.middleRows(f * vertexCount, vertexCount) = rest + o.exaggerate * (x - rest);
+    const modeling::Positions& rest = recording.frameRest[f];
+    look.framingPoints.middleRows(first, rest.rows()) = rest + o.exaggerate * (x - rest);
+    first += rest.rows();
     largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
   }
   if (look.style == render::RenderStyle::Displacement) {
@@ -631,6 +707,7 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
     else
       std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
     look.caption = caption;
+    look.referencePositions = recording.frameRest[f];
     names.push_back(name.substr(0, name.size() - 4) + ".png");
     pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
     modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
@@ -644,7 +721,7 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
 void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOptions>& look,
                   render::OffscreenContext* context, const Recording& recording,
                   const std::string& title, const nlohmann::json& report,
-                  const optimize::Problem& body, const std::filesystem::path& dir) {
+                  const optimize::FracturingDynamics& dynamics, const std::filesystem::path& dir) {
   const render::LinePlot plot = energyPlot(recording, title);
   modeling::createOutputDirectory(dir.string());
   std::vector<std::string> written = {"energies.csv", "energies.png", "report.json"};
@@ -652,10 +729,17 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
     modeling::writeMesh((dir / name).string(), mesh);
     written.push_back(name);
   }
+  if (dynamics.fractures()) {
+    const std::vector<modeling::Mesh> fragments = dynamics.fragments();
+    for (size_t k = 0; k < fragments.size(); ++k) {
+      const std::string name = "fragment-" + std::to_string(k) + ".obj";
+      modeling::writeMesh((dir / name).string(), fragments[k]);
+      written.push_back(name);
+    }
+  }
   removeStaleFrames(dir, written);
   if (look)
-    writeFrameImages(o, *look, *context, recording, body.rest.positions, body.obstacles.obstacles(),
-                     dir);
+    writeFrameImages(o, *look, *context, recording, dynamics.problem().obstacles.obstacles(), dir);
   else
     removeStaleFrames(dir / "frames", {});
   modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());
@@ -677,6 +761,7 @@ void checkOptionValues(const SimulateOptions& o) {
   checkMembraneGiven(o);
   dynamicsOptions(o);
   bodyOptions(o, bendingOptions(o.bending));
+  fractureOptions(o, bendingOptions(o.bending));
   frameLook(o);
 }
 
@@ -687,19 +772,22 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   checkMembraneGiven(o);
   const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
-  const optimize::ProblemOptions bodyBase = bodyOptions(o, b);
+  optimize::ProblemOptions bodyBase = bodyOptions(o, b);
+  const std::optional<optimize::FractureOptions> fracture = fractureOptions(o, b);
   const std::optional<render::RenderOptions> look = frameLook(o);
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
   if (look) context = std::make_unique<render::OffscreenContext>();
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
-  const optimize::Problem body = simulatedBody(o, bodyBase, restMesh);
-  optimize::TimeStepper stepper(body, dynamics);
+  optimize::Problem body = simulatedBody(o, bodyBase, restMesh);
+  const modeling::Positions startPositions = body.boundary.start;
+  optimize::FracturingDynamics fracturing(restMesh, std::move(body), bodyBase, dynamics, fracture);
+  optimize::TimeStepper& stepper = fracturing.stepper();
   const int vertexCount = restMesh.vertexCount();
-  stepper.start(body.boundary.start, modeling::Positions::Zero(vertexCount, 3), Eigen::VectorXd());
+  fracturing.start(startPositions, modeling::Positions::Zero(vertexCount, 3));
 
-  Recording recording(body.termPointers(), !body.obstacles.empty());
+  Recording recording(fracturing.problem().termPointers(), !fracturing.problem().obstacles.empty());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
   const std::string checksum = meshChecksum(restMesh);
@@ -708,11 +796,11 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const long firstStep =
       o.resumeDir.empty() ? 0 : resumeCheckpoint(o, checksum, stepper, recording, start, restMesh);
   const Run run =
-      simulate(o, minDt, global.quiet, stepper, restMesh, recording, start, firstStep, checksum);
+      simulate(o, minDt, global.quiet, fracturing, recording, start, firstStep, checksum);
   const std::string energyName(curvature::discretizationName(b.discretization));
   const nlohmann::json report =
-      simulationReport(o, energyName, dynamics, body, stepper, run, recording, vertexCount);
-  printEnergyBalance(stepper, dynamics.energyTolerance, global.quiet);
+      simulationReport(o, energyName, dynamics, fracturing, run, recording, vertexCount);
+  printEnergyBalance(fracturing.stepper(), dynamics.energyTolerance, global.quiet);
   const fs::path dir(o.outputDir);
   const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
                             optimize::integratorName(dynamics.integrator);
@@ -720,14 +808,15 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     // The frames computed before the failure are results: written and committed at once (each
     // file atomically), with the report saying the run is partial.
     modeling::OutputBatch partial;
-    writeOutputs(o, look, context.get(), recording, title, report, body, dir);
+    writeOutputs(o, look, context.get(), recording, title, report, fracturing, dir);
     partial.commit();
     throw NumericalError("the simulation could not proceed " + run.failure + "; the " +
-                         std::to_string(recording.frames.size()) + " frames to t = " +
-                         std::to_string(stepper.time()) + " are in " + dir.string() + "; see " +
-                         (dir / "report.json").string() + " (try a smaller --dt or --min-dt)");
+                         std::to_string(recording.frames.size()) +
+                         " frames to t = " + std::to_string(fracturing.stepper().time()) +
+                         " are in " + dir.string() + "; see " + (dir / "report.json").string() +
+                         " (try a smaller --dt or --min-dt)");
   }
-  writeOutputs(o, look, context.get(), recording, title, report, body, dir);
+  writeOutputs(o, look, context.get(), recording, title, report, fracturing, dir);
   if (!global.quiet) {
     std::fprintf(stderr,
                  "flexure simulate: wrote %zu frames, energies.csv, energies.png and report.json "
@@ -809,6 +898,15 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "whose balance drifts more is warned about")
       ->capture_default_str()
       ->check(positive());
+  sub->add_option(
+         "--fracture-strain", o.fractureStrain,
+         "Fracture: after each step, a face whose largest principal fibre strain exceeds "
+         "this cracks perpendicular to it (the mesh is cut; DIR/fragment-K.obj at the end)")
+      ->check(positive());
+  sub->add_option("--thickness", o.thickness,
+                  "Fracture: the shell's thickness h, the fibres at +-h/2 (default 0: membrane "
+                  "strain alone)")
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--checkpoint", o.checkpointEvery,
                   "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")
       ->check(CLI::Range(1, 1 << 30));

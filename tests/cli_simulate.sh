@@ -241,6 +241,48 @@ run 2 simulate ${A/sheet.obj/sheet7.obj} --duration 0.45 -o other --resume stopp
 stderr_has "another rest mesh"; absent other
 run 2 simulate $A --duration 0.45 -o other --resume sag; stderr_has "no checkpoint"; absent other
 
+# Fracture: a strip 1 x 0.25 hanging from its pinned end (x >= 0.45) under gravity along -x, with
+# a fracture strain below the peak membrane strain at the pins (about 0.011 at t = 0.04): it tears
+# across its whole width near the pins, the lower piece falls, and the run ends with 2 fragments.
+run 0 mesh --family patch48 --n 8 -o square.obj --quiet
+python3 -c "
+lines = []
+for l in open('square.obj'):
+    if l.startswith('v '):
+        _, x, y, z = l.split(); l = 'v %s %.17g %s\n' % (x, float(y) * 0.25, z)
+    lines.append(l)
+open('strip.obj', 'w').writelines(lines)"
+TEAR="--rest strip.obj --energy hinge --membrane stvk --pin box:0.45,0.6,-1,1,-1,1 \
+  --gravity=-9.81,0,0 --damping rayleigh:5,0 --dt 0.005 --duration 0.3 --fps 20"
+run 0 simulate $TEAR --fracture-strain 0.01 --render-style none -o tear --quiet
+report_check tear "d['completed'] and d['fracture']['fragments'] == 2 and len(d['fracture']['cracks']) >= 1" \
+  "the strip tears into 2 fragments"
+# The first crack runs across the strip (y from -0.125 to 0.125) near the pins (x in [0.3, 0.45]).
+report_check tear "abs(abs(d['fracture']['cracks'][0]['polyline_rest'][0][1] - \
+  d['fracture']['cracks'][0]['polyline_rest'][-1][1]) - 0.25) < 1e-12 and \
+  all(0.3 <= p[0] <= 0.45 for p in d['fracture']['cracks'][0]['polyline_rest'])" "the crack's polyline"
+report_check tear "d['energy_balance']['verdict'] == 'balanced' and \
+  d['energy_balance']['relative_drift'] < d['energy_balance']['tolerance']" "the energy balance"
+[ -s tear/fragment-0.obj ] && [ -s tear/fragment-1.obj ] || fail "tear/fragment-K.obj missing"
+absent tear/fragment-2.obj
+# The fragments have every vertex of the cut mesh; the free one fell (0.26 s: about 0.33 along -x).
+python3 -c "
+import sys
+def xs(f): return [float(l.split()[1]) for l in open(f) if l.startswith('v ')]
+a, b = xs('tear/fragment-0.obj'), xs('tear/fragment-1.obj')
+last = xs('tear/frame-00006.obj')
+sys.exit(0 if len(a) + len(b) == len(last) > 81 and min(a + b) < -0.7 else 1)" \
+  || fail "the fragments are not the cut mesh's pieces, or the free one did not fall"
+# Without the flags the run is the one simulate made before: no fracture section, no fragments.
+run 0 simulate $TEAR --render-style none -o whole --quiet
+report_check whole "'fracture' not in d" "no fracture section"; absent whole/fragment-0.obj
+cmp -s tear/frame-00000.obj whole/frame-00000.obj || fail "the start differs with fracture on"
+run 2 simulate $TEAR --thickness 0.01 -o bad --quiet; stderr_has "give --fracture-strain"; absent bad
+run 2 simulate ${TEAR/hinge/midedge} --fracture-strain 0.01 -o bad --quiet
+stderr_has "not with --energy midedge"; absent bad
+run 2 simulate $TEAR --fracture-strain 0.01 --checkpoint 5 -o bad --quiet
+stderr_has "not with --checkpoint"; absent bad
+
 # flexure run checks every step's option values before the first runs: a misspelt energy in
 # step 2 exits 2 naming it, and step 1's mesh is not made.
 cat > misspelt.json <<'SPEC'

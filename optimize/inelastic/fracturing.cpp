@@ -1,0 +1,113 @@
+#include "optimize/inelastic/fracturing.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "modeling/errors.h"
+
+namespace flexure::optimize {
+namespace {
+
+// A per-vertex quantity (#V by 3) of the mesh before a cut, carried to the cut mesh's vertices:
+// row i = (1 − t) q_a + t q_b of its source.
+modeling::Positions carried(const std::vector<modeling::VertexSource>& sources,
+                            const modeling::Positions& q) {
+  modeling::Positions out(static_cast<Eigen::Index>(sources.size()), 3);
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const modeling::VertexSource& s = sources[i];
+    out.row(static_cast<Eigen::Index>(i)) = (1.0 - s.t) * q.row(s.a) + s.t * q.row(s.b);
+  }
+  return out;
+}
+
+}  // namespace
+
+FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, ProblemOptions options,
+                                       DynamicsOptions dynamics,
+                                       std::optional<FractureOptions> fracture)
+    : rest_(std::move(rest)),
+      options_(std::move(options)),
+      dynamics_(dynamics),
+      fracture_(fracture),
+      problem_(std::make_unique<Problem>(std::move(problem))) {
+  if (fracture_) {
+    fracture_->validate();
+    if (problem_->usesEdgeUnknowns())
+      throw InputError(
+          "FractureOptions: the energy owns edge unknowns (midedge ξ), which do not carry across a "
+          "cut; fracture needs hinge, cotan, triavg or quadfit");
+    if (options_.membraneRest.size() > 0)
+      throw InputError(
+          "FractureOptions: a separate membrane rest shape does not carry across a "
+          "cut (ProblemOptions.membraneRest)");
+  }
+  stepper_ = std::make_unique<TimeStepper>(*problem_, dynamics_);
+}
+
+void FracturingDynamics::start(const modeling::Positions& x, const modeling::Positions& v) {
+  pinStart_ = x;
+  stepper_->start(x, v, Eigen::VectorXd());
+}
+
+bool FracturingDynamics::checkFracture(long step) {
+  if (!fracture_) return false;
+  const TimeStepper::State before = stepper_->state();
+  const double totalBefore = stepper_->energies().total();
+  std::optional<FracturedShell> shell =
+      fractureShell(rest_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_);
+  // A crack that runs only along edges already separated changes nothing: not a cut.
+  if (!shell || (shell->cut.facesSplit == 0 && shell->cut.verticesAdded == 0 &&
+                 shell->cut.verticesDuplicated == 0))
+    return false;
+  const std::vector<modeling::VertexSource>& sources = shell->cut.sources;
+
+  ProblemOptions options = options_;
+  options.fixedVertex = shell->heldVertex;
+  options.boundaryPositions = shell->positions;
+  auto problem = std::make_unique<Problem>(buildProblem(shell->rest, options));
+  auto stepper = std::make_unique<TimeStepper>(*problem, dynamics_);
+  const modeling::Positions pinStart = carried(sources, pinStart_);
+  stepper->start(pinStart, shell->velocities, Eigen::VectorXd());
+
+  TimeStepper::State after = stepper->state();
+  after.time = before.time;
+  after.x = shell->positions;
+  after.v = shell->velocities;
+  after.a = carried(sources, before.a);
+  for (std::size_t i = 0; i < sources.size() && before.contactStiffness.size() > 0; ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i);
+    after.contactStiffness[k] =
+        std::max({after.contactStiffness[k], before.contactStiffness[sources[i].a],
+                  before.contactStiffness[sources[i].b]});
+  }
+  after.balance = before.balance;
+  stepper->restore(after);
+  const double released = totalBefore - stepper->energies().total();
+  after.balance.initial -= released;
+  after.balance.last -= released;
+  stepper->restore(after);
+
+  CrackEvent event;
+  event.time = before.time;
+  event.step = step;
+  event.critical = shell->critical;
+  event.rest = shell->cut.crackRest;
+  event.current = shell->cut.crackCurrent;
+  event.released = released;
+  event.fragments = static_cast<int>(meshFragments(shell->rest).size());
+  cracks_.push_back(std::move(event));
+
+  stepper_ = std::move(stepper);
+  problem_ = std::move(problem);
+  rest_ = std::move(shell->rest);
+  pinStart_ = pinStart;
+  return true;
+}
+
+std::vector<modeling::Mesh> FracturingDynamics::fragments() const {
+  modeling::Mesh current = rest_;
+  current.positions = stepper_->positions();
+  return meshFragments(current);
+}
+
+}  // namespace flexure::optimize

@@ -1,0 +1,83 @@
+// Shell dynamics with fracture (issue #29; Gingold, Secord, Han, Grinspun & Zorin 2004, seed 002):
+// after each accepted time step the fracture criterion (fracture.h) is checked on the current state
+// and, when a face exceeds ε_f, the shell is cut once (fractureShell) and the motion continues on
+// the cut mesh: a Problem built for it with the same ProblemOptions (its held vertices and start
+// positions those the cut carries over), and a TimeStepper restarted on it with the time,
+// positions, velocities and accelerations carried per vertex (modeling::VertexSource) and the
+// energy balance kept.
+//
+// Energy balance across a cut: the cut keeps each split face's strain (the pieces' rest and
+// current positions are interpolated along the same edges, so a constant-strain face stays one),
+// and the elastic energy the crack frees turns into motion over the next steps as the sides
+// separate, which the integrator conserves. What changes at the cut itself, at a fixed
+// configuration, is small: the bending terms of the new edges and hinges, and the lumped masses
+// (kinetic and gravity energy) of the vertices near the crack, redistributed with their rest areas.
+// That change ΔE = E_before − E_after of the total E = K + Σ E_terms + E_gravity + B is taken out
+// of the balance's reference (EnergyBalance::initial and last −= ΔE, reported per crack), so that
+// E_b = E + D − S is measured against the energy the cuts left and its drift measures the time
+// stepping alone. It is not added to the damping work D: D also budgets the contact stiffening
+// (time_stepping.cpp), and a cut's ΔE there let the barrier's raises grow to match it (a sphere
+// dropped on a plane and shattering: S = 0.23, the balance −12 % of the peak kinetic energy).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "modeling/mesh.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/fracture.h"
+#include "optimize/problem.h"
+
+namespace flexure::optimize {
+
+// One cut: when, where it started and the crack's polyline.
+struct CrackEvent {
+  double time = 0.0;
+  long step = 0;                 // the accepted steps before it
+  FacePrincipalStrain critical;  // on the mesh before the cut
+  modeling::Positions rest;      // the crack's points in rest coordinates (k by 3)
+  modeling::Positions current;   // and where they were at the cut
+  double released = 0.0;         // ΔE counted as dissipated
+  int fragments = 0;             // connected pieces after the cut
+};
+
+class FracturingDynamics {
+ public:
+  // `problem` built by buildProblem(rest, options) (its held vertices options.fixedVertex);
+  // `fracture` empty: the run never cracks, and the stepper is the one TimeStepper(problem,
+  // dynamics) makes. InputError for invalid fracture options, or fracture with an energy that owns
+  // edge unknowns (midedge: its ξ do not carry across a cut) or with a separate membrane rest
+  // shape.
+  FracturingDynamics(modeling::Mesh rest, Problem problem, ProblemOptions options,
+                     DynamicsOptions dynamics, std::optional<FractureOptions> fracture);
+
+  // As TimeStepper::start; the positions are also the pins' time-0 positions kept across cuts.
+  void start(const modeling::Positions& x, const modeling::Positions& v);
+
+  // The fracture check after an accepted step: at most one cut. True when the shell was cut (the
+  // stepper, problem and rest mesh are then the cut ones). A crack along edges already separated
+  // (no face split, no vertex added or duplicated) is not a cut.
+  bool checkFracture(long step);
+
+  TimeStepper& stepper() { return *stepper_; }
+  const TimeStepper& stepper() const { return *stepper_; }
+  const Problem& problem() const { return *problem_; }
+  const modeling::Mesh& restMesh() const { return rest_; }
+  bool fractures() const { return fracture_.has_value(); }
+  const std::vector<CrackEvent>& cracks() const { return cracks_; }
+  // The connected pieces of the current rest mesh, each with its current positions.
+  std::vector<modeling::Mesh> fragments() const;
+
+ private:
+  modeling::Mesh rest_;
+  ProblemOptions options_;
+  DynamicsOptions dynamics_;
+  std::optional<FractureOptions> fracture_;
+  std::unique_ptr<Problem> problem_;
+  std::unique_ptr<TimeStepper> stepper_;
+  modeling::Positions pinStart_;  // the positions at time 0, carried across cuts
+  std::vector<CrackEvent> cracks_;
+};
+
+}  // namespace flexure::optimize
