@@ -189,7 +189,13 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
 std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
   namespace fs = std::filesystem;
   std::optional<render::RenderOptions> look;
-  if (o.renderStyle != "none") {
+  if (o.renderStyle == "plastic") {
+    if (!o.plasticity.yieldCurvature)
+      throw InputError(
+          "--render-style plastic: colours the plastic strain; give --yield-curvature");
+    look.emplace();
+    look->style = render::RenderStyle::Plastic;
+  } else if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);
     // Highlight lines alias into moiré at frame sizes on a gently curved sheet; error and
@@ -198,9 +204,13 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
         look->style == render::RenderStyle::Curvature ||
         look->style == render::RenderStyle::Highlight)
       throw InputError("--render-style " + o.renderStyle +
-                       ": expected shaded, reflection, isophote, displacement or none");
+                       ": expected shaded, reflection, isophote, displacement, plastic or none");
+  }
+  if (look) {
     look->width = look->height = o.renderSize;
-    if (look->style == render::RenderStyle::Displacement) look->width += render::kLegendWidth;
+    if (look->style == render::RenderStyle::Displacement ||
+        look->style == render::RenderStyle::Plastic)
+      look->width += render::kLegendWidth;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
   }
@@ -329,6 +339,7 @@ struct Recording {
   std::vector<double> frameTimes;              // s, one per frame
   std::vector<modeling::Positions> frameRest;  // each frame's rest positions (a cut changes them)
   std::vector<double> frameDissipation;        // the plastic dissipation at each frame
+  std::vector<Eigen::VectorXd> framePlastic;   // with plasticity: each frame's vertex strains
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
   Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact,
@@ -532,6 +543,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, dynamics.restMesh());
+      if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
     if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
@@ -548,6 +560,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
     recording.sample(stepper);
     recording.frame(stepper, dynamics.restMesh());
+    if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
@@ -750,6 +763,13 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
     first += rest.rows();
     largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
   }
+  if (look.style == render::RenderStyle::Plastic) {
+    double largest = 0.0;
+    for (const Eigen::VectorXd& strain : recording.framePlastic)
+      largest = std::max(largest, strain.maxCoeff());
+    look.plasticMax = std::max(largest, 1e-12);
+    look.rangeNote = "largest of the run";
+  }
   if (look.style == render::RenderStyle::Displacement) {
     look.displacementMax = std::max(largestDisplacement, 1e-12);
     look.rangeNote = "largest of the run";
@@ -767,6 +787,10 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
       std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
     look.caption = caption;
     look.referencePositions = recording.frameRest[f];
+    if (look.style == render::RenderStyle::Plastic) {
+      const Eigen::VectorXd& strain = recording.framePlastic[f];
+      look.vertexScalars.assign(strain.data(), strain.data() + strain.size());
+    }
     names.push_back(name.substr(0, name.size() - 4) + ".png");
     pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
     modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
@@ -854,6 +878,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                       plastic.has_value());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
+  if (plastic) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
   const std::string checksum = meshChecksum(restMesh);
   Run start;
   start.smallestStep = o.dt;
@@ -952,7 +977,8 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--render-style", o.renderStyle,
                   "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
                   "shaded | reflection | isophote | displacement (coloured by the distance from "
-                  "the rest mesh) | none")
+                  "the rest mesh) | plastic (coloured by the plastic strain; with "
+                  "--yield-curvature) | none")
       ->capture_default_str();
   sub->add_option("--exaggerate", o.exaggerate,
                   "Frame images draw rest + K (x - rest): small motions made visible (the frame "

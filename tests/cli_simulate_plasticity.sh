@@ -61,6 +61,15 @@ python3 -c "import json,sys; d=json.load(open('plain/report.json')); sys.exit('p
 python3 -c "import json,sys; p=json.load(open('never/report.json'))['plasticity']; sys.exit(p['yielded_elements'] != 0 or p['plastic_dissipation'] != 0)" \
   || fail "a yield value nothing reaches: something yielded"
 
+# Frames coloured by the plastic strain, with a legend (wider than the square frame).
+run 0 simulate --rest flat.obj --init bent.obj --energy hinge --membrane stvk --yield-curvature 0.05 \
+  --dt 0.01 --duration 0.02 --fps 100 --render-style plastic --render-size 64 -o coloured
+is_png coloured/frames/frame-00002.png || fail "coloured/frames/frame-00002.png is not a PNG"
+python3 -c "
+import struct, sys
+w, h = struct.unpack('>II', open('coloured/frames/frame-00002.png', 'rb').read()[16:24])
+sys.exit(0 if w > h == 64 else 1)" || fail "the plastic style's frames have no legend strip"
+
 # Refusals, before any work.
 run 2 simulate --rest flat.obj --energy cotan --membrane stvk --yield-curvature 0.1 --dt 0.01 \
   --duration 0.02 -o c
@@ -74,5 +83,8 @@ stderr_has "--checkpoint"; absent k
 run 2 simulate --rest flat.obj --energy hinge --membrane stvk --hardening 0.5 --dt 0.01 \
   --duration 0.02 -o h
 stderr_has "--hardening"; absent h
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --render-style plastic --dt 0.01 \
+  --duration 0.02 -o r
+stderr_has "--render-style plastic"; stderr_has "--yield-curvature"; absent r
 
 finish cli_simulate_plasticity

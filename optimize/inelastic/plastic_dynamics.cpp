@@ -48,6 +48,21 @@ std::vector<int> PlasticDynamics::yieldedElements() const {
   return ids;
 }
 
+Eigen::VectorXd PlasticDynamics::vertexPlasticCurvatures() const {
+  const curvature::RestCurvatureState& rest = *problem_.terms.front()->restCurvatureState();
+  const Eigen::VectorXd strain = equivalentPlasticCurvatures(state_);
+  const bool faces = rest.components() == 3;
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(problem_.stencils.vertexCount());
+  for (Eigen::Index e = 0; e < strain.size(); ++e) {
+    const int id = rest.elementId(static_cast<int>(e));
+    for (int k = 0; k < (faces ? 3 : 2); ++k) {
+      const int v = faces ? problem_.stencils.faces(id, k) : problem_.stencils.edges(id, k);
+      out[v] = std::max(out[v], strain[e]);
+    }
+  }
+  return out;
+}
+
 std::string PlasticDynamics::elementKind() const {
   return problem_.terms.front()->elementKind();
 }

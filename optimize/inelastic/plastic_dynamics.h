@@ -37,6 +37,8 @@ class PlasticDynamics {
   // The mesh elements ("face" or "edge", elementKind()) that carry a plastic strain, ascending.
   std::vector<int> yieldedElements() const;
   std::string elementKind() const;
+  // #V: per vertex the largest equivalentPlasticCurvatures of the faces or edges it belongs to.
+  Eigen::VectorXd vertexPlasticCurvatures() const;
   int elementCount() const { return static_cast<int>(state_.yielded.size()); }
 
  private:
