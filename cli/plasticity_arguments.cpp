@@ -5,7 +5,7 @@
 
 namespace flexure::cli {
 
-void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
+void addYieldArguments(CLI::App& sub, PlasticityArguments& a) {
   sub.add_option("--yield-curvature", a.yieldCurvature,
                  "Plastic bending: yield curvature kappa_y (a cylinder yields at kappa_y, a sphere "
                  "at kappa_y/sqrt(3)); not cotan")
@@ -16,6 +16,10 @@ void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
   sub.add_option("--hardening", a.hardening, "Linear kinematic hardening gamma >= 0")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+}
+
+void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
+  addYieldArguments(sub, a);
   sub.add_option("--load-steps", a.loadSteps,
                  "Plastic forming: reach the boundary values in K equal steps, each a static solve "
                  "and the plastic update (default 1)")

@@ -18,7 +18,9 @@ struct PlasticityArguments {
   bool enabled() const { return yieldCurvature.has_value() || yieldStrain.has_value(); }
 };
 
-// --yield-curvature, --yield-strain, --hardening, --load-steps, --release.
+// --yield-curvature, --yield-strain, --hardening (minimize and simulate).
+void addYieldArguments(CLI::App& sub, PlasticityArguments& arguments);
+// The yield arguments and minimize's forming: --load-steps, --release.
 void addPlasticityArguments(CLI::App& sub, PlasticityArguments& arguments);
 
 // InputError when forming options come without a yield value.

@@ -22,6 +22,7 @@
 #include "cli/load_arguments.h"
 #include "cli/membrane_arguments.h"
 #include "cli/mesh_json.h"
+#include "cli/plasticity_arguments.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -30,6 +31,7 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/plastic_dynamics.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
 #include "render/plot.h"
@@ -54,6 +56,7 @@ struct SimulateOptions {
   std::string resumeDir;    // a checkpoint's output directory to continue from; empty: none
   std::string fingerprint;  // the options that decide the motion, as a checkpoint records them
   double fractureStrain = 0.0, thickness = 0.0;  // ε_f (0: no fracture) and h
+  PlasticityArguments plasticity;                // yield values and hardening (no forming)
 };
 
 // Whether ffmpeg can be run (it is looked up on PATH, as a shell would).
@@ -186,7 +189,13 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
 std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
   namespace fs = std::filesystem;
   std::optional<render::RenderOptions> look;
-  if (o.renderStyle != "none") {
+  if (o.renderStyle == "plastic") {
+    if (!o.plasticity.yieldCurvature)
+      throw InputError(
+          "--render-style plastic: colours the plastic strain; give --yield-curvature");
+    look.emplace();
+    look->style = render::RenderStyle::Plastic;
+  } else if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);
     // Highlight lines alias into moiré at frame sizes on a gently curved sheet; error and
@@ -195,9 +204,13 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
         look->style == render::RenderStyle::Curvature ||
         look->style == render::RenderStyle::Highlight)
       throw InputError("--render-style " + o.renderStyle +
-                       ": expected shaded, reflection, isophote, displacement or none");
+                       ": expected shaded, reflection, isophote, displacement, plastic or none");
+  }
+  if (look) {
     look->width = look->height = o.renderSize;
-    if (look->style == render::RenderStyle::Displacement) look->width += render::kLegendWidth;
+    if (look->style == render::RenderStyle::Displacement ||
+        look->style == render::RenderStyle::Plastic)
+      look->width += render::kLegendWidth;
     look->azimuthDegrees = 25.0;
     look->elevationDegrees = 30.0;
   }
@@ -284,25 +297,59 @@ std::optional<optimize::FractureOptions> fractureOptions(const SimulateOptions& 
   return fracture;
 }
 
+// --yield-curvature κ_y and --hardening γ (none without a yield value), checked: not with cotan
+// (no rest curvature per element to move), fracture (a cut rebuilds the problem) or checkpoints
+// (they do not keep the plastic strains).
+std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptions& o,
+                                                             const curvature::BendingOptions& b) {
+  if (!o.plasticity.enabled()) {
+    if (o.plasticity.hardening != 0.0)
+      throw InputError(
+          "--hardening: the plastic hardening needs a yield value: give "
+          "--yield-curvature");
+    return std::nullopt;
+  }
+  const optimize::PlasticityOptions plasticity = cli::plasticityOptions(o.plasticity);
+  if (b.discretization == curvature::Discretization::Cotan)
+    throw InputError(
+        "--yield-curvature: the cotan energy has one mean curvature per vertex, no per-face "
+        "shape operator or per-edge angle whose rest value a plastic strain could move; use "
+        "triavg, midedge, quadfit or hinge");
+  if (o.fractureStrain != 0.0)
+    throw InputError(
+        "--yield-curvature: not with --fracture-strain (a cut rebuilds the shell, and the "
+        "plastic strains do not carry across it)");
+  if (o.checkpointEvery > 0 || !o.resumeDir.empty())
+    throw InputError(
+        "--yield-curvature: not with --checkpoint or --resume (a checkpoint does not keep the "
+        "plastic strains)");
+  return plasticity;
+}
+
 // What a run records: the energies after every step (as the CSV text and as rows for the plot),
 // the frame meshes, and the smallest distance to an obstacle over the samples.
 struct Recording {
   std::vector<std::string> termNames;
   bool contact = false;  // obstacles: a contact column
+  bool plastic = false;  // plasticity: a plastic_dissipation column
   std::ostringstream csv;
   std::vector<std::vector<double>> history;  // per sample: time, kinetic, terms…, gravity,
-                                             // (contact,) total
+                                             // (contact,) (plastic dissipation,) total
   std::vector<std::pair<std::string, modeling::Mesh>> frames;
   std::vector<double> frameTimes;              // s, one per frame
   std::vector<modeling::Positions> frameRest;  // each frame's rest positions (a cut changes them)
+  std::vector<double> frameDissipation;        // the plastic dissipation at each frame
+  std::vector<Eigen::VectorXd> framePlastic;   // with plasticity: each frame's vertex strains
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
-  Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact)
-      : contact(withContact) {
+  Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact,
+            bool withPlasticity)
+      : contact(withContact), plastic(withPlasticity) {
     for (const curvature::EnergyTerm* term : terms) termNames.push_back(term->name());
     csv << "time,kinetic";
     for (const std::string& name : termNames) csv << ',' << name;
-    csv << ",gravity" << (contact ? ",contact" : "") << ",total\n";
+    csv << ",gravity" << (contact ? ",contact" : "") << (plastic ? ",plastic_dissipation" : "")
+        << ",total\n";
   }
 
   void sample(const optimize::TimeStepper& stepper) {
@@ -315,6 +362,7 @@ struct Recording {
       smallestDistance =
           std::min(smallestDistance, stepper.barrier().smallestDistance(stepper.positions()));
     }
+    if (plastic) row.push_back(stepper.balance().plastic);
     row.push_back(e.total());
     char text[40];
     for (size_t k = 0; k < row.size(); ++k) {
@@ -333,6 +381,7 @@ struct Recording {
     frames.emplace_back(name, std::move(m));
     frameTimes.push_back(stepper.time());
     frameRest.push_back(restMesh.positions);
+    frameDissipation.push_back(stepper.balance().plastic);
   }
 };
 
@@ -475,12 +524,12 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
   }
 }
 
-// Steps of --dt to --duration: the fracture check after every step, the energies after every
-// step, a frame (of the mesh as cut so far) every 1/fps of simulated time and at the last step,
-// progress on stderr unless quiet.
+// Steps of --dt to --duration: the fracture check and the plastic update after every step, the
+// energies after every step, a frame (of the mesh as cut so far) every 1/fps of simulated time and
+// at the last step, progress on stderr unless quiet.
 Run simulate(const SimulateOptions& o, double minDt, bool quiet,
-             optimize::FracturingDynamics& dynamics, Recording& recording, Run run, long firstStep,
-             const std::string& meshChecksum) {
+             optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic,
+             Recording& recording, Run run, long firstStep, const std::string& meshChecksum) {
   const auto clock = std::chrono::steady_clock::now();
   const long steps = std::lround(o.duration / o.dt);
   const double frameInterval = 1.0 / o.fps;
@@ -489,10 +538,12 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
     if (!advance(dynamics.stepper(), o.dt, minDt, run)) break;
     dynamics.checkFracture(run.steps);
+    if (plastic != nullptr) plastic->afterStep();
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, dynamics.restMesh());
+      if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
     if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
@@ -509,6 +560,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
     recording.sample(stepper);
     recording.frame(stepper, dynamics.restMesh());
+    if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
@@ -591,6 +643,25 @@ nlohmann::json fractureReport(const SimulateOptions& o,
           {"faces", fracturing.restMesh().faceCount()}};
 }
 
+// The plastic state at the end: the yield values, the elements that carry a plastic strain (how
+// many, which), the largest plastic strain as a curvature, the dissipation at each frame.
+nlohmann::json plasticityReport(const optimize::PlasticityOptions& options,
+                                const optimize::PlasticDynamics& plastic,
+                                const Recording& recording) {
+  const Eigen::VectorXd strain = optimize::equivalentPlasticCurvatures(plastic.state());
+  const std::vector<int> yielded = plastic.yieldedElements();
+  return {{"yield_curvature", *options.yieldCurvature},
+          {"hardening", options.hardening},
+          {"element", plastic.elementKind()},
+          {"elements", plastic.elementCount()},
+          {"yielded_elements", yielded.size()},
+          {"yielded", yielded},
+          {"largest_plastic_curvature", strain.size() > 0 ? strain.maxCoeff() : 0.0},
+          {"plastic_dissipation", plastic.dissipation()},
+          {"dissipation_history",
+           {{"time", recording.frameTimes}, {"plastic_dissipation", recording.frameDissipation}}}};
+}
+
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
                                 const optimize::DynamicsOptions& dynamics,
                                 const optimize::FracturingDynamics& fracturing, const Run& run,
@@ -646,6 +717,7 @@ render::LinePlot energyPlot(const Recording& recording, const std::string& title
   labels.insert(labels.end(), recording.termNames.begin(), recording.termNames.end());
   labels.push_back("gravity");
   if (recording.contact) labels.push_back("contact");
+  if (recording.plastic) labels.push_back("plastic dissipation");
   labels.push_back("total");
   for (size_t c = 0; c < labels.size(); ++c) {
     render::PlotSeries series{labels[c], {}, {}};
@@ -691,6 +763,13 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
     first += rest.rows();
     largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
   }
+  if (look.style == render::RenderStyle::Plastic) {
+    double largest = 0.0;
+    for (const Eigen::VectorXd& strain : recording.framePlastic)
+      largest = std::max(largest, strain.maxCoeff());
+    look.plasticMax = std::max(largest, 1e-12);
+    look.rangeNote = "largest of the run";
+  }
   if (look.style == render::RenderStyle::Displacement) {
     look.displacementMax = std::max(largestDisplacement, 1e-12);
     look.rangeNote = "largest of the run";
@@ -708,6 +787,10 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
       std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
     look.caption = caption;
     look.referencePositions = recording.frameRest[f];
+    if (look.style == render::RenderStyle::Plastic) {
+      const Eigen::VectorXd& strain = recording.framePlastic[f];
+      look.vertexScalars.assign(strain.data(), strain.data() + strain.size());
+    }
     names.push_back(name.substr(0, name.size() - 4) + ".png");
     pngs.push_back(render::encodePng(render::renderMesh(context, mesh, look)));
     modeling::writeFileAtomically((frameDir / names.back()).string(), pngs.back());
@@ -762,6 +845,7 @@ void checkOptionValues(const SimulateOptions& o) {
   dynamicsOptions(o);
   bodyOptions(o, bendingOptions(o.bending));
   fractureOptions(o, bendingOptions(o.bending));
+  plasticityOptions(o, bendingOptions(o.bending));
   frameLook(o);
 }
 
@@ -774,6 +858,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const curvature::BendingOptions b = bendingOptions(o.bending);
   optimize::ProblemOptions bodyBase = bodyOptions(o, b);
   const std::optional<optimize::FractureOptions> fracture = fractureOptions(o, b);
+  const std::optional<optimize::PlasticityOptions> plasticity = plasticityOptions(o, b);
   const std::optional<render::RenderOptions> look = frameLook(o);
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
@@ -786,21 +871,33 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   optimize::TimeStepper& stepper = fracturing.stepper();
   const int vertexCount = restMesh.vertexCount();
   fracturing.start(startPositions, modeling::Positions::Zero(vertexCount, 3));
+  std::optional<optimize::PlasticDynamics> plastic;
+  if (plasticity) plastic.emplace(fracturing.problem(), stepper, *plasticity);
 
-  Recording recording(fracturing.problem().termPointers(), !fracturing.problem().obstacles.empty());
+  Recording recording(fracturing.problem().termPointers(), !fracturing.problem().obstacles.empty(),
+                      plastic.has_value());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
+  if (plastic) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
   const std::string checksum = meshChecksum(restMesh);
   Run start;
   start.smallestStep = o.dt;
   const long firstStep =
       o.resumeDir.empty() ? 0 : resumeCheckpoint(o, checksum, stepper, recording, start, restMesh);
-  const Run run =
-      simulate(o, minDt, global.quiet, fracturing, recording, start, firstStep, checksum);
+  const Run run = simulate(o, minDt, global.quiet, fracturing, plastic ? &*plastic : nullptr,
+                           recording, start, firstStep, checksum);
   const std::string energyName(curvature::discretizationName(b.discretization));
-  const nlohmann::json report =
+  nlohmann::json report =
       simulationReport(o, energyName, dynamics, fracturing, run, recording, vertexCount);
+  if (plastic) {
+    report["plasticity"] = plasticityReport(*plasticity, *plastic, recording);
+    report["energy_balance"]["plastic_dissipation"] = plastic->dissipation();
+  }
   printEnergyBalance(fracturing.stepper(), dynamics.energyTolerance, global.quiet);
+  if (plastic && !global.quiet)
+    std::fprintf(stderr, "flexure simulate: plastic: %zu of %d %ss yielded, dissipation %.6g\n",
+                 plastic->yieldedElements().size(), plastic->elementCount(),
+                 plastic->elementKind().c_str(), plastic->dissipation());
   const fs::path dir(o.outputDir);
   const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
                             optimize::integratorName(dynamics.integrator);
@@ -880,7 +977,8 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--render-style", o.renderStyle,
                   "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
                   "shaded | reflection | isophote | displacement (coloured by the distance from "
-                  "the rest mesh) | none")
+                  "the rest mesh) | plastic (coloured by the plastic strain; with "
+                  "--yield-curvature) | none")
       ->capture_default_str();
   sub->add_option("--exaggerate", o.exaggerate,
                   "Frame images draw rest + K (x - rest): small motions made visible (the frame "
@@ -907,6 +1005,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "Fracture: the shell's thickness h, the fibres at +-h/2 (default 0: membrane "
                   "strain alone)")
       ->check(CLI::NonNegativeNumber);
+  addYieldArguments(*sub, o.plasticity);
   sub->add_option("--checkpoint", o.checkpointEvery,
                   "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")
       ->check(CLI::Range(1, 1 << 30));

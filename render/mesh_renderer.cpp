@@ -31,7 +31,7 @@ constexpr const char* kFont = "DejaVu Sans";
 // The styles that colour a per-vertex scalar and draw a legend.
 bool hasLegend(RenderStyle style) {
   return style == RenderStyle::Error || style == RenderStyle::Curvature ||
-         style == RenderStyle::Displacement;
+         style == RenderStyle::Displacement || style == RenderStyle::Plastic;
 }
 
 // What is drawn: the mesh at its drawn positions (x̄ + k (x − x̄) when exaggerated), the obstacles
@@ -504,7 +504,7 @@ void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
   const auto uniform = [&](const char* name) { return gl.GetUniformLocation(program, name); };
   Eigen::Matrix4f clip = camera.frameToClip.cast<float>();  // column-major, as GL expects
   gl.UniformMatrix4fv(uniform("frameToClip"), 1, GL_FALSE, clip.data());
-  const int styleCode[] = {0, 1, 2, 3, 4, 4, 4};
+  const int styleCode[] = {0, 1, 2, 3, 4, 4, 4, 4};  // in RenderStyle's order
   gl.Uniform1i(uniform("style"), styleCode[static_cast<int>(o.style)]);
   gl.Uniform1i(uniform("perspective"), camera.perspective ? 1 : 0);
   gl.Uniform3f(uniform("eye"), static_cast<float>(camera.eye(0)), static_cast<float>(camera.eye(1)),
@@ -835,6 +835,14 @@ ScalarField legendField(const modeling::Mesh& mesh, const RenderOptions& o) {
     field.title = "|x − x̄| (mesh length unit)";
     return field;
   }
+  if (o.style == RenderStyle::Plastic) {
+    if (static_cast<int>(o.vertexScalars.size()) != mesh.vertexCount())
+      throw InputError("render: " + std::to_string(o.vertexScalars.size()) +
+                       " plastic strains for " + std::to_string(mesh.vertexCount()) + " vertices");
+    ScalarField field = magnitudeField(o.vertexScalars, o.plasticMax, std::nullopt, o);
+    field.title = "plastic strain (1 / length)";
+    return field;
+  }
   ScalarField field =
       magnitudeField(vertexSurfaceErrors(mesh, o.surface), o.errorMax, o.errorLogFloor, o);
   field.title = "|z − p(x, y)|";
@@ -875,6 +883,8 @@ std::string_view renderStyleName(RenderStyle style) {
       return "curvature";
     case RenderStyle::Displacement:
       return "displacement";
+    case RenderStyle::Plastic:
+      return "plastic";
   }
   return "?";
 }
@@ -1002,6 +1012,10 @@ void RenderOptions::validate() const {
     fail("errorLogFloor (the bottom of the log error scale) must be positive");
   if (displacementMax && !(*displacementMax > 0.0 && std::isfinite(*displacementMax)))
     fail("displacementMax (the displacement colour-map maximum) must be positive");
+  if (style == RenderStyle::Plastic && vertexScalars.empty())
+    fail("vertexScalars: the plastic style needs a value per vertex");
+  if (plasticMax && !(*plasticMax > 0.0 && std::isfinite(*plasticMax)))
+    fail("plasticMax (the plastic colour-map maximum) must be positive");
   if (style == RenderStyle::Displacement && referencePositions.rows() == 0)
     fail("referencePositions: the displacement style needs the reference mesh's positions");
   if (!(exaggeration > 0.0 && std::isfinite(exaggeration)))

@@ -39,7 +39,19 @@ namespace flexure::render {
 
 class OffscreenContext;
 
-enum class RenderStyle { Reflection, Isophote, Highlight, Shaded, Error, Curvature, Displacement };
+// Plastic: a non-negative value per vertex (vertexScalars, a plastic strain) on the sequential
+// colour map over [0, plasticMax] (empty: the largest), with a legend; only the simulation's frames
+// have one, so parseRenderStyle does not name it.
+enum class RenderStyle {
+  Reflection,
+  Isophote,
+  Highlight,
+  Shaded,
+  Error,
+  Curvature,
+  Displacement,
+  Plastic
+};
 
 // "reflection" | "isophote" | "highlight" | "shaded" | "error" | "curvature" | "displacement";
 // InputError listing them otherwise.
@@ -112,6 +124,7 @@ struct RenderOptions {
   // the range "|symbol| ≤ m (98th percentile)" (or "largest", "given").
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
+  std::optional<double> plasticMax;  // the plastic style's top of the colour map
   std::string scalarLabel = "H", scalarSymbol = "H";
   // The `curvature` style: the zero level set of vertexScalars drawn as dark lines about two
   // pixels wide (a mode's nodal lines), hidden where the surface hides it.

@@ -471,6 +471,34 @@ TEST(Render, ObstaclesAreDrawnWhereTheyProject) {
   EXPECT_THROW(render::renderMesh(plane, floor), InputError);
 }
 
+// The plastic style: all-zero strains take the colour map's colour of 0 everywhere; a strain at
+// one vertex shows up; without the per-vertex values the options are refused, and parseRenderStyle
+// does not name the style (only simulate's frames have the values).
+TEST(Render, PlasticStyleColoursThePerVertexStrain) {
+  const modeling::Mesh mesh = heightFieldMesh(12, "quadratic:0.5,0,0.5");
+  RenderOptions options = headOn(RenderStyle::Plastic, 386, 256);
+  EXPECT_THROW(render::renderMesh(mesh, options), InputError);
+  options.vertexScalars.assign(static_cast<size_t>(mesh.vertexCount()), 0.0);
+  const Image zero = render::renderMesh(mesh, options);
+  const auto mask = interiorMask(zero);
+  const std::array<std::uint8_t, 4> zeroColour{68, 1, 84, 255};
+  int worst = 0;
+  for (int y = 0; y < zero.height; ++y)
+    for (int x = 0; x < zero.width - render::kLegendWidth; ++x)
+      if (mask[y][x]) worst = std::max(worst, channelDistance(zeroColour, zero.pixel(x, y)));
+  EXPECT_GT(countInterior(mask), 10000);
+  EXPECT_LE(worst, 1);
+  options.vertexScalars[static_cast<size_t>(mesh.vertexCount() / 2)] = 1.0;
+  const Image one = render::renderMesh(mesh, options);
+  int spread = 0;
+  for (int y = 0; y < one.height; ++y)
+    for (int x = 0; x < one.width - render::kLegendWidth; ++x)
+      if (mask[y][x]) spread = std::max(spread, channelDistance(zeroColour, one.pixel(x, y)));
+  EXPECT_GT(spread, 50);
+  EXPECT_THROW(render::parseRenderStyle("plastic"), InputError);
+  EXPECT_EQ(render::renderStyleName(RenderStyle::Plastic), "plastic");
+}
+
 // Displacement from the mesh itself is 0 everywhere: one colour, the map's colour of 0; from a
 // lifted copy the colours spread; an exaggerated render draws x̄ + k (x − x̄).
 TEST(Render, DisplacementAgainstItselfIsUniform) {

@@ -136,8 +136,9 @@ struct EnergySample {
 // so far (per step Δxᵀ C ((1 − γ) v_n + γ v_{n+1}), the damping force of Newmark's equation
 // integrated by its own rule; backward Euler γ = 1) and S the energy added by raising the
 // contact stiffness inside the barrier layer (obstacles.h: B(x; κ_new) − B(x; κ_old) at each
-// adaptation), the balanced total
-//   E_b(t) = E(t) + D(t) − S(t)
+// adaptation) and P the energy plastic updates released (plastic_dynamics.h; 0 without), the
+// balanced total
+//   E_b(t) = E(t) + D(t) + P(t) − S(t)
 // stays E(0) along the exact motion of a system without moving pins. Its drift |E_b(t) − E(0)| is
 // measured against the scale max(K_peak, 1e-6 max(|E(0)|, U_peak)): K_peak the largest kinetic
 // energy so far, U_peak the largest energy of the terms and the barrier (the guard for a run that
@@ -151,10 +152,13 @@ struct EnergyBalance {
   double largestDrift = 0.0;  // max |E_b − E(0)|, signed as E_b − E(0) at that time
   double driftTime = 0.0;     // when, and after which step
   long driftStep = 0;
-  long steps = 0;  // steps recorded
+  long steps = 0;        // steps recorded
+  double plastic = 0.0;  // P
 
   void start(const EnergySample& e);
-  double balanced(const EnergySample& e) const { return e.total() + dissipated - stiffening; }
+  double balanced(const EnergySample& e) const {
+    return e.total() + dissipated + plastic - stiffening;
+  }
   // The scale with a state e counted in.
   double scale(const EnergySample& e) const;
   double scale() const;

@@ -63,6 +63,8 @@ class FracturingDynamics {
   TimeStepper& stepper() { return *stepper_; }
   const TimeStepper& stepper() const { return *stepper_; }
   const Problem& problem() const { return *problem_; }
+  // Mutable for a plastic update, which moves its terms' rest curvature (plastic_dynamics.h).
+  Problem& problem() { return *problem_; }
   const modeling::Mesh& restMesh() const { return rest_; }
   bool fractures() const { return fracture_.has_value(); }
   const std::vector<CrackEvent>& cracks() const { return cracks_; }

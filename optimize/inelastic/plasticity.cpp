@@ -139,6 +139,15 @@ PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& opti
   return state;
 }
 
+Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state) {
+  Eigen::VectorXd out(state.plasticStrain.rows());
+  for (Eigen::Index e = 0; e < out.size(); ++e) {
+    out[e] = std::sqrt(starNormSquared(state.plasticStrain.row(e)) / 2.0);
+    if (state.hingeLength.size() > 0) out[e] /= state.hingeLength[e];
+  }
+  return out;
+}
+
 PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,
                                    const PlasticityOptions& options, const Positions& x,
                                    const Eigen::VectorXd& xi) {

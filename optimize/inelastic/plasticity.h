@@ -49,6 +49,10 @@ struct PlasticUpdate {
   double released = 0;          // elastic energy the update released at fixed positions
 };
 
+// Per element, its plastic strain as a curvature, √(‖P‖²_* / 2) (a hinge's P divided by 2 h̄_e):
+// a plate bent cylindrically past κ_y and released keeps (κ − κ_y)/(1 + γ), which this equals.
+Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state);
+
 // Returns every element outside the yield surface at (x, ξ) to it, moves the bending term's rest
 // curvature to S̄₀ + P and adds the released energy to state.dissipation.
 PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,

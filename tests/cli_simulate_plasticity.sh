@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# End-to-end runs of `flexure simulate` with plasticity (--yield-curvature, --hardening): a free
+# plate released from a bend past κ_y keeps kinetic + elastic + plastic dissipation at the start's
+# total (undamped Newmark) and its dissipation never decreases; moving pins bend a plate past κ_y;
+# a yield value nothing reaches changes no frame; refusals (exit 2, nothing written).
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
+
+run 0 mesh --family delaunay --n 8 -o flat.obj --quiet
+# The same connectivity on z = 0.05 x² (curvature 0.1).
+run 0 mesh --family delaunay --n 8 --height quadratic:0.05,0,0 -o bent.obj --quiet
+run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk \
+  --yield-curvature 0.05 --hardening 0.5 --dt 0.005 --duration 0.25 --render-style none -o pl
+stderr_has "flexure simulate: plastic: "
+head -1 pl/energies.csv | grep -qx "time,kinetic,midedge,stvk,gravity,plastic_dissipation,total" \
+  || fail "energies.csv header: $(head -1 pl/energies.csv)"
+python3 - <<'PY' || fail "plastic run: energy balance, dissipation or report"
+import csv, json
+rows = list(csv.DictReader(open("pl/energies.csv")))
+d = [float(r["plastic_dissipation"]) for r in rows]
+balanced = [float(r["total"]) + x for r, x in zip(rows, d)]
+assert d[0] > 0, "the start is past the yield surface: it yields at once"
+assert all(b >= a for a, b in zip(d, d[1:])), "the dissipation decreased"
+drift = max(abs(b - balanced[0]) for b in balanced) / balanced[0]
+assert drift < 0.01, drift
+r = json.load(open("pl/report.json"))
+p = r["plasticity"]
+assert p["element"] == "face" and p["elements"] > 0 and 0 < p["yielded_elements"] == len(p["yielded"])
+assert p["yield_curvature"] == 0.05 and p["hardening"] == 0.5
+assert 0 < p["largest_plastic_curvature"] < 0.1
+assert abs(p["plastic_dissipation"] - d[-1]) <= 1e-12 * d[-1]
+assert abs(r["energy_balance"]["plastic_dissipation"] - d[-1]) <= 1e-12 * d[-1]
+h = p["dissipation_history"]
+assert len(h["time"]) == len(h["plastic_dissipation"]) == r["frames"]
+assert r["energy_balance"]["verdict"] == "balanced", r["energy_balance"]
+PY
+
+# A plate whose edge x > 0.4 is held and turned about the y axis through (0.4, 0, 0) at 2 rad/s:
+# the rest of the plate, dragged through the air, bends past κ_y and yields.
+run 0 simulate --rest flat.obj --energy hinge --membrane stvk --pin box:0.4,0.5,-1,1,-1,1 \
+  --pin-motion rotate:0,1,0,0.4,0,0,2 --yield-curvature 0.2 --dt 0.01 --duration 0.2 \
+  --render-style none -o turned
+python3 - <<'PY' || fail "turned plate: expected yielded hinges and dissipation"
+import json
+p = json.load(open("turned/report.json"))["plasticity"]
+assert p["element"] == "edge" and p["yielded_elements"] > 0 and p["plastic_dissipation"] > 0, p
+PY
+
+# Nothing reaches a yield curvature of 1e6: the same frames, byte for byte, as without plasticity;
+# and without it no plasticity section nor column.
+run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk --dt 0.01 \
+  --duration 0.05 --render-style none -o plain
+run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk --dt 0.01 \
+  --duration 0.05 --render-style none --yield-curvature 1e6 -o never
+for f in plain/frame-*.obj; do
+  cmp -s "$f" "never/$(basename "$f")" || fail "$f: a yield value nothing reaches changed a frame"
+done
+head -1 plain/energies.csv | grep -q plastic && fail "plain run: a plastic_dissipation column"
+python3 -c "import json,sys; d=json.load(open('plain/report.json')); sys.exit('plasticity' in d or 'plastic_dissipation' in d['energy_balance'])" \
+  || fail "plain run: a plasticity section in report.json"
+python3 -c "import json,sys; p=json.load(open('never/report.json'))['plasticity']; sys.exit(p['yielded_elements'] != 0 or p['plastic_dissipation'] != 0)" \
+  || fail "a yield value nothing reaches: something yielded"
+
+# Frames coloured by the plastic strain, with a legend (wider than the square frame).
+run 0 simulate --rest flat.obj --init bent.obj --energy hinge --membrane stvk --yield-curvature 0.05 \
+  --dt 0.01 --duration 0.02 --fps 100 --render-style plastic --render-size 64 -o coloured
+is_png coloured/frames/frame-00002.png || fail "coloured/frames/frame-00002.png is not a PNG"
+python3 -c "
+import struct, sys
+w, h = struct.unpack('>II', open('coloured/frames/frame-00002.png', 'rb').read()[16:24])
+sys.exit(0 if w > h == 64 else 1)" || fail "the plastic style's frames have no legend strip"
+
+# Refusals, before any work.
+run 2 simulate --rest flat.obj --energy cotan --membrane stvk --yield-curvature 0.1 --dt 0.01 \
+  --duration 0.02 -o c
+stderr_has "cotan"; stderr_has "--yield-curvature"; absent c
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-curvature 0.1 \
+  --fracture-strain 0.1 --dt 0.01 --duration 0.02 -o f
+stderr_has "--fracture-strain"; absent f
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-curvature 0.1 \
+  --checkpoint 1 --dt 0.01 --duration 0.02 -o k
+stderr_has "--checkpoint"; absent k
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --hardening 0.5 --dt 0.01 \
+  --duration 0.02 -o h
+stderr_has "--hardening"; absent h
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --render-style plastic --dt 0.01 \
+  --duration 0.02 -o r
+stderr_has "--render-style plastic"; stderr_has "--yield-curvature"; absent r
+
+finish cli_simulate_plasticity
