@@ -100,7 +100,8 @@ json iterationCosts(const std::vector<const curvature::EnergyTerm*>& terms,
 
 // The fill-reducing orders of the step Hessian's factorization (issue #27 item 3), on the
 // iterationCosts matrix: the present choice (hessianOrder: geometric nested dissection of the
-// vertices, CHOLMOD's AMD where ξ are free), AMD, METIS and CHOLMOD's nested dissection. Per
+// vertices, CHOLMOD's nested dissection where ξ are free), AMD, METIS and CHOLMOD's nested
+// dissection. Per
 // order: the analysis (ordering included) seconds, nnz(L), and the fastest of three
 // factorizations and solves.
 json orderingCosts(const std::vector<const curvature::EnergyTerm*>& terms,
@@ -120,7 +121,7 @@ json orderingCosts(const std::vector<const curvature::EnergyTerm*>& terms,
   options.cholmodWarnings = false;
   json out = json::object();
   const std::pair<const char*, optimize::FillReducingOrder> orders[] = {
-      {"present", optimize::FillReducingOrder::Amd},
+      {"present", optimize::FillReducingOrder::NestedDissection},
       {"amd", optimize::FillReducingOrder::Amd},
       {"metis", optimize::FillReducingOrder::Metis},
       {"nesdis", optimize::FillReducingOrder::NestedDissection}};

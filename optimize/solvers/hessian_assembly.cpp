@@ -212,15 +212,17 @@ struct HessianFactorization::Simplicial {
 namespace {
 
 // Supernodal; a matrix that is not positive definite is an answer here (Newton's
-// indefinite-Hessian rule), not a warning. With free ξ, AMD: METIS on the Hessian graph factored
-// as fast (n = 512 midedge: 31.3 s vs 32.5 s of linear solves) but took 9 s longer to order (one
-// run each).
+// indefinite-Hessian rule), not a warning. Without an order of the caller's (free ξ, or xyz
+// minimization), CHOLMOD's nested dissection: on the time step's Hessian of midedge at 10 000
+// vertices nnz(L) 11.8 M against AMD's 14.9 M, factored in 0.81 s against 2.15 s, analysed in
+// less time (simulate_bench's orderings; README "Performance").
 CholeskyOptions hessianCholeskyOptions() {
   CholeskyOptions options;
   options.matrix = CholeskyMatrix::SymmetricUpper;
   options.supernodal = true;
   options.stopAtNonPositivePivot = true;
   options.cholmodWarnings = false;
+  options.ordering = FillReducingOrder::NestedDissection;
   return options;
 }
 

@@ -71,7 +71,7 @@ class HessianAssembly {
 // construction, and reused by every numerical factorization.
 class HessianFactorization {
  public:
-  // `order`: the elimination order of the free unknowns, or empty for CHOLMOD's AMD.
+  // `order`: the elimination order of the free unknowns, or empty for CHOLMOD's dissection.
   // `simplicial`: Eigen's SimplicialLLT on its AMD order instead (single-threaded, column by
   // column), the linear algebra of a plain Newton solver such as libshell's: a benchmark baseline.
   HessianFactorization(const HessianAssembly& assembly, const std::vector<int>& order,
@@ -95,7 +95,7 @@ class HessianFactorization {
 
 // The fill-reducing order for `assembly`'s free unknowns: geometric nested dissection of the free
 // vertices (elimination_order.h) at `at` when every free unknown is a vertex coordinate; empty
-// (CHOLMOD's AMD) when a ξ is free, where AMD leaves less fill (energy_evaluation.cpp).
+// (CHOLMOD's nested dissection, HessianFactorization) when a ξ is free.
 std::vector<int> hessianOrder(const HessianAssembly& assembly, const Positions& at);
 
 }  // namespace flexure::optimize

@@ -56,7 +56,8 @@ class NewtonSolver {
                         : HessianProjection::Exact) {}
 
   // The fill-reducing order: the geometric nested dissection of the free vertices in height
-  // mode, CHOLMOD's AMD in xyz mode (empty). Measured, one run each: the n = 512 plate's cotan
+  // mode, CHOLMOD's own in xyz mode (empty: nested dissection since issue #27; these figures are
+  // AMD's). Measured, one run each: the n = 512 plate's cotan
   // solve (height) spent 8.0 s in linear solves on the geometric order against 12.9 s on AMD;
   // cotan fairing of a 50 000-vertex region of the bunny (xyz, scripts/bench fair) 30.4 s
   // against 15.2 s.
