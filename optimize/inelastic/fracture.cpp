@@ -2,15 +2,18 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <string>
 #include <unordered_map>
 
-#include "curvature/bending_angle.h"
 #include "curvature/face_frame.h"
+#include "curvature/rest_element_data.h"
+#include "curvature/triangle_averaged.h"
 #include "modeling/errors.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
 
 namespace flexure::optimize {
 
@@ -23,46 +26,37 @@ Eigen::Vector3d rowOf(const Eigen::Ref<const Positions>& x, int v) {
   return x.row(v).transpose();
 }
 
-// flapVertex[3 f + i]: the vertex across edge i of face f (the edge opposite corner i, running
-// v_{i+1} → v_{i+2}), −1 on the boundary.
-std::vector<int> flapVertices(const Mesh& mesh) {
-  std::unordered_map<std::int64_t, int> cornerOfDirectedEdge;  // (a → b) ↦ 3 f + i
-  const auto key = [&](int a, int b) {
-    return static_cast<std::int64_t>(a) * mesh.vertexCount() + b;
-  };
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    for (int i = 0; i < 3; ++i) {
-      cornerOfDirectedEdge[key(mesh.triangles(f, (i + 1) % 3), mesh.triangles(f, (i + 2) % 3))] =
-          3 * f + i;
-    }
+// The point across edge i of face f mirrored from its corner i, in the face's plane: a flat hinge
+// (θ = 0) standing in for the missing flap of a boundary edge, whose edge tensor is zero.
+Eigen::Vector3d mirroredCorner(const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f,
+                               int i) {
+  const Eigen::Vector3d corner = rowOf(x, mesh.triangles(f, i));
+  const Eigen::Vector3d a = rowOf(x, mesh.triangles(f, (i + 1) % 3));
+  const Eigen::Vector3d along = (rowOf(x, mesh.triangles(f, (i + 2) % 3)) - a).normalized();
+  const Eigen::Vector3d foot = a + (corner - a).dot(along) * along;
+  return 2.0 * foot - corner;
+}
+
+// S_T of face f at configuration x: TriangleAveragedResidual::shapeOperator with the rest edge
+// tensors of the face's interior edges (a boundary edge's tensor is zero).
+Eigen::Matrix2d shapeOperatorOf(const curvature::TriangleAveragedResidual& face,
+                                const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f) {
+  std::array<Eigen::Vector3d, 6> points;
+  std::array<const double*, 6> blocks;
+  for (int k = 0; k < 6; ++k) {
+    const int v = face.vertices[k];
+    points[k] = v >= 0 ? rowOf(x, v) : mirroredCorner(x, mesh, f, k - 3);
+    blocks[k] = points[k].data();
   }
-  std::vector<int> flap(3 * mesh.faceCount(), -1);
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    for (int i = 0; i < 3; ++i) {
-      const auto across = cornerOfDirectedEdge.find(
-          key(mesh.triangles(f, (i + 2) % 3), mesh.triangles(f, (i + 1) % 3)));
-      if (across == cornerOfDirectedEdge.end()) continue;
-      flap[3 * f + i] = mesh.triangles(across->second / 3, across->second % 3);
-    }
-  }
-  return flap;
+  const curvature::Sym2<double> s = face.shapeOperator(blocks.data());
+  Eigen::Matrix2d m;
+  m << s.a, s.b, s.b, s.c;
+  return m;
 }
 
-curvature::Vec3<double> vectorOf(const Eigen::Ref<const Positions>& x, int v) {
-  return {x(v, 0), x(v, 1), x(v, 2)};
-}
-
-// φ = 2 tan(θ/2) of the hinge over edge i of face f with flap vertex g.
-double edgeAngleMeasure(const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f, int i,
-                        int g) {
-  const double theta = curvature::bendingAngle(vectorOf(x, mesh.triangles(f, (i + 1) % 3)),
-                                               vectorOf(x, mesh.triangles(f, (i + 2) % 3)),
-                                               vectorOf(x, mesh.triangles(f, i)), vectorOf(x, g));
-  return curvature::hingeAngleMeasure(theta, curvature::HingeAngle::Tan);
-}
-
-FaceStrains strainsOfFace(const Mesh& rest, const Eigen::Ref<const Positions>& current,
-                          const std::vector<int>& flap, int f) {
+FaceStrains strainsOfFace(const Mesh& rest, const modeling::Stencils& stencils,
+                          const modeling::RestState& restState,
+                          const Eigen::Ref<const Positions>& current, int f) {
   const Eigen::Vector3d restCorner[3] = {rowOf(rest.positions, rest.triangles(f, 0)),
                                          rowOf(rest.positions, rest.triangles(f, 1)),
                                          rowOf(rest.positions, rest.triangles(f, 2))};
@@ -79,17 +73,18 @@ FaceStrains strainsOfFace(const Mesh& rest, const Eigen::Ref<const Positions>& c
   strains.membrane =
       0.5 * (deformationGradient.transpose() * deformationGradient - Eigen::Matrix2d::Identity());
 
-  const double restArea = 0.5 * std::abs(restEdges.determinant());
+  // curvature::edgeTensor's frame (current_metric.h's at the rest corners) is FaceFrame's.
+  curvature::TriangleAveragedResidual face;
+  const double area = restState.faceAreas[f];
   for (int i = 0; i < 3; ++i) {
-    const int g = flap[3 * f + i];
-    if (g < 0) continue;
-    const Eigen::Vector2d edge =
-        frame.components(restCorner[(i + 2) % 3] - restCorner[(i + 1) % 3]);
-    const Eigen::Vector2d normal = Eigen::Vector2d(edge.y(), -edge.x()).normalized();
-    const double change =
-        edgeAngleMeasure(current, rest, f, i, g) - edgeAngleMeasure(rest.positions, rest, f, i, g);
-    strains.bending += change * edge.norm() / (2.0 * restArea) * normal * normal.transpose();
+    face.vertices[i] = stencils.faces(f, i);
+    face.vertices[3 + i] = stencils.faceFlaps(f, i);
+    const double scale =
+        stencils.faceFlaps(f, i) < 0 ? 0.0 : restState.faceEdgeLengths(f, i) / (2.0 * area);
+    face.edgeTensors[i] = curvature::edgeTensor(stencils, restState, f, i, scale);
   }
+  strains.bending =
+      shapeOperatorOf(face, current, rest, f) - shapeOperatorOf(face, rest.positions, rest, f);
   return strains;
 }
 
@@ -115,9 +110,12 @@ void FractureOptions::validate() const {
 
 std::vector<FaceStrains> faceStrains(const Mesh& rest, const Eigen::Ref<const Positions>& current) {
   requireMatchingRows(rest, current);
-  const std::vector<int> flap = flapVertices(rest);
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  const modeling::RestState restState = modeling::precomputeRestState(stencils, rest.positions);
   std::vector<FaceStrains> strains(rest.faceCount());
-  for (int f = 0; f < rest.faceCount(); ++f) strains[f] = strainsOfFace(rest, current, flap, f);
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    strains[f] = strainsOfFace(rest, stencils, restState, current, f);
+  }
   return strains;
 }
 
