@@ -42,7 +42,8 @@ struct SimulateOptions {
   BendingArguments bending;
   MembraneArguments membrane;
   LoadArguments load;
-  std::string pin = "none", integrator = "newmark", pinMotion;
+  std::vector<std::string> pin{"none"};  // SET[@MOTION] per group
+  std::string integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
@@ -170,8 +171,9 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   dynamics.integrator = parseIntegrator(o.integrator);
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
+  checkPinSpecs(o.pin, o.pinMotion);
   if (!o.pinMotion.empty()) {
-    if (o.pin == "none")
+    if (o.pin == std::vector<std::string>{"none"})
       throw InputError("--pin-motion " + o.pinMotion +
                        ": moves the pinned vertices; give them with --pin");
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
@@ -242,17 +244,19 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::
 
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
 // (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
-// `p` receives the held vertices and start positions (a cut mesh's problem is built from it).
+// `p` receives the held vertices and start positions (a cut mesh's problem is built from it),
+// `dynamics` the pin groups that move.
 optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions& p,
+                                optimize::DynamicsOptions& dynamics,
                                 const modeling::Mesh& restMesh) {
   modeling::Stencils stencils = modeling::compileStencils(restMesh);
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  p.fixedVertex = o.pin == "none"
-                      ? std::vector<bool>(restMesh.vertexCount(), false)
-                      : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions);
+  PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
+  p.fixedVertex = std::move(pinned.held);
+  dynamics.pinGroups = std::move(pinned.moving);
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
-    p.fixedEdge = optimize::clampedBoundaryEdges(o.pin, stencils);
+    p.fixedEdge = std::move(pinned.clampedEdges);
   return optimize::buildProblem(std::move(stencils), std::move(rest), p);
 }
 
@@ -619,7 +623,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"seconds", run.seconds},
       {"steps_per_second", run.steps / std::max(run.seconds, 1e-9)},
       {"vertices", vertexCount},
-      {"pinned", o.pin},
+      {"pinned", o.pin.size() == 1 ? nlohmann::json(o.pin[0]) : nlohmann::json(o.pin)},
       {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
       {"gravity", {body.gravity.x(), body.gravity.y(), body.gravity.z()}},
       {"density", o.load.density},
@@ -770,7 +774,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   // Every option first, then the inputs; nothing is written before the run ends well.
   const double minDt = checkedMinDt(o);
   checkMembraneGiven(o);
-  const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
+  optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
   optimize::ProblemOptions bodyBase = bodyOptions(o, b);
   const std::optional<optimize::FractureOptions> fracture = fractureOptions(o, b);
@@ -780,7 +784,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (look) context = std::make_unique<render::OffscreenContext>();
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
-  optimize::Problem body = simulatedBody(o, bodyBase, restMesh);
+  optimize::Problem body = simulatedBody(o, bodyBase, dynamics, restMesh);
   const modeling::Positions startPositions = body.boundary.start;
   optimize::FracturingDynamics fracturing(restMesh, std::move(body), bodyBase, dynamics, fracture);
   optimize::TimeStepper& stepper = fracturing.stepper();
@@ -857,7 +861,9 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   addMembraneArguments(*sub, o.membrane, "stvk | springs | conformal (required)");
   sub->add_option(
          "--pin", o.pin,
-         "Held vertices: none | rings:K (2 clamps) | vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1")
+         "Held vertices: none | rings:K (2 clamps) | vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1, "
+         "each group optionally @MOTION (as --pin-motion: it moves that group alone); "
+         "repeatable")
       ->capture_default_str();
   sub->add_option("--pin-motion", o.pinMotion,
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "

@@ -20,6 +20,15 @@ modeling::Positions carried(const std::vector<modeling::VertexSource>& sources,
   return out;
 }
 
+// A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
+// of its source are (as the held vertices carry, fracture.h).
+std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
+                             const std::vector<bool>& set) {
+  std::vector<bool> out(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) out[i] = set[sources[i].a] && set[sources[i].b];
+  return out;
+}
+
 }  // namespace
 
 FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, ProblemOptions options,
@@ -65,7 +74,9 @@ bool FracturingDynamics::checkFracture(long step) {
   options.fixedVertex = shell->heldVertex;
   options.boundaryPositions = shell->positions;
   auto problem = std::make_unique<Problem>(buildProblem(shell->rest, options));
-  auto stepper = std::make_unique<TimeStepper>(*problem, dynamics_);
+  DynamicsOptions dynamics = dynamics_;
+  for (PinGroup& group : dynamics.pinGroups) group.vertices = carriedSet(sources, group.vertices);
+  auto stepper = std::make_unique<TimeStepper>(*problem, dynamics);
   const modeling::Positions pinStart = carried(sources, pinStart_);
   stepper->start(pinStart, shell->velocities, Eigen::VectorXd());
 
@@ -100,6 +111,7 @@ bool FracturingDynamics::checkFracture(long step) {
   stepper_ = std::move(stepper);
   problem_ = std::move(problem);
   rest_ = std::move(shell->rest);
+  dynamics_ = std::move(dynamics);
   pinStart_ = pinStart;
   return true;
 }
