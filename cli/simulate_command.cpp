@@ -340,10 +340,11 @@ struct Recording {
   }
 };
 
-// One step of h, halved (recursively, down to minDt) while Newton fails, counted into `run`;
-// false (and run.failure says where) when it fails even at minDt.
-bool advance(optimize::TimeStepper& stepper, double h, double minDt, Run& run) {
-  const optimize::TimeStepper::Advance a = stepper.advance(h, minDt);
+// One step of h, halved (recursively, down to minDt) while Newton fails or to find a fracture
+// event, with the fracture checks, counted into `run`; false (and run.failure says where) when it
+// fails even at minDt.
+bool advance(optimize::FracturingDynamics& dynamics, double h, double minDt, Run& run) {
+  const optimize::TimeStepper::Advance a = dynamics.advance(h, minDt, run.steps);
   run.steps += a.steps;
   run.newtonIterations += a.newtonIterations;
   run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
@@ -491,8 +492,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advance(dynamics.stepper(), o.dt, minDt, run)) break;
-    dynamics.checkFracture(run.steps);
+    if (!advance(dynamics, o.dt, minDt, run)) break;
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {

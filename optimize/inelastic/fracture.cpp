@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -160,9 +161,60 @@ std::optional<FacePrincipalStrain> criticalFace(const Mesh& rest,
   return critical;
 }
 
+namespace {
+
+// The vertices of `rest` at the rest point p.
+std::vector<int> verticesAt(const Mesh& rest, const Eigen::Vector3d& p) {
+  std::vector<int> found;
+  for (int i = 0; i < rest.vertexCount(); ++i)
+    if (rest.positions.row(i).transpose() == p) found.push_back(i);
+  return found;
+}
+
+// The crack direction at tip vertex v: n̄_f × the principal direction of the area-weighted mean
+// of the fibre strains (fibre `fibre`) of the faces around v, as 3-D tensors U E Uᵀ (U = [u v] of
+// each rest frame) projected into face f's rest plane. The mean smooths the tip's singular field,
+// whose single faces lean off the load.
+Eigen::Vector3d tipCrackDirection(const Mesh& rest, const std::vector<FaceStrains>& strains,
+                                  double thickness, int tip, int f, int fibre) {
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+  for (int g = 0; g < rest.faceCount(); ++g) {
+    if ((rest.triangles.row(g).array() != tip).all()) continue;
+    const Eigen::Vector3d x0 = rowOf(rest.positions, rest.triangles(g, 0));
+    const Eigen::Vector3d x1 = rowOf(rest.positions, rest.triangles(g, 1));
+    const Eigen::Vector3d x2 = rowOf(rest.positions, rest.triangles(g, 2));
+    const curvature::FaceFrame frame = curvature::FaceFrame::of(x0, x1, x2);
+    Eigen::Matrix<double, 3, 2> u;
+    u << frame.u, frame.v;
+    const Eigen::Matrix2d e = strains[g].membrane + fibre * 0.5 * thickness * strains[g].bending;
+    mean += 0.5 * (x1 - x0).cross(x2 - x0).norm() * u * e * u.transpose();
+  }
+  const curvature::FaceFrame frame = curvature::FaceFrame::of(
+      rowOf(rest.positions, rest.triangles(f, 0)), rowOf(rest.positions, rest.triangles(f, 1)),
+      rowOf(rest.positions, rest.triangles(f, 2)));
+  Eigen::Matrix<double, 3, 2> u;
+  u << frame.u, frame.v;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(u.transpose() * mean * u);
+  const Eigen::Vector2d largest = eigen.eigenvectors().col(1);
+  return frame.normal.cross(largest.x() * frame.u + largest.y() * frame.v).normalized();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> openCrackTips(const Mesh& rest,
+                                           const std::vector<Eigen::Vector3d>& candidates) {
+  std::vector<Eigen::Vector3d> open;
+  for (const Eigen::Vector3d& p : candidates) {
+    if (verticesAt(rest, p).size() != 1) continue;
+    if (std::find(open.begin(), open.end(), p) == open.end()) open.push_back(p);
+  }
+  return open;
+}
+
 std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x,
                                             const Positions& v, const std::vector<bool>& heldVertex,
-                                            const FractureOptions& options) {
+                                            const FractureOptions& options,
+                                            const std::vector<Eigen::Vector3d>& openTips) {
   if (v.rows() != rest.vertexCount() ||
       (!heldVertex.empty() && static_cast<int>(heldVertex.size()) != rest.vertexCount())) {
     throw InputError("fracture: the velocities or held vertices do not match the rest mesh's " +
@@ -170,15 +222,32 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
   }
   const std::optional<FacePrincipalStrain> critical = criticalFace(rest, x, options);
   if (!critical) return std::nullopt;
+  const std::vector<FaceStrains> faceStrain = faceStrains(rest, x);
   const std::vector<FacePrincipalStrain> strains = facePrincipalStrains(rest, x, options.thickness);
   std::vector<bool> cracking(rest.faceCount());
   for (int f = 0; f < rest.faceCount(); ++f) {
     cracking[f] = strains[f].strain > options.fractureStrain;
   }
+  modeling::CrackSeed seed{critical->face, critical->crackDirection};
+  FacePrincipalStrain start = *critical;
+  for (const Eigen::Vector3d& point : openTips) {
+    const std::vector<int> at = verticesAt(rest, point);
+    if (at.size() != 1) continue;
+    for (int f = 0; f < rest.faceCount(); ++f) {
+      if (!cracking[f] || (rest.triangles.row(f).array() != at[0]).all()) continue;
+      if (seed.tipVertex >= 0 && strains[f].strain <= start.strain) continue;
+      start = strains[f];
+      seed = {f, Eigen::Vector3d::Zero(), at[0]};
+    }
+  }
+  if (seed.tipVertex >= 0) {
+    seed.direction = tipCrackDirection(rest, faceStrain, options.thickness, seed.tipVertex,
+                                       seed.face, start.fibre);
+    start.crackDirection = seed.direction;
+  }
   FracturedShell shell;
-  shell.critical = *critical;
-  shell.cut =
-      modeling::cutAlongCrack(rest, x, {critical->face, critical->crackDirection}, cracking);
+  shell.critical = start;
+  shell.cut = modeling::cutAlongCrack(rest, x, seed, cracking);
   shell.rest = shell.cut.rest;
   shell.positions = shell.cut.current;
   const int vertexCount = shell.rest.vertexCount();
@@ -189,6 +258,13 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
     shell.velocities.row(i) = (1.0 - s.t) * v.row(s.a) + s.t * v.row(s.b);
     if (!heldVertex.empty()) shell.heldVertex[i] = heldVertex[s.a] && heldVertex[s.b];
   }
+  std::vector<Eigen::Vector3d> candidates = openTips;
+  const Eigen::Index ends = shell.cut.crackRest.rows();
+  if (ends > 0) {
+    candidates.push_back(shell.cut.crackRest.row(0).transpose());
+    candidates.push_back(shell.cut.crackRest.row(ends - 1).transpose());
+  }
+  shell.openTips = openCrackTips(shell.rest, candidates);
   return shell;
 }
 
