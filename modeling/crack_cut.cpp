@@ -220,11 +220,10 @@ CrackPath exactCrack(const Mesh& mesh, const EdgeFaces& edgeFaces, const CrackSe
   // One record of the faces crossed for both ways: a crack that comes round a closed surface
   // stops before a face the other way crossed (each face is split once).
   std::vector<bool> visited(mesh.faceCount(), false);
-  if (seed.tipVertex >= 0) {  // grown from the tip: one way, from the tip vertex
-    for (const double sign : {1.0, -1.0}) {
-      Eigen::Vector3d d = sign * seed.direction;
-      const int first = faceEnteredAt(mesh, edgeFaces, seed.tipVertex, -1, d);
-      if (first < 0 || !cracking[first]) continue;
+  if (seed.tipVertex >= 0) {  // grown from the tip along the direction, into the face ahead
+    Eigen::Vector3d d = seed.direction;
+    const int first = faceEnteredAt(mesh, edgeFaces, seed.tipVertex, -1, d);
+    if (first >= 0) {
       visited[first] = true;
       CrackPath path;
       path.points.push_back(CrackPoint{seed.tipVertex, -1, -1, 0.0, false});

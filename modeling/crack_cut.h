@@ -35,8 +35,9 @@ struct CrackCutOptions {
 
 // The start of a crack: a face and a direction in its rest plane (the crack runs along it).
 // With a tip vertex (an earlier crack's tip, a corner of the face), the crack grows from it: it
-// starts there and runs one way, into the face around the tip that the line along ±direction
-// enters (through the face's centroid both ways when it enters none).
+// starts there and runs along the direction (pointing away from the crack), into the face around
+// the tip that this line enters and on through the cracking faces (through the seed face's
+// centroid both ways when the line enters no face).
 struct CrackSeed {
   int face = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();

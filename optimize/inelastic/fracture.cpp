@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -199,6 +200,28 @@ Eigen::Vector3d tipCrackDirection(const Mesh& rest, const std::vector<FaceStrain
   return frame.normal.cross(largest.x() * frame.u + largest.y() * frame.v).normalized();
 }
 
+// From the crack to its tip vertex: the tip minus the mean of its neighbours along boundary edges
+// (the crack's lips: edges with one face).
+Eigen::Vector3d awayFromCrack(const Mesh& rest, int tip) {
+  std::map<int, int> facesOfEdgeTo;
+  for (int g = 0; g < rest.faceCount(); ++g) {
+    for (int k = 0; k < 3; ++k) {
+      if (rest.triangles(g, k) != tip) continue;
+      ++facesOfEdgeTo[rest.triangles(g, (k + 1) % 3)];
+      ++facesOfEdgeTo[rest.triangles(g, (k + 2) % 3)];
+    }
+  }
+  Eigen::Vector3d lips = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const auto& [w, faces] : facesOfEdgeTo) {
+    if (faces != 1) continue;
+    lips += rowOf(rest.positions, w);
+    ++count;
+  }
+  const Eigen::Vector3d x = rowOf(rest.positions, tip);
+  return count > 0 ? Eigen::Vector3d(x - lips / count) : Eigen::Vector3d::Zero();
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3d> openCrackTips(const Mesh& rest,
@@ -228,8 +251,27 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
   for (int f = 0; f < rest.faceCount(); ++f) {
     cracking[f] = strains[f].strain > options.fractureStrain;
   }
-  modeling::CrackSeed seed{critical->face, critical->crackDirection};
-  FacePrincipalStrain start = *critical;
+  // A new crack starts at the strongest face off the lips of earlier cracks (vertices split in
+  // two): those faces unload as the lips open, and crack again only from a tip.
+  std::map<std::array<double, 3>, int> copiesAt;
+  for (int i = 0; i < rest.vertexCount(); ++i)
+    ++copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}];
+  const auto onLip = [&](int f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = rest.triangles(f, k);
+      if (copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}] > 1)
+        return true;
+    }
+    return false;
+  };
+  std::optional<FacePrincipalStrain> initiating;
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    if (cracking[f] && !onLip(f) && (!initiating || strains[f].strain > initiating->strain))
+      initiating = strains[f];
+  }
+  modeling::CrackSeed seed{initiating ? initiating->face : critical->face,
+                           initiating ? initiating->crackDirection : critical->crackDirection};
+  FacePrincipalStrain start = initiating ? *initiating : *critical;
   for (const Eigen::Vector3d& point : openTips) {
     const std::vector<int> at = verticesAt(rest, point);
     if (at.size() != 1) continue;
@@ -240,9 +282,20 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
       seed = {f, Eigen::Vector3d::Zero(), at[0]};
     }
   }
+  if (seed.tipVertex < 0 && !initiating) return std::nullopt;
+  if (seed.tipVertex < 0 && !openTips.empty()) {
+    // One crack front per piece: a piece with an open tip cracks only from it.
+    const std::vector<int> component = modeling::vertexComponents(modeling::compileStencils(rest));
+    const int piece = component[rest.triangles(seed.face, 0)];
+    for (const Eigen::Vector3d& point : openTips) {
+      const std::vector<int> at = verticesAt(rest, point);
+      if (at.size() == 1 && component[at[0]] == piece) return std::nullopt;
+    }
+  }
   if (seed.tipVertex >= 0) {
     seed.direction = tipCrackDirection(rest, faceStrain, options.thickness, seed.tipVertex,
                                        seed.face, start.fibre);
+    if (seed.direction.dot(awayFromCrack(rest, seed.tipVertex)) < 0.0) seed.direction *= -1.0;
     start.crackDirection = seed.direction;
   }
   FracturedShell shell;
