@@ -89,6 +89,7 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
   if (!a.completed) {
     total.steps += a.steps;
     total.newtonIterations += a.newtonIterations;
+    total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
     total.failure = a.failure;
     total.failedStep = a.failedStep;
     total.failedTime = a.failedTime;
