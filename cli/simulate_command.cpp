@@ -861,10 +861,10 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   addMembraneArguments(*sub, o.membrane, "stvk | springs | conformal (required)");
   sub->add_option(
          "--pin", o.pin,
-         "Held vertices: none | rings:K (2 clamps) | vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1, "
-         "each group optionally @MOTION (as --pin-motion: it moves that group alone); "
-         "repeatable")
-      ->capture_default_str();
+         "Held vertices, repeatable, each group SET or SET@MOTION (MOTION as --pin-motion's, "
+         "for that group alone): none | rings:K (2 clamps) | vertices:FILE | "
+         "box:X0,X1,Y0,Y1,Z0,Z1")
+      ->default_str("none");
   sub->add_option("--pin-motion", o.pinMotion,
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
                   "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");
