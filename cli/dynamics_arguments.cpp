@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "modeling/errors.h"
+#include "optimize/boundary_conditions.h"
 
 namespace flexure::cli {
 
@@ -18,13 +19,13 @@ optimize::Integrator parseIntegrator(const std::string& name) {
                    ": expected newmark, backward-euler or central-difference");
 }
 
-optimize::PinMotion parsePinMotion(const std::string& spec) {
+optimize::PinMotion parsePinMotion(const std::string& spec, const std::string& option) {
   using optimize::PinMotion;
   const auto colon = spec.find(':');
   const std::string kind = spec.substr(0, colon);
   const std::string expected = ": expected rotate:ax,ay,az,px,py,pz,omega or translate:vx,vy,vz";
   const int count = kind == "rotate" ? 7 : kind == "translate" ? 3 : 0;
-  if (colon == std::string::npos || count == 0) throw InputError("--pin-motion " + spec + expected);
+  if (colon == std::string::npos || count == 0) throw InputError(option + " " + spec + expected);
   std::vector<double> value;
   const std::string numbers = spec.substr(colon + 1);
   const char* cursor = numbers.c_str();
@@ -33,7 +34,7 @@ optimize::PinMotion parsePinMotion(const std::string& spec) {
     value.push_back(std::strtod(cursor, &end));
     if (end == cursor || (k < count - 1 && *end != ',') || (k == count - 1 && *end != '\0') ||
         !std::isfinite(value.back()))
-      throw InputError("--pin-motion " + spec + expected + " (" + std::to_string(count) +
+      throw InputError(option + " " + spec + expected + " (" + std::to_string(count) +
                        " finite numbers)");
     cursor = end + 1;
   }
@@ -44,12 +45,76 @@ optimize::PinMotion parsePinMotion(const std::string& spec) {
     return m;
   }
   const Eigen::Vector3d axis(value[0], value[1], value[2]);
-  if (!(axis.norm() > 0.0)) throw InputError("--pin-motion " + spec + ": the axis is zero");
+  if (!(axis.norm() > 0.0)) throw InputError(option + " " + spec + ": the axis is zero");
   m.kind = PinMotion::Kind::Rotate;
   m.axis = axis.normalized();
   m.point = Eigen::Vector3d(value[3], value[4], value[5]);
   m.omega = value[6];
   return m;
+}
+
+namespace {
+
+// A --pin text split at its '@': the set and the motion (empty when none).
+struct PinSpec {
+  std::string set, motion;
+  std::string option;  // "--pin SPEC", with "(group k)" when several are given
+};
+
+std::vector<PinSpec> splitPinSpecs(const std::vector<std::string>& specs) {
+  std::vector<PinSpec> groups;
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    const std::string& spec = specs[k];
+    const auto at = spec.find('@');
+    PinSpec g;
+    g.set = spec.substr(0, at);
+    g.motion = at == std::string::npos ? "" : spec.substr(at + 1);
+    g.option = "--pin";
+    if (specs.size() > 1) g.option += " (group " + std::to_string(k + 1) + ")";
+    if (at != std::string::npos && g.motion.empty())
+      throw InputError(g.option + " " + spec + ": nothing after '@': expected SET@MOTION");
+    if (g.set == "none" && (specs.size() > 1 || !g.motion.empty()))
+      throw InputError(g.option + " " + spec +
+                       ": none pins nothing; give it alone, without a motion");
+    groups.push_back(g);
+  }
+  return groups;
+}
+
+}  // namespace
+
+void checkPinSpecs(const std::vector<std::string>& specs, const std::string& pinMotion) {
+  for (const PinSpec& g : splitPinSpecs(specs)) {
+    if (g.motion.empty()) continue;
+    if (!pinMotion.empty())
+      throw InputError(g.option + " " + g.set + "@" + g.motion + ": --pin-motion " + pinMotion +
+                       " moves every pinned vertex; give each group its motion instead");
+    parsePinMotion(g.motion, g.option);
+  }
+}
+
+PinnedGroups pinnedGroups(const std::vector<std::string>& specs, const modeling::Stencils& stencils,
+                          const modeling::Positions& rest) {
+  PinnedGroups pinned;
+  pinned.held.assign(stencils.vertexCount(), false);
+  for (const PinSpec& g : splitPinSpecs(specs)) {
+    if (g.set == "none") continue;
+    const std::vector<bool> set = optimize::parseFixedSet(g.option, g.set, stencils, rest);
+    for (int v = 0; v < stencils.vertexCount(); ++v) {
+      if (set[v] && pinned.held[v])
+        throw InputError(g.option + " " + g.set + ": vertex " + std::to_string(v) +
+                         " is in an earlier group too; the groups must not overlap");
+      pinned.held[v] = pinned.held[v] || set[v];
+    }
+    const std::vector<bool> clamped = optimize::clampedBoundaryEdges(g.set, stencils);
+    if (!clamped.empty()) {
+      pinned.clampedEdges.resize(clamped.size(), false);
+      for (std::size_t e = 0; e < clamped.size(); ++e)
+        pinned.clampedEdges[e] = pinned.clampedEdges[e] || clamped[e];
+    }
+    if (!g.motion.empty()) pinned.moving.push_back({set, parsePinMotion(g.motion, g.option)});
+  }
+  return pinned;
 }
 
 }  // namespace flexure::cli

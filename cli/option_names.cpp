@@ -52,6 +52,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
+      {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
       // studies, fairing, meshes, regions
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},

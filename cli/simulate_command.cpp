@@ -44,7 +44,8 @@ struct SimulateOptions {
   BendingArguments bending;
   MembraneArguments membrane;
   LoadArguments load;
-  std::string pin = "none", integrator = "newmark", pinMotion;
+  std::vector<std::string> pin{"none"};  // SET[@MOTION] per group
+  std::string integrator = "newmark", pinMotion;
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
@@ -173,8 +174,9 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   dynamics.integrator = parseIntegrator(o.integrator);
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
+  checkPinSpecs(o.pin, o.pinMotion);
   if (!o.pinMotion.empty()) {
-    if (o.pin == "none")
+    if (o.pin == std::vector<std::string>{"none"})
       throw InputError("--pin-motion " + o.pinMotion +
                        ": moves the pinned vertices; give them with --pin");
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
@@ -255,17 +257,19 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::
 
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
 // (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
-// `p` receives the held vertices and start positions (a cut mesh's problem is built from it).
+// `p` receives the held vertices and start positions (a cut mesh's problem is built from it),
+// `dynamics` the pin groups that move.
 optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions& p,
+                                optimize::DynamicsOptions& dynamics,
                                 const modeling::Mesh& restMesh) {
   modeling::Stencils stencils = modeling::compileStencils(restMesh);
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  p.fixedVertex = o.pin == "none"
-                      ? std::vector<bool>(restMesh.vertexCount(), false)
-                      : optimize::parseFixedSet("--pin", o.pin, stencils, rest.positions);
+  PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
+  p.fixedVertex = std::move(pinned.held);
+  dynamics.pinGroups = std::move(pinned.moving);
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
-    p.fixedEdge = optimize::clampedBoundaryEdges(o.pin, stencils);
+    p.fixedEdge = std::move(pinned.clampedEdges);
   return optimize::buildProblem(std::move(stencils), std::move(rest), p);
 }
 
@@ -385,10 +389,11 @@ struct Recording {
   }
 };
 
-// One step of h, halved (recursively, down to minDt) while Newton fails, counted into `run`;
-// false (and run.failure says where) when it fails even at minDt.
-bool advance(optimize::TimeStepper& stepper, double h, double minDt, Run& run) {
-  const optimize::TimeStepper::Advance a = stepper.advance(h, minDt);
+// One step of h, halved (recursively, down to minDt) while Newton fails or to find a fracture
+// event, with the fracture checks, counted into `run`; false (and run.failure says where) when it
+// fails even at minDt.
+bool advance(optimize::FracturingDynamics& dynamics, double h, double minDt, Run& run) {
+  const optimize::TimeStepper::Advance a = dynamics.advance(h, minDt, run.steps);
   run.steps += a.steps;
   run.newtonIterations += a.newtonIterations;
   run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
@@ -536,8 +541,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advance(dynamics.stepper(), o.dt, minDt, run)) break;
-    dynamics.checkFracture(run.steps);
+    if (!advance(dynamics, o.dt, minDt, run)) break;
     if (plastic != nullptr) plastic->afterStep();
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
@@ -690,7 +694,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"seconds", run.seconds},
       {"steps_per_second", run.steps / std::max(run.seconds, 1e-9)},
       {"vertices", vertexCount},
-      {"pinned", o.pin},
+      {"pinned", o.pin.size() == 1 ? nlohmann::json(o.pin[0]) : nlohmann::json(o.pin)},
       {"pin_motion", o.pinMotion.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.pinMotion)},
       {"gravity", {body.gravity.x(), body.gravity.y(), body.gravity.z()}},
       {"density", o.load.density},
@@ -854,7 +858,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   // Every option first, then the inputs; nothing is written before the run ends well.
   const double minDt = checkedMinDt(o);
   checkMembraneGiven(o);
-  const optimize::DynamicsOptions dynamics = dynamicsOptions(o);
+  optimize::DynamicsOptions dynamics = dynamicsOptions(o);
   const curvature::BendingOptions b = bendingOptions(o.bending);
   optimize::ProblemOptions bodyBase = bodyOptions(o, b);
   const std::optional<optimize::FractureOptions> fracture = fractureOptions(o, b);
@@ -865,7 +869,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (look) context = std::make_unique<render::OffscreenContext>();
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
-  optimize::Problem body = simulatedBody(o, bodyBase, restMesh);
+  optimize::Problem body = simulatedBody(o, bodyBase, dynamics, restMesh);
   const modeling::Positions startPositions = body.boundary.start;
   optimize::FracturingDynamics fracturing(restMesh, std::move(body), bodyBase, dynamics, fracture);
   optimize::TimeStepper& stepper = fracturing.stepper();
@@ -954,8 +958,10 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   addMembraneArguments(*sub, o.membrane, "stvk | springs | conformal (required)");
   sub->add_option(
          "--pin", o.pin,
-         "Held vertices: none | rings:K (2 clamps) | vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1")
-      ->capture_default_str();
+         "Held vertices, repeatable, each group SET or SET@MOTION (MOTION as --pin-motion's, "
+         "for that group alone): none | rings:K (2 clamps) | vertices:FILE | "
+         "box:X0,X1,Y0,Y1,Z0,Z1")
+      ->default_str("none");
   sub->add_option("--pin-motion", o.pinMotion,
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
                   "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");

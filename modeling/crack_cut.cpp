@@ -220,6 +220,19 @@ CrackPath exactCrack(const Mesh& mesh, const EdgeFaces& edgeFaces, const CrackSe
   // One record of the faces crossed for both ways: a crack that comes round a closed surface
   // stops before a face the other way crossed (each face is split once).
   std::vector<bool> visited(mesh.faceCount(), false);
+  if (seed.tipVertex >= 0) {  // grown from the tip along the direction, into the face ahead
+    Eigen::Vector3d d = seed.direction;
+    const int first = faceEnteredAt(mesh, edgeFaces, seed.tipVertex, -1, d);
+    if (first >= 0) {
+      visited[first] = true;
+      CrackPath path;
+      path.points.push_back(CrackPoint{seed.tipVertex, -1, -1, 0.0, false});
+      path.faces.push_back(first);
+      march(mesh, edgeFaces, cracking, first, rowOf(mesh.positions, seed.tipVertex), d, visited,
+            path.points, path.faces);
+      return path;
+    }
+  }
   visited[seed.face] = true;
   march(mesh, edgeFaces, cracking, seed.face, centroid, seed.direction, visited, forward,
         forwardFaces);
@@ -479,6 +492,10 @@ void requireUsableSeed(const Mesh& rest, const Positions& current, const CrackSe
           .cross(rowOf(rest.positions, rest.triangles(seed.face, 2)) - x0)
           .normalized();
   const double length = seed.direction.norm();
+  if (seed.tipVertex >= 0 && (rest.triangles.row(seed.face).array() != seed.tipVertex).all()) {
+    throw InputError("crack cut: tip vertex " + std::to_string(seed.tipVertex) +
+                     " is not a corner of seed face " + std::to_string(seed.face));
+  }
   if (!(length > 0.0) || std::abs(normal.dot(seed.direction)) > 1e-6 * length) {
     throw InputError(
         "crack cut: the direction of the crack must be a nonzero vector in the plane "

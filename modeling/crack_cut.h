@@ -34,9 +34,14 @@ struct CrackCutOptions {
 };
 
 // The start of a crack: a face and a direction in its rest plane (the crack runs along it).
+// With a tip vertex (an earlier crack's tip, a corner of the face), the crack grows from it: it
+// starts there and runs along the direction (pointing away from the crack), into the face around
+// the tip that this line enters and on through the cracking faces (through the seed face's
+// centroid both ways when the line enters no face).
 struct CrackSeed {
   int face = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  int tipVertex = -1;
 };
 
 // Vertex i of the cut mesh is (1 − t) x_a + t x_b of the old vertices (a == b, t = 0: a copy):

@@ -116,6 +116,36 @@ struct TimeStepper::Implicit {
   }
 };
 
+void DynamicsOptions::validatePinGroups(int vertexCount) const {
+  std::vector<int> groupOf(vertexCount, -1);
+  for (std::size_t g = 0; g < pinGroups.size(); ++g) {
+    if (static_cast<int>(pinGroups[g].vertices.size()) != vertexCount)
+      throw InputError("DynamicsOptions.pinGroups: group " + std::to_string(g) + " has " +
+                       std::to_string(pinGroups[g].vertices.size()) + " entries, the mesh " +
+                       std::to_string(vertexCount) + " vertices");
+    for (int v = 0; v < vertexCount; ++v) {
+      if (!pinGroups[g].vertices[v]) continue;
+      if (groupOf[v] >= 0)
+        throw InputError("DynamicsOptions.pinGroups: vertex " + std::to_string(v) +
+                         " is in groups " + std::to_string(groupOf[v]) + " and " +
+                         std::to_string(g));
+      groupOf[v] = static_cast<int>(g);
+    }
+  }
+}
+
+const PinMotion& DynamicsOptions::motionOf(int vertex) const {
+  for (const PinGroup& group : pinGroups)
+    if (group.vertices[vertex]) return group.motion;
+  return pinMotion;
+}
+
+bool DynamicsOptions::pinsMove() const {
+  return pinMotion.kind != PinMotion::Kind::None ||
+         std::any_of(pinGroups.begin(), pinGroups.end(),
+                     [](const PinGroup& g) { return g.motion.kind != PinMotion::Kind::None; });
+}
+
 void DynamicsOptions::validate() const {
   if (integrator == Integrator::Newmark && !(beta > 0.0 && beta <= 0.5))
     throw InputError(
@@ -156,6 +186,7 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   const modeling::RestState& rest = problem.rest;
   const Eigen::VectorXd& restXi = problem.restXi;
   const int vertexCount = problem.stencils.vertexCount();
+  o.validatePinGroups(vertexCount);
   if (std::count(pinned_.begin(), pinned_.end(), true) == vertexCount)
     throw InputError("every vertex is pinned: nothing can move");
   length_ = (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
@@ -220,8 +251,9 @@ void TimeStepper::movePins(Positions& x, Positions* v, double t) const {
   for (int k = 0; k < x.rows(); ++k) {
     if (!pinned_[k]) continue;
     const Eigen::Vector3d start = pinnedStart_.row(k).transpose();
-    x.row(k) = options_.pinMotion.position(start, t).transpose();
-    if (v != nullptr) v->row(k) = options_.pinMotion.velocityAt(start, t).transpose();
+    const PinMotion& motion = options_.motionOf(k);
+    x.row(k) = motion.position(start, t).transpose();
+    if (v != nullptr) v->row(k) = motion.velocityAt(start, t).transpose();
   }
 }
 
@@ -524,7 +556,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   // x_n with the pinned vertices where they are at t + h: the fixed part of every iterate.
   Positions moved = x_;
   movePins(moved, nullptr, time_ + h);
-  if (!barrier_.empty() && options_.pinMotion.kind != PinMotion::Kind::None) {
+  if (!barrier_.empty() && options_.pinsMove()) {
     int vertex = -1;
     if (barrier_.smallestDistance(moved, &vertex) <= 0.0 && pinned_[vertex])
       return {false, 0, "pinned vertex " + std::to_string(vertex) + " is moved into an obstacle", 0,
@@ -609,7 +641,7 @@ EnergySample TimeStepper::energiesAt(double t, const Positions& x, const Positio
 }
 
 bool TimeStepper::balanceChecked() const {
-  return options_.pinMotion.kind == PinMotion::Kind::None;
+  return !options_.pinsMove();
 }
 
 TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& v, Positions a,

@@ -66,6 +66,12 @@ struct PinMotion {
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
 };
 
+// A group of pinned vertices with its own motion.
+struct PinGroup {
+  std::vector<bool> vertices;  // #V: the group's vertices (each also pinned by the problem)
+  PinMotion motion;
+};
+
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
   double beta = 0.25, gamma = 0.5;                     // Newmark's
@@ -85,6 +91,8 @@ struct DynamicsOptions {
   // elastic forces. The problem's obstacles (their barrier B(x) joins Φ, and each Newton step is
   // capped so that no vertex reaches one) need an implicit integrator.
   PinMotion pinMotion;
+  // Pinned vertices in a group follow its motion instead of pinMotion; the groups are disjoint.
+  std::vector<PinGroup> pinGroups;
   // At most this many Newton steps (iterations that factor the Hessian) per step, and 4 × as many
   // iterations with the chord steps.
   int maxNewtonIterations = 30;
@@ -122,6 +130,12 @@ struct DynamicsOptions {
   // Newmark, γ outside [½, 1], negative damping, damping with the explicit scheme, an energy
   // tolerance that is not > 0).
   void validate() const;
+  // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two.
+  void validatePinGroups(int vertexCount) const;
+  // The motion the pinned vertex v follows: its group's, else pinMotion.
+  const PinMotion& motionOf(int vertex) const;
+  // Whether any pinned vertex moves (then the pins do work and the balance is not checked).
+  bool pinsMove() const;
 };
 
 // The energies of the current state: kinetic ½ vᵀMv, each term's E, gravity −(M g)ᵀ x, the

@@ -2,15 +2,20 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <unordered_map>
 
-#include "curvature/bending_angle.h"
 #include "curvature/face_frame.h"
+#include "curvature/rest_element_data.h"
+#include "curvature/triangle_averaged.h"
 #include "modeling/errors.h"
+#include "modeling/rest_state.h"
+#include "modeling/stencils.h"
 
 namespace flexure::optimize {
 
@@ -23,46 +28,37 @@ Eigen::Vector3d rowOf(const Eigen::Ref<const Positions>& x, int v) {
   return x.row(v).transpose();
 }
 
-// flapVertex[3 f + i]: the vertex across edge i of face f (the edge opposite corner i, running
-// v_{i+1} → v_{i+2}), −1 on the boundary.
-std::vector<int> flapVertices(const Mesh& mesh) {
-  std::unordered_map<std::int64_t, int> cornerOfDirectedEdge;  // (a → b) ↦ 3 f + i
-  const auto key = [&](int a, int b) {
-    return static_cast<std::int64_t>(a) * mesh.vertexCount() + b;
-  };
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    for (int i = 0; i < 3; ++i) {
-      cornerOfDirectedEdge[key(mesh.triangles(f, (i + 1) % 3), mesh.triangles(f, (i + 2) % 3))] =
-          3 * f + i;
-    }
+// The point across edge i of face f mirrored from its corner i, in the face's plane: a flat hinge
+// (θ = 0) standing in for the missing flap of a boundary edge, whose edge tensor is zero.
+Eigen::Vector3d mirroredCorner(const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f,
+                               int i) {
+  const Eigen::Vector3d corner = rowOf(x, mesh.triangles(f, i));
+  const Eigen::Vector3d a = rowOf(x, mesh.triangles(f, (i + 1) % 3));
+  const Eigen::Vector3d along = (rowOf(x, mesh.triangles(f, (i + 2) % 3)) - a).normalized();
+  const Eigen::Vector3d foot = a + (corner - a).dot(along) * along;
+  return 2.0 * foot - corner;
+}
+
+// S_T of face f at configuration x: TriangleAveragedResidual::shapeOperator with the rest edge
+// tensors of the face's interior edges (a boundary edge's tensor is zero).
+Eigen::Matrix2d shapeOperatorOf(const curvature::TriangleAveragedResidual& face,
+                                const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f) {
+  std::array<Eigen::Vector3d, 6> points;
+  std::array<const double*, 6> blocks;
+  for (int k = 0; k < 6; ++k) {
+    const int v = face.vertices[k];
+    points[k] = v >= 0 ? rowOf(x, v) : mirroredCorner(x, mesh, f, k - 3);
+    blocks[k] = points[k].data();
   }
-  std::vector<int> flap(3 * mesh.faceCount(), -1);
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    for (int i = 0; i < 3; ++i) {
-      const auto across = cornerOfDirectedEdge.find(
-          key(mesh.triangles(f, (i + 2) % 3), mesh.triangles(f, (i + 1) % 3)));
-      if (across == cornerOfDirectedEdge.end()) continue;
-      flap[3 * f + i] = mesh.triangles(across->second / 3, across->second % 3);
-    }
-  }
-  return flap;
+  const curvature::Sym2<double> s = face.shapeOperator(blocks.data());
+  Eigen::Matrix2d m;
+  m << s.a, s.b, s.b, s.c;
+  return m;
 }
 
-curvature::Vec3<double> vectorOf(const Eigen::Ref<const Positions>& x, int v) {
-  return {x(v, 0), x(v, 1), x(v, 2)};
-}
-
-// φ = 2 tan(θ/2) of the hinge over edge i of face f with flap vertex g.
-double edgeAngleMeasure(const Eigen::Ref<const Positions>& x, const Mesh& mesh, int f, int i,
-                        int g) {
-  const double theta = curvature::bendingAngle(vectorOf(x, mesh.triangles(f, (i + 1) % 3)),
-                                               vectorOf(x, mesh.triangles(f, (i + 2) % 3)),
-                                               vectorOf(x, mesh.triangles(f, i)), vectorOf(x, g));
-  return curvature::hingeAngleMeasure(theta, curvature::HingeAngle::Tan);
-}
-
-FaceStrains strainsOfFace(const Mesh& rest, const Eigen::Ref<const Positions>& current,
-                          const std::vector<int>& flap, int f) {
+FaceStrains strainsOfFace(const Mesh& rest, const modeling::Stencils& stencils,
+                          const modeling::RestState& restState,
+                          const Eigen::Ref<const Positions>& current, int f) {
   const Eigen::Vector3d restCorner[3] = {rowOf(rest.positions, rest.triangles(f, 0)),
                                          rowOf(rest.positions, rest.triangles(f, 1)),
                                          rowOf(rest.positions, rest.triangles(f, 2))};
@@ -79,17 +75,18 @@ FaceStrains strainsOfFace(const Mesh& rest, const Eigen::Ref<const Positions>& c
   strains.membrane =
       0.5 * (deformationGradient.transpose() * deformationGradient - Eigen::Matrix2d::Identity());
 
-  const double restArea = 0.5 * std::abs(restEdges.determinant());
+  // curvature::edgeTensor's frame (current_metric.h's at the rest corners) is FaceFrame's.
+  curvature::TriangleAveragedResidual face;
+  const double area = restState.faceAreas[f];
   for (int i = 0; i < 3; ++i) {
-    const int g = flap[3 * f + i];
-    if (g < 0) continue;
-    const Eigen::Vector2d edge =
-        frame.components(restCorner[(i + 2) % 3] - restCorner[(i + 1) % 3]);
-    const Eigen::Vector2d normal = Eigen::Vector2d(edge.y(), -edge.x()).normalized();
-    const double change =
-        edgeAngleMeasure(current, rest, f, i, g) - edgeAngleMeasure(rest.positions, rest, f, i, g);
-    strains.bending += change * edge.norm() / (2.0 * restArea) * normal * normal.transpose();
+    face.vertices[i] = stencils.faces(f, i);
+    face.vertices[3 + i] = stencils.faceFlaps(f, i);
+    const double scale =
+        stencils.faceFlaps(f, i) < 0 ? 0.0 : restState.faceEdgeLengths(f, i) / (2.0 * area);
+    face.edgeTensors[i] = curvature::edgeTensor(stencils, restState, f, i, scale);
   }
+  strains.bending =
+      shapeOperatorOf(face, current, rest, f) - shapeOperatorOf(face, rest.positions, rest, f);
   return strains;
 }
 
@@ -115,9 +112,12 @@ void FractureOptions::validate() const {
 
 std::vector<FaceStrains> faceStrains(const Mesh& rest, const Eigen::Ref<const Positions>& current) {
   requireMatchingRows(rest, current);
-  const std::vector<int> flap = flapVertices(rest);
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  const modeling::RestState restState = modeling::precomputeRestState(stencils, rest.positions);
   std::vector<FaceStrains> strains(rest.faceCount());
-  for (int f = 0; f < rest.faceCount(); ++f) strains[f] = strainsOfFace(rest, current, flap, f);
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    strains[f] = strainsOfFace(rest, stencils, restState, current, f);
+  }
   return strains;
 }
 
@@ -162,9 +162,82 @@ std::optional<FacePrincipalStrain> criticalFace(const Mesh& rest,
   return critical;
 }
 
+namespace {
+
+// The vertices of `rest` at the rest point p.
+std::vector<int> verticesAt(const Mesh& rest, const Eigen::Vector3d& p) {
+  std::vector<int> found;
+  for (int i = 0; i < rest.vertexCount(); ++i)
+    if (rest.positions.row(i).transpose() == p) found.push_back(i);
+  return found;
+}
+
+// The crack direction at tip vertex v: n̄_f × the principal direction of the area-weighted mean
+// of the fibre strains (fibre `fibre`) of the faces around v, as 3-D tensors U E Uᵀ (U = [u v] of
+// each rest frame) projected into face f's rest plane. The mean smooths the tip's singular field,
+// whose single faces lean off the load.
+Eigen::Vector3d tipCrackDirection(const Mesh& rest, const std::vector<FaceStrains>& strains,
+                                  double thickness, int tip, int f, int fibre) {
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+  for (int g = 0; g < rest.faceCount(); ++g) {
+    if ((rest.triangles.row(g).array() != tip).all()) continue;
+    const Eigen::Vector3d x0 = rowOf(rest.positions, rest.triangles(g, 0));
+    const Eigen::Vector3d x1 = rowOf(rest.positions, rest.triangles(g, 1));
+    const Eigen::Vector3d x2 = rowOf(rest.positions, rest.triangles(g, 2));
+    const curvature::FaceFrame frame = curvature::FaceFrame::of(x0, x1, x2);
+    Eigen::Matrix<double, 3, 2> u;
+    u << frame.u, frame.v;
+    const Eigen::Matrix2d e = strains[g].membrane + fibre * 0.5 * thickness * strains[g].bending;
+    mean += 0.5 * (x1 - x0).cross(x2 - x0).norm() * u * e * u.transpose();
+  }
+  const curvature::FaceFrame frame = curvature::FaceFrame::of(
+      rowOf(rest.positions, rest.triangles(f, 0)), rowOf(rest.positions, rest.triangles(f, 1)),
+      rowOf(rest.positions, rest.triangles(f, 2)));
+  Eigen::Matrix<double, 3, 2> u;
+  u << frame.u, frame.v;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(u.transpose() * mean * u);
+  const Eigen::Vector2d largest = eigen.eigenvectors().col(1);
+  return frame.normal.cross(largest.x() * frame.u + largest.y() * frame.v).normalized();
+}
+
+// From the crack to its tip vertex: the tip minus the mean of its neighbours along boundary edges
+// (the crack's lips: edges with one face).
+Eigen::Vector3d awayFromCrack(const Mesh& rest, int tip) {
+  std::map<int, int> facesOfEdgeTo;
+  for (int g = 0; g < rest.faceCount(); ++g) {
+    for (int k = 0; k < 3; ++k) {
+      if (rest.triangles(g, k) != tip) continue;
+      ++facesOfEdgeTo[rest.triangles(g, (k + 1) % 3)];
+      ++facesOfEdgeTo[rest.triangles(g, (k + 2) % 3)];
+    }
+  }
+  Eigen::Vector3d lips = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const auto& [w, faces] : facesOfEdgeTo) {
+    if (faces != 1) continue;
+    lips += rowOf(rest.positions, w);
+    ++count;
+  }
+  const Eigen::Vector3d x = rowOf(rest.positions, tip);
+  return count > 0 ? Eigen::Vector3d(x - lips / count) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> openCrackTips(const Mesh& rest,
+                                           const std::vector<Eigen::Vector3d>& candidates) {
+  std::vector<Eigen::Vector3d> open;
+  for (const Eigen::Vector3d& p : candidates) {
+    if (verticesAt(rest, p).size() != 1) continue;
+    if (std::find(open.begin(), open.end(), p) == open.end()) open.push_back(p);
+  }
+  return open;
+}
+
 std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x,
                                             const Positions& v, const std::vector<bool>& heldVertex,
-                                            const FractureOptions& options) {
+                                            const FractureOptions& options,
+                                            const std::vector<Eigen::Vector3d>& openTips) {
   if (v.rows() != rest.vertexCount() ||
       (!heldVertex.empty() && static_cast<int>(heldVertex.size()) != rest.vertexCount())) {
     throw InputError("fracture: the velocities or held vertices do not match the rest mesh's " +
@@ -172,15 +245,62 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
   }
   const std::optional<FacePrincipalStrain> critical = criticalFace(rest, x, options);
   if (!critical) return std::nullopt;
+  const std::vector<FaceStrains> faceStrain = faceStrains(rest, x);
   const std::vector<FacePrincipalStrain> strains = facePrincipalStrains(rest, x, options.thickness);
   std::vector<bool> cracking(rest.faceCount());
   for (int f = 0; f < rest.faceCount(); ++f) {
     cracking[f] = strains[f].strain > options.fractureStrain;
   }
+  // A new crack starts at the strongest face off the lips of earlier cracks (vertices split in
+  // two): those faces unload as the lips open, and crack again only from a tip.
+  std::map<std::array<double, 3>, int> copiesAt;
+  for (int i = 0; i < rest.vertexCount(); ++i)
+    ++copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}];
+  const auto onLip = [&](int f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = rest.triangles(f, k);
+      if (copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}] > 1)
+        return true;
+    }
+    return false;
+  };
+  std::optional<FacePrincipalStrain> initiating;
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    if (cracking[f] && !onLip(f) && (!initiating || strains[f].strain > initiating->strain))
+      initiating = strains[f];
+  }
+  modeling::CrackSeed seed{initiating ? initiating->face : critical->face,
+                           initiating ? initiating->crackDirection : critical->crackDirection};
+  FacePrincipalStrain start = initiating ? *initiating : *critical;
+  for (const Eigen::Vector3d& point : openTips) {
+    const std::vector<int> at = verticesAt(rest, point);
+    if (at.size() != 1) continue;
+    for (int f = 0; f < rest.faceCount(); ++f) {
+      if (!cracking[f] || (rest.triangles.row(f).array() != at[0]).all()) continue;
+      if (seed.tipVertex >= 0 && strains[f].strain <= start.strain) continue;
+      start = strains[f];
+      seed = {f, Eigen::Vector3d::Zero(), at[0]};
+    }
+  }
+  if (seed.tipVertex < 0 && !initiating) return std::nullopt;
+  if (seed.tipVertex < 0 && !openTips.empty()) {
+    // One crack front per piece: a piece with an open tip cracks only from it.
+    const std::vector<int> component = modeling::vertexComponents(modeling::compileStencils(rest));
+    const int piece = component[rest.triangles(seed.face, 0)];
+    for (const Eigen::Vector3d& point : openTips) {
+      const std::vector<int> at = verticesAt(rest, point);
+      if (at.size() == 1 && component[at[0]] == piece) return std::nullopt;
+    }
+  }
+  if (seed.tipVertex >= 0) {
+    seed.direction = tipCrackDirection(rest, faceStrain, options.thickness, seed.tipVertex,
+                                       seed.face, start.fibre);
+    if (seed.direction.dot(awayFromCrack(rest, seed.tipVertex)) < 0.0) seed.direction *= -1.0;
+    start.crackDirection = seed.direction;
+  }
   FracturedShell shell;
-  shell.critical = *critical;
-  shell.cut =
-      modeling::cutAlongCrack(rest, x, {critical->face, critical->crackDirection}, cracking);
+  shell.critical = start;
+  shell.cut = modeling::cutAlongCrack(rest, x, seed, cracking);
   shell.rest = shell.cut.rest;
   shell.positions = shell.cut.current;
   const int vertexCount = shell.rest.vertexCount();
@@ -191,6 +311,13 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
     shell.velocities.row(i) = (1.0 - s.t) * v.row(s.a) + s.t * v.row(s.b);
     if (!heldVertex.empty()) shell.heldVertex[i] = heldVertex[s.a] && heldVertex[s.b];
   }
+  std::vector<Eigen::Vector3d> candidates = openTips;
+  const Eigen::Index ends = shell.cut.crackRest.rows();
+  if (ends > 0) {
+    candidates.push_back(shell.cut.crackRest.row(0).transpose());
+    candidates.push_back(shell.cut.crackRest.row(ends - 1).transpose());
+  }
+  shell.openTips = openCrackTips(shell.rest, candidates);
   return shell;
 }
 

@@ -78,16 +78,28 @@ struct FracturedShell {
   std::vector<bool> heldVertex;    // #V' (empty when the input's was)
   FacePrincipalStrain critical;    // the face the crack started from, before the cut
   modeling::CrackCut cut;
+  std::vector<Eigen::Vector3d> openTips;  // rest points where cracks stop inside the shell
 };
 
 // Checks the criterion on (rest, x) and, when a face is critical, cuts the shell along the crack
-// from it through every face over ε_f (modeling::cutAlongCrack). Empty when no face exceeds ε_f.
-// InputError for bad options or sizes that do not match the rest mesh.
+// through every face over ε_f (modeling::cutAlongCrack). A crack grows from an open tip first
+// (seed 002: the crack grows from its tip in later steps): when a face around one of `openTips`
+// (rest points of earlier cracks' tips) is over ε_f, the one of them with the largest strain seeds
+// the cut at the tip, perpendicular to the principal direction of the tip's mean fibre strain
+// (tipStrainDirection); otherwise the face with the largest strain seeds it through its centroid.
+// Empty when no face exceeds ε_f. InputError for bad options or sizes that do not match.
 std::optional<FracturedShell> fractureShell(const modeling::Mesh& rest,
                                             const modeling::Positions& x,
                                             const modeling::Positions& v,
                                             const std::vector<bool>& heldVertex,
-                                            const FractureOptions& options);
+                                            const FractureOptions& options,
+                                            const std::vector<Eigen::Vector3d>& openTips = {});
+
+// The open tips of a cut mesh: of `candidates` (rest points: earlier tips and the new crack's two
+// ends), those where exactly one vertex of `rest` is, i.e. the crack stops inside the shell
+// there (a crack's end on the boundary or on another crack is split in two).
+std::vector<Eigen::Vector3d> openCrackTips(const modeling::Mesh& rest,
+                                           const std::vector<Eigen::Vector3d>& candidates);
 
 // The connected components of `mesh` (through shared vertices), each its own mesh with its
 // vertices renumbered in their order: the fragments a fractured shell is written as.

@@ -1,6 +1,7 @@
 #include "optimize/inelastic/fracturing.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "modeling/errors.h"
@@ -17,6 +18,15 @@ modeling::Positions carried(const std::vector<modeling::VertexSource>& sources,
     const modeling::VertexSource& s = sources[i];
     out.row(static_cast<Eigen::Index>(i)) = (1.0 - s.t) * q.row(s.a) + s.t * q.row(s.b);
   }
+  return out;
+}
+
+// A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
+// of its source are (as the held vertices carry, fracture.h).
+std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
+                             const std::vector<bool>& set) {
+  std::vector<bool> out(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) out[i] = set[sources[i].a] && set[sources[i].b];
   return out;
 }
 
@@ -49,12 +59,63 @@ void FracturingDynamics::start(const modeling::Positions& x, const modeling::Pos
   stepper_->start(x, v, Eigen::VectorXd());
 }
 
+double FracturingDynamics::peakStrain() const {
+  double peak = -std::numeric_limits<double>::infinity();
+  for (const FacePrincipalStrain& face :
+       facePrincipalStrains(rest_, stepper_->positions(), fracture_->thickness))
+    peak = std::max(peak, face.strain);
+  return peak;
+}
+
+TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long step) {
+  TimeStepper::Advance total;
+  total.smallestStep = h;
+  advanceInto(h, minStep, 0, step, total);
+  return total;
+}
+
+void FracturingDynamics::advanceInto(double h, double minStep, int level, long& step,
+                                     TimeStepper::Advance& total) {
+  const TimeStepper::State before = stepper_->state();
+  const TimeStepper::Advance a = stepper_->advance(h, minStep);
+  total.attemptedIterations += a.attemptedIterations;
+  total.factorizations += a.factorizations;
+  total.pcgSolves += a.pcgSolves;
+  total.pcgIterations += a.pcgIterations;
+  total.hessians += a.hessians;
+  total.halvings += a.halvings;
+  total.smallestStep = std::min(total.smallestStep, a.smallestStep);
+  total.completed = a.completed;
+  if (!a.completed) {
+    total.steps += a.steps;
+    total.newtonIterations += a.newtonIterations;
+    total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
+    total.failure = a.failure;
+    total.failedStep = a.failedStep;
+    total.failedTime = a.failedTime;
+    return;
+  }
+  if (fracture_ && level < kFractureSearchLevels && h / 2.0 >= minStep &&
+      peakStrain() > fracture_->fractureStrain * (1.0 + kFractureOvershoot)) {
+    stepper_->restore(before);
+    ++total.halvings;
+    advanceInto(h / 2.0, minStep, level + 1, step, total);
+    if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
+    return;
+  }
+  total.steps += a.steps;
+  total.newtonIterations += a.newtonIterations;
+  total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
+  step += a.steps;
+  checkFracture(step);
+}
+
 bool FracturingDynamics::checkFracture(long step) {
   if (!fracture_) return false;
   const TimeStepper::State before = stepper_->state();
   const double totalBefore = stepper_->energies().total();
-  std::optional<FracturedShell> shell =
-      fractureShell(rest_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_);
+  std::optional<FracturedShell> shell = fractureShell(
+      rest_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_, openTips_);
   // A crack that runs only along edges already separated changes nothing: not a cut.
   if (!shell || (shell->cut.facesSplit == 0 && shell->cut.verticesAdded == 0 &&
                  shell->cut.verticesDuplicated == 0))
@@ -65,7 +126,9 @@ bool FracturingDynamics::checkFracture(long step) {
   options.fixedVertex = shell->heldVertex;
   options.boundaryPositions = shell->positions;
   auto problem = std::make_unique<Problem>(buildProblem(shell->rest, options));
-  auto stepper = std::make_unique<TimeStepper>(*problem, dynamics_);
+  DynamicsOptions dynamics = dynamics_;
+  for (PinGroup& group : dynamics.pinGroups) group.vertices = carriedSet(sources, group.vertices);
+  auto stepper = std::make_unique<TimeStepper>(*problem, dynamics);
   const modeling::Positions pinStart = carried(sources, pinStart_);
   stepper->start(pinStart, shell->velocities, Eigen::VectorXd());
 
@@ -100,6 +163,8 @@ bool FracturingDynamics::checkFracture(long step) {
   stepper_ = std::move(stepper);
   problem_ = std::move(problem);
   rest_ = std::move(shell->rest);
+  dynamics_ = std::move(dynamics);
+  openTips_ = std::move(shell->openTips);
   pinStart_ = pinStart;
   return true;
 }

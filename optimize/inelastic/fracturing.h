@@ -55,6 +55,19 @@ class FracturingDynamics {
   // As TimeStepper::start; the positions are also the pins' time-0 positions kept across cuts.
   void start(const modeling::Positions& x, const modeling::Positions& v);
 
+  // Advances by h as TimeStepper::advance(h, minStep) does, with the fracture check after each
+  // accepted step, searching in time for the fracture event (seed 002, "Resolving fracture
+  // events"): a step after which some face's principal fibre strain exceeds ε_f by more than the
+  // fraction kFractureOvershoot is discarded and made as two of half its length, at most
+  // kFractureSearchLevels halvings deep. So a crack is cut when the strain first reaches ε_f, in
+  // the faces that reach it then, and the faces near it relax with respect to the new boundary
+  // before any more are checked; overstepping the event instead leaves many faces over ε_f at once,
+  // each later step cutting a new crack through them (a strip pulled apart shattered). `step`
+  // counts the accepted steps before this call (CrackEvent::step).
+  TimeStepper::Advance advance(double h, double minStep, long step);
+  static constexpr int kFractureSearchLevels = 10;  // 1/1024 of the step, seed 002's resolution
+  static constexpr double kFractureOvershoot = 0.02;
+
   // The fracture check after an accepted step: at most one cut. True when the shell was cut (the
   // stepper, problem and rest mesh are then the cut ones). A crack along edges already separated
   // (no face split, no vertex added or duplicated) is not a cut.
@@ -72,6 +85,10 @@ class FracturingDynamics {
   std::vector<modeling::Mesh> fragments() const;
 
  private:
+  void advanceInto(double h, double minStep, int level, long& step, TimeStepper::Advance& advance);
+  // The largest principal fibre strain of any face now.
+  double peakStrain() const;
+
   modeling::Mesh rest_;
   ProblemOptions options_;
   DynamicsOptions dynamics_;
@@ -80,6 +97,7 @@ class FracturingDynamics {
   std::unique_ptr<TimeStepper> stepper_;
   modeling::Positions pinStart_;  // the positions at time 0, carried across cuts
   std::vector<CrackEvent> cracks_;
+  std::vector<Eigen::Vector3d> openTips_;  // rest points where cracks stop inside the shell
 };
 
 }  // namespace flexure::optimize
