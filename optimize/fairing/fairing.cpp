@@ -13,6 +13,7 @@
 #include <sstream>
 #include <utility>
 
+#include "curvature/dihedral_barrier.h"
 #include "curvature/energy_registry.h"
 #include "curvature/kernel_math.h"
 #include "modeling/cgal_fair.h"
@@ -113,6 +114,18 @@ std::pair<Positions, FairingStart> fairingStart(const modeling::FairingPatch& pa
   return {linear, FairingStart::Biharmonic};
 }
 
+// The hinges with a moving vertex (indices into stencils.hinges).
+std::vector<int> regionHinges(const modeling::FairingPatch& patch,
+                              const modeling::Stencils& stencils) {
+  std::vector<int> hinges;
+  for (Eigen::Index h = 0; h < stencils.hinges.rows(); ++h) {
+    bool moves = false;
+    for (int i = 0; i < 4; ++i) moves = moves || patch.moves[stencils.hinges(h, i)];
+    if (moves) hinges.push_back(static_cast<int>(h));
+  }
+  return hinges;
+}
+
 // The angle barrier's floor (degrees): the smallest-angle rule's limit (kSliverToleranceDegrees
 // below the smaller of the input's and the linear fair's smallest angle — the linear fair is
 // CGAL's) raised by kAngleFloorMarginDegrees. Both starts are above it.
@@ -178,6 +191,11 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
         curvature::makeAngleBarrier(problem.stencils, region, start, p.bending.stiffness,
                                     angleFloorDegrees(patch, region, linear) * kPi / 180.0,
                                     kAngleBarrierBandDegrees * kPi / 180.0));
+  if (options.foldBarrier)  // no hinge folds past the ceiling (or further than at the start)
+    problem.terms.push_back(curvature::makeDihedralBarrier(
+        problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
+        kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,
+        kAngleFloorMarginDegrees * kPi / 180.0));
   const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
   if (problem.usesEdgeUnknowns())  // ξ start at their minimizer for the start
     problem.boundary.xi = minimizeEdgeUnknowns(terms, start, problem.restXi,

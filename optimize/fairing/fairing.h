@@ -67,6 +67,10 @@ struct FairingOptions {
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
   // rule (see kSliverToleranceDegrees). Stiffness k_B, band kAngleBarrierBandDegrees.
   bool angleBarrier = true;
+  // The dihedral barrier (curvature/dihedral_barrier.h) on every hinge with a moving vertex: no
+  // hinge folds past kFoldCeilingDegrees (or, folded sharper at the start, further than it was),
+  // so that the result passes the triangle check. Stiffness k_B, band kFoldBarrierBandDegrees.
+  bool foldBarrier = true;
   MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
 };
 
@@ -161,6 +165,9 @@ inline constexpr double kFairingGradientReduction = 1e-3;
 inline constexpr double kSliverToleranceDegrees = 1.0;
 inline constexpr double kAngleFloorMarginDegrees = 0.25;
 inline constexpr double kAngleBarrierBandDegrees = 2.0;
+// The dihedral barrier's ceiling: below the triangle check's 90° turn against a neighbour.
+inline constexpr double kFoldCeilingDegrees = 85.0;
+inline constexpr double kFoldBarrierBandDegrees = 10.0;
 inline constexpr double kFairingGradientFloor = 1e-10;
 inline constexpr double kDegenerateFlatness = 1e-6;
 
