@@ -28,7 +28,7 @@ std::unique_ptr<EnergyTerm> makeDihedralBarrier(const modeling::Stencils& s,
       return Vec3<double>{positions(v[i], 0), positions(v[i], 1), positions(v[i], 2)};
     };
     const double folded = std::abs(bendingAngle(at(0), at(1), at(2), at(3)));
-    // Capped below π: a hinge folded flat onto itself at the start gets no barrier room.
+    // Capped below π: a hinge folded flat onto itself at the start gets no barrier.
     const double ceiling = std::min(std::max(maxAngle, folded + band + margin), kPi - 1e-3);
     if (!(ceiling > folded)) continue;
     elements.push_back({v, std::sqrt(2.0 * stiffness), ceiling, band});

@@ -49,10 +49,9 @@ struct DihedralBarrierResidual {
 
 // The dihedral barrier on the hinges `hinges` (indices into stencils.hinges): κ = `stiffness`, and
 // per hinge θ_max,e = min(max(maxAngle, |θ_e(positions)| + band + margin), π − 10⁻³), in radians:
-// a hinge folded sharper than maxAngle at `positions` may not fold further, and the barrier is
-// zero at `positions` (but for a hinge folded within d̂ of π there, which is barred from
-// folding further; one at the cap gets no barrier). Throws InputError for a non-positive κ or d̂,
-// or a maxAngle + margin not below π.
+// zero at `positions` (but for a hinge folded within d̂ of the cap there), and a hinge folded
+// sharper than maxAngle − d̂ there may fold a band further. Throws InputError for a non-positive κ
+// or d̂, or a maxAngle + margin not below π.
 std::unique_ptr<EnergyTerm> makeDihedralBarrier(const modeling::Stencils& stencils,
                                                 const std::vector<int>& hinges,
                                                 const modeling::Positions& positions,

@@ -191,7 +191,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
         curvature::makeAngleBarrier(problem.stencils, region, start, p.bending.stiffness,
                                     angleFloorDegrees(patch, region, linear) * kPi / 180.0,
                                     kAngleBarrierBandDegrees * kPi / 180.0));
-  if (options.foldBarrier)  // no hinge folds past the ceiling (or further than at the start)
+  // No hinge folds past the ceiling (or further than at the start): FairingOptions::foldBarrier.
+  if (options.foldBarrier && options.metric == FairingMetric::Current)
     problem.terms.push_back(curvature::makeDihedralBarrier(
         problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
         kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,

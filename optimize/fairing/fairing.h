@@ -67,9 +67,12 @@ struct FairingOptions {
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
   // rule (see kSliverToleranceDegrees). Stiffness k_B, band kAngleBarrierBandDegrees.
   bool angleBarrier = true;
-  // The dihedral barrier (curvature/dihedral_barrier.h) on every hinge with a moving vertex: no
-  // hinge folds past kFoldCeilingDegrees (or, folded sharper at the start, further than it was),
-  // so that the result passes the triangle check. Stiffness k_B, band kFoldBarrierBandDegrees.
+  // On the current metric, the dihedral barrier (curvature/dihedral_barrier.h) on every hinge
+  // with a moving vertex: no hinge folds past kFoldCeilingDegrees (or, folded sharper at the
+  // start, further than the band beyond it), so that the result passes the
+  // triangle check. The geometric energy needs it: a discrete bending energy prices a fold
+  // finitely, and the membrane does not see a face swing over its edge. Stiffness k_B, band
+  // kFoldBarrierBandDegrees.
   bool foldBarrier = true;
   MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
 };
