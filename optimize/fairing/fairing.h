@@ -28,7 +28,8 @@ namespace flexure::optimize {
 // Where the nonlinear solve starts: at the linear fair (the cotangent bi-Laplacian of the input's
 // metric, solved for x, y and z: what CGAL's fair computes, here with CHOLMOD), from which Gauss–
 // Newton has a smooth surface to correct; at the input; or (Best) at whichever of the two has the
-// lower bending energy — the input when the linear fair fails checkFairing's triangle checks. The
+// lower bending energy — the input when the linear fair fails checkFairing's triangle checks
+// or, on the current metric, folds a hinge past kFoldCeilingDegrees where the input does not. The
 // membrane's rest shape is the start, so it costs nothing there and the solve, which never raises
 // E_bend + E_membrane, ends with E_bend no higher than at the start: with Best, no higher than the
 // input's or the linear fair's.
