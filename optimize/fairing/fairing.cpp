@@ -13,6 +13,8 @@
 #include <sstream>
 #include <utility>
 
+#include "curvature/bending_angle.h"
+#include "curvature/dihedral_barrier.h"
 #include "curvature/energy_registry.h"
 #include "curvature/kernel_math.h"
 #include "modeling/cgal_fair.h"
@@ -94,6 +96,36 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch, const modeling::St
   return x;
 }
 
+// The hinges with a moving vertex (indices into stencils.hinges).
+std::vector<int> regionHinges(const modeling::FairingPatch& patch,
+                              const modeling::Stencils& stencils) {
+  std::vector<int> hinges;
+  for (Eigen::Index h = 0; h < stencils.hinges.rows(); ++h) {
+    bool moves = false;
+    for (int i = 0; i < 4; ++i) moves = moves || patch.moves[stencils.hinges(h, i)];
+    if (moves) hinges.push_back(static_cast<int>(h));
+  }
+  return hinges;
+}
+
+// Whether `x` folds a hinge with a moving vertex past the dihedral barrier's ceiling
+// (kFoldCeilingDegrees) and sharper than the input does there.
+bool foldsPastCeiling(const modeling::FairingPatch& patch, const modeling::Stencils& stencils,
+                      const Positions& x) {
+  const auto turn = [&](const Positions& y, Eigen::Index h) {
+    const auto at = [&](int i) {
+      const int v = stencils.hinges(h, i);
+      return curvature::Vec3<double>{y(v, 0), y(v, 1), y(v, 2)};
+    };
+    return std::abs(curvature::bendingAngle(at(0), at(1), at(2), at(3))) * 180.0 / kPi;
+  };
+  for (int h : regionHinges(patch, stencils)) {
+    const double folded = turn(x, h);
+    if (folded > kFoldCeilingDegrees && folded > turn(patch.mesh.positions, h)) return true;
+  }
+  return false;
+}
+
 // The start of the nonlinear fair (options.start; Best: the linear fair unless the input has the
 // lower energy or the linear fair fails the triangle checks), and which it is.
 std::pair<Positions, FairingStart> fairingStart(const modeling::FairingPatch& patch,
@@ -105,8 +137,12 @@ std::pair<Positions, FairingStart> fairingStart(const modeling::FairingPatch& pa
   const Positions linear = fairBiharmonic(patch, stencils, rest);
   if (start == FairingStart::Biharmonic) return {linear, start};
   // The membrane keeps the start's triangles, so a linear fair with inverted or degenerate
-  // faces (three_peaks' all-interior: 13 faces turned over) is no start.
-  const bool inputLower = !checkFairing(patch, linear, nullptr).trianglesPassed() ||
+  // faces (three_peaks' all-interior: 13 faces turned over) is no start; nor, on the current
+  // metric, one that folds a hinge past the dihedral barrier's ceiling (the barrier cannot undo
+  // it: cylinder_locally_refined's hole, a hinge at 110°, ended with a face turned over).
+  const bool foldedStart =
+      b.metric == curvature::CurvatureMetric::Current && foldsPastCeiling(patch, stencils, linear);
+  const bool inputLower = !checkFairing(patch, linear, nullptr).trianglesPassed() || foldedStart ||
                           bendingEnergy(stencils, rest, b, patch.mesh.positions) <
                               bendingEnergy(stencils, rest, b, linear);
   if (inputLower) return {patch.mesh.positions, FairingStart::Input};
@@ -178,6 +214,12 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
         curvature::makeAngleBarrier(problem.stencils, region, start, p.bending.stiffness,
                                     angleFloorDegrees(patch, region, linear) * kPi / 180.0,
                                     kAngleBarrierBandDegrees * kPi / 180.0));
+  // No hinge folds past the ceiling (or further than at the start): FairingOptions::foldBarrier.
+  if (options.foldBarrier && options.metric == FairingMetric::Current)
+    problem.terms.push_back(curvature::makeDihedralBarrier(
+        problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
+        kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,
+        kAngleFloorMarginDegrees * kPi / 180.0));
   const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
   if (problem.usesEdgeUnknowns())  // ξ start at their minimizer for the start
     problem.boundary.xi = minimizeEdgeUnknowns(terms, start, problem.restXi,

@@ -28,7 +28,8 @@ namespace flexure::optimize {
 // Where the nonlinear solve starts: at the linear fair (the cotangent bi-Laplacian of the input's
 // metric, solved for x, y and z: what CGAL's fair computes, here with CHOLMOD), from which Gauss–
 // Newton has a smooth surface to correct; at the input; or (Best) at whichever of the two has the
-// lower bending energy — the input when the linear fair fails checkFairing's triangle checks. The
+// lower bending energy — the input when the linear fair fails checkFairing's triangle checks
+// or, on the current metric, folds a hinge past kFoldCeilingDegrees where the input does not. The
 // membrane's rest shape is the start, so it costs nothing there and the solve, which never raises
 // E_bend + E_membrane, ends with E_bend no higher than at the start: with Best, no higher than the
 // input's or the linear fair's.
@@ -67,6 +68,13 @@ struct FairingOptions {
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
   // rule (see kSliverToleranceDegrees). Stiffness k_B, band kAngleBarrierBandDegrees.
   bool angleBarrier = true;
+  // On the current metric, the dihedral barrier (curvature/dihedral_barrier.h) on every hinge
+  // with a moving vertex: no hinge folds past kFoldCeilingDegrees (or, folded sharper at the
+  // start, further than the band beyond it), so that the result passes the
+  // triangle check. The geometric energy needs it: a discrete bending energy prices a fold
+  // finitely, and the membrane does not see a face swing over its edge. Stiffness k_B, band
+  // kFoldBarrierBandDegrees.
+  bool foldBarrier = true;
   MinimizeOptions solver;  // dof and start are fairing's own: xyz, from `start`
 };
 
@@ -161,6 +169,9 @@ inline constexpr double kFairingGradientReduction = 1e-3;
 inline constexpr double kSliverToleranceDegrees = 1.0;
 inline constexpr double kAngleFloorMarginDegrees = 0.25;
 inline constexpr double kAngleBarrierBandDegrees = 2.0;
+// The dihedral barrier's ceiling: below the triangle check's 90° turn against a neighbour.
+inline constexpr double kFoldCeilingDegrees = 85.0;
+inline constexpr double kFoldBarrierBandDegrees = 10.0;
 inline constexpr double kFairingGradientFloor = 1e-10;
 inline constexpr double kDegenerateFlatness = 1e-6;
 
