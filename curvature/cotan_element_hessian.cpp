@@ -6,8 +6,8 @@
 //   ∇E_e = r ∇r = r Jᵀ∇g,
 //   ∇²E_e = ∇r ∇rᵀ + r ∇²r = Jᵀ (∇g ∇gᵀ + r ∇²g) J + r Σ_j P_jᵀ (Σ_m ∂g/∂y_m ∇²y_m^(j)) P_j,
 //
-// where y^(j) is face j's term (cotanFaceTerms, currentFaceVertexArea) over its three vertices'
-// unknowns and P_j places them among the element's.
+// where y^(j) is face j's term (cotanFaceTerms, currentFaceVertexArea), a function of the edge
+// vectors (x_a − x_v, x_b − x_v) alone, and P_j maps the element's unknowns to those.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,25 +20,37 @@ namespace {
 // y: K_v (3), N_v (3), A_v.
 constexpr int kSums = 7;
 
-// The element slot of coordinate c of block b (a vertex): all three, or the z alone.
-int vertexSlot(Derivatives derivatives, int block, int c) {
-  return derivatives == Derivatives::All ? 3 * block + c : block;
+// Face j's terms read a = x_a − x_v and b = x_b − x_v alone: their jets are over those F values
+// (6; in height mode the 2 z's), and (a, b) = P (x_v, x_a, x_b) with P = [−I I 0; −I 0 I]
+// (per coordinate), so the face's block over its vertices is Pᵀ ∇²y P.
+template <int F>
+using FaceVertices = Eigen::Matrix<double, F, F / 2 * 3>;
+template <int F>
+FaceVertices<F> edgeDifferences() {
+  constexpr int perVertex = F / 2;
+  FaceVertices<F> p = FaceVertices<F>::Zero();
+  for (int e = 0; e < 2; ++e)
+    for (int s = 0; s < perVertex; ++s) {
+      p(perVertex * e + s, s) = -1.0;
+      p(perVertex * e + s, perVertex * (1 + e) + s) = 1.0;
+    }
+  return p;
 }
 
-// Face j's terms of y as second-order jets of its F unknowns (9: x_v, x_a, x_b; 3: their z).
+// Face j's terms of y as second-order jets of (a, b) (the x, y, z of each, or their z).
 template <int F>
 void faceTerms(const CotanMeanCurvatureResidual& residual, const std::array<const double*, 3>& x,
                Derivatives derivatives, std::array<SecondOrderJet<F>, kSums>& y) {
   using Jet = SecondOrderJet<F>;
-  Jet seeded[3][3];
-  for (int q = 0; q < 3; ++q)
-    for (int c = 0; c < 3; ++c)
-      seeded[q][c] = isElementUnknown(derivatives, c, 3)
-                         ? Jet::variable(x[q][c], vertexSlot(derivatives, q, c))
-                         : Jet(x[q][c]);
-  const Vec3<Jet> center{seeded[0][0], seeded[0][1], seeded[0][2]};
-  const Vec3<Jet> a = Vec3<Jet>{seeded[1][0], seeded[1][1], seeded[1][2]} - center;
-  const Vec3<Jet> b = Vec3<Jet>{seeded[2][0], seeded[2][1], seeded[2][2]} - center;
+  Jet edge[2][3];
+  for (int e = 0; e < 2; ++e)
+    for (int c = 0; c < 3; ++c) {
+      const double difference = x[1 + e][c] - x[0][c];
+      edge[e][c] = !isElementUnknown(derivatives, c, 3) ? Jet(difference)
+                   : derivatives == Derivatives::All    ? Jet::variable(difference, 3 * e + c)
+                                                        : Jet::variable(difference, e);
+    }
+  const Vec3<Jet> a{edge[0][0], edge[0][1], edge[0][2]}, b{edge[1][0], edge[1][1], edge[1][2]};
   const CotanFaceTerms<Jet> face = cotanFaceTerms(a, b);
   y = {face.laplacian.x, face.laplacian.y, face.laplacian.z, face.normal.x,
        face.normal.y,    face.normal.z,    Jet(0.0)};
@@ -77,13 +89,17 @@ bool separableHessian(const CotanMeanCurvatureResidual& residual,
   // J = ∂y/∂x over the element's slots; face j's vertex q is block 0, 1 + j or 1 + (j + 1) % k.
   using Jacobian = Eigen::Matrix<double, kSums, Eigen::Dynamic, 0, kSums, kMaxHessianUnknowns>;
   Jacobian jacobian = Jacobian::Zero(kSums, count);
-  const int perVertex = F / 3;
-  const auto faceBlock = [&](int j, int q) { return q == 0 ? 0 : 1 + (j + q - 1) % ring; };
+  constexpr int perVertex = F / 2, faceUnknowns = 3 * perVertex;
+  static const FaceVertices<F> p = edgeDifferences<F>();
+  const auto faceSlot = [&](int j, int a) {
+    const int q = a / perVertex;
+    return perVertex * (q == 0 ? 0 : 1 + (j + q - 1) % ring) + a % perVertex;
+  };
   for (int j = 0; j < ring; ++j)
-    for (int q = 0; q < 3; ++q)
-      for (int s = 0; s < perVertex; ++s)
-        for (int m = 0; m < kSums; ++m)
-          jacobian(m, perVertex * faceBlock(j, q) + s) += faces[j][m].v[perVertex * q + s];
+    for (int m = 0; m < kSums; ++m) {
+      const Eigen::Matrix<double, faceUnknowns, 1> row = p.transpose() * faces[j][m].v;
+      for (int a = 0; a < faceUnknowns; ++a) jacobian(m, faceSlot(j, a)) += row[a];
+    }
 
   Eigen::Matrix<double, kSums, kSums> outer;  // ∇g ∇gᵀ + r ∇²g
   for (int m = 0; m < kSums; ++m)
@@ -94,21 +110,22 @@ bool separableHessian(const CotanMeanCurvatureResidual& residual,
   out.gradient.noalias() = r * (jacobian.transpose() * slopes);
   out.hessian.resize(count, count);
   out.hessian.noalias() = jacobian.transpose() * (outer * jacobian);
-  // r Σ_m ∂g/∂y_m ∇²y_m, face by face, into the upper triangle.
+  // r Σ_m ∂g/∂y_m ∇²y_m, face by face (Pᵀ (…) P), into the upper triangle.
   for (int j = 0; j < ring; ++j) {
-    std::array<double, FaceJet::kPacked> part{};
+    Eigen::Matrix<double, F, F> part = Eigen::Matrix<double, F, F>::Zero();
     for (int m = 0; m < kSums; ++m) {
       const double weight = r * slopes[m];
       if (weight == 0.0) continue;
-      for (int p = 0; p < FaceJet::kPacked; ++p) part[p] += weight * faces[j][m].h[p];
+      for (int a = 0, k = 0; a < F; ++a)
+        for (int b = a; b < F; ++b, ++k) part(a, b) += weight * faces[j][m].h[k];
     }
-    for (int a = 0, p = 0; a < F; ++a) {
-      const int sa = perVertex * faceBlock(j, a / perVertex) + a % perVertex;
-      for (int b = a; b < F; ++b, ++p) {
-        const int sb = perVertex * faceBlock(j, b / perVertex) + b % perVertex;
-        out.hessian(std::min(sa, sb), std::max(sa, sb)) += part[p];
+    part.template triangularView<Eigen::StrictlyLower>() = part.transpose();
+    const Eigen::Matrix<double, faceUnknowns, faceUnknowns> block = p.transpose() * part * p;
+    for (int a = 0; a < faceUnknowns; ++a)
+      for (int b = 0; b < faceUnknowns; ++b) {
+        const int sa = faceSlot(j, a), sb = faceSlot(j, b);
+        if (sa <= sb) out.hessian(sa, sb) += block(a, b);
       }
-    }
   }
   out.hessian.triangularView<Eigen::StrictlyLower>() = out.hessian.transpose();
   return out.gradient.allFinite() && out.hessian.allFinite();
@@ -122,8 +139,8 @@ bool elementHessian(const CotanMeanCurvatureResidual& residual,
                     ElementHessian& out) {
   elementUnknowns(sizes, firstUnknown, derivatives, out.unknowns);
   if (out.unknowns.size() > static_cast<size_t>(kMaxHessianUnknowns)) return false;
-  return derivatives == Derivatives::All ? separableHessian<9>(residual, blocks, derivatives, out)
-                                         : separableHessian<3>(residual, blocks, derivatives, out);
+  return derivatives == Derivatives::All ? separableHessian<6>(residual, blocks, derivatives, out)
+                                         : separableHessian<2>(residual, blocks, derivatives, out);
 }
 
 }  // namespace flexure::curvature
