@@ -25,6 +25,10 @@
 //                               `jets` the second-order jets of the templated kernel, `closed` the
 //                               closed form (curvature/hinge_angle_derivatives.h) element_term.h
 //                               uses; the same configuration, so their ratio is the speed-up.
+//   BM_CotanElementHessian/<path>, BM_MidedgeElementHessian/<path> the same for cotan and
+//                               midedge: `jets` against `separable`, the chain rule through the
+//                               elements' sums (curvature/*_element_hessian.cpp) element_term.h
+//                               uses.
 //   BM_HessianAssembly/<energy> HessianAssembly::evaluate, exact, all unknowns free: E, ∇E and the
 //                               assembled sparse ∇²E, as each Newton iteration pays it.
 //
@@ -368,6 +372,43 @@ void hingeElementHessian(benchmark::State& state, bool closedForm) {
       benchmark::Counter(term.elementCount(), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// BM_CotanElementHessian and BM_MidedgeElementHessian: every element's exact Hessian (one thread),
+// `jets` the dense second-order jets of the templated kernel, `separable` the chain rule through
+// the element's sums (curvature/cotan_element_hessian.cpp, midedge_element_hessian.cpp) that
+// element_term.h uses.
+template <class Residual>
+void separableElementHessian(benchmark::State& state, Discretization d, bool separable) {
+  const HessianCase c = hessianCase(d);
+  const Positions& x = meshData(kHessianPatch).current;
+  const auto& term = dynamic_cast<const flexure::curvature::ElementTerm<Residual>&>(*c.term);
+  const long xiColumn = x.size();
+  std::vector<const double*> blocks;
+  std::vector<long> firstUnknown;
+  std::vector<int> sizes;
+  flexure::curvature::ElementHessian out;
+  SummingSink sink;
+  for (auto _ : state) {
+    for (const Residual& element : term.elements()) {
+      flexure::curvature::parameterBlocks(element, x.data(), c.xi.data(), blocks);
+      flexure::curvature::parameterBlocks(element, 0L, xiColumn, firstUnknown);
+      sizes.clear();
+      for (long first : firstUnknown) sizes.push_back(first >= xiColumn ? 1 : 3);
+      const bool ok =
+          separable ? flexure::curvature::elementHessian(element, blocks, sizes, firstUnknown,
+                                                         flexure::curvature::Derivatives::All, out)
+                    : flexure::curvature::elementHessian<Residual>(
+                          element, blocks, sizes, firstUnknown,
+                          flexure::curvature::Derivatives::All, out);
+      if (!ok) state.SkipWithError("degenerate element");
+      sink.add(out);
+    }
+    benchmark::DoNotOptimize(sink.sum);
+  }
+  state.counters["elements"] = term.elementCount();
+  state.counters["elements/s"] =
+      benchmark::Counter(term.elementCount(), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void hessianAssembly(benchmark::State& state, Discretization d) {
   const HessianCase c = hessianCase(d);
   const Positions& x = meshData(kHessianPatch).current;
@@ -417,6 +458,19 @@ void registerBenchmarks() {
     const std::string name =
         std::string("BM_HingeElementHessian/") + (closedForm ? "closed" : "jets");
     configure(benchmark::RegisterBenchmark(name.c_str(), hingeElementHessian, closedForm))
+        ->MinTime(1.0);
+  }
+  for (bool separable : {false, true}) {
+    const std::string path = separable ? "separable" : "jets";
+    configure(benchmark::RegisterBenchmark(
+                  ("BM_CotanElementHessian/" + path).c_str(),
+                  separableElementHessian<flexure::curvature::CotanMeanCurvatureResidual>,
+                  Discretization::Cotan, separable))
+        ->MinTime(1.0);
+    configure(
+        benchmark::RegisterBenchmark(("BM_MidedgeElementHessian/" + path).c_str(),
+                                     separableElementHessian<flexure::curvature::MidedgeResidual>,
+                                     Discretization::Midedge, separable))
         ->MinTime(1.0);
   }
   for (const EnergyCase& c : energyCases()) {

@@ -68,27 +68,29 @@ T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, con
   return T(6.0) * dot(e, e) / (norm(cross(e, xk - xi)) + norm(cross(xl - xi, e)));
 }
 
-// The area of vertex x[0] with the closed ring x[1..k]: mixed Voronoi (modeling/mixed_area.h,
-// the rest state's formula on the current positions) or barycentric (a third of each face).
+// The share of the face (x_v, x_a, x_b) in x_v's area, with a = x_a − x_v and b = x_b − x_v:
+// mixed Voronoi (modeling/mixed_area.h, the rest state's formula on the current positions) or
+// barycentric (a third of the face).
+template <class T>
+T currentFaceVertexArea(const Vec3<T>& a, const Vec3<T>& b, bool voronoi) {
+  const T twiceArea = norm(cross(a, b));
+  if (!voronoi) return twiceArea / T(6.0);
+  // cot of the angles at the center, at a and at b; squared lengths of the edges opposite them
+  // (the center's own share does not read the first).
+  const T cotangents[3] = {dot(a, b) / twiceArea, dot(T(-1.0) * a, b - a) / twiceArea,
+                           dot(T(-1.0) * b, a - b) / twiceArea};
+  const T squaredLengths[3] = {T(0.0), dot(b, b), dot(a, a)};
+  return modeling::mixedVoronoiShare(twiceArea, cotangents, squaredLengths, 0);
+}
+
+// The area of vertex x[0] with the closed ring x[1..k]: the sum of its faces' shares.
 template <class T>
 T currentVertexArea(T const* const* x, int k, bool voronoi) {
   const Vec3<T> center = load(x[0]);
   T area(0.0);
-  for (int j = 0; j < k; ++j) {
-    // The face (center, a, b) with a, b relative to the center.
-    const Vec3<T> a = load(x[1 + j]) - center, b = load(x[1 + (j + 1) % k]) - center;
-    const T twiceArea = norm(cross(a, b));
-    if (!voronoi) {
-      area += twiceArea / T(6.0);
-      continue;
-    }
-    // cot of the angles at the center, at a and at b; squared lengths of the edges opposite them
-    // (the center's own share does not read the first).
-    const T cotangents[3] = {dot(a, b) / twiceArea, dot(T(-1.0) * a, b - a) / twiceArea,
-                             dot(T(-1.0) * b, a - b) / twiceArea};
-    const T squaredLengths[3] = {T(0.0), dot(b, b), dot(a, a)};
-    area += modeling::mixedVoronoiShare(twiceArea, cotangents, squaredLengths, 0);
-  }
+  for (int j = 0; j < k; ++j)
+    area +=
+        currentFaceVertexArea(load(x[1 + j]) - center, load(x[1 + (j + 1) % k]) - center, voronoi);
   return area;
 }
 

@@ -241,4 +241,25 @@ bool elementHessian(const HingeBendingResidual& residual, const std::vector<cons
                     const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
                     Derivatives derivatives, ElementHessian& out);
 
+// Exact Hessians of the partially separable elements by the chain rule through their sums: an
+// element whose residual is r = g(y) with each intermediate y_m a sum of parts, each part a
+// function of a few of the element's unknowns, has
+//
+//   ∇r = Jᵀ ∇g,   ∇²r = Jᵀ ∇²g J + Σ_m ∂g/∂y_m ∇²y_m,   J = ∂y/∂x,
+//
+// and each ∇²y_m is the sum of its parts' small blocks: second-order jets of a part's unknowns
+// (or a closed form) instead of jets of all the element's. Same results as the templates to
+// roundoff; same contracts. Cotan (cotan_element_hessian.cpp): y = (K_v, Σ face normals, and on
+// the current metric A_v), sums over the ring's faces of 9 unknowns each. Midedge
+// (midedge_element_hessian.cpp): γ_i = θ_i / 2 + σ_i ξ_i, each θ_i a hinge angle of 12 unknowns
+// with closed-form derivatives (hinge_angle_derivatives.h); on the rest metric r is affine in γ,
+// on the current metric y = (γ, the face's edge tensors and area of 9 unknowns).
+bool elementHessian(const CotanMeanCurvatureResidual& residual,
+                    const std::vector<const double*>& blocks, const std::vector<int>& sizes,
+                    const std::vector<long>& firstUnknown, Derivatives derivatives,
+                    ElementHessian& out);
+bool elementHessian(const MidedgeResidual& residual, const std::vector<const double*>& blocks,
+                    const std::vector<int>& sizes, const std::vector<long>& firstUnknown,
+                    Derivatives derivatives, ElementHessian& out);
+
 }  // namespace flexure::curvature
