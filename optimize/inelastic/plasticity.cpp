@@ -130,7 +130,8 @@ void placeAtRestMetric(Problem& problem, int face, Positions& x) {
   x.row(v[2]) = x.row(v[0]) + placed.col(1).transpose();
 }
 
-// Solves and updates until no element's plastic increment exceeds tolerance κ_y.
+// Solves and updates until no element's plastic increment exceeds tolerance κ_y (bending) and no
+// face's tolerance ε_y (membrane).
 bool settle(Problem& problem, PlasticState& state, const PlasticityOptions& plasticity,
             const FormingOptions& forming, BoundaryConditions& bc, MinimizeOptions& options,
             FormingResult& out) {
