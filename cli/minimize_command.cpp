@@ -231,12 +231,16 @@ optimize::MinimizeResult formPlastically(const MinimizeCommandOptions& o,
                                          const optimize::MinimizeOptions& solver,
                                          nlohmann::json& section) {
   if (o.linearized)
-    throw InputError("--linearized cannot form plastically: give --yield-curvature without it");
+    throw InputError("--linearized cannot form plastically: give the yield values without it");
   const optimize::FormingOptions forming = formingOptions(o.plasticity);
   const optimize::FormingResult formed =
       optimize::formPlastically(problem, plasticity, forming, solver);
   const optimize::FormingReport& r = formed.report;
-  section = {{"yield_curvature", *plasticity.yieldCurvature},
+  const auto valueOrNull = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  section = {{"yield_curvature", valueOrNull(plasticity.yieldCurvature)},
+             {"yield_strain", valueOrNull(plasticity.yieldStrain)},
              {"hardening", plasticity.hardening},
              {"load_steps", forming.loadSteps},
              {"release", forming.release},
@@ -244,6 +248,7 @@ optimize::MinimizeResult formPlastically(const MinimizeCommandOptions& o,
              {"element", problem.bending().elementKind()},
              {"elements", problem.bending().elementCount()},
              {"yielded_elements", r.yieldedElements},
+             {"yielded_membrane_faces", r.yieldedFaces},
              {"plastic_dissipation", r.dissipation},
              {"solves", r.solves},
              {"settled", r.converged}};
@@ -311,8 +316,9 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
     if (plasticity.enabled())
       std::cerr << "flexure minimize: plastic: " << plasticSection["yielded_elements"] << " of "
                 << plasticSection["elements"] << " " << plasticSection["element"].get<std::string>()
-                << "s yielded, dissipation " << plasticSection["plastic_dissipation"] << ", "
-                << counted(plasticSection["solves"].get<int>(), "solve") << "\n";
+                << "s yielded in bending, " << plasticSection["yielded_membrane_faces"]
+                << " faces in the membrane, dissipation " << plasticSection["plastic_dissipation"]
+                << ", " << counted(plasticSection["solves"].get<int>(), "solve") << "\n";
   }
 }
 

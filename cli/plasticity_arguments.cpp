@@ -11,7 +11,8 @@ void addYieldArguments(CLI::App& sub, PlasticityArguments& a) {
                  "at kappa_y/sqrt(3)); not cotan")
       ->check(positive());
   sub.add_option("--yield-strain", a.yieldStrain,
-                 "Plastic membrane: yield strain (not modelled yet: refused)")
+                 "Plastic membrane: yield strain epsilon_y (Green strain; a strip stretched with "
+                 "its width held yields at epsilon_y); needs --membrane stvk")
       ->check(positive());
   sub.add_option("--hardening", a.hardening, "Linear kinematic hardening gamma >= 0")
       ->capture_default_str()
@@ -32,7 +33,8 @@ void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
 optimize::PlasticityOptions plasticityOptions(const PlasticityArguments& a) {
   if (!a.enabled() && (a.loadSteps || a.release || a.hardening != 0.0))
     throw InputError(
-        "--load-steps, --release and --hardening need a yield value: give --yield-curvature");
+        "--load-steps, --release and --hardening need a yield value: give --yield-curvature "
+        "or --yield-strain");
   optimize::PlasticityOptions o;
   o.yieldCurvature = a.yieldCurvature;
   o.yieldStrain = a.yieldStrain;

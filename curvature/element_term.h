@@ -6,6 +6,7 @@
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
 #include <ceres/problem.h>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <memory>
@@ -221,8 +222,16 @@ template <class Residual>
 constexpr bool kHasRestCurvature =
     HasRestShapeOperator<Residual>::value || std::is_same_v<Residual, HingeBendingResidual>;
 
+// Residuals whose rest metric a membrane plastic update can move: a face's rest strain P_T
+// (restStrain, with strain(blocks) and restEdgeInverse).
+template <class Residual, class = void>
+struct HasRestStrain : std::false_type {};
 template <class Residual>
-class ElementTerm : public EnergyTerm, public RestCurvatureState {
+struct HasRestStrain<Residual, std::void_t<decltype(std::declval<Residual&>().restStrain)>>
+    : std::true_type {};
+
+template <class Residual>
+class ElementTerm : public EnergyTerm, public RestCurvatureState, public RestMetricState {
  public:
   // Element e is mesh element `elementIds[e]` of kind `elementKind` ("edge", "face", "vertex"),
   // which messages name.
@@ -285,6 +294,50 @@ class ElementTerm : public EnergyTerm, public RestCurvatureState {
         elements_[e].restMeasure = rest(row, 0);
       }
     }
+  }
+
+  RestMetricState* restMetricState() override {
+    if constexpr (HasRestStrain<Residual>::value) return this;
+    return nullptr;
+  }
+  Eigen::MatrixXd elementStrains(const Positions& x) const override {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(elements_.size(), 3);
+    if constexpr (HasRestStrain<Residual>::value) {
+      std::vector<const double*> blocks;
+      for (size_t e = 0; e < elements_.size(); ++e) {
+        parameterBlocks(elements_[e], x.data(), static_cast<const double*>(nullptr), blocks);
+        const Sym2<double> s = elements_[e].strain(blocks.data());
+        out.row(static_cast<Eigen::Index>(e)) << s.a, s.b, s.c;
+      }
+    }
+    return out;
+  }
+  Eigen::MatrixXd restStrains() const override {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(elements_.size(), 3);
+    if constexpr (HasRestStrain<Residual>::value) {
+      for (size_t e = 0; e < elements_.size(); ++e) {
+        const Sym2<double>& s = elements_[e].restStrain;
+        out.row(static_cast<Eigen::Index>(e)) << s.a, s.b, s.c;
+      }
+    }
+    return out;
+  }
+  void setRestStrains(const Eigen::MatrixXd& rest) override {
+    if constexpr (HasRestStrain<Residual>::value) {
+      for (size_t e = 0; e < elements_.size(); ++e) {
+        const auto row = static_cast<Eigen::Index>(e);
+        elements_[e].restStrain = {rest(row, 0), rest(row, 1), rest(row, 2)};
+      }
+    }
+  }
+  Eigen::Matrix2d restEdgeMatrix(int e) const override {
+    if constexpr (HasRestStrain<Residual>::value) {
+      const std::array<double, 4>& m = elements_[e].restEdgeInverse;
+      Eigen::Matrix2d inverse;
+      inverse << m[0], m[1], m[2], m[3];
+      return inverse.inverse();
+    }
+    return Eigen::Matrix2d::Zero();
   }
 
   void markTouchedVertices(std::vector<bool>& touched) const override {

@@ -46,6 +46,25 @@ class RestCurvatureState {
   virtual void setRestCurvatures(const Eigen::MatrixXd& rest) = 0;
 };
 
+// The rest metric of a membrane's faces, which a membrane plastic update moves (seed 002: the
+// membrane's plastic strain is a change of the squared rest edge lengths). Per face, in element
+// order, the rest strain P_T = [[a, b], [b, c]] (a, b, c) in the face's rest frame, zero when
+// built: the membrane reads the strain ε_T − P_T, ε_T = ½(FᵀF − I) the Green strain, i.e. the
+// rest metric Ā_T = I + 2 P_T (ℓ̄² ← ℓ̄² + 2 ūᵀ P_T ū for a rest edge ū).
+class RestMetricState {
+ public:
+  virtual ~RestMetricState() = default;
+  virtual int elementId(int e) const = 0;  // the mesh face of element e
+  // #elements by 3: ε_T at positions `x` (#V by 3).
+  virtual Eigen::MatrixXd elementStrains(const Positions& x) const = 0;
+  // #elements by 3: P_T, and its replacement.
+  virtual Eigen::MatrixXd restStrains() const = 0;
+  virtual void setRestStrains(const Eigen::MatrixXd& rest) = 0;
+  // D̄_T = [ū1 − ū0, ū2 − ū0], element e's rest edges in its rest frame (2 × 2), the frame of
+  // ε_T and P_T.
+  virtual Eigen::Matrix2d restEdgeMatrix(int e) const = 0;
+};
+
 class EnergyTerm {
  public:
   virtual ~EnergyTerm() = default;
@@ -63,6 +82,9 @@ class EnergyTerm {
   // The elements' rest curvature, when the term has one a plastic update can move (the face
   // shape-operator energies and the hinge); null otherwise.
   virtual RestCurvatureState* restCurvatureState() { return nullptr; }
+  // The faces' rest metric, when the term has one a membrane plastic update can move (stvk);
+  // null otherwise.
+  virtual RestMetricState* restMetricState() { return nullptr; }
 
   // Sets touched[v] for every vertex an element of this term reads (touched has #V entries).
   virtual void markTouchedVertices(std::vector<bool>& touched) const = 0;

@@ -56,12 +56,19 @@ struct StvkMembraneResidual {
   std::array<int, 3> vertices;
   std::array<double, 4> restEdgeInverse;  // D̄⁻¹ row-major, D̄ = [ū1 − ū0, ū2 − ū0] (2 × 2)
   KoiterWeights weights;                  // make(ν, 2 Y/(2(1 − ν²)) Ā_T)
+  // P_T, the plastic rest strain (energy_term.h, RestMetricState): Ψ_ν reads ε − P_T.
+  Sym2<double> restStrain{0.0, 0.0, 0.0};
+
+  // The Green strain ε = ½(FᵀF − I) in the rest frame.
+  template <class T>
+  Sym2<T> strain(T const* const* x) const {
+    const Sym2<T> g = rightCauchyGreen(x, restEdgeInverse);  // (C₁₁, C₁₂, C₂₂)
+    return {T(0.5) * (g.a - T(1.0)), T(0.5) * g.b, T(0.5) * (g.c - T(1.0))};
+  }
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    const Sym2<T> g = rightCauchyGreen(x, restEdgeInverse);  // (C₁₁, C₁₂, C₂₂)
-    const Sym2<T> strain{T(0.5) * (g.a - T(1.0)), T(0.5) * g.b, T(0.5) * (g.c - T(1.0))};
-    koiterResiduals(strain, Sym2<double>{0.0, 0.0, 0.0}, weights, r);
+    koiterResiduals(strain(x), restStrain, weights, r);
     return true;
   }
 };

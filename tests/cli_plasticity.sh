@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end runs of `flexure minimize` with plasticity: a plate formed cylindrically and released
-# keeps (κ − κ_y)/(1 + γ); without a yield value the output is byte-identical to a plain
+# keeps (κ − κ_y)/(1 + γ); a sheet stretched with its width held and released keeps
+# (ε − ε_y)/(1 + γ); with yield values nothing reaches the output is byte-identical to a plain
 # minimize; refusals exit 2 with nothing written.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
@@ -39,13 +40,55 @@ run 0 minimize --rest sheet.obj --energy midedge --boundary quadratic:0.1,0,0 -o
   --yield-curvature 100 --quiet
 cmp -s plain.obj plain2.obj || fail "a yield value nothing reaches changed the minimizer"
 
-# Refusals: cotan, forming options without a yield value, a yield strain, linearized.
+# Membrane: the sheet stretched to Green strain 0.03 along x (λ = √1.06) with its boundary held,
+# ε_y = 0.01, γ = 0.5, released: every face keeps the strain diag(0.02/1.5, 0) within 2 %.
+awk '/^v /{printf "v %.17g %s %s\n", $2 * sqrt(1.06), $3, $4; next} {print}' sheet.obj > stretched.obj
+run 0 minimize --rest sheet.obj --init stretched.obj --fix rings:1 --dof xyz --membrane stvk \
+  --energy hinge --yield-strain 0.01 --hardening 0.5 --load-steps 2 --release -o kept.obj \
+  --report kept.json --quiet
+python3 - <<'PY' || fail "the released sheet does not keep the strain (ε − ε_y)/(1 + γ) within 2 %"
+import json
+def mesh(name):
+    v = [[float(t) for t in l.split()[1:4]] for l in open(name) if l.startswith("v ")]
+    f = [[int(t) - 1 for t in l.split()[1:4]] for l in open(name) if l.startswith("f ")]
+    return v, f
+rest, faces = mesh("sheet.obj")
+kept, _ = mesh("kept.obj")
+expected = 0.02 / 1.5
+for f in faces:
+    # F = [x1 - x0, x2 - x0] D⁻¹, D the rest edges in x, y; Green strain ½(FᵀF − I).
+    (a, c), (b, d) = [[rest[f[k]][i] - rest[f[0]][i] for i in range(2)] for k in (1, 2)]
+    det = a * d - b * c
+    inv = [[d / det, -b / det], [-c / det, a / det]]
+    e = [[kept[f[k]][i] - kept[f[0]][i] for i in range(3)] for k in (1, 2)]
+    F = [[e[0][i] * inv[0][j] + e[1][i] * inv[1][j] for j in range(2)] for i in range(3)]
+    C = [[sum(F[i][p] * F[i][q] for i in range(3)) for q in range(2)] for p in range(2)]
+    strain = (0.5 * (C[0][0] - 1), 0.5 * C[0][1], 0.5 * (C[1][1] - 1))
+    assert abs(strain[0] - expected) < 0.02 * expected, (f, strain)
+    assert abs(strain[1]) < 0.02 * expected and abs(strain[2]) < 0.02 * expected, (f, strain)
+p = json.load(open("kept.json"))["plasticity"]
+assert p["yield_strain"] == 0.01 and p["yield_curvature"] is None, p
+assert p["yielded_membrane_faces"] == len(faces) and p["yielded_elements"] == 0, p
+PY
+
+# No yield value reached: the same bytes as the plain xyz minimize.
+run 0 minimize --rest sheet.obj --init stretched.obj --fix rings:1 --dof xyz --membrane stvk \
+  --energy hinge -o plainm.obj --quiet
+run 0 minimize --rest sheet.obj --init stretched.obj --fix rings:1 --dof xyz --membrane stvk \
+  --energy hinge --yield-strain 100 --yield-curvature 100 -o plainm2.obj --quiet
+cmp -s plainm.obj plainm2.obj || fail "a yield strain nothing reaches changed the minimizer"
+
+# Refusals: cotan, forming options without a yield value, a yield strain without a stvk
+# membrane, linearized.
 run 2 minimize --rest sheet.obj --energy cotan --boundary quadratic:0.1,0,0 --yield-curvature 0.1 -o c.obj
 stderr_has "cotan"; stderr_has "--yield-curvature"; absent c.obj
 run 2 minimize --rest sheet.obj --energy midedge --boundary quadratic:0.1,0,0 --release -o r.obj
 stderr_has "need a yield value"; absent r.obj
 run 2 minimize --rest sheet.obj --energy midedge --boundary quadratic:0.1,0,0 --yield-strain 0.01 -o s.obj
-stderr_has "--yield-strain"; absent s.obj
+stderr_has "--yield-strain"; stderr_has "--membrane stvk"; absent s.obj
+run 2 minimize --rest sheet.obj --init stretched.obj --fix rings:1 --dof xyz --membrane springs \
+  --energy hinge --yield-strain 0.01 -o s.obj
+stderr_has "--yield-strain"; stderr_has "springs"; absent s.obj
 run 2 minimize --rest sheet.obj --energy midedge --boundary quadratic:0.1,0,0 --yield-curvature 0.1 \
   --linearized -o l.obj
 stderr_has "--linearized"; absent l.obj

@@ -1,14 +1,19 @@
-// Plasticity of the bending part (optimize/inelastic/plasticity.h): springback known answers of
-// issue #29 — a plate bent cylindrically to κ keeps (κ − κ_y) / (1 + γ), comes back flat below
-// κ_y, gives the same result in 1 and 50 load steps, yields in reverse past γ(κ − κ_y)/(1 + γ) =
-// κ_y; a sphere yields at κ_y / √3; cotan is refused; nothing changes when nothing yields.
+// Plasticity (optimize/inelastic/plasticity.h): the known answers of issue #29. Bending — a plate
+// bent cylindrically to κ keeps (κ − κ_y) / (1 + γ), comes back flat below κ_y, gives the same
+// result in 1 and 50 load steps, yields in reverse past γ(κ − κ_y)/(1 + γ) = κ_y; a sphere yields
+// at κ_y / √3; cotan is refused; nothing changes when nothing yields. Membrane — a plate stretched
+// with its width held (strain diag(ε, 0)) yields at ε_y, keeps (ε − ε_y)/(1 + γ) when released,
+// the same in 1 and 50 load steps; a face inside the surface in each part alone yields under both
+// when f_m + f_b > 1; a yield strain without a stvk membrane is refused.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <optional>
 #include <utility>
 
+#include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "optimize/inelastic/plasticity.h"
@@ -191,10 +196,180 @@ TEST(Plasticity, OptionsValidate) {
   EXPECT_THROW(yieldAt(0.1, -0.5).validate(), InputError);
   PlasticityOptions strain;
   strain.yieldStrain = 0.01;
+  EXPECT_NO_THROW(strain.validate());
+  strain.yieldStrain = 0.0;
   EXPECT_THROW(strain.validate(), InputError);
   FormingOptions forming;
   forming.loadSteps = 0;
   EXPECT_THROW(forming.validate(), InputError);
+}
+
+// ---- membrane plasticity -------------------------------------------------------------------
+
+// A flat plate in xyz mode with a stvk membrane (Y = 1e3, ν = 0.3), `rings` boundary rings held at
+// (λ x̄, ȳ, κ x̄²/2), λ = √(1 + 2 ε): with κ = 0, a homogeneous Green strain diag(ε, 0) (the width
+// held), the free vertices starting there.
+optimize::Problem stretchedPlate(Discretization d, modeling::MeshFamily family, double strain,
+                                 double kappa = 0.0, int rings = 1) {
+  const modeling::Mesh mesh = plateMesh(family);
+  optimize::ProblemOptions o;
+  o.bending.discretization = d;
+  o.dof = optimize::DofMode::Xyz;
+  o.membrane = curvature::MembraneOptions{};
+  o.fixedRings = rings;
+  o.boundaryNormals = optimize::BoundaryNormals::Free;  // midedge: ξ free
+  o.boundaryPositions = mesh.positions;
+  o.boundaryPositions.col(0) *= std::sqrt(1.0 + 2.0 * strain);
+  o.boundaryPositions.col(2) = kappa / 2 * mesh.positions.col(0).array().square();
+  return optimize::buildProblem(mesh, o);
+}
+
+PlasticityOptions strainYieldAt(double epsilonY, double gamma) {
+  PlasticityOptions o;
+  o.yieldStrain = epsilonY;
+  o.hardening = gamma;
+  return o;
+}
+
+optimize::FormingResult formStretched(optimize::Problem problem, PlasticityOptions plasticity,
+                                      int steps, bool release) {
+  FormingOptions forming;
+  forming.loadSteps = steps;
+  forming.release = release;
+  return optimize::formPlastically(problem, plasticity, forming, {});
+}
+
+// Per face, the Green strain ½(FᵀF − I) of `x` against the rest plate, (ε_xx, ε_xy, ε_yy) in the
+// rest's x, y axes.
+Eigen::MatrixXd faceGreenStrains(const optimize::Problem& problem, const modeling::Positions& x) {
+  Eigen::MatrixXd out(problem.stencils.faceCount(), 3);
+  for (int f = 0; f < problem.stencils.faceCount(); ++f) {
+    const int v0 = problem.stencils.faces(f, 0), v1 = problem.stencils.faces(f, 1),
+              v2 = problem.stencils.faces(f, 2);
+    Eigen::Matrix2d rest;
+    rest.col(0) = (problem.rest.positions.row(v1) - problem.rest.positions.row(v0)).head<2>();
+    rest.col(1) = (problem.rest.positions.row(v2) - problem.rest.positions.row(v0)).head<2>();
+    Eigen::Matrix<double, 3, 2> current;
+    current.col(0) = (x.row(v1) - x.row(v0)).transpose();
+    current.col(1) = (x.row(v2) - x.row(v0)).transpose();
+    const Eigen::Matrix<double, 3, 2> deformation = current * rest.inverse();
+    const Eigen::Matrix2d strain =
+        0.5 * (deformation.transpose() * deformation - Eigen::Matrix2d::Identity());
+    out.row(f) << strain(0, 0), strain(0, 1), strain(1, 1);
+  }
+  return out;
+}
+
+TEST(MembranePlasticity, StretchWithTheWidthHeldYieldsAtTheYieldStrain) {
+  const double epsilonY = 0.01;
+  for (double ratio : {0.99, 1.01}) {
+    const auto formed = formStretched(
+        stretchedPlate(Discretization::Hinge, modeling::MeshFamily::Delaunay, ratio * epsilonY),
+        strainYieldAt(epsilonY, 0.0), 1, false);
+    ASSERT_TRUE(formed.report.converged) << ratio;
+    if (ratio < 1) {
+      EXPECT_EQ(formed.report.yieldedFaces, 0);
+      EXPECT_EQ(formed.state.membranePlasticStrain.cwiseAbs().maxCoeff(), 0.0);
+    } else {
+      // Homogeneous: every face yields, to P = diag(ε − ε_y, 0).
+      EXPECT_EQ(formed.report.yieldedFaces, static_cast<int>(formed.state.membraneYielded.size()));
+      const Eigen::VectorXd trace =
+          formed.state.membranePlasticStrain.col(0) + formed.state.membranePlasticStrain.col(2);
+      EXPECT_NEAR(trace.minCoeff(), 0.01 * epsilonY, 1e-3 * epsilonY);
+      EXPECT_NEAR(trace.maxCoeff(), 0.01 * epsilonY, 1e-3 * epsilonY);
+    }
+    EXPECT_EQ(formed.report.yieldedElements, 0);  // no yield curvature: bending elastic
+  }
+}
+
+TEST(MembranePlasticity, ReleasedStripKeepsTheReducedStrain) {
+  const double epsilon = 0.03, epsilonY = 0.01, gamma = 0.5;
+  const double kept = (epsilon - epsilonY) / (1 + gamma);
+  ASSERT_LT(gamma * kept, epsilonY);  // the release does not yield in reverse
+  for (auto family : {modeling::MeshFamily::Criss, modeling::MeshFamily::Delaunay}) {
+    optimize::Problem problem = stretchedPlate(Discretization::Hinge, family, epsilon);
+    const auto formed = formStretched(std::move(problem), strainYieldAt(epsilonY, gamma), 3, true);
+    ASSERT_TRUE(formed.report.converged);
+    const Eigen::MatrixXd strain =
+        faceGreenStrains(stretchedPlate(Discretization::Hinge, family, 0.0), formed.positions);
+    // Every face, the three pinned ones included, keeps diag(kept, 0) to 2 % of kept.
+    EXPECT_NEAR(strain.col(0).minCoeff(), kept, 0.02 * kept);
+    EXPECT_NEAR(strain.col(0).maxCoeff(), kept, 0.02 * kept);
+    EXPECT_LT(strain.col(1).cwiseAbs().maxCoeff(), 0.02 * kept);
+    EXPECT_LT(strain.col(2).cwiseAbs().maxCoeff(), 0.02 * kept);
+    EXPECT_GT(formed.report.dissipation, 0.0);
+  }
+}
+
+TEST(MembranePlasticity, OneAndFiftyLoadStepsAgreeWithHardening) {
+  const double epsilon = 0.025, epsilonY = 0.01, gamma = 1.0;
+  const auto problem = [&] {
+    return stretchedPlate(Discretization::Hinge, modeling::MeshFamily::Delaunay, epsilon);
+  };
+  const auto one = formStretched(problem(), strainYieldAt(epsilonY, gamma), 1, true);
+  const auto fifty = formStretched(problem(), strainYieldAt(epsilonY, gamma), 50, true);
+  ASSERT_TRUE(one.report.converged && fifty.report.converged);
+  const double kept = (epsilon - epsilonY) / (1 + gamma);
+  // P = diag(kept, 0) in x, y: its trace in each face's frame.
+  const Eigen::VectorXd trace =
+      one.state.membranePlasticStrain.col(0) + one.state.membranePlasticStrain.col(2);
+  EXPECT_NEAR(trace.minCoeff(), kept, 0.02 * kept);
+  EXPECT_NEAR(trace.maxCoeff(), kept, 0.02 * kept);
+  EXPECT_LT(
+      (one.state.membranePlasticStrain - fifty.state.membranePlasticStrain).cwiseAbs().maxCoeff(),
+      1e-6 * kept);
+  EXPECT_LT((one.positions - fifty.positions).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+// Stretched to 0.8 ε_y and bent to 0.8 κ_y: f_m ≈ f_b ≈ 0.64, each inside the surface, f_m + f_b
+// ≈ 1.3 outside it.
+TEST(MembranePlasticity, CombinedLoadingYieldsWhereNeitherPartAlone) {
+  const double epsilonY = 0.01, kappaY = 0.1;
+  const auto formWith = [&](std::optional<double> strain, std::optional<double> curvature) {
+    PlasticityOptions o;
+    o.yieldStrain = strain;
+    o.yieldCurvature = curvature;
+    return formStretched(stretchedPlate(Discretization::Midedge, modeling::MeshFamily::Delaunay,
+                                        0.8 * epsilonY, 0.8 * kappaY, 2),
+                         o, 1, false);
+  };
+  const auto membraneAlone = formWith(epsilonY, std::nullopt);
+  const auto bendingAlone = formWith(std::nullopt, kappaY);
+  const auto both = formWith(epsilonY, kappaY);
+  ASSERT_TRUE(membraneAlone.report.converged && bendingAlone.report.converged &&
+              both.report.converged);
+  EXPECT_EQ(membraneAlone.report.yieldedFaces, 0);
+  EXPECT_EQ(bendingAlone.report.yieldedElements, 0);
+  EXPECT_GT(both.report.yieldedFaces, 0);
+  EXPECT_GT(both.report.yieldedElements, 0);
+  EXPECT_GT(both.report.dissipation, 0.0);
+}
+
+TEST(MembranePlasticity, AYieldStrainNeedsAStvkMembrane) {
+  optimize::Problem height = bentPlate(Discretization::Midedge, cylinder(0.2, 0));
+  EXPECT_THAT([&] { optimize::formPlastically(height, strainYieldAt(0.01, 0), {}, {}); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("no membrane")));
+  optimize::ProblemOptions o;
+  o.dof = optimize::DofMode::Xyz;
+  o.membrane = curvature::MembraneOptions{};
+  o.membrane->model = curvature::MembraneModel::Springs;
+  optimize::Problem springs = optimize::buildProblem(plateMesh(modeling::MeshFamily::Criss), o);
+  EXPECT_THAT([&] { optimize::formPlastically(springs, strainYieldAt(0.01, 0), {}, {}); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("edge springs membrane")));
+}
+
+TEST(MembranePlasticity, NothingYieldingChangesNothing) {
+  optimize::Problem problem =
+      stretchedPlate(Discretization::Hinge, modeling::MeshFamily::Delaunay, 0.02, 0.1, 2);
+  const optimize::MinimizeResult elastic = optimize::minimize(problem, {});
+  PlasticityOptions high = strainYieldAt(1e3, 0);
+  high.yieldCurvature = 1e3;
+  const auto formed = formStretched(
+      stretchedPlate(Discretization::Hinge, modeling::MeshFamily::Delaunay, 0.02, 0.1, 2), high, 1,
+      false);
+  ASSERT_TRUE(formed.report.converged);
+  EXPECT_EQ(formed.report.solves, 1);
+  EXPECT_TRUE(formed.positions == elastic.positions);  // bit for bit
 }
 
 }  // namespace

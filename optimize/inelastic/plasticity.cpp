@@ -1,10 +1,14 @@
-// Plasticity of the bending part: the yield rule, the radial return and quasi-static forming
-// (plasticity.h; docs/energies.md, "Plasticity").
+// Plasticity of the bending and membrane parts: the yield rule, the radial return and
+// quasi-static forming (plasticity.h; docs/energies.md, "Plasticity").
 #include "optimize/inelastic/plasticity.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "modeling/errors.h"
 
@@ -12,6 +16,27 @@ namespace flexure::optimize {
 namespace {
 
 using curvature::RestCurvatureState;
+using curvature::RestMetricState;
+
+// The membrane term whose rest metric a plastic strain moves, and that state.
+struct MembraneMetric {
+  curvature::EnergyTerm* term = nullptr;
+  RestMetricState* state = nullptr;
+};
+
+MembraneMetric membraneMetricOf(Problem& problem) {
+  for (size_t k = 1; k < problem.terms.size(); ++k)
+    if (RestMetricState* state = problem.terms[k]->restMetricState())
+      return {problem.terms[k].get(), state};
+  if (problem.terms.size() == 1)
+    throw InputError(
+        "PlasticityOptions.yieldStrain: the problem has no membrane; membrane plasticity needs "
+        "ProblemOptions.membrane stvk (with ProblemOptions.dof xyz)");
+  throw InputError("PlasticityOptions.yieldStrain: the " + problem.terms[1]->name() +
+                   " membrane has no per-face strain tensor whose rest value a plastic strain "
+                   "could move (springs: a rest length per edge and an area per face; conformal "
+                   "and mips: shape only, no size); use ProblemOptions.membrane stvk");
+}
 
 RestCurvatureState& restCurvatureOf(Problem& problem) {
   curvature::EnergyTerm& bending = *problem.terms.front();
@@ -47,9 +72,9 @@ Eigen::VectorXd hingeLengths(const Problem& problem, const RestCurvatureState& s
   return length;
 }
 
-// The three vertices of the face whose centroid is nearest the vertices' centroid, among faces
-// every one of whose vertices an element of the problem touches.
-std::vector<int> centralFaceVertices(const Problem& problem, const Positions& x) {
+// The face whose centroid is nearest the vertices' centroid, among faces every one of whose
+// vertices an element of the problem touches.
+int centralFace(const Problem& problem, const Positions& x) {
   std::vector<bool> touched(static_cast<size_t>(x.rows()), false);
   for (const auto& term : problem.terms) term->markTouchedVertices(touched);
   const Eigen::RowVector3d centroid = x.colwise().mean();
@@ -67,11 +92,46 @@ std::vector<int> centralFaceVertices(const Problem& problem, const Positions& x)
     if (allTouched && distance < nearest) nearest = distance, best = f;
   }
   if (best < 0) throw InputError("the mesh has no face whose vertices the energy reads");
-  return {problem.stencils.faces(best, 0), problem.stencils.faces(best, 1),
-          problem.stencils.faces(best, 2)};
+  return best;
 }
 
-// Solves and updates until no element's plastic increment exceeds tolerance κ_y.
+// Face `face`'s vertices moved so that it sits at its plastic rest metric: with the formed
+// F = Q U (polar, U = (FᵀF)^½), F' = Q Ā^½, Ā = I + 2 P the membrane's rest metric in the face's
+// rest frame; edges F' D̄, centroid kept. NumericalError when Ā is not positive definite.
+void placeAtRestMetric(Problem& problem, int face, Positions& x) {
+  const MembraneMetric membrane = membraneMetricOf(problem);
+  const RestMetricState& metric = *membrane.state;
+  int element = -1;
+  for (int e = 0; e < membrane.term->elementCount() && element < 0; ++e)
+    if (metric.elementId(e) == face) element = e;
+  if (element < 0) return;  // the membrane does not read this face: nothing to place
+  const Eigen::RowVector3d p = metric.restStrains().row(element);
+  Eigen::Matrix2d restMetric;
+  restMetric << 1 + 2 * p(0), 2 * p(1), 2 * p(1), 1 + 2 * p(2);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> rest(restMetric);
+  if (!(rest.eigenvalues().minCoeff() > 0.0))
+    throw NumericalError("face " + std::to_string(face) +
+                         ": its plastic rest metric is not positive definite (a plastic strain "
+                         "below -1/2)");
+  const int v[3] = {problem.stencils.faces(face, 0), problem.stencils.faces(face, 1),
+                    problem.stencils.faces(face, 2)};
+  Eigen::Matrix<double, 3, 2> edges;
+  edges.col(0) = (x.row(v[1]) - x.row(v[0])).transpose();
+  edges.col(1) = (x.row(v[2]) - x.row(v[0])).transpose();
+  const Eigen::Matrix2d restEdges = metric.restEdgeMatrix(element);
+  const Eigen::Matrix<double, 3, 2> f = edges * restEdges.inverse();
+  const Eigen::Matrix2d stretch =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(f.transpose() * f).operatorSqrt();
+  const Eigen::Matrix<double, 3, 2> placed =
+      f * stretch.inverse() * rest.operatorSqrt() * restEdges;
+  const Eigen::RowVector3d centroid = (x.row(v[0]) + x.row(v[1]) + x.row(v[2])) / 3.0;
+  x.row(v[0]) = centroid - (placed.col(0) + placed.col(1)).transpose() / 3.0;
+  x.row(v[1]) = x.row(v[0]) + placed.col(0).transpose();
+  x.row(v[2]) = x.row(v[0]) + placed.col(1).transpose();
+}
+
+// Solves and updates until no element's plastic increment exceeds tolerance κ_y (bending) and no
+// face's tolerance ε_y (membrane).
 bool settle(Problem& problem, PlasticState& state, const PlasticityOptions& plasticity,
             const FormingOptions& forming, BoundaryConditions& bc, MinimizeOptions& options,
             FormingResult& out) {
@@ -90,7 +150,13 @@ bool settle(Problem& problem, PlasticState& state, const PlasticityOptions& plas
         if (!bc.fixedEdge[e]) bc.xi[e] = solve.xi[e];
     const PlasticUpdate step =
         updatePlasticStrains(problem, state, plasticity, solve.positions, solve.xi);
-    if (step.largestIncrement <= forming.tolerance * *plasticity.yieldCurvature) return true;
+    const bool bendingSettled =
+        !plasticity.yieldCurvature ||
+        step.largestIncrement <= forming.tolerance * *plasticity.yieldCurvature;
+    const bool membraneSettled =
+        !plasticity.yieldStrain ||
+        step.largestStrainIncrement <= forming.tolerance * *plasticity.yieldStrain;
+    if (bendingSettled && membraneSettled) return true;
   }
   return false;
 }
@@ -110,10 +176,6 @@ void PlasticityOptions::validate() const {
   if (!(std::isfinite(hardening) && hardening >= 0.0))
     throw InputError("PlasticityOptions.hardening " + std::to_string(hardening) +
                      ": must be zero or positive");
-  if (yieldStrain)
-    throw InputError(
-        "PlasticityOptions.yieldStrain: membrane plasticity is not modelled yet (the membrane "
-        "stays elastic); give only PlasticityOptions.yieldCurvature");
 }
 
 void FormingOptions::validate() const {
@@ -128,14 +190,24 @@ void FormingOptions::validate() const {
 
 PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& options) {
   options.validate();
-  if (!options.yieldCurvature)
-    throw InputError("PlasticityOptions.yieldCurvature: needed for the bending part");
-  RestCurvatureState& rest = restCurvatureOf(problem);
+  if (!options.enabled())
+    throw InputError(
+        "PlasticityOptions.yieldCurvature, PlasticityOptions.yieldStrain: neither is given "
+        "(nothing can yield)");
   PlasticState state;
-  state.initialRest = rest.restCurvatures();
-  state.plasticStrain = Eigen::MatrixXd::Zero(state.initialRest.rows(), state.initialRest.cols());
-  state.hingeLength = hingeLengths(problem, rest);
-  state.yielded.assign(static_cast<size_t>(state.initialRest.rows()), false);
+  if (options.yieldCurvature) {
+    RestCurvatureState& rest = restCurvatureOf(problem);
+    state.initialRest = rest.restCurvatures();
+    state.plasticStrain = Eigen::MatrixXd::Zero(state.initialRest.rows(), state.initialRest.cols());
+    state.hingeLength = hingeLengths(problem, rest);
+    state.yielded.assign(static_cast<size_t>(state.initialRest.rows()), false);
+  }
+  if (options.yieldStrain) {
+    const RestMetricState& metric = *membraneMetricOf(problem).state;
+    state.membraneInitialRest = metric.restStrains();
+    state.membranePlasticStrain = Eigen::MatrixXd::Zero(state.membraneInitialRest.rows(), 3);
+    state.membraneYielded.assign(static_cast<size_t>(state.membraneInitialRest.rows()), false);
+  }
   return state;
 }
 
@@ -148,32 +220,109 @@ Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state) {
   return out;
 }
 
+namespace {
+
+// One part's trial A = E − (1 + γ) P per element, and its yield measure ‖A‖²_* / (2 y²).
+struct Trial {
+  Eigen::MatrixXd strain;  // A, #elements by components
+  Eigen::VectorXd yield;   // ‖A‖²_* / (2 y²); then, where a face has both parts, their sum
+};
+
+Trial trialOf(Eigen::MatrixXd strain, double yieldValue) {
+  Trial t{std::move(strain), Eigen::VectorXd(0)};
+  t.yield.resize(t.strain.rows());
+  for (Eigen::Index e = 0; e < t.strain.rows(); ++e)
+    t.yield[e] = starNormSquared(t.strain.row(e)) / (2.0 * yieldValue * yieldValue);
+  return t;
+}
+
+// Where a face carries both parts, each part's yield measure becomes the face's sum f_m + f_b, so
+// both return with the one factor s = 1/√f.
+void combineByFace(const Problem& problem, const RestCurvatureState& bending, Trial& bendingTrial,
+                   const RestMetricState& metric, Trial& membraneTrial) {
+  if (bending.components() != 3) return;  // a hinge's element is an edge: no face to share
+  std::vector<int> bendingOfFace(static_cast<size_t>(problem.stencils.faceCount()), -1);
+  for (Eigen::Index e = 0; e < bendingTrial.yield.size(); ++e)
+    bendingOfFace[static_cast<size_t>(bending.elementId(static_cast<int>(e)))] =
+        static_cast<int>(e);
+  for (Eigen::Index m = 0; m < membraneTrial.yield.size(); ++m) {
+    const int b = bendingOfFace[static_cast<size_t>(metric.elementId(static_cast<int>(m)))];
+    if (b < 0) continue;
+    const double sum = membraneTrial.yield[m] + bendingTrial.yield[b];
+    membraneTrial.yield[m] = sum;
+    bendingTrial.yield[b] = sum;
+  }
+}
+
+// The radial return of every element with yield measure f > 1: ΔP = (1 − 1/√f) A / (1 + γ)
+// (`lengths`: a hinge's 2 h̄_e, back from curvature to its angle measure). Returns the count and
+// max ‖ΔP‖_*/√2 (in the part's units).
+std::pair<int, double> returnRadially(const Trial& trial, double gamma,
+                                      const Eigen::VectorXd& lengths, Eigen::MatrixXd& plastic,
+                                      std::vector<bool>& yielded) {
+  int count = 0;
+  double largest = 0.0;
+  for (Eigen::Index e = 0; e < trial.strain.rows(); ++e) {
+    const double f = trial.yield[e];
+    if (!(f > 1.0)) continue;
+    const double s = 1.0 / std::sqrt(f);
+    Eigen::RowVectorXd increment = (1.0 - s) / (1.0 + gamma) * trial.strain.row(e);
+    largest = std::max(largest, std::sqrt(starNormSquared(increment) / 2.0));
+    if (lengths.size() > 0) increment *= lengths[e];
+    plastic.row(e) += increment;
+    yielded[static_cast<size_t>(e)] = true;
+    ++count;
+  }
+  return {count, largest};
+}
+
+}  // namespace
+
 PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,
                                    const PlasticityOptions& options, const Positions& x,
                                    const Eigen::VectorXd& xi) {
-  RestCurvatureState& rest = restCurvatureOf(problem);
-  const double gamma = options.hardening, yield = *options.yieldCurvature;
-  // E = S − S̄₀, A = E − (1 + γ) P; a hinge's angle measure divided by 2 h̄_e is a curvature.
-  Eigen::MatrixXd trial = rest.elementCurvatures(x, xi) - state.initialRest;
-  trial -= (1.0 + gamma) * state.plasticStrain;
-  if (state.hingeLength.size() > 0) trial.col(0).array() /= state.hingeLength.array();
-  PlasticUpdate update;
-  for (Eigen::Index e = 0; e < trial.rows(); ++e) {
-    const double f = starNormSquared(trial.row(e)) / (2.0 * yield * yield);
-    if (!(f > 1.0)) continue;
-    const double s = 1.0 / std::sqrt(f);
-    Eigen::RowVectorXd increment = (1.0 - s) / (1.0 + gamma) * trial.row(e);
-    update.largestIncrement =
-        std::max(update.largestIncrement, std::sqrt(starNormSquared(increment) / 2.0));
-    if (state.hingeLength.size() > 0) increment *= state.hingeLength[e];
-    state.plasticStrain.row(e) += increment;
-    state.yielded[static_cast<size_t>(e)] = true;
-    ++update.yieldedElements;
+  const double gamma = options.hardening;
+  RestCurvatureState* bending = options.yieldCurvature ? &restCurvatureOf(problem) : nullptr;
+  const MembraneMetric membrane =
+      options.yieldStrain ? membraneMetricOf(problem) : MembraneMetric{};
+  Trial bendingTrial, membraneTrial;
+  if (bending) {
+    // E_b = S − S̄₀, A = E_b − (1 + γ) P_b; a hinge's angle measure divided by 2 h̄_e is a
+    // curvature.
+    Eigen::MatrixXd a = bending->elementCurvatures(x, xi) - state.initialRest;
+    a -= (1.0 + gamma) * state.plasticStrain;
+    if (state.hingeLength.size() > 0) a.col(0).array() /= state.hingeLength.array();
+    bendingTrial = trialOf(std::move(a), *options.yieldCurvature);
   }
-  if (update.yieldedElements == 0) return update;
-  const double before = problem.terms.front()->energy(x, xi);
-  rest.setRestCurvatures(state.initialRest + state.plasticStrain);
-  update.released = before - problem.terms.front()->energy(x, xi);
+  if (membrane.state) {
+    // E_m = ε − P₀ (P₀ = 0 as built), A = E_m − (1 + γ) P_m.
+    Eigen::MatrixXd a = membrane.state->elementStrains(x) - state.membraneInitialRest;
+    a -= (1.0 + gamma) * state.membranePlasticStrain;
+    membraneTrial = trialOf(std::move(a), *options.yieldStrain);
+  }
+  if (bending && membrane.state)
+    combineByFace(problem, *bending, bendingTrial, *membrane.state, membraneTrial);
+  PlasticUpdate update;
+  if (bending)
+    std::tie(update.yieldedElements, update.largestIncrement) =
+        returnRadially(bendingTrial, gamma, state.hingeLength, state.plasticStrain, state.yielded);
+  if (membrane.state)
+    std::tie(update.yieldedFaces, update.largestStrainIncrement) =
+        returnRadially(membraneTrial, gamma, Eigen::VectorXd(), state.membranePlasticStrain,
+                       state.membraneYielded);
+  if (update.yieldedElements == 0 && update.yieldedFaces == 0) return update;
+  double before = 0.0, after = 0.0;
+  if (update.yieldedElements > 0) {
+    before += problem.terms.front()->energy(x, xi);
+    bending->setRestCurvatures(state.initialRest + state.plasticStrain);
+    after += problem.terms.front()->energy(x, xi);
+  }
+  if (update.yieldedFaces > 0) {
+    before += membrane.term->energy(x, xi);
+    membrane.state->setRestStrains(state.membraneInitialRest + state.membranePlasticStrain);
+    after += membrane.term->energy(x, xi);
+  }
+  update.released = before - after;
   state.dissipation += update.released;
   return update;
 }
@@ -207,7 +356,10 @@ FormingResult formPlastically(Problem& problem, const PlasticityOptions& plastic
     // Vertices no element reads carry no energy: they stay where the forming left them.
     std::vector<bool> touched(bc.fixedVertex.size(), false);
     for (const auto& term : problem.terms) term->markTouchedVertices(touched);
-    out.report.releasePins = centralFaceVertices(problem, out.positions);
+    const int face = centralFace(problem, out.positions);
+    out.report.releasePins = {problem.stencils.faces(face, 0), problem.stencils.faces(face, 1),
+                              problem.stencils.faces(face, 2)};
+    if (plasticity.yieldStrain) placeAtRestMetric(problem, face, bc.start);
     for (size_t v = 0; v < touched.size(); ++v) bc.fixedVertex[v] = !touched[v];
     for (int v : out.report.releasePins) bc.fixedVertex[v] = true;
     bc.fixedEdge.assign(bc.fixedEdge.size(), false);
@@ -217,6 +369,7 @@ FormingResult formPlastically(Problem& problem, const PlasticityOptions& plastic
   out.report.converged = settled && out.report.lastSolve.converged;
   out.report.dissipation = out.state.dissipation;
   for (bool y : out.state.yielded) out.report.yieldedElements += y ? 1 : 0;
+  for (bool y : out.state.membraneYielded) out.report.yieldedFaces += y ? 1 : 0;
   return out;
 }
 

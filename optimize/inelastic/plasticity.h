@@ -1,9 +1,13 @@
-// Plasticity of the bending part (Gingold, Secord, Han, Grinspun, Zorin 2004, seed 002; the model
-// and its formulas in docs/energies.md, "Plasticity"): per element a plastic strain P moves the
-// rest curvature, S̄ = S̄₀ + P (a face's shape operator; a hinge's angle measure φ(θ̄)). With the
-// bending strain E = S − S̄₀ and linear kinematic hardening γ, A = E − (1 + γ) P and
-// ‖A‖²_* = Tr(A²) + (Tr A)²; an element yields when ‖A‖²_* / (2 κ_y²) > 1 and returns radially:
-// A ← s A, ΔP = (1 − s) A / (1 + γ), s = 1 / √(‖A‖²_* / (2 κ_y²)).
+// Plasticity of thin shells (Gingold, Secord, Han, Grinspun, Zorin 2004, seed 002; the model and
+// its formulas in docs/energies.md, "Plasticity"). Bending: per element a plastic strain P_b moves
+// the rest curvature, S̄ = S̄₀ + P_b (a face's shape operator; a hinge's angle measure φ(θ̄)), with
+// the bending strain E_b = S − S̄₀. Membrane (stvk): per face a plastic Green strain P_m moves the
+// rest metric, Ā = I + 2 P_m (squared rest edge lengths ℓ̄² + 2 ūᵀ P_m ū), with the membrane strain
+// E_m = ε = ½(FᵀF − I). With linear kinematic hardening γ, A = E − (1 + γ) P per part and
+// ‖A‖²_* = Tr(A²) + (Tr A)²; a face yields when f = ‖A_m‖²_* / (2 ε_y²) + ‖A_b‖²_* / (2 κ_y²) > 1
+// (a part without its yield value is elastic) and both parts return radially with one factor:
+// A ← s A, ΔP = (1 − s) A / (1 + γ), s = 1 / √f. A hinge's element is an edge, not a face: its
+// part returns alone.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,36 +21,46 @@ namespace flexure::optimize {
 
 struct PlasticityOptions {
   std::optional<double> yieldCurvature;  // κ_y (1 / length); empty: bending stays elastic
-  // ε_y, the membrane's yield strain: not modelled yet (validate refuses it).
+  // ε_y, the membrane's yield strain (Green strain; stvk only); empty: the membrane stays elastic.
   std::optional<double> yieldStrain;
   double hardening = 0.0;  // γ ≥ 0, linear kinematic hardening
 
   bool enabled() const { return yieldCurvature.has_value() || yieldStrain.has_value(); }
-  // InputError naming the field: a yield value that is not positive and finite, γ < 0, a yield
-  // strain (the membrane stays elastic).
+  // InputError naming the field: a yield value that is not positive and finite, γ < 0.
   void validate() const;
 };
 
-// The plastic state of a problem's bending term, per element in the term's order.
+// The plastic state of a problem's bending term, per element in the term's order, and of its
+// membrane, per face in the membrane term's order. A part without its yield value is empty
+// (0 rows).
 struct PlasticState {
   Eigen::MatrixXd initialRest;    // S̄₀ (or φ(θ̄₀)), #elements by components
-  Eigen::MatrixXd plasticStrain;  // P, the same shape
+  Eigen::MatrixXd plasticStrain;  // P_b, the same shape
   // 2 h̄_e = 2 (Ā_f + Ā_g) / (3 ℓ̄_e) per hinge: the length over which its angle measures curvature
   // (θ_e ≈ κ 2 h̄_e across an edge normal to a cylinder's axis); empty for face energies.
   Eigen::VectorXd hingeLength;
   std::vector<bool> yielded;  // elements that have ever yielded
-  double dissipation = 0.0;   // Σ of the elastic energy each update released at fixed positions
+  // The membrane's rest strain as built (zero) and P_m, #faces by 3: (a, b, c) of
+  // [[a, b], [b, c]] in each face's rest frame.
+  Eigen::MatrixXd membraneInitialRest;
+  Eigen::MatrixXd membranePlasticStrain;
+  std::vector<bool> membraneYielded;  // faces whose membrane part has ever yielded
+  double dissipation = 0.0;  // Σ of the elastic energy each update released at fixed positions
 };
 
-// The plastic state of `problem`'s bending term before any yield (P = 0). Throws InputError when
-// the term has no rest curvature to move (cotan: one mean curvature per vertex, whose rest value
-// cannot carry a plastic strain tensor) or `options` are invalid.
+// The plastic state of `problem` before any yield (P = 0): the bending part with a yield
+// curvature, the membrane part with a yield strain. Throws InputError when `options` are invalid
+// or give no yield value, when the bending term has no rest curvature to move (cotan: one mean
+// curvature per vertex, whose rest value cannot carry a plastic strain tensor), or when a yield
+// strain comes without a stvk membrane.
 PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& options);
 
 struct PlasticUpdate {
-  int yieldedElements = 0;      // elements that returned to the yield surface in this update
-  double largestIncrement = 0;  // max over elements of ‖ΔP‖_* (or |ΔP| for a hinge, in curvature)
+  int yieldedElements = 0;  // bending elements that returned to the yield surface
+  double largestIncrement = 0;  // max over elements of ‖ΔP_b‖_*/√2 (|ΔP| for a hinge, in curvature)
   double released = 0;          // elastic energy the update released at fixed positions
+  int yieldedFaces = 0;               // faces whose membrane part returned
+  double largestStrainIncrement = 0;  // max over faces of ‖ΔP_m‖_*/√2
 };
 
 // Per element, its plastic strain as a curvature, √(‖P‖²_* / 2) (a hinge's P divided by 2 h̄_e):
@@ -54,15 +68,19 @@ struct PlasticUpdate {
 Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state);
 
 // Returns every element outside the yield surface at (x, ξ) to it, moves the bending term's rest
-// curvature to S̄₀ + P and adds the released energy to state.dissipation.
+// curvature to S̄₀ + P_b and the membrane's rest strain to P_m, and adds the released energy to
+// state.dissipation.
 PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,
                                    const PlasticityOptions& options, const Positions& x,
                                    const Eigen::VectorXd& xi);
 
 // Quasi-static forming: the held values reached in `loadSteps` equal steps from rest, each a static
-// solve followed by plastic updates (solve, update, until no element's ‖ΔP‖ exceeds
-// `tolerance` κ_y); then, when `release`, only the three vertices of the face nearest the
-// centroid stay held (with the midedge ξ free) and the same loop relaxes: the sprung-back shape.
+// solve followed by plastic updates (solve, update, until no element's ‖ΔP_b‖ exceeds
+// `tolerance` κ_y and no face's ‖ΔP_m‖ `tolerance` ε_y); then, when `release`, only the three
+// vertices of the face nearest the centroid stay held (with the midedge ξ free) and the same loop
+// relaxes: the sprung-back shape. With a membrane part that face is first placed at its plastic
+// rest metric (F = R (I + 2 P_m)^½ D̄⁻¹, R the rotation of its formed F, its centroid kept), so the
+// pins remove the rigid motions and hold no strain.
 struct FormingOptions {
   int loadSteps = 1;
   bool release = false;
@@ -74,7 +92,8 @@ struct FormingOptions {
 struct FormingReport {
   bool converged = false;  // every solve converged and every step's updates settled
   int solves = 0;
-  int yieldedElements = 0;  // elements that ever yielded
+  int yieldedElements = 0;  // bending elements that ever yielded
+  int yieldedFaces = 0;     // faces whose membrane part ever yielded
   double dissipation = 0.0;
   std::vector<int> releasePins;  // the vertices held in the release (empty without one)
   MinimizeReport lastSolve;
