@@ -301,7 +301,8 @@ std::optional<optimize::FractureOptions> fractureOptions(const SimulateOptions& 
   return fracture;
 }
 
-// --yield-curvature κ_y and --hardening γ (none without a yield value), checked: not with cotan
+// --yield-curvature κ_y and --hardening γ (none without a yield value), checked: not --yield-strain
+// (the membrane's plastic strain is forming's only), not with cotan
 // (no rest curvature per element to move), fracture (a cut rebuilds the problem) or checkpoints
 // (they do not keep the plastic strains).
 std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptions& o,
@@ -313,6 +314,11 @@ std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptio
           "--yield-curvature");
     return std::nullopt;
   }
+  if (o.plasticity.yieldStrain.has_value())
+    throw InputError(
+        "--yield-strain: membrane plasticity is for minimize's forming; simulate moves the rest "
+        "curvature only (its dissipation and balance are not kept for the rest metric yet): use "
+        "--yield-curvature");
   const optimize::PlasticityOptions plasticity = cli::plasticityOptions(o.plasticity);
   if (b.discretization == curvature::Discretization::Cotan)
     throw InputError(

@@ -80,6 +80,9 @@ stderr_has "--fracture-strain"; absent f
 run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-curvature 0.1 \
   --checkpoint 1 --dt 0.01 --duration 0.02 -o k
 stderr_has "--checkpoint"; absent k
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-strain 0.01 --dt 0.01 \
+  --duration 0.02 -o m
+stderr_has "--yield-strain"; absent m
 run 2 simulate --rest flat.obj --energy hinge --membrane stvk --hardening 0.5 --dt 0.01 \
   --duration 0.02 -o h
 stderr_has "--hardening"; absent h
