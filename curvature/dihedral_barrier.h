@@ -12,7 +12,8 @@
 // region smoothly (flexure fair, CGAL's corner_tris_with_hole.off: one vertex pushed over a held
 // edge, its face turned 127° against both neighbours, E lower than unfolded). A solve that never
 // raises its energy keeps every |θ_e| below θ_max,e. Residual r = √(2κ) (d̂ − d) √(−log(d / d̂)),
-// ½ r² = b; d ≤ 0 is infeasible (evaluation fails, the line search backs off).
+// ½ r² = b (logBarrierResidual, membrane.h); d ≤ 0 is infeasible (evaluation fails, the line
+// search backs off).
 #pragma once
 
 #include <array>
@@ -23,6 +24,7 @@
 
 #include "curvature/bending_angle.h"
 #include "curvature/energy_term.h"
+#include "curvature/membrane.h"
 #include "modeling/stencils.h"
 
 namespace flexure::curvature {
@@ -37,13 +39,9 @@ struct DihedralBarrierResidual {
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    using std::log;
-    using std::sqrt;
     const T theta = bendingAngle(load(x[0]), load(x[1]), load(x[2]), load(x[3]));
     const T d = T(maxAngle) - (scalarPart(theta) < 0.0 ? T(-1.0) * theta : theta);
-    if (!(scalarPart(d) > 0.0)) return false;
-    r[0] = scalarPart(d) < band ? sqrtWeight * (T(band) - d) * sqrt(-log(d / T(band))) : T(0.0);
-    return isFiniteScalar(r[0]);
+    return logBarrierResidual(d, band, sqrtWeight, r[0]) && isFiniteScalar(r[0]);
   }
 };
 

@@ -92,6 +92,18 @@ struct ConformalMembraneResidual {
   }
 };
 
+// The log barrier's residual at distance d from the limit: r = √(2κ) (d̂ − d) √(−log(d / d̂)) for
+// 0 < d < d̂ (½ r² = b above), 0 for d ≥ d̂; false for d ≤ 0 (infeasible). Shared by the angle
+// barrier and the dihedral barrier (dihedral_barrier.h).
+template <class T>
+bool logBarrierResidual(const T& d, double band, double sqrtWeight, T& r) {
+  using std::log;
+  using std::sqrt;
+  if (!(scalarPart(d) > 0.0)) return false;
+  r = scalarPart(d) < band ? sqrtWeight * (T(band) - d) * sqrt(-log(d / T(band))) : T(0.0);
+  return true;
+}
+
 // angle barrier — a floor under a triangle's angles (fairing's triangle-quality rule): for each
 // corner angle α of the face, with d = α − α_min and a band d̂,
 //
@@ -110,14 +122,11 @@ struct AngleBarrierResidual {
 
   template <class T>
   bool operator()(T const* const* x, T* r) const {
-    using std::log;
-    using std::sqrt;
     const Vec3<T> p[3] = {load(x[0]), load(x[1]), load(x[2])};
     for (int i = 0; i < 3; ++i) {
       const Vec3<T> a = p[(i + 1) % 3] - p[i], b = p[(i + 2) % 3] - p[i];
-      const T d = angleBetween(a, b) - T(minAngle);
-      if (!(scalarPart(d) > 0.0)) return false;
-      r[i] = scalarPart(d) < band ? sqrtWeight * (T(band) - d) * sqrt(-log(d / T(band))) : T(0.0);
+      if (!logBarrierResidual(angleBetween(a, b) - T(minAngle), band, sqrtWeight, r[i]))
+        return false;
     }
     return true;
   }
