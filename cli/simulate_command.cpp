@@ -577,11 +577,12 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
 }
 
 // The run's energy balance (optimize::EnergyBalance): "balanced" when its largest drift is within
-// the tolerance, "gained" or "lost" beyond it, "driven" when moving pins do work (not checked).
+// the tolerance (or round-off), "gained" or "lost" beyond it, "driven" when moving pins do work
+// (not checked).
 std::string balanceVerdict(const optimize::TimeStepper& stepper, double tolerance) {
   const optimize::EnergyBalance& b = stepper.balance();
   if (!stepper.balanceChecked()) return "driven";
-  if (b.relativeDrift() <= tolerance) return "balanced";
+  if (b.balancedWithin(tolerance)) return "balanced";
   return b.largestDrift > 0.0 ? "gained" : "lost";
 }
 
@@ -596,6 +597,7 @@ nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double 
           {"initial_total", b.initial},
           {"dissipated", b.dissipated},
           {"contact_stiffening", b.stiffening},
+          {"roundoff", b.roundoff},
           {"tolerance", tolerance},
           {"verdict", balanceVerdict(stepper, tolerance)}};
 }
@@ -610,6 +612,8 @@ void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, 
   char tail[160] = "";
   if (verdict == "driven")
     std::snprintf(tail, sizeof tail, "; not checked: the moving pins do work");
+  else if (b.relativeDrift() > tolerance && !warn)
+    std::snprintf(tail, sizeof tail, "; round-off: below 1e-12 M (L/dt)^2 = %.3g", b.roundoff);
   else if (warn)
     std::snprintf(tail, sizeof tail,
                   "; beyond --energy-tolerance %g: a smaller --dt follows the motion more closely",

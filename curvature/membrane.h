@@ -93,8 +93,9 @@ struct ConformalMembraneResidual {
 };
 
 // The log barrier's residual at distance d from the limit: r = √(2κ) (d̂ − d) √(−log(d / d̂)) for
-// 0 < d < d̂ (½ r² = b above), 0 for d ≥ d̂; false for d ≤ 0 (infeasible). Shared by the angle
-// barrier and the dihedral barrier (dihedral_barrier.h).
+// 0 < d < d̂, 0 for d ≥ d̂, so that ½ r² = b(d) = −κ (d − d̂)² log(d / d̂) (the barrier of Li et al.
+// 2020, "Incremental Potential Contact"); false for d ≤ 0 (infeasible). Shared by the angle
+// barrier below and the dihedral barrier (dihedral_barrier.h).
 template <class T>
 bool logBarrierResidual(const T& d, double band, double sqrtWeight, T& r) {
   using std::log;

@@ -685,7 +685,7 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
     barrier_.adapt(x_, v_, mass_, std::max(0.0, budget));
     stiffeningWork = barrier_.energy(x_) - e.contact;
   }
-  balance_.record(e, dissipation, stiffeningWork);
+  balance_.record(e, dissipation, stiffeningWork, roundoff);
   e.contact += stiffeningWork;
   energies_ = std::move(e);
   return outcome;
@@ -728,8 +728,10 @@ double EnergyBalance::growth(const EnergySample& e, double dissipation) const {
   return (balanced(e) + dissipation - last) / scale(e);
 }
 
-void EnergyBalance::record(const EnergySample& e, double dissipation, double stiffeningWork) {
+void EnergyBalance::record(const EnergySample& e, double dissipation, double stiffeningWork,
+                           double stepRoundoff) {
   dissipated += dissipation;
+  roundoff = std::max(roundoff, stepRoundoff);
   ++steps;
   peakKinetic = std::max(peakKinetic, e.kinetic);
   peakElastic = std::max(peakElastic, elasticEnergy(e));

@@ -168,6 +168,9 @@ struct EnergyBalance {
   long driftStep = 0;
   long steps = 0;        // steps recorded
   double plastic = 0.0;  // P
+  // The largest step's round-off floor, 1e-12 M (L/h)² (TimeStepper: the kinetic energy of the
+  // whole mass moving 1e-6 L per step): a drift below it is round-off, as in a body at rest.
+  double roundoff = 0.0;
 
   void start(const EnergySample& e);
   double balanced(const EnergySample& e) const {
@@ -179,10 +182,15 @@ struct EnergyBalance {
   // How far E_b would rise over a step ending in e that did `dissipation` work against damping,
   // relative to the scale.
   double growth(const EnergySample& e, double dissipation) const;
-  // Counts a step ending in e (its dissipation, the stiffening after it).
-  void record(const EnergySample& e, double dissipation, double stiffeningWork);
+  // Counts a step ending in e (its dissipation, the stiffening after it, its round-off floor).
+  void record(const EnergySample& e, double dissipation, double stiffeningWork,
+              double stepRoundoff);
   // The largest drift relative to the scale.
   double relativeDrift() const { return std::abs(largestDrift) / scale(); }
+  // Whether the largest drift is within `tolerance` of the scale, or round-off.
+  bool balancedWithin(double tolerance) const {
+    return relativeDrift() <= tolerance || std::abs(largestDrift) <= roundoff;
+  }
 };
 
 class TimeStepper {
