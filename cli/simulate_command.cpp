@@ -1026,7 +1026,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
                   "shaded | reflection | isophote | displacement (coloured by the distance from "
                   "the rest mesh) | plastic (coloured by the plastic strain; with "
-                  "--yield-curvature) | none")
+                  "--yield-curvature or --yield-strain) | none")
       ->capture_default_str();
   sub->add_option("--exaggerate", o.exaggerate,
                   "Frame images draw rest + K (x - rest): small motions made visible (the frame "
