@@ -202,6 +202,30 @@ TEST(MembranePlasticDynamics, UndampedNewmarkBalancesKineticElasticAndDissipatio
   }
 }
 
+// Bending and membrane past their yields at once (one radial return per face for both parts, the
+// combined yield): the same balance.
+TEST(MembranePlasticDynamics, CombinedYieldBalances) {
+  optimize::Problem problem = freePlate(Discretization::Midedge);
+  TimeStepper stepper(problem, DynamicsOptions());
+  stepper.start(bent(problem, 0.1), stretchingVelocity(problem, 3.0), Eigen::VectorXd());
+  const double start = elasticAndKinetic(stepper);
+  PlasticityOptions both = strainYieldAt(0.01, 0.5);
+  both.yieldCurvature = 0.05;
+  PlasticDynamics plastic(problem, stepper, both);
+  double dissipation = plastic.dissipation(), largestError = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    ASSERT_TRUE(stepper.advance(0.001, 0.001 / 64).completed) << k;
+    plastic.afterStep();
+    EXPECT_GE(plastic.dissipation(), dissipation) << k;
+    dissipation = plastic.dissipation();
+    largestError =
+        std::max(largestError, std::abs(elasticAndKinetic(stepper) + dissipation - start) / start);
+  }
+  EXPECT_LT(largestError, 0.01);
+  EXPECT_FALSE(plastic.yieldedFaces().empty());
+  EXPECT_FALSE(plastic.yieldedElements().empty());
+}
+
 TEST(MembranePlasticDynamics, NothingYieldsBelowTheYieldStrain) {
   optimize::Problem elastic = freePlate(Discretization::Midedge);
   optimize::Problem problem = freePlate(Discretization::Midedge);
