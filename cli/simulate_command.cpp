@@ -192,11 +192,16 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
   namespace fs = std::filesystem;
   std::optional<render::RenderOptions> look;
   if (o.renderStyle == "plastic") {
-    if (!o.plasticity.yieldCurvature)
+    if (!o.plasticity.enabled())
       throw InputError(
-          "--render-style plastic: colours the plastic strain; give --yield-curvature");
+          "--render-style plastic: colours the plastic strain; give --yield-curvature or "
+          "--yield-strain");
     look.emplace();
     look->style = render::RenderStyle::Plastic;
+    if (o.plasticity.yieldCurvature && o.plasticity.yieldStrain)
+      look->plasticLabel = "plastic strain / yield value";
+    else if (o.plasticity.yieldStrain)
+      look->plasticLabel = "membrane plastic strain (Green)";
   } else if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);
@@ -301,9 +306,9 @@ std::optional<optimize::FractureOptions> fractureOptions(const SimulateOptions& 
   return fracture;
 }
 
-// --yield-curvature κ_y and --hardening γ (none without a yield value), checked: not --yield-strain
-// (the membrane's plastic strain is forming's only), not with cotan
-// (no rest curvature per element to move), fracture (a cut rebuilds the problem) or checkpoints
+// --yield-curvature κ_y, --yield-strain ε_y and --hardening γ (none without a yield value),
+// checked: κ_y not with cotan (no rest curvature per element to move), ε_y only with --membrane
+// stvk (the library's message), neither with fracture (a cut rebuilds the problem) or checkpoints
 // (they do not keep the plastic strains).
 std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptions& o,
                                                              const curvature::BendingOptions& b) {
@@ -311,28 +316,29 @@ std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptio
     if (o.plasticity.hardening != 0.0)
       throw InputError(
           "--hardening: the plastic hardening needs a yield value: give "
-          "--yield-curvature");
+          "--yield-curvature or --yield-strain");
     return std::nullopt;
   }
-  if (o.plasticity.yieldStrain.has_value())
-    throw InputError(
-        "--yield-strain: membrane plasticity is for minimize's forming; simulate moves the rest "
-        "curvature only (its dissipation and balance are not kept for the rest metric yet): use "
-        "--yield-curvature");
   const optimize::PlasticityOptions plasticity = cli::plasticityOptions(o.plasticity);
-  if (b.discretization == curvature::Discretization::Cotan)
+  const std::string given = o.plasticity.yieldCurvature ? "--yield-curvature" : "--yield-strain";
+  if (o.plasticity.yieldStrain && o.membrane.model != "stvk")
+    throw InputError(
+        "--yield-strain: membrane plasticity moves the rest metric of --membrane "
+        "stvk (got --membrane " +
+        o.membrane.model + ")");
+  if (o.plasticity.yieldCurvature && b.discretization == curvature::Discretization::Cotan)
     throw InputError(
         "--yield-curvature: the cotan energy has one mean curvature per vertex, no per-face "
         "shape operator or per-edge angle whose rest value a plastic strain could move; use "
         "triavg, midedge, quadfit or hinge");
   if (o.fractureStrain != 0.0)
-    throw InputError(
-        "--yield-curvature: not with --fracture-strain (a cut rebuilds the shell, and the "
-        "plastic strains do not carry across it)");
+    throw InputError(given +
+                     ": not with --fracture-strain (a cut rebuilds the shell, and the "
+                     "plastic strains do not carry across it)");
   if (o.checkpointEvery > 0 || !o.resumeDir.empty())
-    throw InputError(
-        "--yield-curvature: not with --checkpoint or --resume (a checkpoint does not keep the "
-        "plastic strains)");
+    throw InputError(given +
+                     ": not with --checkpoint or --resume (a checkpoint does not keep the "
+                     "plastic strains)");
   return plasticity;
 }
 
@@ -553,7 +559,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, dynamics.restMesh());
-      if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
+      if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
     if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
@@ -570,7 +576,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
     recording.sample(stepper);
     recording.frame(stepper, dynamics.restMesh());
-    if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
+    if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
@@ -657,23 +663,56 @@ nlohmann::json fractureReport(const SimulateOptions& o,
           {"faces", fracturing.restMesh().faceCount()}};
 }
 
-// The plastic state at the end: the yield values, the elements that carry a plastic strain (how
-// many, which), the largest plastic strain as a curvature, the dissipation at each frame.
+// The plastic state at the end: the yield values (null when not given), the bending elements and
+// membrane faces that carry a plastic strain (how many of how many, which), the largest plastic
+// strain of each part (bending as a curvature, membrane as a Green strain), the dissipation at
+// each frame.
 nlohmann::json plasticityReport(const optimize::PlasticityOptions& options,
                                 const optimize::PlasticDynamics& plastic,
                                 const Recording& recording) {
-  const Eigen::VectorXd strain = optimize::equivalentPlasticCurvatures(plastic.state());
+  const auto valueOrNull = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  const auto largest = [](const Eigen::VectorXd& v) { return v.size() > 0 ? v.maxCoeff() : 0.0; };
   const std::vector<int> yielded = plastic.yieldedElements();
-  return {{"yield_curvature", *options.yieldCurvature},
+  const std::vector<int> yieldedFaces = plastic.yieldedFaces();
+  return {{"yield_curvature", valueOrNull(options.yieldCurvature)},
+          {"yield_strain", valueOrNull(options.yieldStrain)},
           {"hardening", options.hardening},
           {"element", plastic.elementKind()},
           {"elements", plastic.elementCount()},
           {"yielded_elements", yielded.size()},
           {"yielded", yielded},
-          {"largest_plastic_curvature", strain.size() > 0 ? strain.maxCoeff() : 0.0},
+          {"largest_plastic_curvature",
+           largest(optimize::equivalentPlasticCurvatures(plastic.state()))},
+          {"membrane_faces", plastic.membraneFaceCount()},
+          {"yielded_membrane_faces", yieldedFaces.size()},
+          {"yielded_faces", yieldedFaces},
+          {"largest_plastic_strain", largest(optimize::equivalentPlasticStrains(plastic.state()))},
           {"plastic_dissipation", plastic.dissipation()},
           {"dissipation_history",
            {{"time", recording.frameTimes}, {"plastic_dissipation", recording.frameDissipation}}}};
+}
+
+// "plastic: B of N faces (or edges) yielded, M of F membrane faces yielded, dissipation D" on
+// stderr, each part only when its yield value is given.
+void printPlasticSummary(const optimize::PlasticityOptions& options,
+                         const optimize::PlasticDynamics& plastic) {
+  std::string parts;
+  char text[120];
+  if (options.yieldCurvature) {
+    std::snprintf(text, sizeof text, "%zu of %d %ss yielded", plastic.yieldedElements().size(),
+                  plastic.elementCount(), plastic.elementKind().c_str());
+    parts += text;
+  }
+  if (options.yieldStrain) {
+    std::snprintf(text, sizeof text, "%s%zu of %d membrane faces yielded",
+                  parts.empty() ? "" : ", ", plastic.yieldedFaces().size(),
+                  plastic.membraneFaceCount());
+    parts += text;
+  }
+  std::fprintf(stderr, "flexure simulate: plastic: %s, dissipation %.6g\n", parts.c_str(),
+               plastic.dissipation());
 }
 
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
@@ -892,7 +931,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                       plastic.has_value());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
-  if (plastic) recording.framePlastic.push_back(plastic->vertexPlasticCurvatures());
+  if (plastic) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
   const std::string checksum = meshChecksum(restMesh);
   Run start;
   start.smallestStep = o.dt;
@@ -908,10 +947,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
     report["energy_balance"]["plastic_dissipation"] = plastic->dissipation();
   }
   printEnergyBalance(fracturing.stepper(), dynamics.energyTolerance, global.quiet);
-  if (plastic && !global.quiet)
-    std::fprintf(stderr, "flexure simulate: plastic: %zu of %d %ss yielded, dissipation %.6g\n",
-                 plastic->yieldedElements().size(), plastic->elementCount(),
-                 plastic->elementKind().c_str(), plastic->dissipation());
+  if (plastic && !global.quiet) printPlasticSummary(*plasticity, *plastic);
   const fs::path dir(o.outputDir);
   const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
                             optimize::integratorName(dynamics.integrator);
@@ -994,7 +1030,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
                   "shaded | reflection | isophote | displacement (coloured by the distance from "
                   "the rest mesh) | plastic (coloured by the plastic strain; with "
-                  "--yield-curvature) | none")
+                  "--yield-curvature or --yield-strain) | none")
       ->capture_default_str();
   sub->add_option("--exaggerate", o.exaggerate,
                   "Frame images draw rest + K (x - rest): small motions made visible (the frame "

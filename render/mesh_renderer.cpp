@@ -840,7 +840,7 @@ ScalarField legendField(const modeling::Mesh& mesh, const RenderOptions& o) {
       throw InputError("render: " + std::to_string(o.vertexScalars.size()) +
                        " plastic strains for " + std::to_string(mesh.vertexCount()) + " vertices");
     ScalarField field = magnitudeField(o.vertexScalars, o.plasticMax, std::nullopt, o);
-    field.title = "plastic strain (1 / length)";
+    field.title = o.plasticLabel;
     return field;
   }
   ScalarField field =

@@ -125,6 +125,7 @@ struct RenderOptions {
   std::vector<double> vertexScalars;
   std::optional<double> curvatureMax;
   std::optional<double> plasticMax;  // the plastic style's top of the colour map
+  std::string plasticLabel = "plastic strain (1 / length)";  // the plastic style's legend title
   std::string scalarLabel = "H", scalarSymbol = "H";
   // The `curvature` style: the zero level set of vertexScalars drawn as dark lines about two
   // pixels wide (a mode's nodal lines), hidden where the surface hides it.

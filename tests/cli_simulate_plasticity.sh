@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# End-to-end runs of `flexure simulate` with plasticity (--yield-curvature, --hardening): a free
-# plate released from a bend past κ_y keeps kinetic + elastic + plastic dissipation at the start's
-# total (undamped Newmark) and its dissipation never decreases; moving pins bend a plate past κ_y;
-# a yield value nothing reaches changes no frame; refusals (exit 2, nothing written).
+# End-to-end runs of `flexure simulate` with plasticity (--yield-curvature, --yield-strain,
+# --hardening): a free plate released from a bend past κ_y, and one let go stretched past ε_y, keep
+# kinetic + elastic + plastic dissipation at the start's total (undamped Newmark) and their
+# dissipation never decreases; moving pins bend a plate past κ_y; a yield value nothing reaches
+# changes no frame; refusals (exit 2, nothing written).
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
 
@@ -52,14 +53,55 @@ run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk 
   --duration 0.05 --render-style none -o plain
 run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk --dt 0.01 \
   --duration 0.05 --render-style none --yield-curvature 1e6 -o never
+run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk --dt 0.01 \
+  --duration 0.05 --render-style none --yield-strain 1e6 -o never-m
 for f in plain/frame-*.obj; do
   cmp -s "$f" "never/$(basename "$f")" || fail "$f: a yield value nothing reaches changed a frame"
+  cmp -s "$f" "never-m/$(basename "$f")" || fail "$f: a yield strain nothing reaches changed a frame"
 done
 head -1 plain/energies.csv | grep -q plastic && fail "plain run: a plastic_dissipation column"
 python3 -c "import json,sys; d=json.load(open('plain/report.json')); sys.exit('plasticity' in d or 'plastic_dissipation' in d['energy_balance'])" \
   || fail "plain run: a plasticity section in report.json"
 python3 -c "import json,sys; p=json.load(open('never/report.json'))['plasticity']; sys.exit(p['yielded_elements'] != 0 or p['plastic_dissipation'] != 0)" \
   || fail "a yield value nothing reaches: something yielded"
+
+# Membrane plasticity: a free plate let go stretched by 3 % along x (Green strain 0.0305, past
+# ε_y = 0.01) yields at once and in its vibration; undamped Newmark keeps kinetic + elastic +
+# plastic dissipation at the start's total, the dissipation never decreases, every face yields.
+python3 - <<'PY'
+out = []
+for line in open("flat.obj"):
+    if line.startswith("v "):
+        x, y, z = map(float, line.split()[1:4])
+        line = "v %.17g %.17g %.17g\n" % (1.03 * x, y, z)
+    out.append(line)
+open("stretched.obj", "w").writelines(out)
+PY
+run 0 simulate --rest flat.obj --init stretched.obj --energy midedge --membrane stvk \
+  --yield-strain 0.01 --hardening 0.5 --dt 0.0005 --duration 0.05 --fps 40 \
+  --render-style plastic --render-size 64 -o mem
+stderr_has "membrane faces yielded"
+is_png mem/frames/frame-00002.png || fail "mem/frames/frame-00002.png is not a PNG"
+python3 - <<'PY' || fail "membrane plastic run: energy balance, dissipation or report"
+import csv, json
+rows = list(csv.DictReader(open("mem/energies.csv")))
+d = [float(r["plastic_dissipation"]) for r in rows]
+balanced = [float(r["total"]) + x for r, x in zip(rows, d)]
+assert d[0] > 0, "the start is past the yield surface: it yields at once"
+assert all(b >= a for a, b in zip(d, d[1:])), "the dissipation decreased"
+drift = max(abs(b - balanced[0]) for b in balanced) / balanced[0]
+assert drift < 0.01, drift
+r = json.load(open("mem/report.json"))
+p = r["plasticity"]
+assert p["yield_strain"] == 0.01 and p["yield_curvature"] is None, p
+assert p["membrane_faces"] > 0 and p["yielded_membrane_faces"] == p["membrane_faces"], p
+assert len(p["yielded_faces"]) == p["yielded_membrane_faces"]
+assert p["yielded_elements"] == 0 and p["largest_plastic_curvature"] == 0
+assert 0 < p["largest_plastic_strain"] < 0.0305
+assert abs(p["plastic_dissipation"] - d[-1]) <= 1e-12 * d[-1]
+assert abs(r["energy_balance"]["plastic_dissipation"] - d[-1]) <= 1e-12 * d[-1]
+assert r["energy_balance"]["verdict"] == "balanced", r["energy_balance"]
+PY
 
 # Frames coloured by the plastic strain, with a legend (wider than the square frame).
 run 0 simulate --rest flat.obj --init bent.obj --energy hinge --membrane stvk --yield-curvature 0.05 \
@@ -80,9 +122,12 @@ stderr_has "--fracture-strain"; absent f
 run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-curvature 0.1 \
   --checkpoint 1 --dt 0.01 --duration 0.02 -o k
 stderr_has "--checkpoint"; absent k
-run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-strain 0.01 --dt 0.01 \
+run 2 simulate --rest flat.obj --energy hinge --membrane springs --yield-strain 0.01 --dt 0.01 \
   --duration 0.02 -o m
-stderr_has "--yield-strain"; absent m
+stderr_has "--yield-strain"; stderr_has "stvk"; absent m
+run 2 simulate --rest flat.obj --energy hinge --membrane stvk --yield-strain 0.01 \
+  --fracture-strain 0.1 --dt 0.01 --duration 0.02 -o mf
+stderr_has "--yield-strain"; stderr_has "--fracture-strain"; absent mf
 run 2 simulate --rest flat.obj --energy hinge --membrane stvk --hardening 0.5 --dt 0.01 \
   --duration 0.02 -o h
 stderr_has "--hardening"; absent h

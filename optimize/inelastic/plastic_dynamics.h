@@ -1,12 +1,13 @@
 // Shell dynamics with plasticity (issue #29; Gingold, Secord, Han, Grinspun & Zorin 2004, seed
 // 002; the model in plasticity.h and docs/energies.md, "Plasticity" and "Plasticity in time").
 //
-// After each accepted time step the plastic update (updatePlasticStrains: the radial return per
-// face or hinge) runs on the step's end state (x_{n+1}, ξ_{n+1}); the rest curvature moves, so the
-// elastic energy at the fixed end state drops by ΔD ≥ 0. That drop is the plastic dissipation D;
-// the stepper's energy balance counts it (EnergyBalance::plastic), so that
+// After each accepted time step the plastic update (updatePlasticStrains: one radial return per
+// face, bending and membrane parts together by the combined yield, or per hinge) runs on the
+// step's end state (x_{n+1}, ξ_{n+1}); the rest curvature and the membrane's rest metric move, so
+// the elastic energy at the fixed end state drops by ΔD ≥ 0. That drop is the plastic dissipation
+// D; the stepper's energy balance counts it (EnergyBalance::plastic), so that
 //   K + Σ E_terms + E_gravity + B + D_damping + D − S = E(0)
-// along the motion. The step itself is computed with the plastic strain of its start, P_n: the
+// along the motion. The step itself is computed with the plastic strains of its start, P_n: the
 // update lags the motion by one step (an operator split, first order in h).
 #pragma once
 
@@ -25,27 +26,49 @@ class PlasticDynamics {
   // started). A start outside the yield surface yields at once: the update runs on it too.
   // InputError as initialPlasticState (cotan, invalid options).
   PlasticDynamics(Problem& problem, TimeStepper& stepper, const PlasticityOptions& options);
+  // Continues `state` (another PlasticDynamics' on the same problem, whose rest states it set) with
+  // `stepper`, e.g. a new one after the pins were released: the update runs on its start.
+  PlasticDynamics(Problem& problem, TimeStepper& stepper, const PlasticityOptions& options,
+                  PlasticState state);
 
   // The plastic update on the stepper's current state. When an element yields, the released
   // energy joins the stepper's balance and the stepper is restored to its own state, which
-  // recomputes its energies with the moved rest curvature and drops its kept factor of the step's
-  // Hessian (assembled with the old one).
+  // recomputes its energies with the moved rest curvature and rest metric and drops its kept
+  // factor of the step's Hessian (assembled with the old ones).
   PlasticUpdate afterStep();
 
   const PlasticState& state() const { return state_; }
   double dissipation() const { return state_.dissipation; }
-  // The mesh elements ("face" or "edge", elementKind()) that carry a plastic strain, ascending.
+  // The bending elements ("face" or "edge", elementKind()) that carry a plastic strain, ascending;
+  // empty without a yield curvature.
   std::vector<int> yieldedElements() const;
   std::string elementKind() const;
-  // #V: per vertex the largest equivalentPlasticCurvatures of the faces or edges it belongs to.
-  Eigen::VectorXd vertexPlasticCurvatures() const;
   int elementCount() const { return static_cast<int>(state_.yielded.size()); }
+  // The mesh faces whose membrane part carries a plastic strain, ascending; empty without a yield
+  // strain.
+  std::vector<int> yieldedFaces() const;
+  int membraneFaceCount() const { return static_cast<int>(state_.membraneYielded.size()); }
+  // #V: per vertex the largest equivalentPlasticCurvatures of the faces or edges it belongs to (0
+  // without a yield curvature).
+  Eigen::VectorXd vertexPlasticCurvatures() const;
+  // #V: per vertex the largest equivalentPlasticStrains of its faces (0 without a yield strain).
+  Eigen::VectorXd vertexPlasticStrains() const;
+  // #V: what the plastic render style colours — vertexPlasticCurvatures with a yield curvature
+  // alone, vertexPlasticStrains with a yield strain alone, and with both the larger of the two
+  // divided by its yield value (κ_p/κ_y, ε_p/ε_y: dimensionless).
+  Eigen::VectorXd vertexPlasticMeasure() const;
 
  private:
   Problem& problem_;
   TimeStepper& stepper_;
   PlasticityOptions options_;
   PlasticState state_;
+  curvature::EnergyTerm* membrane_ = nullptr;  // the term whose rest metric moves (yield strain)
+
+  // Sets the bending term's rest curvature to S̄₀ + bending and the membrane's rest strain to
+  // P₀ + membrane, for the parts `moved` names.
+  void setRestStates(const std::vector<const curvature::EnergyTerm*>& moved,
+                     const Eigen::MatrixXd& bending, const Eigen::MatrixXd& membrane);
 };
 
 }  // namespace flexure::optimize

@@ -220,6 +220,13 @@ Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state) {
   return out;
 }
 
+Eigen::VectorXd equivalentPlasticStrains(const PlasticState& state) {
+  Eigen::VectorXd out(state.membranePlasticStrain.rows());
+  for (Eigen::Index f = 0; f < out.size(); ++f)
+    out[f] = std::sqrt(starNormSquared(state.membranePlasticStrain.row(f)) / 2.0);
+  return out;
+}
+
 namespace {
 
 // One part's trial A = E − (1 + γ) P per element, and its yield measure ‖A‖²_* / (2 y²).

@@ -66,6 +66,9 @@ struct PlasticUpdate {
 // Per element, its plastic strain as a curvature, √(‖P‖²_* / 2) (a hinge's P divided by 2 h̄_e):
 // a plate bent cylindrically past κ_y and released keeps (κ − κ_y)/(1 + γ), which this equals.
 Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state);
+// Per membrane face, its plastic strain as a Green strain, √(‖P_m‖²_* / 2): a strip stretched past
+// ε_y with its width held and released keeps (ε − ε_y)/(1 + γ), which this equals.
+Eigen::VectorXd equivalentPlasticStrains(const PlasticState& state);
 
 // Returns every element outside the yield surface at (x, ξ) to it, moves the bending term's rest
 // curvature to S̄₀ + P_b and the membrane's rest strain to P_m, and adds the released energy to
