@@ -2,8 +2,8 @@
 // highlight lines, plain shading and per-vertex scalar fields with a colour map and legend (the
 // `error` style: |z − p(x, y)| against a polynomial surface; the `curvature` style: a signed
 // per-vertex field the caller computes, on a diverging map; the `displacement` style: the distance
-// |x_v − x̄_v| from a reference mesh of the same connectivity). Obstacles (spheres, planes) and a
-// caption can be drawn with the mesh. PNG out, written atomically.
+// |x_v − x̄_v| from a reference mesh of the same connectivity). Obstacles (spheres, planes), the
+// lips of cracks and a caption can be drawn with the mesh. PNG out, written atomically.
 //
 // Camera. The mesh is centred on its bounding-box centre c and scaled by its bounding radius
 // R = max |x_v − c|. The camera looks at c from the direction
