@@ -215,10 +215,10 @@ Camera frameCamera(const modeling::Positions& points, const RenderOptions& o, in
 }
 
 // One record per triangle corner (no index buffer, so flat normals and the edge overlay's
-// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), material
-// (1: 0 the mesh, 1 an obstacle, 2 a marked face of the mesh), the face's cracks (1:
-// faceCrackBits).
-constexpr int kFloatsPerCorner = 9;
+// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), and one
+// float m + 4 b for the material m (0 the mesh, 1 an obstacle, 2 a marked face of the mesh) and
+// the face's crack bits b (faceCrackBits; 0 to 63, so the float is exact).
+constexpr int kFloatsPerCorner = 8;
 
 // Per face (#F), where cracks touch it: bit k set when the edge (t_{k+1}, t_{k+2}) opposite corner
 // k is a crack edge, bit 3 + k when corner k is an end of one (its faces around the vertex fill the
@@ -274,8 +274,8 @@ void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smo
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(p(i)));
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(n(i)));
       soup.push_back(scalars.empty() ? 0.0f : static_cast<float>(scalars[v]));
-      soup.push_back(!marked.empty() && marked[f] ? 2.0f : material);
-      soup.push_back(crackBits.empty() ? 0.0f : static_cast<float>(crackBits[f]));
+      const float faceMaterial = !marked.empty() && marked[f] ? 2.0f : material;
+      soup.push_back(faceMaterial + (crackBits.empty() ? 0.0f : 4.0f * crackBits[f]));
     }
   }
 }
@@ -286,8 +286,7 @@ const char* const kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in float scalar;
-layout(location = 3) in float material;
-layout(location = 4) in float crackBits;
+layout(location = 3) in float material;  // the material + 4 × the face's crack bits
 uniform mat4 frameToClip;
 out vec3 framePosition;
 out vec3 frameNormal;
@@ -297,8 +296,8 @@ out vec3 barycentric;
 flat out int faceCracks;
 void main() {
   framePosition = position;
-  faceCracks = int(crackBits + 0.5);
-  vertexMaterial = material;
+  faceCracks = int(material + 0.5) / 4;
+  vertexMaterial = material - 4.0 * float(faceCracks);
   frameNormal = normal;
   vertexScalar = scalar;
   barycentric = vec3(0.0);
@@ -385,23 +384,30 @@ vec3 colourMap(float value) {
   return mix(stops[i], stops[i + 1], x - float(i));
 }
 
-// c with the face's cracks drawn over it; bx, by the pixel derivatives of the barycentric
-// coordinates.
-vec3 withCracks(vec3 c, vec3 bx, vec3 by) {
+// c with the face's cracks drawn over it (compiled in with CRACKS only); bx, by the pixel
+// derivatives of the barycentric coordinates, taken on a face with cracks (faceCracks and the
+// material are one value over a face, so the branches are the same across each 2 × 2 pixel quad
+// the derivatives difference).
+vec3 withCracks(vec3 c) {
+#ifdef CRACKS
+  if (faceCracks == 0) return c;
+  vec3 bx = dFdx(barycentric), by = dFdy(barycentric);
   float nearest = 1e30;
   for (int k = 0; k < 3; ++k) {
     if ((faceCracks & (1 << k)) != 0)
       nearest = min(nearest, barycentric[k] / max(length(vec2(bx[k], by[k])), 1e-9));
+    if ((faceCracks & (8 << k)) == 0) continue;
     int i = (k + 1) % 3, j = (k + 2) % 3;
     mat2 g = mat2(bx[i], bx[j], by[i], by[j]);  // columns: rows ∇b_i, ∇b_j
-    if ((faceCracks & (8 << k)) != 0 && abs(determinant(g)) > 1e-12)
+    if (abs(determinant(g)) > 1e-12)
       nearest = min(nearest, length(inverse(g) * vec2(barycentric[i], barycentric[j])));
   }
-  return mix(crackColour, c, smoothstep(crackWidth - 0.5, crackWidth + 0.5, nearest));
+  c = mix(crackColour, c, smoothstep(crackWidth - 0.5, crackWidth + 0.5, nearest));
+#endif
+  return c;
 }
 
 void main() {
-  vec3 bx = dFdx(barycentric), by = dFdy(barycentric);
   vec3 n = normalize(frameNormal);
   if (!gl_FrontFacing) n = -n;
   vec3 v = perspective != 0 ? normalize(eye - framePosition) : vec3(0.0, 0.0, 1.0);
@@ -409,7 +415,7 @@ void main() {
   vec3 c;
   if (vertexMaterial > 1.5) {
     c = markedColour * (0.55 + 0.45 * max(dot(n, lightDirection), 0.0));
-    colour = vec4(withCracks(c, bx, by), 1.0);
+    colour = vec4(withCracks(c), 1.0);
     return;
   }
   if (vertexMaterial > 0.5) {
@@ -445,7 +451,7 @@ void main() {
     vec3 nearEdge = smoothstep(vec3(0.0), 1.2 * fwidth(barycentric), barycentric);
     c = mix(edgeColour, c, min(nearEdge.x, min(nearEdge.y, nearEdge.z)));
   }
-  colour = vec4(withCracks(clamp(c, 0.0, 1.0), bx, by), 1.0);
+  colour = vec4(withCracks(clamp(c, 0.0, 1.0)), 1.0);
 }
 )";
 
@@ -481,9 +487,14 @@ GLuint compileShader(const GlFunctions& gl, GLenum kind, const char* source, con
   return shader;
 }
 
-GLuint linkProgram(const GlFunctions& gl) {
+// `cracks`: the fragment shader with its crack test (CRACKS defined); without it that test is
+// compiled out, since llvmpipe runs a branch's body for every pixel whatever its condition (a 1.3×
+// slower draw of a large mesh at 1024² measured with the test kept).
+GLuint linkProgram(const GlFunctions& gl, bool cracks) {
   const GLuint vertex = compileShader(gl, GL_VERTEX_SHADER, kVertexShader, "vertex");
-  const GLuint fragment = compileShader(gl, GL_FRAGMENT_SHADER, kFragmentShader, "fragment");
+  std::string fragmentSource = kFragmentShader;
+  if (cracks) fragmentSource.insert(fragmentSource.find('\n') + 1, "#define CRACKS\n");
+  const GLuint fragment = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource.c_str(), "fragment");
   const GLuint program = gl.CreateProgram();
   gl.AttachShader(program, vertex);
   gl.AttachShader(program, fragment);
@@ -543,8 +554,8 @@ void createFramebuffers(const GlFunctions& gl, GlObjects& objects, int width, in
   throwOnGlError(gl, "creating the framebuffers");
 }
 
-// The corner soup into a vertex buffer: position (3), normal (3), scalar (1), material (1),
-// crack bits (1).
+// The corner soup into a vertex buffer: position (3), normal (3), scalar (1), material and crack
+// bits (1).
 void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vector<float>& soup) {
   gl.GenVertexArrays(1, &objects.vertexArray);
   gl.BindVertexArray(objects.vertexArray);
@@ -560,9 +571,7 @@ void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vect
                          reinterpret_cast<const void*>(6 * sizeof(float)));
   gl.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
                          reinterpret_cast<const void*>(7 * sizeof(float)));
-  gl.VertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, stride,
-                         reinterpret_cast<const void*>(8 * sizeof(float)));
-  for (GLuint attribute = 0; attribute < 5; ++attribute) gl.EnableVertexAttribArray(attribute);
+  for (GLuint attribute = 0; attribute < 4; ++attribute) gl.EnableVertexAttribArray(attribute);
   throwOnGlError(gl, "uploading the mesh");
 }
 
@@ -679,7 +688,7 @@ Image rasterize(OffscreenContext& context, const Scene& scene, const RenderOptio
   appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, marked,
                    faceCrackBits(scene.mesh, o.crackEdges), soup);
   appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, {}, {}, soup);
-  objects.program = linkProgram(gl);
+  objects.program = linkProgram(gl, !o.crackEdges.empty());
   uploadCornerSoup(gl, objects, soup);
   setUniforms(gl, objects.program, camera, o, scalarMin, scalarMax, map);
   drawTriangles(gl, objects, o, width, height,
