@@ -104,6 +104,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"RenderOptions.referencePositions", "--reference"},
       {"RenderOptions.exaggeration", "--exaggerate"},
       {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
+      {"RenderOptions.crackEdges", "the lips of the cracks drawn in the frames"},
   };
   return rows;
 }

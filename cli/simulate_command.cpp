@@ -795,11 +795,12 @@ void addObstacles(const std::vector<optimize::Obstacle>& obstacles, render::Rend
 
 // The frames rendered with one camera for the whole run, framed on every frame's drawn vertices
 // (rest + exaggerate (x − rest)) and the obstacles, with the frame's time and, for the
-// displacement style, one colour scale (the largest displacement of the run), in DIR/frames/ (the
-// earlier runs' images there that this one did not write go), and the video.
+// displacement style, one colour scale (the largest displacement of the run), with `cracks` the
+// lips each frame's cuts opened drawn over it, in DIR/frames/ (the earlier runs' images there that
+// this one did not write go), and the video.
 void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
                       render::OffscreenContext& context, const Recording& recording,
-                      const std::vector<optimize::Obstacle>& obstacles,
+                      const std::vector<optimize::Obstacle>& obstacles, bool cracks,
                       const std::filesystem::path& dir) {
   const auto& frames = recording.frames;
   look.exaggeration = o.exaggerate;
@@ -840,6 +841,7 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
       std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
     look.caption = caption;
     look.referencePositions = recording.frameRest[f];
+    if (cracks) look.crackEdges = render::crackLipEdges(recording.frameRest[f], mesh.triangles);
     if (look.style == render::RenderStyle::Plastic) {
       const Eigen::VectorXd& strain = recording.framePlastic[f];
       look.vertexScalars.assign(strain.data(), strain.data() + strain.size());
@@ -875,7 +877,8 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
   }
   removeStaleFrames(dir, written);
   if (look)
-    writeFrameImages(o, *look, *context, recording, dynamics.problem().obstacles.obstacles(), dir);
+    writeFrameImages(o, *look, *context, recording, dynamics.problem().obstacles.obstacles(),
+                     dynamics.fractures(), dir);
   else
     removeStaleFrames(dir / "frames", {});
   modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());

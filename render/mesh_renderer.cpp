@@ -9,7 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <memory>
+#include <set>
+#include <utility>
 
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -212,14 +215,46 @@ Camera frameCamera(const modeling::Positions& points, const RenderOptions& o, in
 }
 
 // One record per triangle corner (no index buffer, so flat normals and the edge overlay's
-// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), material
-// (1: 0 the mesh, 1 an obstacle, 2 a marked face of the mesh).
+// barycentric coordinates come free): frame position (3), frame normal (3), scalar (1), and one
+// float m + 4 b for the material m (0 the mesh, 1 an obstacle, 2 a marked face of the mesh) and
+// the face's crack bits b (faceCrackBits; 0 to 63, so the float is exact).
 constexpr int kFloatsPerCorner = 8;
 
-// `marked`: per face (#F, or empty), whether it takes material 2 instead of `material`.
+// Per face (#F), where cracks touch it: bit k set when the edge (t_{k+1}, t_{k+2}) opposite corner
+// k is a crack edge, bit 3 + k when corner k is an end of one (its faces around the vertex fill the
+// band's joints and caps). InputError for an edge that is no face's.
+std::vector<int> faceCrackBits(const modeling::Mesh& mesh,
+                               const std::vector<std::array<int, 2>>& crackEdges) {
+  std::map<std::pair<int, int>, bool> isCrack;
+  std::set<int> crackVertices;
+  for (const auto& [a, b] : crackEdges) {
+    isCrack[{std::min(a, b), std::max(a, b)}] = false;
+    crackVertices.insert({a, b});
+  }
+  std::vector<int> bits(crackEdges.empty() ? 0 : mesh.faceCount(), 0);
+  for (int f = 0; f < static_cast<int>(bits.size()); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (crackVertices.count(mesh.triangles(f, k))) bits[f] |= 8 << k;
+      const int a = mesh.triangles(f, (k + 1) % 3), b = mesh.triangles(f, (k + 2) % 3);
+      const auto edge = isCrack.find({std::min(a, b), std::max(a, b)});
+      if (edge == isCrack.end()) continue;
+      edge->second = true;
+      bits[f] |= 1 << k;
+    }
+  }
+  for (const auto& [edge, found] : isCrack)
+    if (!found)
+      throw InputError("RenderOptions.crackEdges: (" + std::to_string(edge.first) + ", " +
+                       std::to_string(edge.second) + ") is not an edge of the mesh");
+  return bits;
+}
+
+// `marked`: per face (#F, or empty), whether it takes material 2 instead of `material`;
+// `crackBits`: per face (#F, or empty), faceCrackBits.
 void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smooth,
                       const std::vector<double>& scalars, float material,
-                      const std::vector<char>& marked, std::vector<float>& soup) {
+                      const std::vector<char>& marked, const std::vector<int>& crackBits,
+                      std::vector<float>& soup) {
   const Eigen::MatrixX3d normals =
       smooth ? modeling::vertexNormals(mesh.positions, mesh.triangles) : Eigen::MatrixX3d();
   for (int f = 0; f < mesh.faceCount(); ++f) {
@@ -239,7 +274,8 @@ void appendCornerSoup(const modeling::Mesh& mesh, const Camera& camera, bool smo
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(p(i)));
       for (int i = 0; i < 3; ++i) soup.push_back(static_cast<float>(n(i)));
       soup.push_back(scalars.empty() ? 0.0f : static_cast<float>(scalars[v]));
-      soup.push_back(!marked.empty() && marked[f] ? 2.0f : material);
+      const float faceMaterial = !marked.empty() && marked[f] ? 2.0f : material;
+      soup.push_back(faceMaterial + (crackBits.empty() ? 0.0f : 4.0f * crackBits[f]));
     }
   }
 }
@@ -250,16 +286,18 @@ const char* const kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in float scalar;
-layout(location = 3) in float material;
+layout(location = 3) in float material;  // the material + 4 × the face's crack bits
 uniform mat4 frameToClip;
 out vec3 framePosition;
 out vec3 frameNormal;
 out float vertexScalar;
 out float vertexMaterial;
 out vec3 barycentric;
+flat out int faceCracks;
 void main() {
   framePosition = position;
-  vertexMaterial = material;
+  faceCracks = int(material + 0.5) / 4;
+  vertexMaterial = material - 4.0 * float(faceCracks);
   frameNormal = normal;
   vertexScalar = scalar;
   barycentric = vec3(0.0);
@@ -292,6 +330,12 @@ void main() {
 //  marked      (material 2, a face RenderOptions.markedFaces names, every style) Lambert in the
 //              marking colour, brighter: c (0.55 + 0.45 max(n·L, 0)), so that it reads as that
 //              colour.
+//  cracks      (the mesh's faces, every style) the crack colour, unlit, where the distance in
+//              pixels to one of the face's crack edges or crack vertices is below the crack width,
+//              blended over one pixel. With b the barycentric coordinates (affine across the face
+//              on the screen, ∇ their pixel derivatives): to the edge opposite corner k, b_k /
+//              |∇b_k|; to corner k, |G⁻¹ (b_i, b_j)| with G the rows ∇b_i, ∇b_j of the other two
+//              corners (both vanish at corner k).
 //
 // Stripes are dark where s is within w/2 of an integer (w = the dark fraction of a period); the
 // edges are smoothed over one pixel, |∇s| ≈ fwidth(s), against aliasing. The edge overlay paints
@@ -302,6 +346,7 @@ in vec3 frameNormal;
 in float vertexScalar;
 in float vertexMaterial;
 in vec3 barycentric;
+flat in int faceCracks;
 uniform int style;  // 0 reflection, 1 isophote, 2 highlight, 3 shaded, 4 scalar
 uniform int perspective;
 uniform vec3 eye;
@@ -316,6 +361,8 @@ uniform vec3 stops[16];
 uniform int zeroContour;
 uniform vec3 obstacleColour;
 uniform vec3 markedColour;
+uniform vec3 crackColour;
+uniform float crackWidth;
 out vec4 colour;
 
 const vec3 darkStripeColour = vec3(0.06);
@@ -337,6 +384,29 @@ vec3 colourMap(float value) {
   return mix(stops[i], stops[i + 1], x - float(i));
 }
 
+// c with the face's cracks drawn over it (compiled in with CRACKS only); bx, by the pixel
+// derivatives of the barycentric coordinates, taken on a face with cracks (faceCracks and the
+// material are one value over a face, so the branches are the same across each 2 × 2 pixel quad
+// the derivatives difference).
+vec3 withCracks(vec3 c) {
+#ifdef CRACKS
+  if (faceCracks == 0) return c;
+  vec3 bx = dFdx(barycentric), by = dFdy(barycentric);
+  float nearest = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    if ((faceCracks & (1 << k)) != 0)
+      nearest = min(nearest, barycentric[k] / max(length(vec2(bx[k], by[k])), 1e-9));
+    if ((faceCracks & (8 << k)) == 0) continue;
+    int i = (k + 1) % 3, j = (k + 2) % 3;
+    mat2 g = mat2(bx[i], bx[j], by[i], by[j]);  // columns: rows ∇b_i, ∇b_j
+    if (abs(determinant(g)) > 1e-12)
+      nearest = min(nearest, length(inverse(g) * vec2(barycentric[i], barycentric[j])));
+  }
+  c = mix(crackColour, c, smoothstep(crackWidth - 0.5, crackWidth + 0.5, nearest));
+#endif
+  return c;
+}
+
 void main() {
   vec3 n = normalize(frameNormal);
   if (!gl_FrontFacing) n = -n;
@@ -344,7 +414,8 @@ void main() {
   vec3 d = vec3(stripeAcross, 0.0);
   vec3 c;
   if (vertexMaterial > 1.5) {
-    colour = vec4(markedColour * (0.55 + 0.45 * max(dot(n, lightDirection), 0.0)), 1.0);
+    c = markedColour * (0.55 + 0.45 * max(dot(n, lightDirection), 0.0));
+    colour = vec4(withCracks(c), 1.0);
     return;
   }
   if (vertexMaterial > 0.5) {
@@ -380,7 +451,7 @@ void main() {
     vec3 nearEdge = smoothstep(vec3(0.0), 1.2 * fwidth(barycentric), barycentric);
     c = mix(edgeColour, c, min(nearEdge.x, min(nearEdge.y, nearEdge.z)));
   }
-  colour = vec4(clamp(c, 0.0, 1.0), 1.0);
+  colour = vec4(withCracks(clamp(c, 0.0, 1.0)), 1.0);
 }
 )";
 
@@ -416,9 +487,14 @@ GLuint compileShader(const GlFunctions& gl, GLenum kind, const char* source, con
   return shader;
 }
 
-GLuint linkProgram(const GlFunctions& gl) {
+// `cracks`: the fragment shader with its crack test (CRACKS defined); without it that test is
+// compiled out, since llvmpipe runs a branch's body for every pixel whatever its condition (a 1.3×
+// slower draw of a large mesh at 1024² measured with the test kept).
+GLuint linkProgram(const GlFunctions& gl, bool cracks) {
   const GLuint vertex = compileShader(gl, GL_VERTEX_SHADER, kVertexShader, "vertex");
-  const GLuint fragment = compileShader(gl, GL_FRAGMENT_SHADER, kFragmentShader, "fragment");
+  std::string fragmentSource = kFragmentShader;
+  if (cracks) fragmentSource.insert(fragmentSource.find('\n') + 1, "#define CRACKS\n");
+  const GLuint fragment = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource.c_str(), "fragment");
   const GLuint program = gl.CreateProgram();
   gl.AttachShader(program, vertex);
   gl.AttachShader(program, fragment);
@@ -478,7 +554,8 @@ void createFramebuffers(const GlFunctions& gl, GlObjects& objects, int width, in
   throwOnGlError(gl, "creating the framebuffers");
 }
 
-// The corner soup into a vertex buffer: position (3), normal (3), scalar (1), material (1).
+// The corner soup into a vertex buffer: position (3), normal (3), scalar (1), material and crack
+// bits (1).
 void uploadCornerSoup(const GlFunctions& gl, GlObjects& objects, const std::vector<float>& soup) {
   gl.GenVertexArrays(1, &objects.vertexArray);
   gl.BindVertexArray(objects.vertexArray);
@@ -524,6 +601,9 @@ void setUniforms(const GlFunctions& gl, GLuint program, const Camera& camera,
                static_cast<float>(o.obstacleColour.g), static_cast<float>(o.obstacleColour.b));
   gl.Uniform3f(uniform("markedColour"), static_cast<float>(o.markedColour.r),
                static_cast<float>(o.markedColour.g), static_cast<float>(o.markedColour.b));
+  gl.Uniform3f(uniform("crackColour"), static_cast<float>(o.crackColour.r),
+               static_cast<float>(o.crackColour.g), static_cast<float>(o.crackColour.b));
+  gl.Uniform1f(uniform("crackWidth"), static_cast<float>(o.crackWidth));
   gl.Uniform2f(uniform("scalarRange"), static_cast<float>(scalarMin),
                static_cast<float>(scalarMax));
   std::vector<float> stops;
@@ -605,9 +685,10 @@ Image rasterize(OffscreenContext& context, const Scene& scene, const RenderOptio
   std::vector<char> marked;
   if (!o.markedFaces.empty()) marked.assign(scene.mesh.faceCount(), 0);
   for (int f : o.markedFaces) marked[f] = 1;
-  appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, marked, soup);
-  appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, {}, soup);
-  objects.program = linkProgram(gl);
+  appendCornerSoup(scene.mesh, camera, o.smoothNormals, scalars, 0.0f, marked,
+                   faceCrackBits(scene.mesh, o.crackEdges), soup);
+  appendCornerSoup(scene.obstacles, camera, true, {}, 1.0f, {}, {}, soup);
+  objects.program = linkProgram(gl, !o.crackEdges.empty());
   uploadCornerSoup(gl, objects, soup);
   setUniforms(gl, objects.program, camera, o, scalarMin, scalarMax, map);
   drawTriangles(gl, objects, o, width, height,
@@ -928,6 +1009,30 @@ ErrorScale sharedErrorScale(const std::vector<std::vector<double>>& panelErrors)
   return scale;
 }
 
+std::vector<std::array<int, 2>> crackLipEdges(const modeling::Positions& rest,
+                                              const modeling::Triangles& triangles) {
+  // Each undirected edge with the faces that have it; then the boundary edges (one face) keyed by
+  // their ends' rest positions, in order.
+  std::map<std::pair<int, int>, int> faceCount;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(f, k), b = triangles(f, (k + 1) % 3);
+      ++faceCount[{std::min(a, b), std::max(a, b)}];
+    }
+  using Point = std::array<double, 3>;
+  const auto point = [&](int v) { return Point{rest(v, 0), rest(v, 1), rest(v, 2)}; };
+  std::map<std::pair<Point, Point>, std::vector<std::array<int, 2>>> boundaryAt;
+  for (const auto& [edge, faces] : faceCount) {
+    if (faces != 1) continue;
+    const Point p = point(edge.first), q = point(edge.second);
+    boundaryAt[{std::min(p, q), std::max(p, q)}].push_back({edge.first, edge.second});
+  }
+  std::vector<std::array<int, 2>> lips;
+  for (const auto& [ends, edges] : boundaryAt)
+    if (edges.size() > 1) lips.insert(lips.end(), edges.begin(), edges.end());
+  return lips;
+}
+
 std::vector<double> vertexDisplacements(const modeling::Positions& positions,
                                         const modeling::Positions& reference) {
   if (positions.rows() != reference.rows()) {
@@ -1035,11 +1140,13 @@ void RenderOptions::validate() const {
   }
   if (!(outlineWidth > 0.0 && outlineWidth <= 100.0))
     fail("outlineWidth must lie in (0, 100] pixels");
+  if (!(crackWidth > 0.0 && crackWidth <= 100.0)) fail("crackWidth must lie in (0, 100] pixels");
   const auto inUnitCube = [](const Rgb& c) {
     return c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1;
   };
   if (!inUnitCube(background)) fail("background: colour components must lie in [0, 1]");
   if (!inUnitCube(outlineColour)) fail("outlineColour: colour components must lie in [0, 1]");
+  if (!inUnitCube(crackColour)) fail("crackColour: colour components must lie in [0, 1]");
 }
 
 Image renderMesh(OffscreenContext& context, const modeling::Mesh& mesh,

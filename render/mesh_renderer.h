@@ -2,8 +2,8 @@
 // highlight lines, plain shading and per-vertex scalar fields with a colour map and legend (the
 // `error` style: |z − p(x, y)| against a polynomial surface; the `curvature` style: a signed
 // per-vertex field the caller computes, on a diverging map; the `displacement` style: the distance
-// |x_v − x̄_v| from a reference mesh of the same connectivity). Obstacles (spheres, planes) and a
-// caption can be drawn with the mesh. PNG out, written atomically.
+// |x_v − x̄_v| from a reference mesh of the same connectivity). Obstacles (spheres, planes), the
+// lips of cracks and a caption can be drawn with the mesh. PNG out, written atomically.
 //
 // Camera. The mesh is centred on its bounding-box centre c and scaled by its bounding radius
 // R = max |x_v − c|. The camera looks at c from the direction
@@ -149,6 +149,15 @@ struct RenderOptions {
   modeling::Positions outlineSegments;
   Rgb outlineColour{0.0, 0.8, 0.2};
   double outlineWidth = 2.5;
+  // Cracks: edges of the mesh (pairs of vertex indices, e.g. crackLipEdges) drawn in crackColour
+  // over every style as a band `crackWidth` pixels wide along the edge inside each face that has
+  // it, so that the surface hides it where it hides the face; the two lips of a closed crack lie
+  // on one line and show as one band twice as wide. Magenta: apart from the grey stripes, the
+  // shaded grey-blue, both colour maps, the obstacles' orange, the marking red and the outline
+  // green. An edge that is no face's is refused.
+  std::vector<std::array<int, 2>> crackEdges;
+  Rgb crackColour{1.0, 0.0, 0.8};
+  double crackWidth = 2.0;
 
   // Throws InputError starting with the field ("RenderOptions.stripeWidth …") for a value out of
   // the ranges above (the width leaves room for the legend of `error` and `curvature`).
@@ -207,6 +216,14 @@ std::vector<double> vertexSurfaceErrors(const modeling::Mesh& mesh,
 // vertex counts differ.
 std::vector<double> vertexDisplacements(const modeling::Positions& positions,
                                         const modeling::Positions& reference);
+
+// The lips of the cracks a cut opened (modeling/crack_cut.h): the boundary edges of the mesh
+// (`triangles`, #F by 3) that have a twin, another boundary edge whose ends lie at the same rest
+// positions (`rest`, #V by 3), exactly: a cut duplicates the crack's vertices at their rest
+// positions and keeps a tip vertex whole, so each lip of a crack, tip edges included, is the twin
+// of the one across it. A mesh with no coincident vertices has none.
+std::vector<std::array<int, 2>> crackLipEdges(const modeling::Positions& rest,
+                                              const modeling::Triangles& triangles);
 
 // The image as PNG bytes (8-bit RGB, opaque; deterministic), and written to `path` atomically.
 std::string encodePng(const Image& image);

@@ -68,4 +68,18 @@ def vs(f): return [tuple(map(float, l.split()[1:4])) for l in open(f) if l.start
 a, b = vs('tear/fragment-0.obj'), vs('tear/fragment-1.obj')
 gap = min(sum((p - q) ** 2 for p, q in zip(u, w)) ** 0.5 for u in a for w in b)
 sys.exit(0 if gap > 0.005 else 1)" || fail "the two pieces did not separate"
+# The frames show the crack: the same run drawn (shaded) has the crack colour (magenta) in its last
+# frame, along the crack's lips, and none in the first, before the crack.
+run 0 simulate --rest strip.obj --energy hinge --membrane stvk --pin $LEFT \
+  --pin $RIGHT@translate:0.05,0,0 --damping rayleigh:5,0.01 --fracture-strain 0.01 \
+  --thickness 0.01 --dt 0.005 --duration 0.3 --fps 20 --render-size 160 -o tear-drawn --quiet
+PYTHONPATH="$(dirname "${BASH_SOURCE[0]}")/support" python3 - <<'PY' || fail "tear-drawn: the crack is not drawn in the last frame, or drawn before it"
+import sys
+from png_pixels import read_png
+def crack(path):
+    w, h, rows = read_png(path)
+    return [x for row in rows for x, (r, g, b) in enumerate(row) if r > 200 and g < 60 and b > 150]
+before, after = crack("tear-drawn/frames/frame-00000.png"), crack("tear-drawn/frames/frame-00006.png")
+sys.exit(0 if not before and len(after) > 40 else 1)
+PY
 finish cli_pin_groups

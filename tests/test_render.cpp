@@ -347,6 +347,93 @@ TEST(Render, OutlineIsDrawnWhereTheCameraProjectsIt) {
   EXPECT_THROW(render::renderMesh(plane, bad), InputError);
 }
 
+// The unit square cut along x = 0 from its lower edge up to the tip (0, tipY), as a fracture cuts
+// (modeling/crack_cut.h): the faces right of the line take copies of its vertices below the tip,
+// at the same positions, so the two sides share no edge there and the tip vertex stays whole.
+modeling::Mesh squareCutBelow(double tipY) {
+  modeling::Mesh mesh = squareMesh(8);
+  const int original = mesh.vertexCount();
+  std::vector<int> copyOf(original, -1);
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    double x = 0.0;
+    for (int k = 0; k < 3; ++k) x += mesh.positions(mesh.triangles(f, k), 0) / 3.0;
+    if (x < 0.0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles(f, k);
+      if (v >= original || mesh.positions(v, 0) != 0.0 || mesh.positions(v, 1) >= tipY) continue;
+      if (copyOf[v] < 0) {
+        copyOf[v] = mesh.vertexCount();
+        mesh.positions.conservativeResize(mesh.vertexCount() + 1, 3);
+        mesh.positions.row(copyOf[v]) = mesh.positions.row(v);
+      }
+      mesh.triangles(f, k) = copyOf[v];
+    }
+  }
+  return mesh;
+}
+
+// The crack colour (RenderOptions::crackColour, magenta 1, 0, 0.8), to within the blending of the
+// band's edge.
+bool isCrack(const Image& image, int x, int y) {
+  const auto p = image.pixel(x, y);
+  return p[0] >= 200 && p[1] <= 60 && p[2] >= 150;
+}
+
+// A cut's lips are the boundary edges with a twin at the same rest positions: the 6 segments of
+// x = 0 below the tip (0, 0.25), twice (the tip's two edges included), and none of the outer
+// boundary; an uncut mesh has none.
+TEST(Render, CrackLipsAreTheTwinnedBoundaryEdges) {
+  const modeling::Mesh cut = squareCutBelow(0.25);
+  const auto lips = render::crackLipEdges(cut.positions, cut.triangles);
+  ASSERT_EQ(lips.size(), 12u);
+  for (const auto& [a, b] : lips) {
+    EXPECT_EQ(cut.positions(a, 0), 0.0);
+    EXPECT_EQ(cut.positions(b, 0), 0.0);
+    EXPECT_LE(std::max(cut.positions(a, 1), cut.positions(b, 1)), 0.25);
+  }
+  const modeling::Mesh whole = squareMesh(8);
+  EXPECT_TRUE(render::crackLipEdges(whole.positions, whole.triangles).empty());
+}
+
+// The lips are drawn in the crack colour over every style, legend or not: the square cut along
+// x = 0 below y = 0.25, seen head-on, has crack pixels on the image's middle columns from the
+// bottom of the framed square up to the tip and nowhere else; without crackEdges it has none; an
+// edge that is not the mesh's is refused.
+TEST(Render, CrackEdgesAreDrawnWhereTheCrackIs) {
+  const modeling::Mesh cut = squareCutBelow(0.25);
+  for (const RenderStyle style :
+       {RenderStyle::Shaded, RenderStyle::Reflection, RenderStyle::Plastic}) {
+    const int framed = 256;  // the mesh's part of the image (the legend is to its right)
+    RenderOptions options = headOn(style, framed + (style == RenderStyle::Plastic ? 130 : 0), 256);
+    for (int v = 0; v < cut.vertexCount(); ++v)
+      options.vertexScalars.push_back(0.5 + cut.positions(v, 0));
+    int plain = 0;
+    const Image uncracked = render::renderMesh(cut, options);
+    for (int y = 0; y < uncracked.height; ++y)
+      for (int x = 0; x < uncracked.width; ++x) plain += isCrack(uncracked, x, y);
+    EXPECT_EQ(plain, 0) << renderStyleName(style);
+
+    options.crackEdges = render::crackLipEdges(cut.positions, cut.triangles);
+    const Image image = render::renderMesh(cut, options);
+    // y̅ ↦ row 128 − y̅ · 256 / 1.06: the lower edge at row 249, the tip at row 68.
+    const auto row = [&](double y) {
+      return static_cast<int>(std::lround(128.0 - y * 256 / 1.06));
+    };
+    for (int y = row(0.22); y <= row(-0.45); ++y)
+      EXPECT_TRUE(isCrack(image, 127, y) && isCrack(image, 128, y))
+          << renderStyleName(style) << ", row " << y;
+    int stray = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        stray += isCrack(image, x, y) && (std::abs(x - 127.5) > 4.0 || y < row(0.25) - 3);
+    EXPECT_EQ(stray, 0) << renderStyleName(style) << ": crack pixels off the crack";
+  }
+  RenderOptions options = headOn(RenderStyle::Shaded);
+  options.crackEdges = {{0, 80}};
+  EXPECT_THAT([&] { render::renderMesh(squareMesh(8), options); },
+              testing::ThrowsMessage<InputError>(HasSubstr("RenderOptions.crackEdges")));
+}
+
 TEST(Render, PngReadsBackAtTheRequestedSize) {
   const modeling::Mesh mesh = heightFieldMesh(8, "quadratic:1,0,1");
   const Image image = render::renderMesh(mesh, headOn(RenderStyle::Reflection, 200, 120));
