@@ -226,8 +226,8 @@ py::dict crackDict(const optimize::CrackEvent& c) {
   d["crack_direction"] = c.critical.crackDirection;
   d["fibre"] = c.critical.fibre;
   d["polyline_rest"] = c.rest;
-  d["polyline"] = c.current;
-  d["released"] = c.released;
+  d["polyline_current"] = c.current;
+  d["released_energy"] = c.released;
   d["fragments"] = c.fragments;
   return d;
 }

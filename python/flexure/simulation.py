@@ -280,9 +280,10 @@ class Simulation:
     def cracks(self):
         """The cracks so far, in order: dicts with time, step, face and strain (where it started,
         on the mesh before the cut), strain_direction, crack_direction, fibre (+1 top, −1
-        bottom), polyline_rest and polyline (k×3: the crack's points at rest and where they
-        were), released (the energy the cut took out of the balance's reference) and fragments
-        (pieces after it)."""
+        bottom), polyline_rest and polyline_current (k×3: the crack's points at rest and where
+        they were), released_energy (the energy the cut took out of the balance's reference)
+        and fragments (pieces after it): the entries of ``flexure simulate``'s report.json
+        ``fracture.cracks``."""
         return [dict(c) for c in self._s.cracks()]
 
     def fragments(self, rest=False):

@@ -4,6 +4,9 @@ from a bend keeps kinetic + elastic + plastic dissipation at its start (undamped
 held at one end and pulled at the other by its own pin group tears into two fragments whose rest
 areas add to the strip's; bad options raise the library's ValueError naming the field."""
 
+import csv
+import json
+
 import numpy as np
 import pytest
 
@@ -151,7 +154,7 @@ def test_a_strip_pulled_apart_tears_into_two_fragments_that_keep_the_rest_area()
     inside = np.vstack([c["polyline_rest"] for c in cracks])
     inside = inside[np.abs(np.abs(inside[:, 1]) - 0.125) > 1e-12]
     assert len(inside) >= 7 and np.abs(inside[:, 0] - 0.375).max() < 1e-12
-    assert cracks[-1]["polyline"].shape == cracks[-1]["polyline_rest"].shape
+    assert cracks[-1]["polyline_current"].shape == cracks[-1]["polyline_rest"].shape
     fragments = s.fragments(rest=True)
     assert len(fragments) == 2 and cracks[-1]["fragments"] == 2
     assert sum(total_area(Vf, Ff) for Vf, Ff in fragments) == pytest.approx(
@@ -211,3 +214,58 @@ def test_bad_forming_options_raise_naming_the_field(plate, arguments, field):
     V, F = plate
     with pytest.raises(ValueError, match=field):
         flexure.form(V, F, energy="midedge", boundary_surface="quadratic:0.1,0,0", **arguments)
+
+
+def test_the_tear_equals_the_cli(cli, tmp_path):
+    # The same run as flexure simulate's: the cracks of report.json and the fragment meshes.
+    V, F = strip()
+    flexure.write_mesh(tmp_path / "strip.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "strip.obj", "--energy", "hinge", "--membrane",
+        "stvk", "--pin", LEFT, "--pin", RIGHT + "@translate:0.05,0,0", "--damping",
+        "rayleigh:5,0.01", "--fracture-strain", "0.01", "--thickness", "0.01", "--dt", "0.005",
+        "--duration", "0.3", "--fps", "20", "--render-style", "none", "-o", tmp_path / "tear")
+    report = json.loads((tmp_path / "tear" / "report.json").read_text())["fracture"]
+    s = flexure.Simulation(V, F, energy="hinge",
+                           pin_groups=[LEFT, (RIGHT, {"translate": (0.05, 0, 0)})],
+                           rayleigh=(5, 0.01), fracture_strain=0.01, thickness=0.01)
+    s.run(0.3, 0.005)
+    cracks = s.cracks()
+    assert len(cracks) == len(report["cracks"]) >= 1
+    for mine, theirs in zip(cracks, report["cracks"]):
+        assert mine["time"] == theirs["time"] and mine["step"] == theirs["step"]
+        assert mine["face"] == theirs["face"] and mine["fibre"] == theirs["fibre"]
+        np.testing.assert_array_equal(mine["polyline_rest"], theirs["polyline_rest"])
+        np.testing.assert_array_equal(mine["polyline_current"], theirs["polyline_current"])
+        assert mine["released_energy"] == theirs["released_energy"]
+    fragments = s.fragments()
+    assert len(fragments) == report["fragments"]
+    for k, (Vf, Ff) in enumerate(fragments):
+        written, written_F = flexure.read_mesh(tmp_path / "tear" / f"fragment-{k}.obj")
+        np.testing.assert_array_equal(Vf, written)
+        np.testing.assert_array_equal(Ff, written_F)
+
+
+def test_plastic_dissipation_equals_the_cli(cli, tmp_path):
+    # flexure simulate --yield-curvature on the bent free plate: energies.csv's
+    # plastic_dissipation column, step by step, and report.json's plasticity section.
+    V, F = flexure.mesh("delaunay", 10)
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    flexure.write_mesh(tmp_path / "bent.obj", bent(V, 0.1), F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--init", tmp_path / "bent.obj",
+        "--energy", "midedge", "--membrane", "stvk", "--yield-curvature", "0.05", "--hardening",
+        "0.5", "--dt", "0.005", "--duration", "0.05", "--fps", "20", "--render-style", "none",
+        "-o", tmp_path / "run")
+    rows = list(csv.DictReader((tmp_path / "run" / "energies.csv").open()))
+    report = json.loads((tmp_path / "run" / "report.json").read_text())["plasticity"]
+    s = flexure.Simulation(V, F, energy="midedge", V_start=bent(V, 0.1), yield_curvature=0.05,
+                           hardening=0.5)
+    assert s.energies()["plastic_dissipation"] == pytest.approx(
+        float(rows[0]["plastic_dissipation"]), rel=1e-12)
+    for row in rows[1:]:
+        s.step(0.005)
+        assert s.energies()["plastic_dissipation"] == pytest.approx(
+            float(row["plastic_dissipation"]), rel=1e-12)
+    assert s.plastic_dissipation == pytest.approx(report["plastic_dissipation"], rel=1e-12)
+    assert list(np.flatnonzero(s.yielded)) == report["yielded"]
+    assert s.plastic_curvature.max() == pytest.approx(report["largest_plastic_curvature"],
+                                                      rel=1e-12)
