@@ -67,6 +67,35 @@ def test_below_the_yield_curvature_it_comes_back_flat():
     assert np.abs(plane - formed[:, 2]).max() < 1e-8
 
 
+def face_green_strains(V_rest, F, X):
+    """Per face the Green strain ½(DᵀD − I) of X against the flat rest mesh, (ε_xx, ε_xy, ε_yy)."""
+    rest = np.stack([V_rest[F[:, 1]] - V_rest[F[:, 0]], V_rest[F[:, 2]] - V_rest[F[:, 0]]], 2)
+    now = np.stack([X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]]], 2)
+    D = now @ np.linalg.inv(rest[:, :2, :])
+    E = 0.5 * (np.transpose(D, (0, 2, 1)) @ D - np.eye(2))
+    return np.column_stack([E[:, 0, 0], E[:, 0, 1], E[:, 1, 1]])
+
+
+def test_a_released_stretched_strip_keeps_the_reduced_strain():
+    # tests/test_plasticity.cpp ReleasedStripKeepsTheReducedStrain: stretched to ε with its width
+    # held, released, every face keeps diag((ε − ε_y)/(1 + γ), 0) to 2 %.
+    epsilon, epsilon_y, gamma = 0.03, 0.01, 0.5
+    kept = (epsilon - epsilon_y) / (1 + gamma)
+    V, F = flexure.mesh("criss", 12)
+    stretched = V.copy()
+    stretched[:, 0] *= np.sqrt(1 + 2 * epsilon)
+    formed, report = flexure.form(V, F, energy="hinge", dof="xyz", membrane="stvk",
+                                  fixed_rings=1, boundary_positions=stretched,
+                                  yield_strain=epsilon_y, hardening=gamma, load_steps=3,
+                                  release=True)
+    strain = face_green_strains(V, F, formed)
+    assert np.abs(strain[:, 0] - kept).max() < 0.02 * kept
+    assert np.abs(strain[:, 1:]).max() < 0.02 * kept
+    assert report["yielded_faces"] == F.shape[0] and report["membrane_yielded"].all()
+    assert report["membrane_plastic_strain"].shape == (F.shape[0], 3)
+    assert report["yielded_elements"] == 0 and report["plastic_strain"].shape[0] == 0
+
+
 def interior_edge_count(F):
     edges = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     _, counts = np.unique(edges, axis=0, return_counts=True)
@@ -138,6 +167,21 @@ def test_pin_groups_follow_their_own_motions():
     assert np.array_equal(s.positions[left], V[left])
     assert np.array_equal(s.pinned, left | right)
     assert not s.balance()["checked"]  # moving pins do work
+
+
+def test_a_rotating_group_and_a_still_one():
+    # The left end turns about the x axis through its centre (counter-clockwise, ω = 2 rad/s)
+    # while the right one stays: after 0.1 s the left pins are rotated by 0.2 rad exactly.
+    V, F = strip()
+    s = flexure.Simulation(V, F, energy="hinge",
+                           pin_groups=[(LEFT, {"rotate": ((1, 0, 0), (-0.5, 0, 0), 2.0)}),
+                                       (RIGHT, None)])
+    s.run(0.1, 0.01)
+    left, right = V[:, 0] <= -0.45, V[:, 0] >= 0.45
+    c, d = np.cos(0.2), np.sin(0.2)
+    expected = V[left] @ np.array([[1, 0, 0], [0, c, d], [0, -d, c]])
+    assert np.abs(s.positions[left] - expected).max() < 1e-12
+    assert np.array_equal(s.positions[right], V[right])
 
 
 def test_a_strip_pulled_apart_tears_into_two_fragments_that_keep_the_rest_area():
