@@ -23,6 +23,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/configuration_energy.h"
+#include "optimize/inelastic/plasticity.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
@@ -222,8 +223,7 @@ struct SolverArguments {
   int threads = 2;
 };
 
-// (V, ξ, report); the report also says "energy_name", "poisson", "dof" and "linearized".
-py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
+optimize::MinimizeOptions minimizeOptions(const SolverArguments& a) {
   optimize::MinimizeOptions o;
   if (a.solver == "newton")
     o.solver = optimize::Solver::Newton;
@@ -251,6 +251,12 @@ py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
   o.gradientTolerance = a.gradientTolerance;
   o.parameterTolerance = a.parameterTolerance;
   o.threads = a.threads;
+  return o;
+}
+
+// (V, ξ, report); the report also says "energy_name", "poisson", "dof" and "linearized".
+py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
+  const optimize::MinimizeOptions o = minimizeOptions(a);
   optimize::MinimizeResult result;
   {
     py::gil_scoped_release release;
@@ -263,6 +269,41 @@ py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
   report["dof"] = p.problem().dof == optimize::DofMode::Height ? "height" : "xyz";
   report["linearized"] = a.linearized;
   return py::make_tuple(result.positions, result.xi, report);
+}
+
+// Quasi-static forming (plasticity.h formPlastically) of the problem `arguments` build on (V_rest,
+// F): (V, ξ, report). The report is FormingReport's, with the last solve's report and the plastic
+// state (per bending element P_b and its equivalent curvature, per face P_m).
+py::tuple formProblem(const PositionsRef& restV, const TrianglesRef& F,
+                      const ProblemArguments& arguments, const SolverArguments& solver,
+                      const optimize::PlasticityOptions& plasticity,
+                      const optimize::FormingOptions& forming) {
+  const optimize::ProblemOptions options = problemOptions(arguments);
+  const optimize::MinimizeOptions o = minimizeOptions(solver);
+  plasticity.validate();
+  forming.validate();
+  const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
+  optimize::FormingResult formed;
+  {
+    py::gil_scoped_release release;
+    optimize::Problem problem = optimize::buildProblem(rest, options);
+    formed = optimize::formPlastically(problem, plasticity, forming, o);
+  }
+  const optimize::FormingReport& r = formed.report;
+  py::dict report;
+  report["converged"] = r.converged;
+  report["solves"] = r.solves;
+  report["yielded_elements"] = r.yieldedElements;
+  report["yielded_faces"] = r.yieldedFaces;
+  report["dissipation"] = r.dissipation;
+  report["release_pins"] = r.releasePins;
+  report["last_solve"] = reportDict(r.lastSolve);
+  report["plastic_strain"] = formed.state.plasticStrain;
+  report["plastic_curvature"] = optimize::equivalentPlasticCurvatures(formed.state);
+  report["yielded"] = formed.state.yielded;
+  report["membrane_plastic_strain"] = formed.state.membranePlasticStrain;
+  report["membrane_yielded"] = formed.state.membraneYielded;
+  return py::make_tuple(formed.positions, formed.xi, report);
 }
 
 // A LinearizedSolver on a problem's terms, rest state and held unknowns: J at rest and
@@ -421,6 +462,7 @@ void bindProblem(py::module_& m) {
            })
       .def("evaluate", &evaluateProblem)
       .def("minimize", &minimizeProblem);
+  m.def("form", &formProblem);
 
   py::class_<BoundLinearizedSolver>(m, "LinearizedSolver")
       .def(py::init<const BoundProblem&, bool>(), py::keep_alive<1, 2>())

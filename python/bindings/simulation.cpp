@@ -1,6 +1,8 @@
 // flexure._flexure.Simulation: a Problem in xyz and its TimeStepper, set up as flexure simulate
 // sets them up (every coordinate free, no boundary rings held but the pins, midedge's boundary ξ
-// held at rest with two pinned rings).
+// held at rest with two pinned rings), with pin groups that move on their own, plasticity
+// (plastic_dynamics.h: the update after each step) and fracture (fracturing.h: the cut mesh, its
+// cracks and fragments).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -16,6 +18,10 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/obstacles.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/fracture.h"
+#include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/plastic_dynamics.h"
+#include "optimize/inelastic/plasticity.h"
 #include "optimize/problem.h"
 #include "python/bindings/bindings.h"
 
@@ -23,6 +29,18 @@ namespace py = pybind11;
 
 namespace flexure::python {
 namespace {
+
+// A pinned group with its own motion, as the Python arguments name it: its vertices (a #V mask, or
+// a spec of optimize::parseFixedSet) and a rigid motion (optimize::PinMotion) as in
+// SimulationArguments.
+struct PinGroupArguments {
+  std::optional<std::vector<bool>> mask;
+  std::string spec = "none";
+  std::string motion = "none";  // none | rotate | translate
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero(),
+                  velocity = Eigen::Vector3d::Zero();
+  double omega = 0.0;
+};
 
 // Everything the simulated body and its dynamics take, as the Python arguments name them.
 struct SimulationArguments : MembraneFields {
@@ -45,8 +63,13 @@ struct SimulationArguments : MembraneFields {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero(),
                   velocity = Eigen::Vector3d::Zero();
   double omega = 0.0;
+  // Pinned groups, each with its own motion (instead of pinned and pinMotion; the groups are
+  // disjoint, DynamicsOptions::validatePinGroups).
+  std::vector<PinGroupArguments> pinGroups;
   int maxNewtonIterations = 30;
   double tolerance = 1e-10;
+  optimize::PlasticityOptions plasticity;             // no yield value: elastic
+  std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
 
 optimize::Integrator integrator(const std::string& name) {
@@ -63,6 +86,30 @@ modeling::MassLumping massLumping(const std::string& name) {
   throw InputError("mass " + name + ": expected barycentric or voronoi");
 }
 
+// The motion `kind` (none | rotate | translate) with its parameters; `source` names the argument.
+optimize::PinMotion pinMotion(const std::string& kind, const Eigen::Vector3d& axis,
+                              const Eigen::Vector3d& point, double omega,
+                              const Eigen::Vector3d& velocity, const std::string& source) {
+  optimize::PinMotion motion;
+  if (kind == "rotate") {
+    if (!(axis.norm() > 0.0)) throw InputError(source + ": the rotation axis is zero");
+    motion.kind = optimize::PinMotion::Kind::Rotate;
+    motion.axis = axis.normalized();
+    motion.point = point;
+    motion.omega = omega;
+  } else if (kind == "translate") {
+    motion.kind = optimize::PinMotion::Kind::Translate;
+    motion.velocity = velocity;
+  } else if (kind != "none") {
+    throw InputError(source + " " + kind + ": expected rotate or translate");
+  }
+  return motion;
+}
+
+std::string groupName(size_t k) {
+  return "pin_groups[" + std::to_string(k) + "]";
+}
+
 optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   optimize::DynamicsOptions d;
   d.integrator = integrator(a.integrator);
@@ -71,17 +118,11 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   d.rayleighMass = a.rayleighMass;
   d.rayleighStiffness = a.rayleighStiffness;
   d.bendingDamping = a.bendingDamping;
-  if (a.pinMotion == "rotate") {
-    if (!(a.axis.norm() > 0.0)) throw InputError("pin_motion: the rotation axis is zero");
-    d.pinMotion.kind = optimize::PinMotion::Kind::Rotate;
-    d.pinMotion.axis = a.axis.normalized();
-    d.pinMotion.point = a.point;
-    d.pinMotion.omega = a.omega;
-  } else if (a.pinMotion == "translate") {
-    d.pinMotion.kind = optimize::PinMotion::Kind::Translate;
-    d.pinMotion.velocity = a.velocity;
-  } else if (a.pinMotion != "none") {
-    throw InputError("pin_motion " + a.pinMotion + ": expected rotate or translate");
+  d.pinMotion = pinMotion(a.pinMotion, a.axis, a.point, a.omega, a.velocity, "pin_motion");
+  for (size_t k = 0; k < a.pinGroups.size(); ++k) {
+    const PinGroupArguments& g = a.pinGroups[k];
+    d.pinGroups.push_back(
+        {{}, pinMotion(g.motion, g.axis, g.point, g.omega, g.velocity, groupName(k) + " motion")});
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
@@ -125,13 +166,82 @@ py::dict advanceDict(const optimize::TimeStepper::Advance& a, double time) {
   return d;
 }
 
-// A body in time. The problem is kept here (the stepper keeps references into it); not movable.
+// The pinned vertices (ProblemOptions.fixedVertex: pinned's and every group's; with an energy
+// that owns edge unknowns, the ξ a spec clamps) and each group's vertices (DynamicsOptions.
+// pinGroups, whose motions dynamicsOptions set), checked as the library checks them.
+void placePins(const SimulationArguments& a, const modeling::Stencils& stencils,
+               const Positions& rest, optimize::ProblemOptions& p, optimize::DynamicsOptions& d) {
+  const int n = stencils.vertexCount();
+  const bool clamps =
+      static_cast<bool>(curvature::energyEntry(p.bending.discretization).restEdgeUnknowns);
+  const auto vertexSet = [&](const std::optional<std::vector<bool>>& mask, const std::string& spec,
+                             const std::string& source) {
+    if (mask) return *mask;
+    if (spec == "none") return std::vector<bool>(n, false);
+    return optimize::parseFixedSet(source, spec, stencils, rest);
+  };
+  p.fixedVertex = vertexSet(a.pinnedMask, a.pinnedSpec, "pinned");
+  if (!a.pinnedMask && clamps) p.fixedEdge = optimize::clampedBoundaryEdges(a.pinnedSpec, stencils);
+  for (size_t k = 0; k < a.pinGroups.size(); ++k) {
+    const PinGroupArguments& g = a.pinGroups[k];
+    d.pinGroups[k].vertices = vertexSet(g.mask, g.spec, groupName(k));
+    const std::vector<bool>& group = d.pinGroups[k].vertices;
+    for (size_t v = 0; v < group.size() && v < p.fixedVertex.size(); ++v)
+      p.fixedVertex[v] = p.fixedVertex[v] || group[v];
+    if (g.mask || !clamps) continue;
+    const std::vector<bool> clamped = optimize::clampedBoundaryEdges(g.spec, stencils);
+    if (clamped.empty()) continue;
+    p.fixedEdge.resize(clamped.size(), false);
+    for (size_t e = 0; e < clamped.size(); ++e) p.fixedEdge[e] = p.fixedEdge[e] || clamped[e];
+  }
+  d.validatePinGroups(n);
+}
+
+// The inelastic options as a simulation takes them (the library's checks name the field):
+// plasticity moves the rest curvature only (the membrane's plastic strain is forming's), and not
+// with fracture (a cut rebuilds the problem, and the plastic strains do not carry across it).
+void checkInelastic(const SimulationArguments& a) {
+  const optimize::PlasticityOptions& plasticity = a.plasticity;
+  plasticity.validate();
+  if (!plasticity.enabled() && plasticity.hardening != 0.0)
+    throw InputError("hardening: the plastic hardening needs a yield value: give yield_curvature");
+  if (plasticity.yieldStrain)
+    throw InputError(
+        "yield_strain: membrane plasticity is forming's (flexure.form); a simulation moves the "
+        "rest curvature only: use yield_curvature");
+  if (a.fracture) a.fracture->validate();
+  if (plasticity.enabled() && a.fracture)
+    throw InputError(
+        "yield_curvature: not with fracture_strain (a cut rebuilds the shell, and the plastic "
+        "strains do not carry across it)");
+}
+
+py::dict crackDict(const optimize::CrackEvent& c) {
+  py::dict d;
+  d["time"] = c.time;
+  d["step"] = c.step;
+  d["face"] = c.critical.face;
+  d["strain"] = c.critical.strain;
+  d["strain_direction"] = c.critical.strainDirection;
+  d["crack_direction"] = c.critical.crackDirection;
+  d["fibre"] = c.critical.fibre;
+  d["polyline_rest"] = c.rest;
+  d["polyline_current"] = c.current;
+  d["released_energy"] = c.released;
+  d["fragments"] = c.fragments;
+  return d;
+}
+
+// A body in time: the problem and its stepper (rebuilt on the cut mesh after each crack,
+// fracturing.h) and the plastic state. Not movable: the stepper and the plastic update keep
+// references into the problem.
 class BoundSimulation {
  public:
   BoundSimulation(const PositionsRef& restV, const TrianglesRef& F, const SimulationArguments& a,
-                  const std::optional<Positions>& start, const std::optional<Positions>& velocity)
-      : dynamics_(dynamicsOptions(a)) {
+                  const std::optional<Positions>& start, const std::optional<Positions>& velocity) {
+    optimize::DynamicsOptions dynamics = dynamicsOptions(a);
     optimize::ProblemOptions p = bodyOptions(a);
+    checkInelastic(a);
     const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
     if (start && start->rows() != rest.positions.rows())
       throw InputError("V_start has " + std::to_string(start->rows()) + " rows, the mesh " +
@@ -142,50 +252,49 @@ class BoundSimulation {
     py::gil_scoped_release release;
     modeling::Stencils stencils = modeling::compileStencils(rest);
     modeling::RestState restState = modeling::precomputeRestState(stencils, rest.positions);
-    if (a.pinnedMask) {
-      p.fixedVertex = *a.pinnedMask;
-    } else {
-      p.fixedVertex =
-          a.pinnedSpec == "none"
-              ? std::vector<bool>(rest.vertexCount(), false)
-              : optimize::parseFixedSet("pinned", a.pinnedSpec, stencils, restState.positions);
-      if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
-        p.fixedEdge = optimize::clampedBoundaryEdges(a.pinnedSpec, stencils);
-    }
+    placePins(a, stencils, restState.positions, p, dynamics);
     p.boundaryPositions = start ? *start : rest.positions;
-    problem_ = std::make_unique<optimize::Problem>(
-        optimize::buildProblem(std::move(stencils), std::move(restState), p));
-    stepper_ = std::make_unique<optimize::TimeStepper>(*problem_, dynamics_);
-    stepper_->start(problem_->boundary.start,
-                    velocity ? *velocity : Positions::Zero(rest.vertexCount(), 3),
-                    Eigen::VectorXd());
+    optimize::Problem problem =
+        optimize::buildProblem(std::move(stencils), std::move(restState), p);
+    const Positions startPositions = problem.boundary.start;
+    dynamics_ = std::make_unique<optimize::FracturingDynamics>(rest, std::move(problem), p,
+                                                               dynamics, a.fracture);
+    dynamics_->start(startPositions, velocity ? *velocity : Positions::Zero(rest.vertexCount(), 3));
+    if (a.plasticity.enabled())
+      plastic_ = std::make_unique<optimize::PlasticDynamics>(dynamics_->problem(),
+                                                             dynamics_->stepper(), a.plasticity);
   }
 
+  // h as flexure simulate takes each step: halved while Newton fails or to find a fracture event,
+  // the fracture check after each accepted step, then the plastic update.
   py::dict advance(double h, double minStep) {
     optimize::TimeStepper::Advance a;
     {
       py::gil_scoped_release release;
-      a = stepper_->advance(h, minStep);
+      a = dynamics_->advance(h, minStep, steps_);
+      steps_ += a.steps;
+      if (plastic_ && a.steps > 0) plastic_->afterStep();
     }
-    return advanceDict(a, stepper_->time());
+    return advanceDict(a, stepper().time());
   }
 
   py::dict energies() const {
-    const optimize::EnergySample e = stepper_->energies();
+    const optimize::EnergySample e = stepper().energies();
     py::dict d;
     d["time"] = e.time;
     d["kinetic"] = e.kinetic;
-    const std::vector<const curvature::EnergyTerm*> terms = problem_->termPointers();
+    const std::vector<const curvature::EnergyTerm*> terms = problem().termPointers();
     for (size_t k = 0; k < terms.size(); ++k) d[py::str(terms[k]->name())] = e.terms[k];
     d["gravity"] = e.gravity;
     d["contact"] = e.contact;
+    if (plastic_) d["plastic_dissipation"] = stepper().balance().plastic;
     d["total"] = e.total();
     return d;
   }
 
   // The run's energy balance (time_stepping.h EnergyBalance), as simulate's report.json has it.
   py::dict balance() const {
-    const optimize::EnergyBalance& b = stepper_->balance();
+    const optimize::EnergyBalance& b = stepper().balance();
     py::dict d;
     d["largest_drift"] = b.largestDrift;
     d["relative_drift"] = b.relativeDrift();
@@ -195,30 +304,94 @@ class BoundSimulation {
     d["peak_kinetic"] = b.peakKinetic;
     d["initial_total"] = b.initial;
     d["dissipated"] = b.dissipated;
+    d["plastic_dissipation"] = b.plastic;
     d["contact_stiffening"] = b.stiffening;
-    d["checked"] = stepper_->balanceChecked();
+    d["checked"] = stepper().balanceChecked();
     return d;
+  }
+
+  // The plastic state (plasticity.h PlasticState) of the bending term's elements; None without
+  // plasticity.
+  py::object plasticState() const {
+    if (!plastic_) return py::none();
+    const optimize::PlasticState& s = plastic_->state();
+    py::dict d;
+    d["element"] = plastic_->elementKind();
+    d["plastic_strain"] = s.plasticStrain;
+    d["plastic_curvature"] = optimize::equivalentPlasticCurvatures(s);
+    d["yielded"] = s.yielded;
+    d["vertex_plastic_curvature"] = plastic_->vertexPlasticCurvatures();
+    d["dissipation"] = s.dissipation;
+    return d;
+  }
+
+  py::list cracks() const {
+    py::list list;
+    for (const optimize::CrackEvent& c : dynamics_->cracks()) list.append(crackDict(c));
+    return list;
+  }
+
+  // The connected pieces of the current mesh (meshFragments), at their current positions or, with
+  // `atRest`, at rest (the same pieces and numbering: both depend on the triangles alone).
+  py::list fragments(bool atRest) const {
+    std::vector<modeling::Mesh> pieces;
+    {
+      py::gil_scoped_release release;
+      pieces = atRest ? optimize::meshFragments(restMesh()) : dynamics_->fragments();
+    }
+    py::list list;
+    for (const modeling::Mesh& piece : pieces)
+      list.append(py::make_tuple(piece.positions, piece.triangles));
+    return list;
   }
 
   std::vector<std::string> termNames() const {
     std::vector<std::string> names;
-    for (const curvature::EnergyTerm* term : problem_->termPointers())
+    for (const curvature::EnergyTerm* term : problem().termPointers())
       names.push_back(term->name());
     return names;
   }
 
-  const optimize::Problem& problem() const { return *problem_; }
-  const optimize::TimeStepper& stepper() const { return *stepper_; }
+  const optimize::Problem& problem() const { return dynamics_->problem(); }
+  const optimize::TimeStepper& stepper() const { return dynamics_->stepper(); }
+  const modeling::Mesh& restMesh() const { return dynamics_->restMesh(); }
 
  private:
-  optimize::DynamicsOptions dynamics_;
-  std::unique_ptr<optimize::Problem> problem_;
-  std::unique_ptr<optimize::TimeStepper> stepper_;
+  std::unique_ptr<optimize::FracturingDynamics> dynamics_;
+  std::unique_ptr<optimize::PlasticDynamics> plastic_;
+  long steps_ = 0;  // accepted steps so far (CrackEvent::step)
 };
 
 }  // namespace
 
 void bindSimulation(py::module_& m) {
+  // The library's inelastic options, field by field (their validate() names the fields).
+  py::class_<optimize::PlasticityOptions>(m, "PlasticityOptions")
+      .def(py::init<>())
+      .def_readwrite("yield_curvature", &optimize::PlasticityOptions::yieldCurvature)
+      .def_readwrite("yield_strain", &optimize::PlasticityOptions::yieldStrain)
+      .def_readwrite("hardening", &optimize::PlasticityOptions::hardening);
+  py::class_<optimize::FormingOptions>(m, "FormingOptions")
+      .def(py::init<>())
+      .def_readwrite("load_steps", &optimize::FormingOptions::loadSteps)
+      .def_readwrite("release", &optimize::FormingOptions::release)
+      .def_readwrite("max_updates_per_step", &optimize::FormingOptions::maxUpdatesPerStep)
+      .def_readwrite("tolerance", &optimize::FormingOptions::tolerance);
+  py::class_<optimize::FractureOptions>(m, "FractureOptions")
+      .def(py::init<>())
+      .def_readwrite("fracture_strain", &optimize::FractureOptions::fractureStrain)
+      .def_readwrite("thickness", &optimize::FractureOptions::thickness);
+
+  py::class_<PinGroupArguments>(m, "PinGroupArguments")
+      .def(py::init<>())
+      .def_readwrite("mask", &PinGroupArguments::mask)
+      .def_readwrite("spec", &PinGroupArguments::spec)
+      .def_readwrite("motion", &PinGroupArguments::motion)
+      .def_readwrite("axis", &PinGroupArguments::axis)
+      .def_readwrite("point", &PinGroupArguments::point)
+      .def_readwrite("omega", &PinGroupArguments::omega)
+      .def_readwrite("velocity", &PinGroupArguments::velocity);
+
   py::class_<SimulationArguments> simulationArguments(m, "SimulationArguments");
   defMembraneFields(simulationArguments)
       .def(py::init<>())
@@ -241,8 +414,11 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("point", &SimulationArguments::point)
       .def_readwrite("omega", &SimulationArguments::omega)
       .def_readwrite("velocity", &SimulationArguments::velocity)
+      .def_readwrite("pin_groups", &SimulationArguments::pinGroups)
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
-      .def_readwrite("tolerance", &SimulationArguments::tolerance);
+      .def_readwrite("tolerance", &SimulationArguments::tolerance)
+      .def_readwrite("plasticity", &SimulationArguments::plasticity)
+      .def_readwrite("fracture", &SimulationArguments::fracture);
 
   py::class_<BoundSimulation>(m, "Simulation")
       .def(py::init<const PositionsRef&, const TrianglesRef&, const SimulationArguments&,
@@ -250,6 +426,13 @@ void bindSimulation(py::module_& m) {
       .def("advance", &BoundSimulation::advance)
       .def("energies", &BoundSimulation::energies)
       .def("balance", &BoundSimulation::balance)
+      .def("plastic_state", &BoundSimulation::plasticState)
+      .def("cracks", &BoundSimulation::cracks)
+      .def("fragments", &BoundSimulation::fragments)
+      .def_property_readonly("rest_positions",
+                             [](const BoundSimulation& s) { return s.restMesh().positions; })
+      .def_property_readonly("triangles",
+                             [](const BoundSimulation& s) { return s.restMesh().triangles; })
       .def_property_readonly("term_names", &BoundSimulation::termNames)
       .def_property_readonly("time", [](const BoundSimulation& s) { return s.stepper().time(); })
       .def_property_readonly("positions",

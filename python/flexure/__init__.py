@@ -21,7 +21,7 @@ from . import _flexure
 
 __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
-    "minimize", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
+    "minimize", "form", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
     "read_png", "png_bytes", "info", "boundary_rings", "vertex_rings", "boundary_loops",
     "converge", "c2_table", "compare_figure", "reuse_freed_memory",
 ]
@@ -198,6 +198,7 @@ class Problem:
             a.gravity = _checks.vector(gravity, 3, "gravity")
         a.density = _checks.number(density, "density", positive=True)
         self._p = _flexure.Problem(V_rest, F, a)
+        self._arguments = a  # form builds its own problem from them
         self.V_rest, self.F = V_rest, F
         self.energy_name = a.bending.energy
         self.dof = a.dof
@@ -284,6 +285,28 @@ _SOLVER_FIELDS = ("solver", "hessian", "linearized", "start", "max_iterations",
                   "function_tolerance", "gradient_tolerance", "parameter_tolerance", "threads")
 
 
+def _solver_arguments(solver, hessian, linearized, start, max_iterations, function_tolerance,
+                      gradient_tolerance, parameter_tolerance, threads):
+    s = _flexure.SolverArguments()
+    s.solver, s.hessian, s.start = str(solver), str(hessian), str(start)
+    s.linearized = bool(linearized)
+    s.max_iterations = _checks.number(max_iterations, "max_iterations", positive=True,
+                                      integer=True)
+    s.function_tolerance = _checks.number(function_tolerance, "function_tolerance")
+    s.gradient_tolerance = _checks.number(gradient_tolerance, "gradient_tolerance")
+    s.parameter_tolerance = _checks.number(parameter_tolerance, "parameter_tolerance")
+    s.threads = _checks.number(threads, "threads", positive=True, integer=True)
+    return s
+
+
+def _problem_of(problem, args, problem_arguments, caller):
+    if not isinstance(problem, Problem):
+        return Problem(problem, *args, **problem_arguments)
+    if args or problem_arguments:
+        raise ValueError(f"{caller}: give a Problem or the arguments of one, not both")
+    return problem
+
+
 def minimize(problem=None, *args, solver="newton", hessian="exact", linearized=False,
              start="linearized", max_iterations=200, function_tolerance=1e-12,
              gradient_tolerance=1e-10, parameter_tolerance=1e-12, threads=2, check=True,
@@ -302,25 +325,74 @@ def minimize(problem=None, *args, solver="newton", hessian="exact", linearized=F
     With ``check`` (default), a solve that did not converge raises NumericalError whose
     ``.report`` is that dict.
     """
-    if not isinstance(problem, Problem):
-        problem = Problem(problem, *args, **problem_arguments)
-    elif args or problem_arguments:
-        raise ValueError("minimize: give a Problem or the arguments of one, not both")
-    s = _flexure.SolverArguments()
-    s.solver, s.hessian, s.start = str(solver), str(hessian), str(start)
-    s.linearized = bool(linearized)
-    s.max_iterations = _checks.number(max_iterations, "max_iterations", positive=True,
-                                      integer=True)
-    s.function_tolerance = _checks.number(function_tolerance, "function_tolerance")
-    s.gradient_tolerance = _checks.number(gradient_tolerance, "gradient_tolerance")
-    s.parameter_tolerance = _checks.number(parameter_tolerance, "parameter_tolerance")
-    s.threads = _checks.number(threads, "threads", positive=True, integer=True)
+    problem = _problem_of(problem, args, problem_arguments, "minimize")
+    s = _solver_arguments(solver, hessian, linearized, start, max_iterations, function_tolerance,
+                          gradient_tolerance, parameter_tolerance, threads)
     V, xi, report = problem._p.minimize(s)
     report = dict(report)
     if xi.size:
         report["xi"] = xi
     if check and not report["converged"]:
         error = NumericalError(f"the solve did not converge ({report['termination']})")
+        error.report = report
+        raise error
+    return V, report
+
+
+def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening=0.0,
+         load_steps=1, release=False, max_updates_per_step=200, update_tolerance=1e-9,
+         solver="newton", hessian="exact", start="linearized", max_iterations=200,
+         function_tolerance=1e-12, gradient_tolerance=1e-10, parameter_tolerance=1e-12,
+         threads=2, check=True, **problem_arguments):
+    """Quasi-static plastic forming with springback (``flexure minimize --yield-curvature …
+    --load-steps K --release``; optimize/inelastic/plasticity.h formPlastically).
+
+    ``problem``: a Problem or its arguments, as ``minimize`` takes them; the problem given is not
+    changed (forming builds its own from the same arguments, whose rest curvature it moves). The
+    held values are reached from rest in ``load_steps`` equal steps, each a static solve followed
+    by the plastic update (repeated until no element's increment exceeds ``update_tolerance``
+    times its yield value, at most ``max_updates_per_step`` times); with ``release`` only the
+    three vertices of the face nearest the centroid stay held and the shape relaxes: the
+    sprung-back shape. yield_curvature κ_y (1/L) for bending (not cotan), yield_strain ε_y (Green
+    strain) for a stvk membrane (dof "xyz"), hardening γ ≥ 0 (seed 002's linear kinematic
+    hardening). A plate bent cylindrically to κ keeps (κ − κ_y)/(1 + γ) while γ(κ − κ_y)/(1 + γ)
+    < κ_y. Solver arguments as ``minimize``'s (not linearized). Bad values raise the library's
+    ValueError naming the field (PlasticityOptions.yieldCurvature, FormingOptions.loadSteps, …).
+
+    Returns ``(V, report)``: V #V×3 float64 the formed (released: sprung-back) positions; report a
+    dict: converged, solves, yielded_elements, yielded_faces, dissipation (k_B units),
+    release_pins, last_solve (``minimize``'s report of the last solve), plastic_strain
+    (#elements×k: P_b per face, or per edge for hinge), plastic_curvature ((#elements,):
+    √(‖P_b‖²_* / 2)), yielded, membrane_plastic_strain (#F×3: (a, b, c) of P_m in each face's rest
+    frame; empty without yield_strain), membrane_yielded, and "xi" (#E,) for midedge. With
+    ``check`` (default), a forming that did not converge raises NumericalError with ``.report``.
+    """
+    problem = _problem_of(problem, args, problem_arguments, "form")
+    s = _solver_arguments(solver, hessian, False, start, max_iterations, function_tolerance,
+                          gradient_tolerance, parameter_tolerance, threads)
+    plasticity = _flexure.PlasticityOptions()
+    if yield_curvature is not None:
+        plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
+    if yield_strain is not None:
+        plasticity.yield_strain = _checks.number(yield_strain, "yield_strain")
+    plasticity.hardening = _checks.number(hardening, "hardening")
+    forming = _flexure.FormingOptions()
+    forming.load_steps = _checks.number(load_steps, "load_steps", integer=True)
+    forming.release = bool(release)
+    forming.max_updates_per_step = _checks.number(max_updates_per_step, "max_updates_per_step",
+                                                  integer=True)
+    forming.tolerance = _checks.number(update_tolerance, "update_tolerance")
+    V, xi, report = _flexure.form(problem.V_rest, problem.F, problem._arguments, s, plasticity,
+                                  forming)
+    report = dict(report)
+    report["last_solve"] = dict(report["last_solve"])
+    report["yielded"] = np.asarray(report["yielded"], dtype=bool)
+    report["membrane_yielded"] = np.asarray(report["membrane_yielded"], dtype=bool)
+    if xi.size:
+        report["xi"] = xi
+    if check and not report["converged"]:
+        error = NumericalError("the forming did not converge (a solve, or a step's plastic "
+                               "updates, did not settle)")
         error.report = report
         raise error
     return V, report

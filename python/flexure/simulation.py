@@ -21,27 +21,85 @@ def _set_membrane(a, membrane):
         setattr(a, _MEMBRANE_FIELDS[key], _checks.number(value, f"membrane {key}"))
 
 
-def _set_pin_motion(a, pin_motion, pinned):
-    if pinned is None:
-        raise ValueError("pin_motion: moves the pinned vertices; give them with pinned")
-    if not isinstance(pin_motion, dict) or len(pin_motion) != 1:
-        raise ValueError("pin_motion: expected {\"rotate\": (axis, point, omega)} or "
+def _set_motion(target, motion, name):
+    """Sets target's motion (pin_motion's or a group's) from {"rotate": (axis, point, omega)} or
+    {"translate": velocity}; `name` names the argument in errors."""
+    if not isinstance(motion, dict) or len(motion) != 1:
+        raise ValueError(f"{name}: expected {{\"rotate\": (axis, point, omega)}} or "
                          "{\"translate\": velocity}")
-    (kind, value), = pin_motion.items()
+    (kind, value), = motion.items()
     if kind == "rotate":
         try:
             axis, point, omega = value
         except (TypeError, ValueError):
-            raise ValueError("pin_motion: rotate takes (axis, point, omega)") from None
-        a.pin_motion = "rotate"
-        a.axis = _checks.vector(axis, 3, "pin_motion axis")
-        a.point = _checks.vector(point, 3, "pin_motion point")
-        a.omega = _checks.number(omega, "pin_motion omega")
+            raise ValueError(f"{name}: rotate takes (axis, point, omega)") from None
+        target.axis = _checks.vector(axis, 3, f"{name} axis")
+        target.point = _checks.vector(point, 3, f"{name} point")
+        target.omega = _checks.number(omega, f"{name} omega")
     elif kind == "translate":
-        a.pin_motion = "translate"
-        a.velocity = _checks.vector(value, 3, "pin_motion velocity")
+        target.velocity = _checks.vector(value, 3, f"{name} velocity")
     else:
-        raise ValueError(f"pin_motion: {kind!r}, expected rotate or translate")
+        raise ValueError(f"{name}: {kind!r}, expected rotate or translate")
+    return kind
+
+
+def _set_pin_motion(a, pin_motion, pinned):
+    if pinned is None:
+        raise ValueError("pin_motion: moves the pinned vertices; give them with pinned")
+    a.pin_motion = _set_motion(a, pin_motion, "pin_motion")
+
+
+def _set_pinned(target, pinned, n, name):
+    """target's vertices (a spec or a mask) from an int K (rings), a spec or a #V mask."""
+    if isinstance(pinned, str):
+        target.spec = pinned
+    elif isinstance(pinned, (int, np.integer)) and not isinstance(pinned, bool):
+        if pinned < 0:
+            raise ValueError(f"{name}: rings must be >= 0 (got {pinned})")
+        target.spec = f"rings:{int(pinned)}" if pinned > 0 else "none"
+    else:
+        target.mask = [bool(b) for b in _checks.mask(pinned, n, name)]
+
+
+def _pin_groups(groups, n):
+    """The pin groups: each a vertex set (as ``pinned`` takes it) or a pair (set, motion or None);
+    the library checks that they are disjoint (DynamicsOptions.pinGroups)."""
+    if isinstance(groups, (str, dict)) or not hasattr(groups, "__len__"):
+        raise ValueError("pin_groups: expected a list of groups, each a vertex set or a pair "
+                         "(vertex set, motion)")
+    out = []
+    for k, group in enumerate(groups):
+        name = f"pin_groups[{k}]"
+        g = _flexure.PinGroupArguments()
+        if isinstance(group, tuple) and len(group) != 2:
+            raise ValueError(f"{name}: expected a vertex set or a pair (vertex set, motion)")
+        vertices, motion = group if isinstance(group, tuple) else (group, None)
+        _set_pinned(g, vertices, n, name)
+        if motion is not None:
+            g.motion = _set_motion(g, motion, f"{name} motion")
+        out.append(g)
+    return out
+
+
+def _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness):
+    """The plasticity and fracture options, passed to the library as given (its checks name the
+    field: PlasticityOptions.yieldCurvature, FractureOptions.fractureStrain, …)."""
+    plasticity = _flexure.PlasticityOptions()
+    if yield_curvature is not None:
+        plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
+    if yield_strain is not None:
+        plasticity.yield_strain = _checks.number(yield_strain, "yield_strain")
+    plasticity.hardening = _checks.number(hardening, "hardening")
+    a.plasticity = plasticity
+    if fracture_strain is None:
+        if thickness:
+            raise ValueError("thickness: the fibres of the fracture criterion; give "
+                             "fracture_strain")
+        return
+    fracture = _flexure.FractureOptions()
+    fracture.fracture_strain = _checks.number(fracture_strain, "fracture_strain")
+    fracture.thickness = _checks.number(thickness, "thickness")
+    a.fracture = fracture
 
 
 class Simulation:
@@ -64,7 +122,18 @@ class Simulation:
     | "central-difference"; beta, gamma: Newmark's; rayleigh: (α, β) of C = α M + β K̄;
     bending_damping: c of −c K_B(x_n) v; pin_motion: the pins' rigid motion from where they
     start, {"rotate": (axis 3-vector, point 3-vector, ω rad/s)} (counter-clockwise about the
-    axis) or {"translate": velocity 3-vector (L/s)}; max_newton_iterations, tolerance: per step.
+    axis) or {"translate": velocity 3-vector (L/s)}; pin_groups (instead of pinned and
+    pin_motion): a list of groups, each a vertex set as pinned takes it or a pair (set, motion as
+    pin_motion's, or None: held still), disjoint (``flexure simulate --pin SET@MOTION``, repeated);
+    max_newton_iterations, tolerance: per step.
+
+    Plasticity (seed 002, docs/energies.md "Plasticity"): yield_curvature κ_y (1/L) and hardening γ
+    ≥ 0; after each step the elements outside the yield surface return to it and their rest
+    curvature moves (hinge, triavg, midedge, quadfit; cotan is refused). yield_strain (the
+    membrane's) is forming's only (``flexure.form``). Fracture: fracture_strain ε_f and thickness
+    h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
+    motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
+    library's ValueError naming the field (PlasticityOptions.hardening, FractureOptions.thickness).
 
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
@@ -73,8 +142,9 @@ class Simulation:
                  vertex_area="voronoi", hinge_angle="theta", membrane="stvk", pinned=None,
                  V_start=None, velocities=None, gravity=None, density=1.0, mass="barycentric",
                  obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
-                 bending_damping=0.0, pin_motion=None, max_newton_iterations=30,
-                 tolerance=1e-10):
+                 bending_damping=0.0, pin_motion=None, pin_groups=None,
+                 max_newton_iterations=30, tolerance=1e-10, yield_curvature=None,
+                 yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -94,6 +164,11 @@ class Simulation:
             a.pinned_spec = f"rings:{int(pinned)}" if pinned > 0 else "none"
         else:
             a.pinned_mask = [bool(b) for b in _checks.mask(pinned, n, "pinned")]
+        if pin_groups is not None:
+            if pinned is not None or pin_motion is not None:
+                raise ValueError("pin_groups: give the pinned vertices either as pinned (with "
+                                 "pin_motion) or as pin_groups, each with its motion")
+            a.pin_groups = _pin_groups(pin_groups, n)
         if V_start is not None:
             V_start = _checks.positions(V_start, "V_start", rows=n)
         if velocities is not None:
@@ -116,8 +191,8 @@ class Simulation:
         a.max_newton_iterations = _checks.number(max_newton_iterations, "max_newton_iterations",
                                                  positive=True, integer=True)
         a.tolerance = _checks.number(tolerance, "tolerance", positive=True)
+        _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness)
         self._s = _flexure.Simulation(V_rest, F, a, V_start, velocities)
-        self.V_rest, self.F = V_rest, F
 
     def advance(self, h, min_dt=None):
         """Advances by h seconds; a step that fails is replaced by two of h/2, recursively, while
@@ -149,6 +224,73 @@ class Simulation:
         steps = round(_checks.number(duration, "duration", positive=True) /
                       _checks.number(dt, "dt", positive=True))
         return [self.step(dt, min_dt) for _ in range(max(steps, 1))]
+
+    @property
+    def V_rest(self):
+        """#V×3 float64: the rest positions of the current mesh (after cracks: the cut mesh's)."""
+        return self._s.rest_positions
+
+    @property
+    def F(self):
+        """#F×3 int32: the current mesh's triangles (after cracks: the cut mesh's)."""
+        return self._s.triangles
+
+    @property
+    def mesh(self):
+        """(V, F): the current positions on the current (cut) mesh."""
+        return self._s.positions, self._s.triangles
+
+    @property
+    def plastic_dissipation(self):
+        """The plastic dissipation D so far (k_B units; 0 without plasticity)."""
+        return self.balance()["plastic_dissipation"]
+
+    def _plastic(self, key):
+        state = self._s.plastic_state()
+        if state is None:
+            raise ValueError(f"{key}: the simulation has no plasticity (give yield_curvature)")
+        return state[key]
+
+    @property
+    def plastic_element(self):
+        """"face" or "edge" (hinge): what plastic_strain has a row per."""
+        return self._plastic("element")
+
+    @property
+    def plastic_strain(self):
+        """#elements×k float64: the bending plastic strain P_b per face (shape-operator
+        components in the face's rest frame) or per edge (hinge: its angle measure), a copy."""
+        return self._plastic("plastic_strain")
+
+    @property
+    def plastic_curvature(self):
+        """(#elements,) float64: the plastic strain as a curvature, √(‖P_b‖²_* / 2) (1/L)."""
+        return self._plastic("plastic_curvature")
+
+    @property
+    def yielded(self):
+        """(#elements,) bool: the elements that have yielded."""
+        return np.asarray(self._plastic("yielded"), dtype=bool)
+
+    @property
+    def vertex_plastic_curvature(self):
+        """(#V,) float64: per vertex the largest plastic_curvature of its faces or edges."""
+        return self._plastic("vertex_plastic_curvature")
+
+    def cracks(self):
+        """The cracks so far, in order: dicts with time, step, face and strain (where it started,
+        on the mesh before the cut), strain_direction, crack_direction, fibre (+1 top, −1
+        bottom), polyline_rest and polyline_current (k×3: the crack's points at rest and where
+        they were), released_energy (the energy the cut took out of the balance's reference)
+        and fragments (pieces after it): the entries of ``flexure simulate``'s report.json
+        ``fracture.cracks``."""
+        return [dict(c) for c in self._s.cracks()]
+
+    def fragments(self, rest=False):
+        """The connected pieces of the current mesh, each (V #V'×3, F #F'×3 int32) with its
+        vertices renumbered in order: V the current positions, or with ``rest`` the rest ones
+        (the same pieces in the same order)."""
+        return list(self._s.fragments(bool(rest)))
 
     @property
     def time(self):
@@ -188,13 +330,15 @@ class Simulation:
     def energies(self):
         """The energies of the current state (k_B units) as ``flexure simulate``'s energies.csv:
         time, kinetic ½ vᵀMv, each term by name, gravity −(M g)ᵀ x, contact (the obstacles'
-        barrier) and total."""
+        barrier), plastic_dissipation (with plasticity: the energy plastic updates released so
+        far, not part of total) and total."""
         return dict(self._s.energies())
 
     def balance(self):
         """The run's energy balance, as ``flexure simulate``'s report.json ``energy_balance``: the
         largest drift of the total energy plus the work done against damping (minus what raising
-        the contact stiffness added) from its start value, signed, its size relative to the peak
+        the contact stiffness added, plus the plastic dissipation ``plastic_dissipation``) from
+        its start value, signed, its size relative to the peak
         kinetic energy, when (time, step), and whether it is checked (not while pins move). A
         step over which it grows by more than 5 % of the peak kinetic energy is refused (halved
         by ``advance``)."""
