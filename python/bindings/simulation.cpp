@@ -198,22 +198,20 @@ void placePins(const SimulationArguments& a, const modeling::Stencils& stencils,
 }
 
 // The inelastic options as a simulation takes them (the library's checks name the field):
-// plasticity moves the rest curvature only (the membrane's plastic strain is forming's), and not
-// with fracture (a cut rebuilds the problem, and the plastic strains do not carry across it).
+// plasticity not with fracture (a cut rebuilds the problem, and the plastic strains do not carry
+// across it).
 void checkInelastic(const SimulationArguments& a) {
   const optimize::PlasticityOptions& plasticity = a.plasticity;
   plasticity.validate();
   if (!plasticity.enabled() && plasticity.hardening != 0.0)
-    throw InputError("hardening: the plastic hardening needs a yield value: give yield_curvature");
-  if (plasticity.yieldStrain)
     throw InputError(
-        "yield_strain: membrane plasticity is forming's (flexure.form); a simulation moves the "
-        "rest curvature only: use yield_curvature");
+        "hardening: the plastic hardening needs a yield value: give yield_curvature or "
+        "yield_strain");
   if (a.fracture) a.fracture->validate();
   if (plasticity.enabled() && a.fracture)
-    throw InputError(
-        "yield_curvature: not with fracture_strain (a cut rebuilds the shell, and the plastic "
-        "strains do not carry across it)");
+    throw InputError(std::string(plasticity.yieldCurvature ? "yield_curvature" : "yield_strain") +
+                     ": not with fracture_strain (a cut rebuilds the shell, and the plastic "
+                     "strains do not carry across it)");
 }
 
 py::dict crackDict(const optimize::CrackEvent& c) {
@@ -310,8 +308,8 @@ class BoundSimulation {
     return d;
   }
 
-  // The plastic state (plasticity.h PlasticState) of the bending term's elements; None without
-  // plasticity.
+  // The plastic state (plasticity.h PlasticState): the bending term's elements' and the membrane's
+  // faces'; None without plasticity.
   py::object plasticState() const {
     if (!plastic_) return py::none();
     const optimize::PlasticState& s = plastic_->state();
@@ -321,6 +319,8 @@ class BoundSimulation {
     d["plastic_curvature"] = optimize::equivalentPlasticCurvatures(s);
     d["yielded"] = s.yielded;
     d["vertex_plastic_curvature"] = plastic_->vertexPlasticCurvatures();
+    d["membrane_plastic_strain"] = optimize::equivalentPlasticStrains(s);
+    d["vertex_membrane_plastic_strain"] = plastic_->vertexPlasticStrains();
     d["dissipation"] = s.dissipation;
     return d;
   }

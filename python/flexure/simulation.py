@@ -129,8 +129,9 @@ class Simulation:
 
     Plasticity (seed 002, docs/energies.md "Plasticity"): yield_curvature κ_y (1/L) and hardening γ
     ≥ 0; after each step the elements outside the yield surface return to it and their rest
-    curvature moves (hinge, triavg, midedge, quadfit; cotan is refused). yield_strain (the
-    membrane's) is forming's only (``flexure.form``). Fracture: fracture_strain ε_f and thickness
+    curvature moves (hinge, triavg, midedge, quadfit; cotan is refused); yield_strain ε_y (the
+    stvk membrane's Green strain), either or both (one radial return per face for the combined
+    yield): the rest metric moves. Fracture: fracture_strain ε_f and thickness
     h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
     motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
     library's ValueError naming the field (PlasticityOptions.hardening, FractureOptions.thickness).
@@ -248,7 +249,8 @@ class Simulation:
     def _plastic(self, key):
         state = self._s.plastic_state()
         if state is None:
-            raise ValueError(f"{key}: the simulation has no plasticity (give yield_curvature)")
+            raise ValueError(f"{key}: the simulation has no plasticity (give yield_curvature or "
+                             "yield_strain)")
         return state[key]
 
     @property
@@ -276,6 +278,18 @@ class Simulation:
     def vertex_plastic_curvature(self):
         """(#V,) float64: per vertex the largest plastic_curvature of its faces or edges."""
         return self._plastic("vertex_plastic_curvature")
+
+    @property
+    def membrane_plastic_strain(self):
+        """(#F,) float64: the membrane's plastic strain per face as a Green strain, √(‖P_m‖²_* / 2)
+        (0 without yield_strain; a strip stretched to ε with its width held keeps
+        (ε − ε_y)/(1 + γ))."""
+        return self._plastic("membrane_plastic_strain")
+
+    @property
+    def vertex_membrane_plastic_strain(self):
+        """(#V,) float64: per vertex the largest membrane_plastic_strain of its faces."""
+        return self._plastic("vertex_membrane_plastic_strain")
 
     def cracks(self):
         """The cracks so far, in order: dicts with time, step, face and strain (where it started,
