@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -16,6 +17,7 @@
 #include "modeling/generators.h"
 #include "modeling/mesh_check.h"
 #include "optimize/inelastic/fracture.h"
+#include "optimize/inelastic/fracturing.h"
 #include "optimize/problem.h"
 
 namespace flexure {
@@ -25,6 +27,7 @@ using modeling::CrackCut;
 using modeling::Mesh;
 using modeling::Positions;
 using optimize::FractureOptions;
+using optimize::TimeStepper;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -571,6 +574,88 @@ TEST(FractureShell, ACrackGrowsFromItsTipAcrossTheLoadOnAnIrregularMesh) {
     SCOPED_TRACE("delaunay seed " + std::to_string(seed));
     expectCrackGrowsFromItsTipAcrossTheLoad(modeling::delaunayMesh(16, seed), 1.0);
   }
+}
+
+}  // namespace
+}  // namespace flexure
+
+namespace flexure {
+namespace {
+
+// A free strip (hinge + StVK, nothing held) started at `x` with the velocities v = rate (x̄, 0, 0),
+// stretching along x, fracturing at ε_f.
+optimize::FracturingDynamics stretchingStrip(const Mesh& rest, const Positions& x, double rate,
+                                             double fractureStrain) {
+  optimize::ProblemOptions options;
+  options.membrane = curvature::MembraneOptions{};
+  options.dof = optimize::DofMode::Xyz;
+  options.fixedRings = 0;
+  options.boundaryPositions = x;
+  optimize::Problem problem = optimize::buildProblem(rest, options);
+  FractureOptions fracture;
+  fracture.fractureStrain = fractureStrain;
+  fracture.thickness = 0.01;
+  optimize::FracturingDynamics dynamics(rest, std::move(problem), options, {}, fracture);
+  Positions v = Positions::Zero(rest.vertexCount(), 3);
+  v.col(0) = rate * rest.positions.col(0);
+  dynamics.start(x, v);
+  return dynamics;
+}
+
+// Seed 002's search in time: a step in which the strain crosses ε_f is halved until the face that
+// cracks exceeds ε_f by at most the overshoot band (2 %), so the crack is cut at the event.
+TEST(FracturingDynamics, TheSearchInTimeCutsWhenTheStrainReachesTheFractureStrain) {
+  const Mesh rest = patch(8);
+  Positions x = rest.positions;
+  x.col(0) *= 1.02;  // Green strain 0.0202, rising at first at 1.02 · 5 = 5.1 per second
+  const double fractureStrain = 0.03;
+  optimize::FracturingDynamics dynamics = stretchingStrip(rest, x, 5.0, fractureStrain);
+  const double h = 0.004;  // the first step would end far over ε_f
+  long step = 0;
+  TimeStepper::Advance total;
+  for (int k = 0; k < 3 && dynamics.cracks().empty(); ++k) {
+    total = dynamics.advance(h, h / 1024.0, step);
+    ASSERT_TRUE(total.completed);
+    step += total.steps;
+  }
+  ASSERT_FALSE(dynamics.cracks().empty());
+  EXPECT_GT(total.halvings, 0);
+  const double first = dynamics.cracks().front().critical.strain;
+  EXPECT_GT(first, fractureStrain);
+  EXPECT_LE(first, fractureStrain * (1.0 + optimize::FracturingDynamics::kFractureOvershoot));
+}
+
+// The event faces after a first crack that stops inside: every face around its open tip, none
+// with a vertex on its lips elsewhere, and every face off the lips.
+TEST(FracturingDynamics, FacesOnACracksLipsAwayFromItsTipAreNoEvent) {
+  const Mesh rest = patch(16);
+  FractureOptions options;
+  options.fractureStrain = greenStrain(1.0 + 0.1 * 0.5);
+  const auto cracked = optimize::fractureShell(rest, pulledMoreBelow(rest, 0.1, 0.0),
+                                               Positions::Zero(rest.vertexCount(), 3), {}, options);
+  ASSERT_TRUE(cracked.has_value());
+  ASSERT_EQ(cracked->openTips.size(), 1u);
+  const Mesh& cut = cracked->rest;
+  const std::vector<bool> event = optimize::fractureEventFaces(cut, cracked->openTips);
+  ASSERT_EQ(event.size(), static_cast<std::size_t>(cut.faceCount()));
+  std::map<std::array<double, 3>, int> copies;
+  for (int v = 0; v < cut.vertexCount(); ++v)
+    ++copies[{cut.positions(v, 0), cut.positions(v, 1), cut.positions(v, 2)}];
+  int aroundTip = 0, onLips = 0;
+  for (int f = 0; f < cut.faceCount(); ++f) {
+    bool atTip = false, onLip = false;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = cut.positions.row(cut.triangles(f, k)).transpose();
+      atTip = atTip || p == cracked->openTips.front();
+      onLip = onLip || copies[{p.x(), p.y(), p.z()}] > 1;
+    }
+    aroundTip += atTip;
+    onLips += onLip && !atTip;
+    EXPECT_EQ(event[f], atTip || !onLip) << "face " << f;
+  }
+  EXPECT_GE(aroundTip, 3);
+  EXPECT_GE(onLips, 4);
+  EXPECT_EQ(optimize::fractureEventFaces(rest, {}), std::vector<bool>(rest.faceCount(), true));
 }
 
 }  // namespace
