@@ -625,6 +625,23 @@ TEST(FracturingDynamics, TheSearchInTimeCutsWhenTheStrainReachesTheFractureStrai
   EXPECT_LE(first, fractureStrain * (1.0 + optimize::FracturingDynamics::kFractureOvershoot));
 }
 
+// A step that starts over the band (ε_f (1 + 2 %)) would be discarded at every length down to the
+// shortest: it is split at once and none is tried and discarded. A free strip started at a Green
+// strain of 0.05 everywhere, stretching on, with ε_f = 0.01: cracks, and no step discarded (10
+// were before).
+TEST(FracturingDynamics, AStepThatStartsOverTheBandIsNotTried) {
+  const Mesh rest = patch(8);
+  Positions x = rest.positions;
+  x.col(0) *= std::sqrt(1.1);
+  optimize::FracturingDynamics dynamics = stretchingStrip(rest, x, 1.0, 0.01);
+  const double h = 0.005;
+  const TimeStepper::Advance advance = dynamics.advance(h, h / 64.0, 0);
+  ASSERT_TRUE(advance.completed);
+  EXPECT_EQ(advance.halvings, 0);
+  EXPECT_GE(advance.steps, 1);
+  EXPECT_FALSE(dynamics.cracks().empty());
+}
+
 // The event faces after a first crack that stops inside: every face around its open tip, none
 // with a vertex on its lips elsewhere, and every face off the lips.
 TEST(FracturingDynamics, FacesOnACracksLipsAwayFromItsTipAreNoEvent) {

@@ -69,6 +69,13 @@ std::vector<double> FracturingDynamics::strainNow() const {
   return strain;
 }
 
+bool FracturingDynamics::overBand(const std::vector<double>& strain) const {
+  const double band = fracture_->fractureStrain * (1.0 + kFractureOvershoot);
+  for (std::size_t f = 0; f < strain.size(); ++f)
+    if (eventFaces_[f] && strain[f] > band) return true;
+  return false;
+}
+
 TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long step) {
   TimeStepper::Advance total;
   total.smallestStep = h;
@@ -78,6 +85,14 @@ TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long 
 
 void FracturingDynamics::advanceInto(double h, double minStep, int level, long& step,
                                      TimeStepper::Advance& total) {
+  const bool canHalve = fracture_ && level < kFractureSearchLevels && h / 2.0 >= minStep;
+  if (canHalve && overBand(strainNow())) {
+    // Already over the band at the start: a step of h would be discarded, as would each shorter
+    // one down to the shortest, whose end differs from this start by O(h / 2^levels).
+    advanceInto(h / 2.0, minStep, level + 1, step, total);
+    if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
+    return;
+  }
   const TimeStepper::State before = stepper_->state();
   const TimeStepper::Advance a = stepper_->advance(h, minStep);
   total.attemptedIterations += a.attemptedIterations;
@@ -105,11 +120,7 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
     return;
   }
   const std::vector<double> strain = strainNow();
-  const double band = fracture_->fractureStrain * (1.0 + kFractureOvershoot);
-  bool overshot = false;  // some event face over the band
-  for (std::size_t f = 0; f < strain.size() && !overshot; ++f)
-    overshot = eventFaces_[f] && strain[f] > band;
-  if (overshot && level < kFractureSearchLevels && h / 2.0 >= minStep) {
+  if (canHalve && overBand(strain)) {
     stepper_->restore(before);
     ++total.halvings;
     advanceInto(h / 2.0, minStep, level + 1, step, total);
