@@ -56,40 +56,6 @@ Eigen::Matrix2d shapeOperatorOf(const curvature::TriangleAveragedResidual& face,
   return m;
 }
 
-FaceStrains strainsOfFace(const Mesh& rest, const modeling::Stencils& stencils,
-                          const modeling::RestState& restState,
-                          const Eigen::Ref<const Positions>& current, int f) {
-  const Eigen::Vector3d restCorner[3] = {rowOf(rest.positions, rest.triangles(f, 0)),
-                                         rowOf(rest.positions, rest.triangles(f, 1)),
-                                         rowOf(rest.positions, rest.triangles(f, 2))};
-  const curvature::FaceFrame frame =
-      curvature::FaceFrame::of(restCorner[0], restCorner[1], restCorner[2]);
-  Eigen::Matrix2d restEdges;  // columns x̄1 − x̄0, x̄2 − x̄0 in the frame
-  restEdges << frame.components(restCorner[1] - restCorner[0]),
-      frame.components(restCorner[2] - restCorner[0]);
-  Eigen::Matrix<double, 3, 2> edges;
-  edges << rowOf(current, rest.triangles(f, 1)) - rowOf(current, rest.triangles(f, 0)),
-      rowOf(current, rest.triangles(f, 2)) - rowOf(current, rest.triangles(f, 0));
-  const Eigen::Matrix<double, 3, 2> deformationGradient = edges * restEdges.inverse();
-  FaceStrains strains;
-  strains.membrane =
-      0.5 * (deformationGradient.transpose() * deformationGradient - Eigen::Matrix2d::Identity());
-
-  // curvature::edgeTensor's frame (current_metric.h's at the rest corners) is FaceFrame's.
-  curvature::TriangleAveragedResidual face;
-  const double area = restState.faceAreas[f];
-  for (int i = 0; i < 3; ++i) {
-    face.vertices[i] = stencils.faces(f, i);
-    face.vertices[3 + i] = stencils.faceFlaps(f, i);
-    const double scale =
-        stencils.faceFlaps(f, i) < 0 ? 0.0 : restState.faceEdgeLengths(f, i) / (2.0 * area);
-    face.edgeTensors[i] = curvature::edgeTensor(stencils, restState, f, i, scale);
-  }
-  strains.bending =
-      shapeOperatorOf(face, current, rest, f) - shapeOperatorOf(face, rest.positions, rest, f);
-  return strains;
-}
-
 void requireMatchingRows(const Mesh& rest, const Eigen::Ref<const Positions>& current) {
   if (current.rows() != rest.vertexCount()) {
     throw InputError("fracture criterion: the configuration has " + std::to_string(current.rows()) +
@@ -110,26 +76,56 @@ void FractureOptions::validate() const {
   }
 }
 
-std::vector<FaceStrains> faceStrains(const Mesh& rest, const Eigen::Ref<const Positions>& current) {
-  requireMatchingRows(rest, current);
-  const modeling::Stencils stencils = modeling::compileStencils(rest);
-  const modeling::RestState restState = modeling::precomputeRestState(stencils, rest.positions);
-  std::vector<FaceStrains> strains(rest.faceCount());
+FractureCriterion::FractureCriterion(const Mesh& rest)
+    : rest_(rest), stencils_(modeling::compileStencils(rest)) {
+  const modeling::RestState restState = modeling::precomputeRestState(stencils_, rest.positions);
+  faces_.resize(rest.faceCount());
   for (int f = 0; f < rest.faceCount(); ++f) {
-    strains[f] = strainsOfFace(rest, stencils, restState, current, f);
+    const Eigen::Vector3d restCorner[3] = {rowOf(rest.positions, rest.triangles(f, 0)),
+                                           rowOf(rest.positions, rest.triangles(f, 1)),
+                                           rowOf(rest.positions, rest.triangles(f, 2))};
+    RestFace& face = faces_[f];
+    face.frame = curvature::FaceFrame::of(restCorner[0], restCorner[1], restCorner[2]);
+    Eigen::Matrix2d restEdges;  // columns x̄1 − x̄0, x̄2 − x̄0 in the frame
+    restEdges << face.frame.components(restCorner[1] - restCorner[0]),
+        face.frame.components(restCorner[2] - restCorner[0]);
+    face.inverseRestEdges = restEdges.inverse();
+    // curvature::edgeTensor's frame (current_metric.h's at the rest corners) is FaceFrame's.
+    const double area = restState.faceAreas[f];
+    for (int i = 0; i < 3; ++i) {
+      face.shapeOperator.vertices[i] = stencils_.faces(f, i);
+      face.shapeOperator.vertices[3 + i] = stencils_.faceFlaps(f, i);
+      const double scale =
+          stencils_.faceFlaps(f, i) < 0 ? 0.0 : restState.faceEdgeLengths(f, i) / (2.0 * area);
+      face.shapeOperator.edgeTensors[i] = curvature::edgeTensor(stencils_, restState, f, i, scale);
+    }
+    face.restShapeOperator = shapeOperatorOf(face.shapeOperator, rest.positions, rest, f);
+  }
+}
+
+std::vector<FaceStrains> FractureCriterion::strains(
+    const Eigen::Ref<const Positions>& current) const {
+  requireMatchingRows(rest_, current);
+  std::vector<FaceStrains> strains(rest_.faceCount());
+  for (int f = 0; f < rest_.faceCount(); ++f) {
+    const RestFace& face = faces_[f];
+    Eigen::Matrix<double, 3, 2> edges;
+    edges << rowOf(current, rest_.triangles(f, 1)) - rowOf(current, rest_.triangles(f, 0)),
+        rowOf(current, rest_.triangles(f, 2)) - rowOf(current, rest_.triangles(f, 0));
+    const Eigen::Matrix<double, 3, 2> deformationGradient = edges * face.inverseRestEdges;
+    strains[f].membrane =
+        0.5 * (deformationGradient.transpose() * deformationGradient - Eigen::Matrix2d::Identity());
+    strains[f].bending =
+        shapeOperatorOf(face.shapeOperator, current, rest_, f) - face.restShapeOperator;
   }
   return strains;
 }
 
-std::vector<FacePrincipalStrain> facePrincipalStrains(const Mesh& rest,
-                                                      const Eigen::Ref<const Positions>& current,
-                                                      double thickness) {
-  const std::vector<FaceStrains> strains = faceStrains(rest, current);
-  std::vector<FacePrincipalStrain> principal(rest.faceCount());
-  for (int f = 0; f < rest.faceCount(); ++f) {
-    const curvature::FaceFrame frame = curvature::FaceFrame::of(
-        rowOf(rest.positions, rest.triangles(f, 0)), rowOf(rest.positions, rest.triangles(f, 1)),
-        rowOf(rest.positions, rest.triangles(f, 2)));
+std::vector<FacePrincipalStrain> FractureCriterion::principalStrains(
+    const std::vector<FaceStrains>& strains, double thickness) const {
+  std::vector<FacePrincipalStrain> principal(rest_.faceCount());
+  for (int f = 0; f < rest_.faceCount(); ++f) {
+    const curvature::FaceFrame& frame = faces_[f].frame;
     FacePrincipalStrain& result = principal[f];
     result.face = f;
     result.strain = -std::numeric_limits<double>::infinity();
@@ -149,17 +145,41 @@ std::vector<FacePrincipalStrain> facePrincipalStrains(const Mesh& rest,
   return principal;
 }
 
-std::optional<FacePrincipalStrain> criticalFace(const Mesh& rest,
-                                                const Eigen::Ref<const Positions>& current,
-                                                const FractureOptions& options) {
-  options.validate();
+std::vector<FaceStrains> faceStrains(const Mesh& rest, const Eigen::Ref<const Positions>& current) {
+  requireMatchingRows(rest, current);
+  return FractureCriterion(rest).strains(current);
+}
+
+std::vector<FacePrincipalStrain> facePrincipalStrains(const Mesh& rest,
+                                                      const Eigen::Ref<const Positions>& current,
+                                                      double thickness) {
+  requireMatchingRows(rest, current);
+  const FractureCriterion criterion(rest);
+  return criterion.principalStrains(criterion.strains(current), thickness);
+}
+
+namespace {
+
+// The face with the largest strain when it exceeds ε_f.
+std::optional<FacePrincipalStrain> strongestOver(const std::vector<FacePrincipalStrain>& strains,
+                                                 double fractureStrain) {
   std::optional<FacePrincipalStrain> critical;
-  for (const FacePrincipalStrain& face : facePrincipalStrains(rest, current, options.thickness)) {
-    if (face.strain > options.fractureStrain && (!critical || face.strain > critical->strain)) {
+  for (const FacePrincipalStrain& face : strains) {
+    if (face.strain > fractureStrain && (!critical || face.strain > critical->strain)) {
       critical = face;
     }
   }
   return critical;
+}
+
+}  // namespace
+
+std::optional<FacePrincipalStrain> criticalFace(const Mesh& rest,
+                                                const Eigen::Ref<const Positions>& current,
+                                                const FractureOptions& options) {
+  options.validate();
+  return strongestOver(facePrincipalStrains(rest, current, options.thickness),
+                       options.fractureStrain);
 }
 
 namespace {
@@ -238,35 +258,75 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
                                             const Positions& v, const std::vector<bool>& heldVertex,
                                             const FractureOptions& options,
                                             const std::vector<Eigen::Vector3d>& openTips) {
-  if (v.rows() != rest.vertexCount() ||
-      (!heldVertex.empty() && static_cast<int>(heldVertex.size()) != rest.vertexCount())) {
-    throw InputError("fracture: the velocities or held vertices do not match the rest mesh's " +
-                     std::to_string(rest.vertexCount()) + " vertices");
+  requireMatchingRows(rest, x);
+  return fractureShell(FractureCriterion(rest), x, v, heldVertex, options, openTips);
+}
+
+namespace {
+
+// The faces with a vertex on an earlier crack's lips (a rest point where two or more vertices are).
+std::vector<bool> lipFaces(const Mesh& rest) {
+  std::map<std::array<double, 3>, int> copiesAt;
+  for (int i = 0; i < rest.vertexCount(); ++i)
+    ++copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}];
+  std::vector<bool> lip(rest.faceCount(), false);
+  for (int f = 0; f < rest.faceCount(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = rest.triangles(f, k);
+      if (copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}] > 1)
+        lip[f] = true;
+    }
   }
-  const std::optional<FacePrincipalStrain> critical = criticalFace(rest, x, options);
+  return lip;
+}
+
+}  // namespace
+
+std::vector<bool> fractureEventFaces(const Mesh& rest,
+                                     const std::vector<Eigen::Vector3d>& openTips) {
+  std::vector<bool> event = lipFaces(rest);
+  event.flip();
+  for (const Eigen::Vector3d& point : openTips) {
+    const std::vector<int> at = verticesAt(rest, point);
+    if (at.size() != 1) continue;
+    for (int f = 0; f < rest.faceCount(); ++f)
+      if ((rest.triangles.row(f).array() == at[0]).any()) event[f] = true;
+  }
+  return event;
+}
+
+namespace {
+
+// Where a fracture check on (criterion.rest(), x) starts a crack: the seed, the strain at its face
+// (its crackDirection the seed's direction) and the faces over ε_f the crack may run through.
+// Empty when the check does not cut.
+struct CrackStart {
+  modeling::CrackSeed seed;
+  FacePrincipalStrain strain;
+  std::vector<bool> cracking;  // #F
+};
+
+std::optional<CrackStart> crackStart(const FractureCriterion& criterion, const Positions& x,
+                                     const FractureOptions& options,
+                                     const std::vector<Eigen::Vector3d>& openTips) {
+  const Mesh& rest = criterion.rest();
+  options.validate();
+  const std::vector<FaceStrains> faceStrain = criterion.strains(x);
+  const std::vector<FacePrincipalStrain> strains =
+      criterion.principalStrains(faceStrain, options.thickness);
+  const std::optional<FacePrincipalStrain> critical =
+      strongestOver(strains, options.fractureStrain);
   if (!critical) return std::nullopt;
-  const std::vector<FaceStrains> faceStrain = faceStrains(rest, x);
-  const std::vector<FacePrincipalStrain> strains = facePrincipalStrains(rest, x, options.thickness);
   std::vector<bool> cracking(rest.faceCount());
   for (int f = 0; f < rest.faceCount(); ++f) {
     cracking[f] = strains[f].strain > options.fractureStrain;
   }
   // A new crack starts at the strongest face off the lips of earlier cracks (vertices split in
   // two): those faces unload as the lips open, and crack again only from a tip.
-  std::map<std::array<double, 3>, int> copiesAt;
-  for (int i = 0; i < rest.vertexCount(); ++i)
-    ++copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}];
-  const auto onLip = [&](int f) {
-    for (int k = 0; k < 3; ++k) {
-      const int i = rest.triangles(f, k);
-      if (copiesAt[{rest.positions(i, 0), rest.positions(i, 1), rest.positions(i, 2)}] > 1)
-        return true;
-    }
-    return false;
-  };
+  const std::vector<bool> onLip = lipFaces(rest);
   std::optional<FacePrincipalStrain> initiating;
   for (int f = 0; f < rest.faceCount(); ++f) {
-    if (cracking[f] && !onLip(f) && (!initiating || strains[f].strain > initiating->strain))
+    if (cracking[f] && !onLip[f] && (!initiating || strains[f].strain > initiating->strain))
       initiating = strains[f];
   }
   modeling::CrackSeed seed{initiating ? initiating->face : critical->face,
@@ -285,7 +345,7 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
   if (seed.tipVertex < 0 && !initiating) return std::nullopt;
   if (seed.tipVertex < 0 && !openTips.empty()) {
     // One crack front per piece: a piece with an open tip cracks only from it.
-    const std::vector<int> component = modeling::vertexComponents(modeling::compileStencils(rest));
+    const std::vector<int> component = modeling::vertexComponents(criterion.stencils());
     const int piece = component[rest.triangles(seed.face, 0)];
     for (const Eigen::Vector3d& point : openTips) {
       const std::vector<int> at = verticesAt(rest, point);
@@ -298,9 +358,26 @@ std::optional<FracturedShell> fractureShell(const Mesh& rest, const Positions& x
     if (seed.direction.dot(awayFromCrack(rest, seed.tipVertex)) < 0.0) seed.direction *= -1.0;
     start.crackDirection = seed.direction;
   }
+  return CrackStart{seed, start, std::move(cracking)};
+}
+
+}  // namespace
+
+std::optional<FracturedShell> fractureShell(const FractureCriterion& criterion, const Positions& x,
+                                            const Positions& v, const std::vector<bool>& heldVertex,
+                                            const FractureOptions& options,
+                                            const std::vector<Eigen::Vector3d>& openTips) {
+  const Mesh& rest = criterion.rest();
+  if (v.rows() != rest.vertexCount() ||
+      (!heldVertex.empty() && static_cast<int>(heldVertex.size()) != rest.vertexCount())) {
+    throw InputError("fracture: the velocities or held vertices do not match the rest mesh's " +
+                     std::to_string(rest.vertexCount()) + " vertices");
+  }
+  const std::optional<CrackStart> begin = crackStart(criterion, x, options, openTips);
+  if (!begin) return std::nullopt;
   FracturedShell shell;
-  shell.critical = start;
-  shell.cut = modeling::cutAlongCrack(rest, x, seed, cracking);
+  shell.critical = begin->strain;
+  shell.cut = modeling::cutAlongCrack(rest, x, begin->seed, begin->cracking);
   shell.rest = shell.cut.rest;
   shell.positions = shell.cut.current;
   const int vertexCount = shell.rest.vertexCount();

@@ -23,8 +23,11 @@
 #include <optional>
 #include <vector>
 
+#include "curvature/face_frame.h"
+#include "curvature/triangle_averaged.h"
 #include "modeling/crack_cut.h"
 #include "modeling/mesh.h"
+#include "modeling/stencils.h"
 
 namespace flexure::optimize {
 
@@ -52,6 +55,33 @@ struct FacePrincipalStrain {
   int fibre = 0;                                              // +1 top (E_+), −1 bottom (E_−)
 };
 
+// The criterion on one rest mesh: what depends on the rest shape alone (its stencils, each face's
+// rest frame, [x̄1 − x̄0, x̄2 − x̄0]⁻¹, edge tensors and rest shape operator S̄_T) made once, so that a
+// check evaluates only the current strains; kept by a simulation until a cut changes the mesh.
+class FractureCriterion {
+ public:
+  explicit FractureCriterion(const modeling::Mesh& rest);
+
+  const modeling::Mesh& rest() const { return rest_; }
+  const modeling::Stencils& stencils() const { return stencils_; }
+  // E_m and E_b of every face (#F) deformed to `current` (#V by 3; InputError otherwise).
+  std::vector<FaceStrains> strains(const Eigen::Ref<const modeling::Positions>& current) const;
+  // The largest principal fibre strain of every face (#F) for thickness h, from `strains`.
+  std::vector<FacePrincipalStrain> principalStrains(const std::vector<FaceStrains>& strains,
+                                                    double thickness) const;
+
+ private:
+  struct RestFace {
+    curvature::FaceFrame frame;
+    Eigen::Matrix2d inverseRestEdges;  // [x̄1 − x̄0, x̄2 − x̄0]⁻¹ in the frame
+    curvature::TriangleAveragedResidual shapeOperator;
+    Eigen::Matrix2d restShapeOperator;  // S̄_T
+  };
+  modeling::Mesh rest_;
+  modeling::Stencils stencils_;
+  std::vector<RestFace> faces_;
+};
+
 // E_m and E_b of every face (#F) of `rest` deformed to `current` (#V by 3).
 std::vector<FaceStrains> faceStrains(const modeling::Mesh& rest,
                                      const Eigen::Ref<const modeling::Positions>& current);
@@ -66,6 +96,13 @@ std::vector<FacePrincipalStrain> facePrincipalStrains(
 std::optional<FacePrincipalStrain> criticalFace(
     const modeling::Mesh& rest, const Eigen::Ref<const modeling::Positions>& current,
     const FractureOptions& options);
+
+// The faces whose strain reaching ε_f is a fracture event (#F): all but those with a vertex on an
+// earlier crack's lips (a rest point where two or more vertices are) that are not around an open
+// tip of `openTips`. Such a face unloads as the lips open; fractureShell starts no crack from it,
+// and cuts it only on a crack grown from a tip.
+std::vector<bool> fractureEventFaces(const modeling::Mesh& rest,
+                                     const std::vector<Eigen::Vector3d>& openTips);
 
 // A shell after one fracture check that cracked: the cut rest mesh (its rest state is rebuilt from
 // it by buildProblem), the configuration and velocities carried over per vertex (a vertex made on
@@ -89,6 +126,13 @@ struct FracturedShell {
 // (tipStrainDirection); otherwise the face with the largest strain seeds it through its centroid.
 // Empty when no face exceeds ε_f. InputError for bad options or sizes that do not match.
 std::optional<FracturedShell> fractureShell(const modeling::Mesh& rest,
+                                            const modeling::Positions& x,
+                                            const modeling::Positions& v,
+                                            const std::vector<bool>& heldVertex,
+                                            const FractureOptions& options,
+                                            const std::vector<Eigen::Vector3d>& openTips = {});
+// The same with the criterion made for the rest mesh (criterion.rest()).
+std::optional<FracturedShell> fractureShell(const FractureCriterion& criterion,
                                             const modeling::Positions& x,
                                             const modeling::Positions& v,
                                             const std::vector<bool>& heldVertex,

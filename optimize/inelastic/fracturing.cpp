@@ -50,6 +50,8 @@ FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, Pro
       throw InputError(
           "FractureOptions: a separate membrane rest shape does not carry across a "
           "cut (ProblemOptions.membraneRest)");
+    criterion_ = std::make_unique<FractureCriterion>(rest_);
+    eventFaces_ = fractureEventFaces(rest_, openTips_);
   }
   stepper_ = std::make_unique<TimeStepper>(*problem_, dynamics_);
 }
@@ -59,12 +61,19 @@ void FracturingDynamics::start(const modeling::Positions& x, const modeling::Pos
   stepper_->start(x, v, Eigen::VectorXd());
 }
 
-double FracturingDynamics::peakStrain() const {
-  double peak = -std::numeric_limits<double>::infinity();
-  for (const FacePrincipalStrain& face :
-       facePrincipalStrains(rest_, stepper_->positions(), fracture_->thickness))
-    peak = std::max(peak, face.strain);
-  return peak;
+std::vector<double> FracturingDynamics::strainNow() const {
+  const std::vector<FacePrincipalStrain> principal = criterion_->principalStrains(
+      criterion_->strains(stepper_->positions()), fracture_->thickness);
+  std::vector<double> strain(principal.size());
+  for (std::size_t f = 0; f < principal.size(); ++f) strain[f] = principal[f].strain;
+  return strain;
+}
+
+bool FracturingDynamics::overBand(const std::vector<double>& strain) const {
+  const double band = fracture_->fractureStrain * (1.0 + kFractureOvershoot);
+  for (std::size_t f = 0; f < strain.size(); ++f)
+    if (eventFaces_[f] && strain[f] > band) return true;
+  return false;
 }
 
 TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long step) {
@@ -76,6 +85,14 @@ TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long 
 
 void FracturingDynamics::advanceInto(double h, double minStep, int level, long& step,
                                      TimeStepper::Advance& total) {
+  const bool canHalve = fracture_ && level < kFractureSearchLevels && h / 2.0 >= minStep;
+  if (canHalve && overBand(strainNow())) {
+    // Already over the band at the start: a step of h would be discarded, as would each shorter
+    // one down to the shortest, whose end differs from this start by O(h / 2^levels).
+    advanceInto(h / 2.0, minStep, level + 1, step, total);
+    if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
+    return;
+  }
   const TimeStepper::State before = stepper_->state();
   const TimeStepper::Advance a = stepper_->advance(h, minStep);
   total.attemptedIterations += a.attemptedIterations;
@@ -95,8 +112,15 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
     total.failedTime = a.failedTime;
     return;
   }
-  if (fracture_ && level < kFractureSearchLevels && h / 2.0 >= minStep &&
-      peakStrain() > fracture_->fractureStrain * (1.0 + kFractureOvershoot)) {
+  if (!fracture_) {
+    total.steps += a.steps;
+    total.newtonIterations += a.newtonIterations;
+    total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
+    step += a.steps;
+    return;
+  }
+  const std::vector<double> strain = strainNow();
+  if (canHalve && overBand(strain)) {
     stepper_->restore(before);
     ++total.halvings;
     advanceInto(h / 2.0, minStep, level + 1, step, total);
@@ -107,15 +131,22 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
   total.newtonIterations += a.newtonIterations;
   total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
   step += a.steps;
-  checkFracture(step);
+  checkFracture(step, strain);
 }
 
 bool FracturingDynamics::checkFracture(long step) {
   if (!fracture_) return false;
+  return checkFracture(step, strainNow());
+}
+
+bool FracturingDynamics::checkFracture(long step, const std::vector<double>& strain) {
+  if (std::none_of(strain.begin(), strain.end(),
+                   [&](double s) { return s > fracture_->fractureStrain; }))
+    return false;
   const TimeStepper::State before = stepper_->state();
   const double totalBefore = stepper_->energies().total();
   std::optional<FracturedShell> shell = fractureShell(
-      rest_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_, openTips_);
+      *criterion_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_, openTips_);
   // A crack that runs only along edges already separated changes nothing: not a cut.
   if (!shell || (shell->cut.facesSplit == 0 && shell->cut.verticesAdded == 0 &&
                  shell->cut.verticesDuplicated == 0))
@@ -163,8 +194,10 @@ bool FracturingDynamics::checkFracture(long step) {
   stepper_ = std::move(stepper);
   problem_ = std::move(problem);
   rest_ = std::move(shell->rest);
+  criterion_ = std::make_unique<FractureCriterion>(rest_);
   dynamics_ = std::move(dynamics);
   openTips_ = std::move(shell->openTips);
+  eventFaces_ = fractureEventFaces(rest_, openTips_);
   pinStart_ = pinStart;
   return true;
 }
