@@ -258,7 +258,8 @@ TEST(Fairing, LionRegionBeatsInputAndCgalFair) {
   const Mesh lion = cgalMesh("lion-head.off");
   const modeling::Stencils s = modeling::compileStencils(lion);
   const FairingPatch patch = modeling::extractFairingPatch(lion, s, lionRegion(lion));
-  optimize::FairingOptions options;
+  optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
   options.bending.discretization = curvature::Discretization::Midedge;
   const optimize::FairingResult result = optimize::fairNonlinear(patch, options);
   ASSERT_TRUE(result.report.converged) << result.report.termination;
@@ -352,7 +353,8 @@ TEST(Fairing, FilledHolesFairBelowCgalFair) {
   const modeling::Stencils s = modeling::compileStencils(filled.mesh);
   modeling::requireFairableRegion(s, filled.newVertex, "holes");
   const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
-  optimize::FairingOptions options;
+  optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
   options.bending.discretization = curvature::Discretization::Midedge;
   const optimize::FairingResult result = optimize::fairNonlinear(patch, options);
   ASSERT_TRUE(result.report.converged) << result.report.termination;
@@ -380,7 +382,8 @@ TEST(Fairing, NeverAboveTheStart) {
   const FairingPatch patch = modeling::extractFairingPatch(lion, s, lionRegion(lion));
   for (auto d : {curvature::Discretization::Hinge, curvature::Discretization::Cotan,
                  curvature::Discretization::Midedge}) {
-    optimize::FairingOptions options;
+    optimize::FairingOptions options =
+        optimize::defaultFairingOptions(optimize::FairingMetric::Input);
     options.bending.discretization = d;
     options.angleBarrier = false;  // its energy at the start is not E_bend's
     const std::string name(curvature::discretizationName(d));
@@ -408,7 +411,8 @@ TEST(Fairing, ScaledMeshFairsAlike) {
   big.positions *= 40.0;
   const modeling::Stencils s = modeling::compileStencils(lion);
   const std::vector<bool> region = lionRegion(lion);
-  optimize::FairingOptions options;
+  optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
   options.bending.discretization = curvature::Discretization::TriangleAveraged;
   const Positions small =
       optimize::fairNonlinear(modeling::extractFairingPatch(lion, s, region), options).positions;

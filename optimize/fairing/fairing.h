@@ -56,13 +56,22 @@ inline constexpr double kCurrentMetricMembraneWeight = 0.1;
 // included).
 enum class FairingShape { Input, Start };
 
+// The current metric's bending options: cotan's vertex area barycentric (defaultFairingOptions).
+inline curvature::BendingOptions currentMetricBending() {
+  curvature::BendingOptions b;
+  b.vertexArea = curvature::VertexArea::Barycentric;
+  return b;
+}
+
+// The defaults are the current metric's (defaultFairingOptions(FairingMetric::Current)): it
+// converges on every CGAL demo mesh where the input's does (issue #30).
 struct FairingOptions {
-  curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
+  curvature::BendingOptions bending =
+      currentMetricBending();  // its restCurvature is ignored: fairing's is flat
   curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
-  double membraneWeight =
-      1.0;  // w below (kCurrentMetricMembraneWeight advised on the current metric)
+  double membraneWeight = kCurrentMetricMembraneWeight;  // w below (1 on the input's metric)
   FairingStart start = FairingStart::Best;
-  FairingMetric metric = FairingMetric::Input;
+  FairingMetric metric = FairingMetric::Current;
   FairingShape membraneShape = FairingShape::Start;
   // The angle barrier (curvature/membrane.h) on the faces touching a moving vertex, its floor
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
@@ -84,10 +93,10 @@ struct FairingOptions {
 // Newton (the shark's holes: 200 iterations). On the input's: w = 1 and the Voronoi area.
 inline FairingOptions defaultFairingOptions(FairingMetric metric) {
   FairingOptions options;
-  options.metric = metric;
-  if (metric == FairingMetric::Current) {
-    options.membraneWeight = kCurrentMetricMembraneWeight;
-    options.bending.vertexArea = curvature::VertexArea::Barycentric;
+  if (metric == FairingMetric::Input) {
+    options.metric = metric;
+    options.membraneWeight = 1.0;
+    options.bending.vertexArea = curvature::BendingOptions().vertexArea;
   }
   return options;
 }

@@ -7,7 +7,7 @@ from . import _bending
 
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
          hinge_angle="theta", membrane="mips", membrane_weight=None, start="best",
-         metric="input", method="flexure", allow_slivers=False, max_iterations=None,
+         metric="current", method="flexure", allow_slivers=False, max_iterations=None,
          check=True):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
     rest of the mesh (V #V×3 float64, F #F×3 int) is held, with the two rings around the region.
