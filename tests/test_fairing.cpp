@@ -244,6 +244,25 @@ TEST(HoleFilling, GeometricFairConvergesAgainstTheFoldBarrier) {
   EXPECT_TRUE(r.checks.invertedFaces.empty());
 }
 
+// The default fairing is the geometric one (issue #30): FairingOptions{} is the current
+// metric's options; the input's keep w = 1 and the Voronoi vertex area.
+TEST(Fairing, DefaultIsTheCurrentMetric) {
+  const optimize::FairingOptions defaults;
+  const optimize::FairingOptions current =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
+  const optimize::FairingOptions input =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+  EXPECT_EQ(defaults.metric, optimize::FairingMetric::Current);
+  EXPECT_EQ(defaults.membraneWeight, optimize::kCurrentMetricMembraneWeight);
+  EXPECT_EQ(defaults.bending.vertexArea, curvature::VertexArea::Barycentric);
+  EXPECT_TRUE(defaults.foldBarrier && defaults.angleBarrier);
+  EXPECT_EQ(current.metric, defaults.metric);
+  EXPECT_EQ(current.membraneWeight, defaults.membraneWeight);
+  EXPECT_EQ(input.metric, optimize::FairingMetric::Input);
+  EXPECT_EQ(input.membraneWeight, 1.0);
+  EXPECT_EQ(input.bending.vertexArea, curvature::BendingOptions().vertexArea);
+}
+
 TEST(HoleFilling, LongLoopsCanBeLeftOpen) {
   const Mesh holes = cgalMesh("holes.off");  // loops of 136, 36, 32, 28, 28, 28, 16 edges
   const modeling::FilledMesh filled = modeling::fillHoles(holes, 30);
