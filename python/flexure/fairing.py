@@ -17,9 +17,10 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     bending energy as in ``flexure.energy`` (vertex_area None: the metric's default); membrane:
     "mips" | "conformal" | "stvk" | "springs", of weight ``membrane_weight`` (None: 1 on the
     input's metric, 0.1 on the current one); start: "best" | "biharmonic" | "input"; metric:
-    "input" | "current"; method: "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's
-    linear fair); allow_slivers: no angle barrier and the smallest-angle rule not applied (the
-    CLI's --allow-slivers); max_iterations: the solver's (None: its default).
+    "current" (the surface's own: the geometric energy, the default) | "input"; method:
+    "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's linear fair); allow_slivers: no
+    angle barrier and the smallest-angle rule not applied (the CLI's --allow-slivers);
+    max_iterations: the solver's (None: its default).
 
     Returns ``(V', report)``: V' #V×3 float64; report a dict: converged (the solve, the checks
     and the smallest-angle rule, as ``flexure fair``'s exit 0), failure (in words, "" when
