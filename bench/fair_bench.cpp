@@ -180,8 +180,7 @@ int main(int argc, char** argv) {
 
   for (const std::string& energy : energies) {
     for (const std::string& solver : solvers) {
-      optimize::FairingOptions options =  // the input metric: docs/commands/fair.md's timings
-          optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+      optimize::FairingOptions options;
       options.bending.discretization = curvature::parseDiscretization(energy);
       options.solver.solver =
           solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;

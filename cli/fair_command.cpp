@@ -54,7 +54,7 @@ struct FairCommandOptions {
   std::string membrane = "mips";
   std::optional<double> membraneWeight;  // default: 1 on the input's metric, 0.1 on the current
   std::string start = "best";
-  std::string metric = "current";
+  std::string metric = "input";
   bool allowSlivers = false;
   int renderSize = 700;
   optimize::MinimizeOptions solver;
@@ -717,9 +717,7 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--metric", options->metric,
                   "Whose metric the bending energy measures curvature in: input (an elastic "
                   "energy of the displacement from the input) | current (the surface's own: a "
-                  "geometric, Willmore-type energy whose minimizers approach spheres; a dihedral "
-                  "barrier keeps "
-                  "its hinges from folding)")
+                  "geometric, Willmore-type energy whose minimizers approach spheres)")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->solver, /*tolerances=*/false);

@@ -438,11 +438,10 @@ for f in compare.png compare.json patch48-midedge.png delaunay-quadfit.png; do
 done
 
 # --- fair (real meshes: CGAL's demo data, unpacked by the cgal_demo_meshes test) -------------
-# The runs below with --metric input check that metric's results (the default before #30).
 : "${CGAL_MESHES:?set CGAL_MESHES to the unpacked CGAL demo meshes}"
 lion="$CGAL_MESHES/lion-head.off" shark="$CGAL_MESHES/mech-holes-shark.off"
 elephant="$CGAL_MESHES/elephant.off"
-run 0 fair "$shark" --region holes --metric input -o shark.off --report shark.json --render shark.png \
+run 0 fair "$shark" --region holes -o shark.off --report shark.json --render shark.png \
   --render-size 200
 # The shark's loop of 80 edges: CGAL's fill folds a triangle back onto its neighbour (176°), so
 # it stays open with a notice; the other loops are filled.
@@ -470,7 +469,7 @@ run 0 info shark.off; stdout_has 'boundary loops        1 (vertices: 80)'; stdou
 run 2 fair "$shark" --region holes -o shark-jpg.off --render shark.jpg
 stderr_has "--render 'shark.jpg': the figure is a PNG image"; absent shark.jpg; absent shark-jpg.off
 run 0 fair "$shark" --region holes --method cgal -o shark-cgal.off --report shark-cgal.json --quiet
-run 0 fair "$shark" --region holes --metric input --solver ceres -o shark-ceres.off --report shark-ceres.json --quiet
+run 0 fair "$shark" --region holes --solver ceres -o shark-ceres.off --report shark-ceres.json --quiet
 python3 - "$shark" <<'PY' || fail "fair: shark reports or held vertices"
 import json, sys
 def off(path):
@@ -510,7 +509,7 @@ PY
 # bounded conformal membrane and no angle barrier: the solver stops by its own rule, but a triangle
 # has turned over (91° from the input, 162° from a neighbour): exit 3, the report says which check
 # failed, no mesh. (By default — mips membrane, angle barrier — the same fairing converges.)
-run 3 fair "$lion" --region sphere:-0.2375,0.3126,0.1857,0.22 --metric input --energy cotan -o folded.off \
+run 3 fair "$lion" --region sphere:-0.2375,0.3126,0.1857,0.22 --energy cotan -o folded.off \
   --membrane conformal --allow-slivers --report folded.json --render folded.png --quiet
 stderr_has "fails its checks: triangle check: 1 face is inverted"; stderr_has "face (4561, 474, 4562)"
 absent folded.off; absent folded.png
@@ -533,9 +532,9 @@ PY
 # without it
 # against CGAL's 13.8 and the fill's 13.2 (limit 12.2). --allow-slivers fairs without the barrier
 # and accepts the result, with the verdict in the report and a notice.
-run 0 fair "$shark" --region holes --metric input --membrane conformal --membrane-weight 0.02 -o thin.off \
+run 0 fair "$shark" --region holes --membrane conformal --membrane-weight 0.02 -o thin.off \
   --report thin.json --quiet
-run 0 fair "$shark" --region holes --metric input --membrane conformal --membrane-weight 0.02 --allow-slivers \
+run 0 fair "$shark" --region holes --membrane conformal --membrane-weight 0.02 --allow-slivers \
   -o thin-allowed.off \
   --report thin-allowed.json
 stderr_has "--allow-slivers: accepting smallest-angle check"
@@ -554,9 +553,9 @@ PY
 # peaks: CGAL's fair turns 13 faces over (1.31 degrees); flexure starts from the input (the best
 # start skips a linear fair with inverted faces) and keeps 3.93 degrees, no face turned over. The
 # lion's all-interior keeps 3.33 against the limit 2.41.
-run 0 fair "$CGAL_MESHES/three_peaks.off" --region all-interior --metric input -o peaks.off --report peaks.json \
+run 0 fair "$CGAL_MESHES/three_peaks.off" --region all-interior -o peaks.off --report peaks.json \
   --quiet
-run 0 fair "$lion" --region all-interior --metric input -o lion-all.off --report lion-all.json --quiet
+run 0 fair "$lion" --region all-interior -o lion-all.off --report lion-all.json --quiet
 python3 - <<'PY' || fail "fair: the smallest-angle rule on three_peaks and the lion"
 import json
 for name, start in (("peaks.json", "input"), ("lion-all.json", "biharmonic")):
@@ -609,7 +608,6 @@ stderr_has "the other 68 are filled; eh.json lists each skipped loop and why"
 python3 - <<'PY' || fail "fair: elephant-with-holes report"
 import json
 r = json.load(open("eh.json"))
-assert r["metric"] == "current", r["metric"]  # the default (#30)
 assert r["converged"] and len(r["holes"]["skipped"]) == 38 and len(r["holes"]["filled"]) == 68, r["holes"]
 assert r["checks"]["gradient"]["ratio"] < 1e-3 and r["checks"]["triangles"]["passed"], r["checks"]
 assert all(v is not None and v < 1e3 for v in r["measures"]["flexure"]["bending_energy"].values() if v is not None), r["measures"]

@@ -244,25 +244,6 @@ TEST(HoleFilling, GeometricFairConvergesAgainstTheFoldBarrier) {
   EXPECT_TRUE(r.checks.invertedFaces.empty());
 }
 
-// The default fairing is the geometric one (issue #30): FairingOptions{} is the current
-// metric's options; the input's keep w = 1 and the Voronoi vertex area.
-TEST(Fairing, DefaultIsTheCurrentMetric) {
-  const optimize::FairingOptions defaults;
-  const optimize::FairingOptions current =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
-  const optimize::FairingOptions input =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
-  EXPECT_EQ(defaults.metric, optimize::FairingMetric::Current);
-  EXPECT_EQ(defaults.membraneWeight, optimize::kCurrentMetricMembraneWeight);
-  EXPECT_EQ(defaults.bending.vertexArea, curvature::VertexArea::Barycentric);
-  EXPECT_TRUE(defaults.foldBarrier && defaults.angleBarrier);
-  EXPECT_EQ(current.metric, defaults.metric);
-  EXPECT_EQ(current.membraneWeight, defaults.membraneWeight);
-  EXPECT_EQ(input.metric, optimize::FairingMetric::Input);
-  EXPECT_EQ(input.membraneWeight, 1.0);
-  EXPECT_EQ(input.bending.vertexArea, curvature::BendingOptions().vertexArea);
-}
-
 TEST(HoleFilling, LongLoopsCanBeLeftOpen) {
   const Mesh holes = cgalMesh("holes.off");  // loops of 136, 36, 32, 28, 28, 28, 16 edges
   const modeling::FilledMesh filled = modeling::fillHoles(holes, 30);
@@ -277,8 +258,7 @@ TEST(Fairing, LionRegionBeatsInputAndCgalFair) {
   const Mesh lion = cgalMesh("lion-head.off");
   const modeling::Stencils s = modeling::compileStencils(lion);
   const FairingPatch patch = modeling::extractFairingPatch(lion, s, lionRegion(lion));
-  optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+  optimize::FairingOptions options;
   options.bending.discretization = curvature::Discretization::Midedge;
   const optimize::FairingResult result = optimize::fairNonlinear(patch, options);
   ASSERT_TRUE(result.report.converged) << result.report.termination;
@@ -372,8 +352,7 @@ TEST(Fairing, FilledHolesFairBelowCgalFair) {
   const modeling::Stencils s = modeling::compileStencils(filled.mesh);
   modeling::requireFairableRegion(s, filled.newVertex, "holes");
   const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
-  optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+  optimize::FairingOptions options;
   options.bending.discretization = curvature::Discretization::Midedge;
   const optimize::FairingResult result = optimize::fairNonlinear(patch, options);
   ASSERT_TRUE(result.report.converged) << result.report.termination;
@@ -401,8 +380,7 @@ TEST(Fairing, NeverAboveTheStart) {
   const FairingPatch patch = modeling::extractFairingPatch(lion, s, lionRegion(lion));
   for (auto d : {curvature::Discretization::Hinge, curvature::Discretization::Cotan,
                  curvature::Discretization::Midedge}) {
-    optimize::FairingOptions options =
-        optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+    optimize::FairingOptions options;
     options.bending.discretization = d;
     options.angleBarrier = false;  // its energy at the start is not E_bend's
     const std::string name(curvature::discretizationName(d));
@@ -430,8 +408,7 @@ TEST(Fairing, ScaledMeshFairsAlike) {
   big.positions *= 40.0;
   const modeling::Stencils s = modeling::compileStencils(lion);
   const std::vector<bool> region = lionRegion(lion);
-  optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Input);
+  optimize::FairingOptions options;
   options.bending.discretization = curvature::Discretization::TriangleAveraged;
   const Positions small =
       optimize::fairNonlinear(modeling::extractFairingPatch(lion, s, region), options).positions;

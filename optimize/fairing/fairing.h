@@ -56,22 +56,13 @@ inline constexpr double kCurrentMetricMembraneWeight = 0.1;
 // included).
 enum class FairingShape { Input, Start };
 
-// The current metric's bending options: cotan's vertex area barycentric (defaultFairingOptions).
-inline curvature::BendingOptions currentMetricBending() {
-  curvature::BendingOptions b;
-  b.vertexArea = curvature::VertexArea::Barycentric;
-  return b;
-}
-
-// The defaults are the current metric's (defaultFairingOptions(FairingMetric::Current)): it
-// converges on every CGAL demo mesh where the input's does (issue #30).
 struct FairingOptions {
-  curvature::BendingOptions bending =
-      currentMetricBending();  // its restCurvature is ignored: fairing's is flat
+  curvature::BendingOptions bending;  // its restCurvature is ignored: fairing's is flat
   curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
-  double membraneWeight = kCurrentMetricMembraneWeight;  // w below (1 on the input's metric)
+  double membraneWeight =
+      1.0;  // w below (kCurrentMetricMembraneWeight advised on the current metric)
   FairingStart start = FairingStart::Best;
-  FairingMetric metric = FairingMetric::Current;
+  FairingMetric metric = FairingMetric::Input;
   FairingShape membraneShape = FairingShape::Start;
   // The angle barrier (curvature/membrane.h) on the faces touching a moving vertex, its floor
   // kAngleFloorMarginDegrees above the smallest-angle rule's limit, so that the result keeps the
@@ -93,10 +84,10 @@ struct FairingOptions {
 // Newton (the shark's holes: 200 iterations). On the input's: w = 1 and the Voronoi area.
 inline FairingOptions defaultFairingOptions(FairingMetric metric) {
   FairingOptions options;
-  if (metric == FairingMetric::Input) {
-    options.metric = metric;
-    options.membraneWeight = 1.0;
-    options.bending.vertexArea = curvature::BendingOptions().vertexArea;
+  options.metric = metric;
+  if (metric == FairingMetric::Current) {
+    options.membraneWeight = kCurrentMetricMembraneWeight;
+    options.bending.vertexArea = curvature::VertexArea::Barycentric;
   }
   return options;
 }

@@ -28,7 +28,7 @@ struct FairArguments {
   std::string regionSpec;  // parseRegion's text when no mask is given
   std::string membrane = "mips";
   std::optional<double> membraneWeight;  // empty: the metric's default
-  std::string start = "best", metric = "current";
+  std::string start = "best", metric = "input";
   std::string method = "flexure";  // or "cgal": CGAL's linear fair is the result
   bool allowSlivers = false;       // no angle barrier, and the smallest-angle rule not applied
   int maxIterations = 0;           // ≤ 0: MinimizeOptions' default

@@ -7,7 +7,7 @@ from . import _bending
 
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
          hinge_angle="theta", membrane="mips", membrane_weight=None, start="best",
-         metric="current", method="flexure", allow_slivers=False, max_iterations=None,
+         metric="input", method="flexure", allow_slivers=False, max_iterations=None,
          check=True):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
     rest of the mesh (V #V×3 float64, F #F×3 int) is held, with the two rings around the region.
@@ -17,10 +17,9 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     bending energy as in ``flexure.energy`` (vertex_area None: the metric's default); membrane:
     "mips" | "conformal" | "stvk" | "springs", of weight ``membrane_weight`` (None: 1 on the
     input's metric, 0.1 on the current one); start: "best" | "biharmonic" | "input"; metric:
-    "current" (the surface's own: the geometric energy, the default) | "input"; method:
-    "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's linear fair); allow_slivers: no
-    angle barrier and the smallest-angle rule not applied (the CLI's --allow-slivers);
-    max_iterations: the solver's (None: its default).
+    "input" | "current"; method: "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's
+    linear fair); allow_slivers: no angle barrier and the smallest-angle rule not applied (the
+    CLI's --allow-slivers); max_iterations: the solver's (None: its default).
 
     Returns ``(V', report)``: V' #V×3 float64; report a dict: converged (the solve, the checks
     and the smallest-angle rule, as ``flexure fair``'s exit 0), failure (in words, "" when
