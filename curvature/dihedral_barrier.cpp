@@ -1,32 +1,25 @@
 #include "curvature/dihedral_barrier.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <string>
 
 #include "curvature/element_term.h"
+#include "curvature/projected_hessian.h"
 #include "modeling/errors.h"
 
 namespace flexure::curvature {
 namespace {
 
 // Hands each element to `sink` with its Hessian replaced by the nearest positive semidefinite
-// matrix, V max(Λ, 0) Vᵀ (Higham 1988; optimize/solvers/projected_hessian.h's projection, which
-// curvature/ cannot call).
+// matrix (projected_hessian.h).
 class ProjectingSink : public ElementHessianSink {
  public:
   explicit ProjectingSink(ElementHessianSink& sink) : sink_(sink) {}
   void add(const ElementHessian& element) override {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(element.hessian);
-    if (eigen.eigenvalues().size() == 0 || eigen.eigenvalues().minCoeff() >= 0.0) {
-      sink_.add(element);
-      return;
-    }
     projected_.unknowns = element.unknowns;
     projected_.energy = element.energy;
     projected_.gradient = element.gradient;
-    projected_.hessian = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                         eigen.eigenvectors().transpose();
+    projected_.hessian = projectedToPositiveSemidefinite(element.hessian);
     sink_.add(projected_);
   }
 

@@ -40,8 +40,8 @@ struct ElementHessian {
 // Which second derivatives: the exact ∇²E_e; the Gauss–Newton part J_eᵀJ_e alone (first
 // derivatives only, by Ceres' autodiff: much cheaper), which equals ∇²E_e where r_e = 0, e.g. at
 // a stress-free rest state; or none (energy and gradient only; the hessian is left empty).
-// Projected: each exact ∇²E_e projected to positive semidefinite (optimize/solvers/
-// projected_hessian.h), asked of the assembly; it hands the elements Exact.
+// Projected: each exact ∇²E_e projected to positive semidefinite (projected_hessian.h), asked of
+// the assembly; it hands the elements Exact.
 enum class SecondDerivatives { Exact, GaussNewton, None, Projected };
 
 // Receives the elements' Hessians one at a time.

@@ -1,4 +1,4 @@
-// The projected Newton step (optimize/solvers/projected_hessian.h): the projection of an element
+// The projected Newton step (curvature/projected_hessian.h): the projection of an element
 // matrix, the assembled projected Hessian of a buckled sheet, and the Newton loop's indefinite
 // rule on the drape benchmark's cotan sheet.
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "curvature/projected_hessian.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/solvers/hessian_assembly.h"
-#include "optimize/solvers/projected_hessian.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -32,7 +32,7 @@ TEST(ProjectedNewton, ProjectionClampsTheNegativeEigenvalues) {
   Eigen::VectorXd lambda(5);
   lambda << 3.0, -2.0, 1.0, -0.5, 0.0;
   const Eigen::MatrixXd h = q * lambda.asDiagonal() * q.transpose();
-  const Eigen::MatrixXd p = optimize::projectedToPositiveSemidefinite(h);
+  const Eigen::MatrixXd p = curvature::projectedToPositiveSemidefinite(h);
   const Eigen::MatrixXd expected = q * lambda.cwiseMax(0.0).asDiagonal() * q.transpose();
   EXPECT_LT((p - expected).cwiseAbs().maxCoeff(), 1e-14);
   const Eigen::VectorXd eigenvalues =
@@ -42,7 +42,7 @@ TEST(ProjectedNewton, ProjectionClampsTheNegativeEigenvalues) {
   EXPECT_LT((eigenvalues - sorted).cwiseAbs().maxCoeff(), 1e-14);
   const Eigen::MatrixXd definite =
       q * (lambda.cwiseAbs().array() + 0.1).matrix().asDiagonal() * q.transpose();
-  EXPECT_EQ(optimize::projectedToPositiveSemidefinite(definite), definite);
+  EXPECT_EQ(curvature::projectedToPositiveSemidefinite(definite), definite);
 }
 
 // A cotan + StVK sheet pressed to 90 % of its width and buckled into one wave: its exact Hessian

@@ -6,10 +6,10 @@
 #include <exception>
 #include <thread>
 
+#include "curvature/projected_hessian.h"
 #include "modeling/errors.h"
 #include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/linear_algebra_threads.h"
-#include "optimize/solvers/projected_hessian.h"
 
 namespace flexure::optimize {
 namespace {
@@ -49,9 +49,10 @@ class Accumulator : public curvature::ElementHessianSink {
           out.gradient[p] += element.gradient[static_cast<Eigen::Index>(i)];
       return;
     }
-    const Eigen::MatrixXd& h = projection_ == HessianProjection::PositiveSemidefinite
-                                   ? (projected_ = projectedToPositiveSemidefinite(element.hessian))
-                                   : element.hessian;
+    const Eigen::MatrixXd& h =
+        projection_ == HessianProjection::PositiveSemidefinite
+            ? (projected_ = curvature::projectedToPositiveSemidefinite(element.hessian))
+            : element.hessian;
     const int count = static_cast<int>(element.unknowns.size());
     for (int i = 0; i < count; ++i) {
       const int p = newIndex_[element.unknowns[i]];

@@ -6,11 +6,11 @@
 
 #include <Eigen/Core>
 
-namespace flexure::optimize {
+namespace flexure::curvature {
 
 // The nearest positive semidefinite matrix to a symmetric h (n by n) in the Frobenius norm,
 // V max(Λ, 0) Vᵀ for h = V Λ Vᵀ (Higham 1988); h itself, bit for bit, when no eigenvalue is
 // negative.
 Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h);
 
-}  // namespace flexure::optimize
+}  // namespace flexure::curvature

@@ -1,8 +1,8 @@
-#include "optimize/solvers/projected_hessian.h"
+#include "curvature/projected_hessian.h"
 
 #include <Eigen/Eigenvalues>
 
-namespace flexure::optimize {
+namespace flexure::curvature {
 
 Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
@@ -11,4 +11,4 @@ Eigen::MatrixXd projectedToPositiveSemidefinite(const Eigen::MatrixXd& h) {
   return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
-}  // namespace flexure::optimize
+}  // namespace flexure::curvature
