@@ -98,6 +98,18 @@ def reuse_freed_memory():
     _flexure.reuse_freed_memory()
 
 
+def _plasticity_options(yield_curvature, yield_strain, hardening):
+    """PlasticityOptions with the yield values given (None: that part elastic); the library's
+    checks name the field (PlasticityOptions.yieldCurvature, …)."""
+    plasticity = _flexure.PlasticityOptions()
+    if yield_curvature is not None:
+        plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
+    if yield_strain is not None:
+        plasticity.yield_strain = _checks.number(yield_strain, "yield_strain")
+    plasticity.hardening = _checks.number(hardening, "hardening")
+    return plasticity
+
+
 def _bending(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest):
     b = _flexure.BendingArguments()
     b.energy = str(energy)
@@ -370,12 +382,7 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
     problem = _problem_of(problem, args, problem_arguments, "form")
     s = _solver_arguments(solver, hessian, False, start, max_iterations, function_tolerance,
                           gradient_tolerance, parameter_tolerance, threads)
-    plasticity = _flexure.PlasticityOptions()
-    if yield_curvature is not None:
-        plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
-    if yield_strain is not None:
-        plasticity.yield_strain = _checks.number(yield_strain, "yield_strain")
-    plasticity.hardening = _checks.number(hardening, "hardening")
+    plasticity = _plasticity_options(yield_curvature, yield_strain, hardening)
     forming = _flexure.FormingOptions()
     forming.load_steps = _checks.number(load_steps, "load_steps", integer=True)
     forming.release = bool(release)

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from . import _MEMBRANE_FIELDS, _bending
+from . import _MEMBRANE_FIELDS, _bending, _plasticity_options
 from . import _checks
 from . import _flexure
 
@@ -84,13 +84,7 @@ def _pin_groups(groups, n):
 def _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness):
     """The plasticity and fracture options, passed to the library as given (its checks name the
     field: PlasticityOptions.yieldCurvature, FractureOptions.fractureStrain, …)."""
-    plasticity = _flexure.PlasticityOptions()
-    if yield_curvature is not None:
-        plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
-    if yield_strain is not None:
-        plasticity.yield_strain = _checks.number(yield_strain, "yield_strain")
-    plasticity.hardening = _checks.number(hardening, "hardening")
-    a.plasticity = plasticity
+    a.plasticity = _plasticity_options(yield_curvature, yield_strain, hardening)
     if fracture_strain is None:
         if thickness:
             raise ValueError("thickness: the fibres of the fracture criterion; give "
