@@ -663,10 +663,10 @@ nlohmann::json fractureReport(const SimulateOptions& o,
           {"faces", fracturing.restMesh().faceCount()}};
 }
 
-// The plastic state at the end: the yield values (null when not given), the bending elements and
-// membrane faces that carry a plastic strain (how many of how many, which), the largest plastic
-// strain of each part (bending as a curvature, membrane as a Green strain), the dissipation at
-// each frame.
+// The plastic state at the end: the yield values (null when not given), the bending elements (their
+// kind null without a yield curvature) and membrane faces that carry a plastic strain (how many of
+// how many, which), the largest plastic strain of each part (bending as a curvature, membrane as a
+// Green strain), the dissipation at each frame.
 nlohmann::json plasticityReport(const optimize::PlasticityOptions& options,
                                 const optimize::PlasticDynamics& plastic,
                                 const Recording& recording) {
@@ -679,7 +679,8 @@ nlohmann::json plasticityReport(const optimize::PlasticityOptions& options,
   return {{"yield_curvature", valueOrNull(options.yieldCurvature)},
           {"yield_strain", valueOrNull(options.yieldStrain)},
           {"hardening", options.hardening},
-          {"element", plastic.elementKind()},
+          {"element", options.yieldCurvature ? nlohmann::json(plastic.elementKind())
+                                             : nlohmann::json(nullptr)},
           {"elements", plastic.elementCount()},
           {"yielded_elements", yielded.size()},
           {"yielded", yielded},
