@@ -157,6 +157,15 @@ TEST(HoleFilling, LoopsWithoutACleanFillAreSkipped) {
   EXPECT_EQ(modeling::boundaryLoops(modeling::compileStencils(filled.mesh)).size(), 1u);
 }
 
+// The new vertices of a hole filling faired on the current metric with the defaults, and checked.
+optimize::FairingOutcome geometricFairOfFill(const modeling::FilledMesh& filled) {
+  const modeling::Stencils s = modeling::compileStencils(filled.mesh);
+  const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
+  const optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
+  return optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
+}
+
 // A loop through two coincident vertices (two holes touching at a point) is left open: CGAL's
 // fill joins its two sides across the point. elephant-with-holes' 15-edge loop at vertex 1531
 // passes through 2552 and 2738 (same coordinates); its fill of one new vertex folded by 126°,
@@ -170,12 +179,7 @@ TEST(HoleFilling, PinchedLoopsAreSkippedAndTheGeometricFairConverges) {
   EXPECT_EQ(pinched->boundaryEdges, 15);
   EXPECT_THAT(pinched->reason, ::testing::HasSubstr("vertices 2552 and 2738 coincide"));
   EXPECT_TRUE(modeling::checkMesh(filled.mesh).valid());
-  const modeling::Stencils s = modeling::compileStencils(filled.mesh);
-  const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
-  const optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
-  const optimize::FairingOutcome r =
-      optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
+  const optimize::FairingOutcome r = geometricFairOfFill(filled);
   EXPECT_TRUE(r.converged(false)) << r.failure(false) << r.fairing->report.termination;
 }
 
@@ -215,13 +219,8 @@ TEST(Fairing, GeometricFairDoesNotFoldAFaceOverAHeldEdge) {
 // from there the geometric fair ended with a face turned 92° from the input's and 97° against a
 // neighbour; from the input it converges.
 TEST(HoleFilling, GeometricFairDoesNotStartFromAFoldedLinearFair) {
-  const modeling::FilledMesh filled = modeling::fillHoles(cgalMesh("cylinder_locally_refined.off"));
-  const modeling::Stencils s = modeling::compileStencils(filled.mesh);
-  const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
-  const optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
   const optimize::FairingOutcome r =
-      optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
+      geometricFairOfFill(modeling::fillHoles(cgalMesh("cylinder_locally_refined.off")));
   EXPECT_EQ(r.fairing->start, optimize::FairingStart::Input);
   EXPECT_TRUE(r.converged(false)) << r.failure(false) << r.fairing->report.termination;
 }
@@ -232,13 +231,8 @@ TEST(HoleFilling, GeometricFairDoesNotStartFromAFoldedLinearFair) {
 // curvature across the ceiling: 200 Newton steps crept up to the wall (|∇E| 1.8e8). With its
 // exact Hessian projected it converges, nothing turned over.
 TEST(HoleFilling, GeometricFairConvergesAgainstTheFoldBarrier) {
-  const modeling::FilledMesh filled = modeling::fillHoles(cgalMesh("boeing.off"));
-  const modeling::Stencils s = modeling::compileStencils(filled.mesh);
-  const FairingPatch patch = modeling::extractFairingPatch(filled.mesh, s, filled.newVertex);
-  const optimize::FairingOptions options =
-      optimize::defaultFairingOptions(optimize::FairingMetric::Current);
   const optimize::FairingOutcome r =
-      optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
+      geometricFairOfFill(modeling::fillHoles(cgalMesh("boeing.off")));
   EXPECT_TRUE(r.converged(false)) << r.failure(false) << r.fairing->report.termination;
   EXPECT_LT(r.fairing->report.iterations, 100);
   EXPECT_TRUE(r.checks.invertedFaces.empty());
