@@ -24,11 +24,20 @@
 // factorizations, Hessians, PCG solves and iterations per step, the in-run unit costs and the
 // floor (one first-derivative evaluation + one solve with a fixed factor). --orderings measures
 // the step Hessian's fill-reducing orders instead (analysis, nnz(L), factorization, solve).
+// Issue #29: --inelastic runs the drape per size and energy (default hinge, midedge) three ways,
+// alternated --repeat times, best kept — elastic, plastic (PlasticDynamics::afterStep after every
+// step) and fracture (FracturingDynamics with its event search and check) — with yield and
+// fracture values no face reaches, so that the ratio to the elastic run is the overhead of the
+// checks alone; a run where anything yields or cracks is no such measurement and the program exits
+// 1. Midedge has no fracture run (its ξ do not carry across a cut). It also times, on the same
+// scene, the parts a cut rebuilds (FracturingDynamics::checkFracture) against one step.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -39,6 +48,9 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/fracture.h"
+#include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/plastic_dynamics.h"
 #include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/problem.h"
@@ -270,6 +282,210 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
           {"final_total", e.total()}};
 }
 
+// The inelastic runs' values, above anything the drape reaches (a curvature of 1e3 is a radius of
+// 1 mm, a tenth of the 10 000-vertex mesh's edge; Green strains stay below 0.01): the checks run
+// on every face and step, and nothing yields or cracks.
+constexpr double kUnreachedYieldCurvature = 1e3, kUnreachedYieldStrain = 0.5, kHardening = 0.1;
+constexpr double kUnreachedFractureStrain = 0.5, kFractureThickness = 1e-3;
+
+enum class Inelastic { Elastic, Plastic, Fracture };
+const char* inelasticName(Inelastic way) {
+  return way == Inelastic::Elastic ? "elastic" : way == Inelastic::Plastic ? "plastic" : "fracture";
+}
+
+// The drape with `way`'s checks after every step, as flexure simulate runs them
+// (FracturingDynamics, PlasticDynamics::afterStep); the first step (the stepper's analysis and
+// first factorization) is timed apart. Also the largest fibre strain (thickness
+// kFractureThickness) at the end, and what yielded or cracked.
+json runInelastic(const modeling::Mesh& mesh, const std::string& energy, Inelastic way, int steps,
+                  double dt) {
+  const optimize::ProblemOptions body = sceneBody(mesh, energy, true);
+  std::optional<optimize::FractureOptions> fracture;
+  if (way == Inelastic::Fracture)
+    fracture = optimize::FractureOptions{kUnreachedFractureStrain, kFractureThickness};
+  optimize::FracturingDynamics dynamics(mesh, optimize::buildProblem(mesh, body), body,
+                                        optimize::DynamicsOptions(), fracture);
+  dynamics.start(mesh.positions, modeling::Positions::Zero(mesh.vertexCount(), 3));
+  std::optional<optimize::PlasticDynamics> plastic;
+  if (way == Inelastic::Plastic) {
+    optimize::PlasticityOptions plasticity;
+    plasticity.yieldCurvature = kUnreachedYieldCurvature;
+    plasticity.yieldStrain = kUnreachedYieldStrain;
+    plasticity.hardening = kHardening;
+    plastic.emplace(dynamics.problem(), dynamics.stepper(), plasticity);
+  }
+  int yieldedElements = 0, yieldedFaces = 0;
+  long step = 0;
+  double seconds = 0.0, firstSeconds = 0.0;
+  int iterations = 0;
+  for (int k = 0; k < steps; ++k) {
+    const auto start = Clock::now();
+    const auto advance = dynamics.advance(dt, dt / 2, step);
+    if (!advance.completed)
+      return {{"energy", energy}, {"way", inelasticName(way)}, {"error", advance.failure.failure}};
+    if (plastic) {
+      const optimize::PlasticUpdate update = plastic->afterStep();
+      yieldedElements += update.yieldedElements;
+      yieldedFaces += update.yieldedFaces;
+    }
+    (k == 0 ? firstSeconds : seconds) += secondsSince(start);
+    if (k > 0) iterations += advance.attemptedIterations;
+    step += advance.steps;
+  }
+  const optimize::FractureCriterion criterion(dynamics.restMesh());
+  double largestStrain = 0.0;
+  for (const optimize::FacePrincipalStrain& s : criterion.principalStrains(
+           criterion.strains(dynamics.stepper().positions()), kFractureThickness))
+    largestStrain = std::max(largestStrain, s.strain);
+  return {{"energy", energy},
+          {"way", inelasticName(way)},
+          {"vertices", mesh.vertexCount()},
+          {"first_step_seconds", firstSeconds},
+          {"steps", steps - 1},
+          {"seconds", seconds},
+          {"steps_per_second", (steps - 1) / seconds},
+          {"newton_iterations_per_step", double(iterations) / (steps - 1)},
+          {"yielded_elements", yieldedElements},
+          {"yielded_membrane_faces", yieldedFaces},
+          {"cracks", dynamics.cracks().size()},
+          {"largest_fibre_strain_at_end", largestStrain}};
+}
+
+// What FracturingDynamics::checkFracture rebuilds after a cut, part by part, on the drape's
+// problem (the same size as a cut mesh of it): the Problem (stencils, rest state, masses), the
+// fracture criterion's rest data and event faces, the TimeStepper (its Hessian pattern, the
+// fill-reducing order and CHOLMOD's symbolic analysis, here each timed apart as well), its start,
+// and the first numerical factorization, which the next step makes. The fastest of three.
+json rebuildCosts(const modeling::Mesh& mesh, const std::string& energy, double dt) {
+  const optimize::ProblemOptions body = sceneBody(mesh, energy, true);
+  json best = json::object();
+  const auto keep = [&](const char* part, double seconds) {
+    if (!best.contains(part) || seconds < best[part].get<double>()) best[part] = seconds;
+  };
+  for (int run = 0; run < 3; ++run) {
+    auto start = Clock::now();
+    const optimize::Problem problem = optimize::buildProblem(mesh, body);
+    keep("problem_seconds", secondsSince(start));
+    start = Clock::now();
+    const optimize::FractureCriterion criterion(mesh);
+    const std::vector<bool> events = optimize::fractureEventFaces(mesh, {});
+    keep("criterion_seconds", secondsSince(start));
+    start = Clock::now();
+    optimize::TimeStepper stepper(problem, optimize::DynamicsOptions());
+    keep("stepper_seconds", secondsSince(start));
+    start = Clock::now();
+    stepper.start(mesh.positions, modeling::Positions::Zero(mesh.vertexCount(), 3), problem.restXi);
+    keep("start_seconds", secondsSince(start));
+    // The stepper's parts, again apart: pattern, order, analysis, one factorization.
+    const int vertexCount = mesh.vertexCount();
+    const std::vector<bool> free(3 * vertexCount + problem.restXi.size(), true);
+    start = Clock::now();
+    const optimize::HessianAssembly assembly(problem.termPointers(), free, vertexCount,
+                                             curvature::Derivatives::All);
+    keep("pattern_seconds", secondsSince(start));
+    start = Clock::now();
+    const std::vector<int> order = optimize::hessianOrder(assembly, mesh.positions);
+    keep("order_seconds", secondsSince(start));
+    start = Clock::now();
+    optimize::HessianFactorization factorization(assembly, order);
+    keep("analysis_seconds", secondsSince(start));
+    optimize::HessianEvaluation e =
+        assembly.evaluate(mesh.positions, problem.restXi, optimize::HessianProjection::Exact);
+    const std::vector<int>& unknowns = assembly.freeUnknowns();
+    for (int k = 0; k < assembly.size(); ++k)
+      if (unknowns[k] < 3 * vertexCount)
+        e.values[assembly.columnStart()[k + 1] - 1] +=
+            4.0 * stepper.masses()[unknowns[k] / 3] / (dt * dt);
+    start = Clock::now();
+    if (!factorization.factor(e.values)) return {{"error", "the step Hessian at rest is singular"}};
+    keep("factor_seconds", secondsSince(start));
+  }
+  best["rebuild_seconds"] =
+      best["problem_seconds"].get<double>() + best["criterion_seconds"].get<double>() +
+      best["stepper_seconds"].get<double>() + best["start_seconds"].get<double>() +
+      best["factor_seconds"].get<double>();
+  return best;
+}
+
+// --inelastic: per size and energy the three ways alternated `repeat` times (the best kept), the
+// rebuild's parts; false when something yielded or cracked or a run failed.
+bool measureInelastic(const std::vector<int>& cells, const std::string& energies, int steps,
+                      double dt, int repeat, json& records) {
+  bool clean = true;
+  std::fprintf(stderr,
+               "\n| vertices | energy | elastic steps/s | plastic steps/s | plastic/elastic | "
+               "fracture steps/s | fracture/elastic | yielded, cracked | largest fibre strain "
+               "| rebuild after a cut s (problem + criterion + stepper [pattern, order, "
+               "analysis] + start + factor) | rebuild / elastic step |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const int size : cells) {
+    const modeling::Mesh mesh =
+        modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
+    std::stringstream list(energies);
+    for (std::string energy; std::getline(list, energy, ',');) {
+      std::vector<Inelastic> ways = {Inelastic::Elastic, Inelastic::Plastic};
+      // Midedge's ξ do not carry across a cut (FracturingDynamics refuses it); cotan has no rest
+      // curvature per element for a yield curvature.
+      if (energy == "cotan")
+        ways = {Inelastic::Elastic, Inelastic::Fracture};
+      else if (energy != "midedge")
+        ways.push_back(Inelastic::Fracture);
+      std::map<Inelastic, json> best;
+      for (int run = 0; run < repeat; ++run)
+        for (const Inelastic way : ways) {
+          json record = runInelastic(mesh, energy, way, steps, dt);
+          std::fprintf(stderr, "%s\n", record.dump().c_str());
+          if (record.contains("error") || record["yielded_elements"] != 0 ||
+              record["yielded_membrane_faces"] != 0 || record["cracks"] != 0)
+            clean = false;
+          if (!best.count(way) || record.contains("error") ||
+              (!best[way].contains("error") &&
+               record.value("steps_per_second", 0.0) > best[way].value("steps_per_second", 0.0)))
+            best[way] = record;
+        }
+      json rebuild = rebuildCosts(mesh, energy, dt);
+      const auto rate = [&](Inelastic way) {
+        return best.count(way) ? best[way].value("steps_per_second", 0.0) : 0.0;
+      };
+      const auto cell = [&](Inelastic way, bool ratio) {
+        char text[32] = "–";
+        if (rate(way) > 0.0)
+          std::snprintf(text, sizeof text, "%.3g",
+                        ratio ? rate(Inelastic::Elastic) / rate(way) : rate(way));
+        return std::string(text);
+      };
+      int yielded = 0, cracked = 0;
+      double strain = 0.0;
+      for (auto& [way, r] : best) {
+        yielded += r.value("yielded_elements", 0) + r.value("yielded_membrane_faces", 0);
+        cracked += r.value("cracks", 0);
+        strain = std::max(strain, r.value("largest_fibre_strain_at_end", 0.0));
+        records.push_back(r);
+      }
+      records.push_back(
+          {{"energy", energy}, {"vertices", mesh.vertexCount()}, {"rebuild", rebuild}});
+      const double rebuildSeconds = rebuild.value("rebuild_seconds", 0.0);
+      std::fprintf(stderr,
+                   "| %d | %s | %s | %s | %s | %s | %s | %d, %d | %.3g | %.3f (%.3f + %.3f + %.3f "
+                   "[%.3f, %.3f, %.3f] + %.3f + %.3f) | %.2f |\n",
+                   mesh.vertexCount(), energy.c_str(), cell(Inelastic::Elastic, false).c_str(),
+                   cell(Inelastic::Plastic, false).c_str(), cell(Inelastic::Plastic, true).c_str(),
+                   cell(Inelastic::Fracture, false).c_str(),
+                   cell(Inelastic::Fracture, true).c_str(), yielded, cracked, strain,
+                   rebuildSeconds, rebuild.value("problem_seconds", 0.0),
+                   rebuild.value("criterion_seconds", 0.0), rebuild.value("stepper_seconds", 0.0),
+                   rebuild.value("pattern_seconds", 0.0), rebuild.value("order_seconds", 0.0),
+                   rebuild.value("analysis_seconds", 0.0), rebuild.value("start_seconds", 0.0),
+                   rebuild.value("factor_seconds", 0.0), rebuildSeconds * rate(Inelastic::Elastic));
+    }
+  }
+  if (!clean)
+    std::fprintf(stderr,
+                 "simulate_bench: something yielded, cracked or failed in an inelastic run: "
+                 "not an overhead measurement\n");
+  return clean;
+}
+
 }  // namespace
 
 // The before/after table on stderr (markdown): per size and energy, steps/s with the Newton
@@ -338,7 +554,10 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "Runs of each before/after pair, alternated (best kept)")
       ->capture_default_str();
   app.add_option("--steps", steps, "Steps per energy")->capture_default_str();
-  bool orderings = false;
+  bool orderings = false, inelastic = false;
+  app.add_flag("--inelastic", inelastic,
+               "Elastic vs plastic vs fracture runs of the drape, nothing yielding (issue #29), "
+               "and the parts of the rebuild after a cut");
   app.add_flag("--orderings", orderings,
                "Only the step Hessian's fill-reducing orders: analysis, nnz(L), factor, solve");
   app.add_option("--duration", duration,
@@ -379,6 +598,13 @@ int main(int argc, char** argv) {
   } else {
     std::stringstream sizeList(sizes);
     for (std::string size; std::getline(sizeList, size, ',');) cells.push_back(std::stoi(size));
+  }
+  if (inelastic) {
+    if (app.count("--energies") == 0) energies = "hinge,midedge";
+    json records = json::array();
+    const bool clean = measureInelastic(cells, energies, steps, dt, repeat, records);
+    std::cout << json({{"dt", dt}, {"scene", "drape"}, {"records", records}}).dump(2) << "\n";
+    return clean ? 0 : 1;
   }
   // PCG (after) first: the last record of an energy is the default stepper's, which
   // bench/python_bench.py compares with Python's Simulation.

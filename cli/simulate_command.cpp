@@ -632,11 +632,12 @@ void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, 
 }
 
 // The cracks (time, step, the face and strain they started from, the polyline in rest coordinates
-// and where it was, the energy the cut released) and the fragments at the end.
+// and where it was, the energy the cut released, the seconds of the cut and of the rebuild after
+// it) and the fragments at the end.
 nlohmann::json fractureReport(const SimulateOptions& o,
                               const optimize::FracturingDynamics& fracturing) {
   nlohmann::json cracks = nlohmann::json::array();
-  double released = 0.0;
+  double released = 0.0, rebuild = 0.0;
   for (const optimize::CrackEvent& c : fracturing.cracks()) {
     nlohmann::json rest = nlohmann::json::array(), current = nlohmann::json::array();
     for (Eigen::Index k = 0; k < c.rest.rows(); ++k) {
@@ -651,13 +652,22 @@ nlohmann::json fractureReport(const SimulateOptions& o,
                       {"polyline_rest", rest},
                       {"polyline_current", current},
                       {"released_energy", c.released},
-                      {"fragments", c.fragments}});
+                      {"fragments", c.fragments},
+                      {"cut_seconds", c.seconds.cut},
+                      {"rebuild_seconds", c.seconds.rebuild()},
+                      {"rebuild_parts_seconds",
+                       {{"problem", c.seconds.problem},
+                        {"stepper", c.seconds.stepper},
+                        {"start", c.seconds.start},
+                        {"criterion", c.seconds.criterion}}}});
     released += c.released;
+    rebuild += c.seconds.rebuild();
   }
   return {{"fracture_strain", o.fractureStrain},
           {"thickness", o.thickness},
           {"cracks", cracks},
           {"released_energy", released},
+          {"rebuild_seconds", rebuild},
           {"fragments", fracturing.fragments().size()},
           {"vertices", fracturing.restMesh().vertexCount()},
           {"faces", fracturing.restMesh().faceCount()}};

@@ -59,6 +59,15 @@ ok = (d['completed'] and f['fragments'] == 2 and len(inside) >= 7
       and all(c['strain'] >= 0.01 for c in f['cracks'])
       and d['energy_balance']['verdict'] == 'driven')
 sys.exit(0 if ok else 1)" || fail "tear/report.json: 2 fragments, a straight crack across at 0.375"
+# Each crack's rebuild (Problem, stepper, start, criterion) is timed; the section sums them.
+python3 -c "
+import json, math, sys
+f = json.load(open('tear/report.json'))['fracture']; c = f['cracks']
+parts = [sum(k['rebuild_parts_seconds'].values()) for k in c]
+ok = (len(c) > 0 and all(k['rebuild_seconds'] > 0 and k['cut_seconds'] > 0 for k in c)
+      and all(math.isclose(k['rebuild_seconds'], p, rel_tol=1e-9) for k, p in zip(c, parts))
+      and math.isclose(f['rebuild_seconds'], sum(parts), rel_tol=1e-9))
+sys.exit(0 if ok else 1)" || fail "tear/report.json: rebuild_seconds per crack and their sum"
 [ -s tear/fragment-0.obj ] && [ -s tear/fragment-1.obj ] || fail "tear/fragment-K.obj missing"
 absent tear/fragment-2.obj
 # The pieces separate: no vertex of one within 5 mm of the other at the last frame.

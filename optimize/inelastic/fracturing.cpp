@@ -1,6 +1,7 @@
 #include "optimize/inelastic/fracturing.h"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 #include <utility>
 
@@ -28,6 +29,11 @@ std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
   std::vector<bool> out(sources.size());
   for (std::size_t i = 0; i < sources.size(); ++i) out[i] = set[sources[i].a] && set[sources[i].b];
   return out;
+}
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
 }  // namespace
@@ -145,6 +151,8 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
     return false;
   const TimeStepper::State before = stepper_->state();
   const double totalBefore = stepper_->energies().total();
+  CrackEvent::Seconds seconds;
+  Clock::time_point clock = Clock::now();
   std::optional<FracturedShell> shell = fractureShell(
       *criterion_, before.x, before.v, problem_->boundary.fixedVertex, *fracture_, openTips_);
   // A crack that runs only along edges already separated changes nothing: not a cut.
@@ -152,14 +160,20 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
                  shell->cut.verticesDuplicated == 0))
     return false;
   const std::vector<modeling::VertexSource>& sources = shell->cut.sources;
+  seconds.cut = secondsSince(clock);
 
   ProblemOptions options = options_;
   options.fixedVertex = shell->heldVertex;
   options.boundaryPositions = shell->positions;
+  clock = Clock::now();
   auto problem = std::make_unique<Problem>(buildProblem(shell->rest, options));
+  seconds.problem = secondsSince(clock);
   DynamicsOptions dynamics = dynamics_;
   for (PinGroup& group : dynamics.pinGroups) group.vertices = carriedSet(sources, group.vertices);
+  clock = Clock::now();
   auto stepper = std::make_unique<TimeStepper>(*problem, dynamics);
+  seconds.stepper = secondsSince(clock);
+  clock = Clock::now();
   const modeling::Positions pinStart = carried(sources, pinStart_);
   stepper->start(pinStart, shell->velocities, Eigen::VectorXd());
 
@@ -180,6 +194,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   after.balance.initial -= released;
   after.balance.last -= released;
   stepper->restore(after);
+  seconds.start = secondsSince(clock);
 
   CrackEvent event;
   event.time = before.time;
@@ -189,15 +204,18 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   event.current = shell->cut.crackCurrent;
   event.released = released;
   event.fragments = static_cast<int>(meshFragments(shell->rest).size());
-  cracks_.push_back(std::move(event));
 
   stepper_ = std::move(stepper);
   problem_ = std::move(problem);
   rest_ = std::move(shell->rest);
+  clock = Clock::now();
   criterion_ = std::make_unique<FractureCriterion>(rest_);
   dynamics_ = std::move(dynamics);
   openTips_ = std::move(shell->openTips);
   eventFaces_ = fractureEventFaces(rest_, openTips_);
+  seconds.criterion = secondsSince(clock);
+  event.seconds = seconds;
+  cracks_.push_back(std::move(event));
   pinStart_ = pinStart;
   return true;
 }

@@ -40,6 +40,15 @@ struct CrackEvent {
   modeling::Positions current;   // and where they were at the cut
   double released = 0.0;         // ΔE counted as dissipated
   int fragments = 0;             // connected pieces after the cut
+  // Wall-clock seconds of the cut (fractureShell on the criterion's kept rest data) and of what
+  // checkFracture rebuilds after it: the Problem for the cut mesh, the TimeStepper (its Hessian
+  // pattern, fill-reducing order and CHOLMOD symbolic analysis), its start and the two restores
+  // that carry the state and balance over, and the cut mesh's criterion and event faces. The first
+  // numerical factorization on the new pattern is made by the next step.
+  struct Seconds {
+    double cut = 0.0, problem = 0.0, stepper = 0.0, start = 0.0, criterion = 0.0;
+    double rebuild() const { return problem + stepper + start + criterion; }
+  } seconds;
 };
 
 class FracturingDynamics {
