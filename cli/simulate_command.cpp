@@ -175,6 +175,10 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
   checkPinSpecs(o.pin, o.pinMotion);
+  if (pinsReleased(o.pin) && (o.checkpointEvery > 0 || !o.resumeDir.empty()))
+    throw InputError(
+        "--pin ...@release:T: not with --checkpoint or --resume (a checkpoint keeps the pins of "
+        "the run's start)");
   if (!o.pinMotion.empty()) {
     if (o.pin == std::vector<std::string>{"none"})
       throw InputError("--pin-motion " + o.pinMotion +
@@ -271,7 +275,7 @@ optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptio
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
   PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
   p.fixedVertex = std::move(pinned.held);
-  dynamics.pinGroups = std::move(pinned.moving);
+  dynamics.pinGroups = std::move(pinned.groups);
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
     p.fixedEdge = std::move(pinned.clampedEdges);
@@ -541,6 +545,33 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
   }
 }
 
+// A step of h (advance) that lets go of the pin groups whose release time it reaches: up to the
+// earliest such time, the release (the plastic update, when any, follows the new stepper), then the
+// rest of h. The plastic update runs after each part.
+bool advanceReleasing(optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic,
+                      double h, double minDt, Run& run, double& nextRelease) {
+  double left = h;
+  while (nextRelease < dynamics.stepper().time() + left - 1e-9 * h) {
+    const double part = nextRelease - dynamics.stepper().time();
+    if (part > 1e-9 * h) {
+      if (!advance(dynamics, part, std::min(minDt, part), run)) return false;
+      if (plastic != nullptr) plastic->afterStep();
+      left -= part;
+    }
+    dynamics.releasePins();
+    if (plastic != nullptr) plastic->follow(dynamics.stepper());
+    nextRelease = dynamics.nextRelease();
+  }
+  if (!advance(dynamics, left, minDt, run)) return false;
+  if (plastic != nullptr) plastic->afterStep();
+  if (nextRelease <= dynamics.stepper().time() + 1e-9 * h) {
+    dynamics.releasePins();
+    if (plastic != nullptr) plastic->follow(dynamics.stepper());
+    nextRelease = dynamics.nextRelease();
+  }
+  return true;
+}
+
 // Steps of --dt to --duration: the fracture check and the plastic update after every step, the
 // energies after every step, a frame (of the mesh as cut so far) every 1/fps of simulated time and
 // at the last step, progress on stderr unless quiet.
@@ -552,9 +583,9 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   const double frameInterval = 1.0 / o.fps;
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
+  double nextRelease = dynamics.nextRelease();
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advance(dynamics, o.dt, minDt, run)) break;
-    if (plastic != nullptr) plastic->afterStep();
+    if (!advanceReleasing(dynamics, plastic, o.dt, minDt, run, nextRelease)) break;
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
