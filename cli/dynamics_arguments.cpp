@@ -58,8 +58,8 @@ namespace {
 
 // A --pin text split at its '@'s: the set, the motion and the release (each empty when none).
 struct PinSpec {
-  std::string set, motion, release;
-  std::string option;  // "--pin SPEC", with "(group k)" when several are given
+  std::string set, motion, release;  // release: the text "release:T"
+  std::string option;                // "--pin SPEC", with "(group k)" when several are given
 };
 
 // SET[@MOTION][@release:T]: the parts after the set, each a motion or a release, at most one of
@@ -76,7 +76,7 @@ void splitPinTail(const std::string& spec, std::size_t at, PinSpec& g) {
       throw InputError(g.option + " " + spec + ": two " +
                        (&slot == &g.release ? "releases" : "motions") +
                        ": expected SET[@MOTION][@release:T]");
-    slot = &slot == &g.release ? part.substr(8) : part;
+    slot = part;
     at = next;
   }
 }
@@ -102,10 +102,11 @@ std::vector<PinSpec> splitPinSpecs(const std::vector<std::string>& specs) {
 // The T of @release:T: a finite time > 0 (InputError naming the option otherwise); +∞ without.
 double parseRelease(const PinSpec& g) {
   if (g.release.empty()) return std::numeric_limits<double>::infinity();
+  const std::string time = g.release.substr(std::string("release:").size());
   char* end = nullptr;
-  const double t = std::strtod(g.release.c_str(), &end);
-  if (end == g.release.c_str() || *end != '\0' || !std::isfinite(t) || !(t > 0.0))
-    throw InputError(g.option + " " + g.set + "@release:" + g.release +
+  const double t = std::strtod(time.c_str(), &end);
+  if (end == time.c_str() || *end != '\0' || !std::isfinite(t) || !(t > 0.0))
+    throw InputError(g.option + " " + g.set + "@" + g.release +
                      ": expected a finite release time T > 0 (seconds)");
   return t;
 }

@@ -634,6 +634,7 @@ nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double 
           {"initial_total", b.initial},
           {"dissipated", b.dissipated},
           {"contact_stiffening", b.stiffening},
+          {"pin_work", b.pinWork},
           {"roundoff", b.roundoff},
           {"tolerance", tolerance},
           {"verdict", balanceVerdict(stepper, tolerance)}};
