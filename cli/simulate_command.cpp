@@ -31,6 +31,7 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/pin_release.h"
 #include "optimize/inelastic/plastic_dynamics.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
@@ -406,10 +407,13 @@ struct Recording {
 };
 
 // One step of h, halved (recursively, down to minDt) while Newton fails or to find a fracture
-// event, with the fracture checks, counted into `run`; false (and run.failure says where) when it
-// fails even at minDt.
-bool advance(optimize::FracturingDynamics& dynamics, double h, double minDt, Run& run) {
-  const optimize::TimeStepper::Advance a = dynamics.advance(h, minDt, run.steps);
+// event, with the fracture checks, split where a pin group is let go, each part followed by the
+// plastic update (optimize::advanceReleasingPins), counted into `run`; false (and run.failure says
+// where) when it fails even at minDt.
+bool advance(optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic, double h,
+             double minDt, Run& run) {
+  const optimize::TimeStepper::Advance a =
+      optimize::advanceReleasingPins(dynamics, plastic, h, minDt, run.steps);
   run.steps += a.steps;
   run.newtonIterations += a.newtonIterations;
   run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
@@ -545,33 +549,6 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
   }
 }
 
-// A step of h (advance) that lets go of the pin groups whose release time it reaches: up to the
-// earliest such time, the release (the plastic update, when any, follows the new stepper), then the
-// rest of h. The plastic update runs after each part.
-bool advanceReleasing(optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic,
-                      double h, double minDt, Run& run, double& nextRelease) {
-  double left = h;
-  while (nextRelease < dynamics.stepper().time() + left - 1e-9 * h) {
-    const double part = nextRelease - dynamics.stepper().time();
-    if (part > 1e-9 * h) {
-      if (!advance(dynamics, part, std::min(minDt, part), run)) return false;
-      if (plastic != nullptr) plastic->afterStep();
-      left -= part;
-    }
-    dynamics.releasePins();
-    if (plastic != nullptr) plastic->follow(dynamics.stepper());
-    nextRelease = dynamics.nextRelease();
-  }
-  if (!advance(dynamics, left, minDt, run)) return false;
-  if (plastic != nullptr) plastic->afterStep();
-  if (nextRelease <= dynamics.stepper().time() + 1e-9 * h) {
-    dynamics.releasePins();
-    if (plastic != nullptr) plastic->follow(dynamics.stepper());
-    nextRelease = dynamics.nextRelease();
-  }
-  return true;
-}
-
 // Steps of --dt to --duration: the fracture check and the plastic update after every step, the
 // energies after every step, a frame (of the mesh as cut so far) every 1/fps of simulated time and
 // at the last step, progress on stderr unless quiet.
@@ -583,9 +560,8 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   const double frameInterval = 1.0 / o.fps;
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
-  double nextRelease = dynamics.nextRelease();
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advanceReleasing(dynamics, plastic, o.dt, minDt, run, nextRelease)) break;
+    if (!advance(dynamics, plastic, o.dt, minDt, run)) break;
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {

@@ -138,7 +138,7 @@ TEST(PinGroups, AGroupIsLetGoAtItsReleaseTime) {
       ASSERT_TRUE(dynamics.stepper().advance(h / parts, h / 64).completed) << "step " << k;
     const double t = dynamics.stepper().time();
     const optimize::TimeStepper::State before = dynamics.stepper().state();
-    const bool released = dynamics.releasePins();
+    const bool released = dynamics.releasePins(t);
     EXPECT_EQ(released, k == 10 || k == 15) << "step " << k;
     if (released) {  // the same state goes on: positions and velocities carried
       EXPECT_TRUE(dynamics.stepper().positions() == before.x);

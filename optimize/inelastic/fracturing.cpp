@@ -202,9 +202,9 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   return true;
 }
 
-bool FracturingDynamics::releasePins() {
+bool FracturingDynamics::releasePins(double time) {
   const std::vector<bool> released =
-      releasePinGroups(dynamics_, problem_->boundary.fixedVertex, stepper_->time());
+      releasePinGroups(dynamics_, problem_->boundary.fixedVertex, time);
   if (released.empty()) return false;
   auto stepper = std::make_unique<TimeStepper>(*problem_, dynamics_);
   stepper->continueAfterRelease(*stepper_, pinStart_, released);
