@@ -32,22 +32,23 @@ void releasePins(FracturingDynamics& dynamics, PlasticDynamics* plastic, double 
 TimeStepper::Advance advanceReleasingPins(FracturingDynamics& dynamics, PlasticDynamics* plastic,
                                           double h, double minStep, long step) {
   TimeStepper::Advance total;
+  total.completed = true;
   total.smallestStep = h;
-  const double end = dynamics.stepper().time() + h, slack = 1e-9 * h;
+  const double slack = 1e-9 * h;
+  double left = h;  // a step that reaches no release time is exactly h, as without releases
   while (true) {
     const double release = dynamics.nextRelease();
-    const double part = std::min(release, end) - dynamics.stepper().time();
+    const bool reached = release - dynamics.stepper().time() < left + slack;
+    const double part = reached ? release - dynamics.stepper().time() : left;
     if (part > slack) {
-      addPart(total, dynamics.advance(part, std::min(minStep, part), step + total.steps));
+      addPart(total, dynamics.advance(part, minStep, step + total.steps));
       if (!total.completed) return total;
       if (plastic != nullptr) plastic->afterStep();
+      left -= part;
     }
-    if (release > end + slack) return total;
+    if (!reached) return total;
     releasePins(dynamics, plastic, release);
-    if (end - dynamics.stepper().time() <= slack) {
-      total.completed = true;
-      return total;
-    }
+    if (left <= slack) return total;
   }
 }
 
