@@ -268,7 +268,7 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
 // (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
 // `p` receives the held vertices and start positions (a cut mesh's problem is built from it),
-// `dynamics` the pin groups that move.
+// `dynamics` the pin groups that move or are let go.
 optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions& p,
                                 optimize::DynamicsOptions& dynamics,
                                 const modeling::Mesh& restMesh) {
@@ -277,6 +277,9 @@ optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptio
   PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
   p.fixedVertex = std::move(pinned.held);
   dynamics.pinGroups = std::move(pinned.groups);
+  // A group with a release and no motion of its own follows --pin-motion until it is let go.
+  for (optimize::PinGroup& group : dynamics.pinGroups)
+    if (group.motion.kind == optimize::PinMotion::Kind::None) group.motion = dynamics.pinMotion;
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
     p.fixedEdge = std::move(pinned.clampedEdges);

@@ -33,6 +33,15 @@ sys.exit(0 if d['completed'] and d['pinned'] == ['$LEFT', '$RIGHT@translate:0.2,
   || fail "pulled/report.json: completed, with both groups in 'pinned'"
 # --pin-motion alone moves every pin, as before.
 run 0 simulate $BASE --pin $RIGHT --pin-motion translate:0.2,0,0 -o all
+# A group with a release and no motion follows --pin-motion until then: the end pulled at 0.2 for
+# 0.05 s (1 cm), then free, has moved by at least that at 0.1 s (0 before it followed the motion).
+run 0 simulate $BASE --pin $RIGHT@release:0.05 --pin-motion translate:0.2,0,0 -o all-released
+python3 -c "
+import sys
+def v(f): return [tuple(map(float, l.split()[1:4])) for l in open(f) if l.startswith('v ')]
+rest, last = v('strip.obj'), v('all-released/frame-00001.obj')
+sys.exit(0 if min(x[0] - r[0] for r, x in zip(rest, last) if r[0] >= 0.45) > 0.0099 else 1)" \
+  || fail "all-released: the released group did not follow --pin-motion before its release"
 # Refusals: both motions, a bad motion (naming the group), overlapping groups, none with a motion.
 run 2 simulate $BASE --pin $LEFT --pin $RIGHT@translate:0.2,0,0 --pin-motion translate:1,0,0 -o bad
 stderr_has "--pin (group 2)"; stderr_has "--pin-motion"; absent bad
