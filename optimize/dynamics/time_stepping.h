@@ -166,8 +166,8 @@ struct EnergySample {
 // adaptation) and P the energy plastic updates released (plastic_dynamics.h; 0 without), the
 // balanced total
 //   E_b(t) = E(t) + D(t) + P(t) − S(t) − W
-// stays E(0) along the exact motion of a system without moving pins (W, below: the work of pins
-// since released, 0 without). Its drift |E_b(t) − E(0)| is
+// stays E(0) along the exact motion of a system without moving pins (W, below: the work pins let
+// go mid-run did until then; 0 without). Its drift |E_b(t) − E(0)| is
 // measured against the scale max(K_peak, 1e-6 max(|E(0)|, U_peak)): K_peak the largest kinetic
 // energy so far, U_peak the largest energy of the terms and the barrier (the guard for a run that
 // barely moves).
@@ -182,9 +182,9 @@ struct EnergyBalance {
   long driftStep = 0;
   long steps = 0;        // steps recorded
   double plastic = 0.0;  // P
-  // W: the work the pins did until their release (TimeStepper::continueAfterRelease), booked as
-  // the rise of E_b while they moved (it includes the time stepping's drift until then, which a
-  // run with moving pins does not check); E_b − W is the balanced total from the release on.
+  // W: the work the pins did until their release (TimeStepper::continueAfterRelease), booked at
+  // the release as the rise of E_b until then (so it includes the time stepping's drift, which a
+  // run with moving pins does not check): from the release on E_b, with W taken out, is E(0).
   double pinWork = 0.0;
   // The largest step's round-off floor, 1e-12 M (L/h)² (TimeStepper: the kinetic energy of the
   // whole mass moving 1e-6 L per step): a drift below it is round-off, as in a body at rest.
