@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <vector>
 
 #include "modeling/errors.h"
@@ -55,11 +56,30 @@ optimize::PinMotion parsePinMotion(const std::string& spec, const std::string& o
 
 namespace {
 
-// A --pin text split at its '@': the set and the motion (empty when none).
+// A --pin text split at its '@'s: the set, the motion and the release (each empty when none).
 struct PinSpec {
-  std::string set, motion;
-  std::string option;  // "--pin SPEC", with "(group k)" when several are given
+  std::string set, motion, release;  // release: the text "release:T"
+  std::string option;                // "--pin SPEC", with "(group k)" when several are given
 };
+
+// SET[@MOTION][@release:T]: the parts after the set, each a motion or a release, at most one of
+// each (InputError naming the option otherwise).
+void splitPinTail(const std::string& spec, std::size_t at, PinSpec& g) {
+  while (at != std::string::npos) {
+    const std::size_t next = spec.find('@', at + 1);
+    const std::string part = spec.substr(at + 1, next == std::string::npos ? next : next - at - 1);
+    if (part.empty())
+      throw InputError(g.option + " " + spec +
+                       ": nothing after '@': expected SET[@MOTION][@release:T]");
+    std::string& slot = part.rfind("release:", 0) == 0 ? g.release : g.motion;
+    if (!slot.empty())
+      throw InputError(g.option + " " + spec + ": two " +
+                       (&slot == &g.release ? "releases" : "motions") +
+                       ": expected SET[@MOTION][@release:T]");
+    slot = part;
+    at = next;
+  }
+}
 
 std::vector<PinSpec> splitPinSpecs(const std::vector<std::string>& specs) {
   std::vector<PinSpec> groups;
@@ -68,29 +88,46 @@ std::vector<PinSpec> splitPinSpecs(const std::vector<std::string>& specs) {
     const auto at = spec.find('@');
     PinSpec g;
     g.set = spec.substr(0, at);
-    g.motion = at == std::string::npos ? "" : spec.substr(at + 1);
     g.option = "--pin";
     if (specs.size() > 1) g.option += " (group " + std::to_string(k + 1) + ")";
-    if (at != std::string::npos && g.motion.empty())
-      throw InputError(g.option + " " + spec + ": nothing after '@': expected SET@MOTION");
-    if (g.set == "none" && (specs.size() > 1 || !g.motion.empty()))
+    splitPinTail(spec, at, g);
+    if (g.set == "none" && (specs.size() > 1 || at != std::string::npos))
       throw InputError(g.option + " " + spec +
-                       ": none pins nothing; give it alone, without a motion");
+                       ": none pins nothing; give it alone, without a motion or release");
     groups.push_back(g);
   }
   return groups;
+}
+
+// The T of @release:T: a finite time > 0 (InputError naming the option otherwise); +∞ without.
+double parseRelease(const PinSpec& g) {
+  if (g.release.empty()) return std::numeric_limits<double>::infinity();
+  const std::string time = g.release.substr(std::string("release:").size());
+  char* end = nullptr;
+  const double t = std::strtod(time.c_str(), &end);
+  if (end == time.c_str() || *end != '\0' || !std::isfinite(t) || !(t > 0.0))
+    throw InputError(g.option + " " + g.set + "@" + g.release +
+                     ": expected a finite release time T > 0 (seconds)");
+  return t;
 }
 
 }  // namespace
 
 void checkPinSpecs(const std::vector<std::string>& specs, const std::string& pinMotion) {
   for (const PinSpec& g : splitPinSpecs(specs)) {
+    parseRelease(g);
     if (g.motion.empty()) continue;
     if (!pinMotion.empty())
       throw InputError(g.option + " " + g.set + "@" + g.motion + ": --pin-motion " + pinMotion +
                        " moves every pinned vertex; give each group its motion instead");
     parsePinMotion(g.motion, g.option);
   }
+}
+
+bool pinsReleased(const std::vector<std::string>& specs) {
+  for (const PinSpec& g : splitPinSpecs(specs))
+    if (!g.release.empty()) return true;
+  return false;
 }
 
 PinnedGroups pinnedGroups(const std::vector<std::string>& specs, const modeling::Stencils& stencils,
@@ -112,7 +149,12 @@ PinnedGroups pinnedGroups(const std::vector<std::string>& specs, const modeling:
       for (std::size_t e = 0; e < clamped.size(); ++e)
         pinned.clampedEdges[e] = pinned.clampedEdges[e] || clamped[e];
     }
-    if (!g.motion.empty()) pinned.moving.push_back({set, parsePinMotion(g.motion, g.option)});
+    if (g.motion.empty() && g.release.empty()) continue;
+    optimize::PinGroup group;
+    group.vertices = set;
+    if (!g.motion.empty()) group.motion = parsePinMotion(g.motion, g.option);
+    group.releaseTime = parseRelease(g);
+    pinned.groups.push_back(std::move(group));
   }
   return pinned;
 }

@@ -53,6 +53,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
       {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
+      {"PinGroup.releaseTime", "--pin SET@release:T"},
       // studies, fairing, meshes, regions
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},

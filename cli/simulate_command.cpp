@@ -31,6 +31,7 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/pin_release.h"
 #include "optimize/inelastic/plastic_dynamics.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
@@ -175,6 +176,10 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
   checkPinSpecs(o.pin, o.pinMotion);
+  if (pinsReleased(o.pin) && (o.checkpointEvery > 0 || !o.resumeDir.empty()))
+    throw InputError(
+        "--pin ...@release:T: not with --checkpoint or --resume (a checkpoint keeps the pins of "
+        "the run's start)");
   if (!o.pinMotion.empty()) {
     if (o.pin == std::vector<std::string>{"none"})
       throw InputError("--pin-motion " + o.pinMotion +
@@ -263,7 +268,7 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
 // (--init, or rest), and with two rings pinned midedge's boundary ξ held at rest (the clamp).
 // `p` receives the held vertices and start positions (a cut mesh's problem is built from it),
-// `dynamics` the pin groups that move.
+// `dynamics` the pin groups that move or are let go.
 optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptions& p,
                                 optimize::DynamicsOptions& dynamics,
                                 const modeling::Mesh& restMesh) {
@@ -271,7 +276,10 @@ optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptio
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
   PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
   p.fixedVertex = std::move(pinned.held);
-  dynamics.pinGroups = std::move(pinned.moving);
+  dynamics.pinGroups = std::move(pinned.groups);
+  // A group with a release and no motion of its own follows --pin-motion until it is let go.
+  for (optimize::PinGroup& group : dynamics.pinGroups)
+    if (group.motion.kind == optimize::PinMotion::Kind::None) group.motion = dynamics.pinMotion;
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
     p.fixedEdge = std::move(pinned.clampedEdges);
@@ -402,10 +410,13 @@ struct Recording {
 };
 
 // One step of h, halved (recursively, down to minDt) while Newton fails or to find a fracture
-// event, with the fracture checks, counted into `run`; false (and run.failure says where) when it
-// fails even at minDt.
-bool advance(optimize::FracturingDynamics& dynamics, double h, double minDt, Run& run) {
-  const optimize::TimeStepper::Advance a = dynamics.advance(h, minDt, run.steps);
+// event, with the fracture checks, split where a pin group is let go, each part followed by the
+// plastic update (optimize::advanceReleasingPins), counted into `run`; false (and run.failure says
+// where) when it fails even at minDt.
+bool advance(optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic, double h,
+             double minDt, Run& run) {
+  const optimize::TimeStepper::Advance a =
+      optimize::advanceReleasingPins(dynamics, plastic, h, minDt, run.steps);
   run.steps += a.steps;
   run.newtonIterations += a.newtonIterations;
   run.maxNewtonIterations = std::max(run.maxNewtonIterations, a.maxNewtonIterations);
@@ -553,8 +564,7 @@ Run simulate(const SimulateOptions& o, double minDt, bool quiet,
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
   for (long k = firstStep + 1; k <= steps && run.failure.empty(); ++k) {
-    if (!advance(dynamics, o.dt, minDt, run)) break;
-    if (plastic != nullptr) plastic->afterStep();
+    if (!advance(dynamics, plastic, o.dt, minDt, run)) break;
     optimize::TimeStepper& stepper = dynamics.stepper();
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
@@ -603,6 +613,7 @@ nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double 
           {"initial_total", b.initial},
           {"dissipated", b.dissipated},
           {"contact_stiffening", b.stiffening},
+          {"pin_work", b.pinWork},
           {"roundoff", b.roundoff},
           {"tolerance", tolerance},
           {"verdict", balanceVerdict(stepper, tolerance)}};

@@ -131,7 +131,37 @@ void DynamicsOptions::validatePinGroups(int vertexCount) const {
                          std::to_string(g));
       groupOf[v] = static_cast<int>(g);
     }
+    const double release = pinGroups[g].releaseTime;
+    if (!(release > 0.0))
+      throw InputError("DynamicsOptions.pinGroups: group " + std::to_string(g) +
+                       "'s PinGroup.releaseTime " + std::to_string(release) +
+                       ": expected a time > 0 (+inf: never released)");
   }
+}
+
+double DynamicsOptions::nextRelease() const {
+  double next = std::numeric_limits<double>::infinity();
+  for (const PinGroup& group : pinGroups) next = std::min(next, group.releaseTime);
+  return next;
+}
+
+std::vector<bool> releasePinGroups(DynamicsOptions& options, std::vector<bool>& held, double t) {
+  std::vector<bool> released;
+  std::vector<PinGroup> kept;
+  for (PinGroup& group : options.pinGroups) {
+    if (group.releaseTime > t) {
+      kept.push_back(std::move(group));
+      continue;
+    }
+    released.resize(held.size(), false);
+    for (std::size_t v = 0; v < held.size(); ++v)
+      if (group.vertices[v]) {
+        held[v] = false;
+        released[v] = true;
+      }
+  }
+  options.pinGroups = std::move(kept);
+  return released;
 }
 
 const PinMotion& DynamicsOptions::motionOf(int vertex) const {
@@ -299,6 +329,22 @@ void TimeStepper::restore(const State& state) {
   balance_ = state.balance;
   forgetFactor();
   energies_ = energiesAt(time_, x_, v_, xi_);
+}
+
+void TimeStepper::continueAfterRelease(const TimeStepper& from, const Positions& pinStart,
+                                       const std::vector<bool>& released) {
+  start(pinStart, from.v_, from.xi_);
+  State s = from.state();
+  const Positions forced = accelerationFromForces(s.x, s.xi);
+  for (Eigen::Index v = 0; v < s.a.rows(); ++v)
+    if (released[static_cast<std::size_t>(v)]) s.a.row(v) = forced.row(v);
+  EnergyBalance& b = s.balance;
+  b.pinWork += b.balanced(from.energies()) - b.initial;
+  b.last = b.initial;
+  b.largestDrift = 0.0;
+  b.driftTime = s.time;
+  b.driftStep = b.steps;
+  restore(s);
 }
 
 void TimeStepper::forgetFactor() {

@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,11 +67,20 @@ struct PinMotion {
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
 };
 
-// A group of pinned vertices with its own motion.
+// A group of pinned vertices with its own motion, held until its release time: from then on its
+// vertices are free and go on with the velocity the motion gave them (releasePinGroups,
+// TimeStepper::continueAfterRelease).
 struct PinGroup {
   std::vector<bool> vertices;  // #V: the group's vertices (each also pinned by the problem)
   PinMotion motion;
+  double releaseTime = std::numeric_limits<double>::infinity();  // +∞: held for the whole run
 };
+
+struct DynamicsOptions;
+// Drops from `options.pinGroups` the groups released by time t (PinGroup::releaseTime ≤ t) and
+// clears their vertices in `held` (the problem's boundary.fixedVertex). Returns the released
+// vertices (#V), or an empty vector when no group was released.
+std::vector<bool> releasePinGroups(DynamicsOptions& options, std::vector<bool>& held, double t);
 
 struct DynamicsOptions {
   Integrator integrator = Integrator::Newmark;
@@ -130,8 +140,11 @@ struct DynamicsOptions {
   // Newmark, γ outside [½, 1], negative damping, damping with the explicit scheme, an energy
   // tolerance that is not > 0).
   void validate() const;
-  // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two.
+  // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two,
+  // and naming PinGroup.releaseTime for one that is not > 0 (finite, or +∞: never).
   void validatePinGroups(int vertexCount) const;
+  // The earliest PinGroup::releaseTime (+∞ when no group is released).
+  double nextRelease() const;
   // The motion the pinned vertex v follows: its group's, else pinMotion.
   const PinMotion& motionOf(int vertex) const;
   // Whether any pinned vertex moves (then the pins do work and the balance is not checked).
@@ -152,8 +165,9 @@ struct EnergySample {
 // contact stiffness inside the barrier layer (obstacles.h: B(x; κ_new) − B(x; κ_old) at each
 // adaptation) and P the energy plastic updates released (plastic_dynamics.h; 0 without), the
 // balanced total
-//   E_b(t) = E(t) + D(t) + P(t) − S(t)
-// stays E(0) along the exact motion of a system without moving pins. Its drift |E_b(t) − E(0)| is
+//   E_b(t) = E(t) + D(t) + P(t) − S(t) − W
+// stays E(0) along the exact motion of a system without moving pins (W, below: the work pins let
+// go mid-run did until then; 0 without). Its drift |E_b(t) − E(0)| is
 // measured against the scale max(K_peak, 1e-6 max(|E(0)|, U_peak)): K_peak the largest kinetic
 // energy so far, U_peak the largest energy of the terms and the barrier (the guard for a run that
 // barely moves).
@@ -168,13 +182,17 @@ struct EnergyBalance {
   long driftStep = 0;
   long steps = 0;        // steps recorded
   double plastic = 0.0;  // P
+  // W: the work the pins did until their release (TimeStepper::continueAfterRelease), booked at
+  // the release as the rise of E_b until then (so it includes the time stepping's drift, which a
+  // run with moving pins does not check): from the release on E_b, with W taken out, is E(0).
+  double pinWork = 0.0;
   // The largest step's round-off floor, 1e-12 M (L/h)² (TimeStepper: the kinetic energy of the
   // whole mass moving 1e-6 L per step): a drift below it is round-off, as in a body at rest.
   double roundoff = 0.0;
 
   void start(const EnergySample& e);
   double balanced(const EnergySample& e) const {
-    return e.total() + dissipated + plastic - stiffening;
+    return e.total() + dissipated + plastic - stiffening - pinWork;
   }
   // The scale with a state e counted in.
   double scale(const EnergySample& e) const;
@@ -237,6 +255,14 @@ class TimeStepper {
   // positions): InputError when its sizes do not fit the problem. The kept factor of the step's
   // Hessian is dropped, as forgetFactor() does.
   void restore(const State& state);
+  // Continues `from`, a stepper of the same problem before its pin groups' vertices `released`
+  // (#V) were let go (releasePinGroups; this stepper built without them): its state, with the
+  // released vertices' accelerations from the forces at it (Newmark's a_n, M a = M g − ∇E − ∇B, as
+  // start() has them) and the pins' work until now booked in the balance (EnergyBalance::pinWork),
+  // whose drift is measured from here on. `pinStart`: the positions from's start() took (the
+  // remaining pins' time-0 positions).
+  void continueAfterRelease(const TimeStepper& from, const Positions& pinStart,
+                            const std::vector<bool>& released);
   // Drops the kept factor of the step's Hessian (chord steps start afresh at the next step), so
   // that a run continued from state() follows the same steps as this one.
   void forgetFactor();

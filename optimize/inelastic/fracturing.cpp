@@ -220,6 +220,16 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   return true;
 }
 
+bool FracturingDynamics::releasePins(double time) {
+  const std::vector<bool> released =
+      releasePinGroups(dynamics_, problem_->boundary.fixedVertex, time);
+  if (released.empty()) return false;
+  auto stepper = std::make_unique<TimeStepper>(*problem_, dynamics_);
+  stepper->continueAfterRelease(*stepper_, pinStart_, released);
+  stepper_ = std::move(stepper);
+  return true;
+}
+
 std::vector<modeling::Mesh> FracturingDynamics::fragments() const {
   modeling::Mesh current = rest_;
   current.positions = stepper_->positions();

@@ -92,6 +92,14 @@ class FracturingDynamics {
   // (no face split, no vertex added or duplicated) is not a cut.
   bool checkFracture(long step);
 
+  // Lets go of the pin groups whose release time is at most `time` (releasePinGroups; the state's
+  // time may differ from theirs by round-off): the problem no longer holds their vertices and a
+  // stepper built without them continues the state (TimeStepper::continueAfterRelease). True when
+  // a group was released.
+  bool releasePins(double time);
+  // The earliest release time of the pin groups still held (+∞: none).
+  double nextRelease() const { return dynamics_.nextRelease(); }
+
   TimeStepper& stepper() { return *stepper_; }
   const TimeStepper& stepper() const { return *stepper_; }
   const Problem& problem() const { return *problem_; }

@@ -29,7 +29,7 @@ PlasticDynamics::PlasticDynamics(Problem& problem, TimeStepper& stepper,
 
 PlasticDynamics::PlasticDynamics(Problem& problem, TimeStepper& stepper,
                                  const PlasticityOptions& options, PlasticState state)
-    : problem_(problem), stepper_(stepper), options_(options), state_(std::move(state)) {
+    : problem_(problem), stepper_(&stepper), options_(options), state_(std::move(state)) {
   if (options_.yieldStrain)
     for (size_t k = 1; k < problem_.terms.size() && membrane_ == nullptr; ++k)
       if (problem_.terms[k]->restMetricState() != nullptr) membrane_ = problem_.terms[k].get();
@@ -51,9 +51,9 @@ PlasticUpdate PlasticDynamics::afterStep() {
   const Eigen::MatrixXd bendingBefore = state_.plasticStrain;
   const Eigen::MatrixXd membraneBefore = state_.membranePlasticStrain;
   const PlasticUpdate update =
-      updatePlasticStrains(problem_, state_, options_, stepper_.positions(), stepper_.xi());
+      updatePlasticStrains(problem_, state_, options_, stepper_->positions(), stepper_->xi());
   if (update.yieldedElements == 0 && update.yieldedFaces == 0) return update;
-  TimeStepper::State after = stepper_.state();
+  TimeStepper::State after = stepper_->state();
   after.balance.plastic += update.released;
   // Newmark's a_n satisfies M a_n + C v_n + ∇E(x_n) = M g with the rest state of the step; the
   // update changes ∇E at x_n, so a_n moves by −M⁻¹ Δ∇E (the next step's predictor and
@@ -65,11 +65,11 @@ PlasticUpdate PlasticDynamics::afterStep() {
   const Eigen::VectorXd before = energyGradient(moved, after.x, after.xi).gradient;
   setRestStates(moved, state_.plasticStrain, state_.membranePlasticStrain);
   const Eigen::VectorXd change = energyGradient(moved, after.x, after.xi).gradient - before;
-  const Eigen::VectorXd& mass = stepper_.masses();
+  const Eigen::VectorXd& mass = stepper_->masses();
   for (Eigen::Index v = 0; v < after.a.rows(); ++v)
     if (!problem_.boundary.fixedVertex[v])
       for (int c = 0; c < 3; ++c) after.a(v, c) -= change[3 * v + c] / mass[v];
-  stepper_.restore(after);
+  stepper_->restore(after);
   return update;
 }
 

@@ -31,6 +31,10 @@ class PlasticDynamics {
   PlasticDynamics(Problem& problem, TimeStepper& stepper, const PlasticityOptions& options,
                   PlasticState state);
 
+  // Continues with `stepper` instead (one that took over the state of the last, e.g. after pins
+  // were released: FracturingDynamics::releasePins); the plastic state carries over.
+  void follow(TimeStepper& stepper) { stepper_ = &stepper; }
+
   // The plastic update on the stepper's current state. When an element yields, the released
   // energy joins the stepper's balance and the stepper is restored to its own state, which
   // recomputes its energies with the moved rest curvature and rest metric and drops its kept
@@ -60,7 +64,7 @@ class PlasticDynamics {
 
  private:
   Problem& problem_;
-  TimeStepper& stepper_;
+  TimeStepper* stepper_;
   PlasticityOptions options_;
   PlasticState state_;
   curvature::EnergyTerm* membrane_ = nullptr;  // the term whose rest metric moves (yield strain)

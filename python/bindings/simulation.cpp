@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracture.h"
 #include "optimize/inelastic/fracturing.h"
+#include "optimize/inelastic/pin_release.h"
 #include "optimize/inelastic/plastic_dynamics.h"
 #include "optimize/inelastic/plasticity.h"
 #include "optimize/problem.h"
@@ -40,6 +42,7 @@ struct PinGroupArguments {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero(),
                   velocity = Eigen::Vector3d::Zero();
   double omega = 0.0;
+  double releaseTime = std::numeric_limits<double>::infinity();  // optimize::PinGroup's
 };
 
 // Everything the simulated body and its dynamics take, as the Python arguments name them.
@@ -122,7 +125,9 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   for (size_t k = 0; k < a.pinGroups.size(); ++k) {
     const PinGroupArguments& g = a.pinGroups[k];
     d.pinGroups.push_back(
-        {{}, pinMotion(g.motion, g.axis, g.point, g.omega, g.velocity, groupName(k) + " motion")});
+        {{},
+         pinMotion(g.motion, g.axis, g.point, g.omega, g.velocity, groupName(k) + " motion"),
+         g.releaseTime});
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
@@ -264,14 +269,16 @@ class BoundSimulation {
   }
 
   // h as flexure simulate takes each step: halved while Newton fails or to find a fracture event,
-  // the fracture check after each accepted step, then the plastic update.
+  // the fracture check after each accepted step, split where a pin group is let go, then the
+  // plastic update (optimize::advanceReleasingPins; also after the steps that converged when a
+  // later one failed).
   py::dict advance(double h, double minStep) {
     optimize::TimeStepper::Advance a;
     {
       py::gil_scoped_release release;
-      a = dynamics_->advance(h, minStep, steps_);
+      a = optimize::advanceReleasingPins(*dynamics_, plastic_.get(), h, minStep, steps_);
       steps_ += a.steps;
-      if (plastic_ && a.steps > 0) plastic_->afterStep();
+      if (plastic_ && !a.completed && a.steps > 0) plastic_->afterStep();
     }
     return advanceDict(a, stepper().time());
   }
@@ -390,7 +397,8 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("axis", &PinGroupArguments::axis)
       .def_readwrite("point", &PinGroupArguments::point)
       .def_readwrite("omega", &PinGroupArguments::omega)
-      .def_readwrite("velocity", &PinGroupArguments::velocity);
+      .def_readwrite("velocity", &PinGroupArguments::velocity)
+      .def_readwrite("release_time", &PinGroupArguments::releaseTime);
 
   py::class_<SimulationArguments> simulationArguments(m, "SimulationArguments");
   defMembraneFields(simulationArguments)

@@ -62,21 +62,26 @@ def _set_pinned(target, pinned, n, name):
 
 
 def _pin_groups(groups, n):
-    """The pin groups: each a vertex set (as ``pinned`` takes it) or a pair (set, motion or None);
-    the library checks that they are disjoint (DynamicsOptions.pinGroups)."""
+    """The pin groups: each a vertex set (as ``pinned`` takes it), a pair (set, motion or None) or
+    a triple (set, motion or None, release time); the library checks that they are disjoint
+    (DynamicsOptions.pinGroups) and the release times (PinGroup.releaseTime)."""
     if isinstance(groups, (str, dict)) or not hasattr(groups, "__len__"):
-        raise ValueError("pin_groups: expected a list of groups, each a vertex set or a pair "
-                         "(vertex set, motion)")
+        raise ValueError("pin_groups: expected a list of groups, each a vertex set, a pair "
+                         "(vertex set, motion) or a triple (vertex set, motion, release time)")
     out = []
     for k, group in enumerate(groups):
         name = f"pin_groups[{k}]"
         g = _flexure.PinGroupArguments()
-        if isinstance(group, tuple) and len(group) != 2:
-            raise ValueError(f"{name}: expected a vertex set or a pair (vertex set, motion)")
-        vertices, motion = group if isinstance(group, tuple) else (group, None)
+        if isinstance(group, tuple) and len(group) not in (2, 3):
+            raise ValueError(f"{name}: expected a vertex set, a pair (vertex set, motion) or a "
+                             "triple (vertex set, motion, release time)")
+        vertices, motion, release = (group + (None,))[:3] if isinstance(group, tuple) else (
+            group, None, None)
         _set_pinned(g, vertices, n, name)
         if motion is not None:
             g.motion = _set_motion(g, motion, f"{name} motion")
+        if release is not None:
+            g.release_time = _checks.number(release, f"{name} release time")
         out.append(g)
     return out
 
@@ -117,8 +122,10 @@ class Simulation:
     bending_damping: c of −c K_B(x_n) v; pin_motion: the pins' rigid motion from where they
     start, {"rotate": (axis 3-vector, point 3-vector, ω rad/s)} (counter-clockwise about the
     axis) or {"translate": velocity 3-vector (L/s)}; pin_groups (instead of pinned and
-    pin_motion): a list of groups, each a vertex set as pinned takes it or a pair (set, motion as
-    pin_motion's, or None: held still), disjoint (``flexure simulate --pin SET@MOTION``, repeated);
+    pin_motion): a list of groups, each a vertex set as pinned takes it, a pair (set, motion as
+    pin_motion's, or None: held still) or a triple (set, motion or None, release time T > 0: the
+    group is let go at T, its vertices free from then on with their velocity, the plastic state
+    kept), disjoint (``flexure simulate --pin SET@MOTION@release:T``, repeated);
     max_newton_iterations, tolerance: per step.
 
     Plasticity (seed 002, docs/energies.md "Plasticity"): yield_curvature κ_y (1/L) and hardening γ

@@ -200,6 +200,24 @@ def test_pin_groups_follow_their_own_motions():
     assert not s.balance()["checked"]  # moving pins do work
 
 
+def test_a_group_let_go_at_its_release_time():
+    # tests/cli_pin_groups.sh's dropped strip: both ends held under gravity, the right one let go
+    # at 0.055 s (inside the sixth step, which is split there): it stays exactly at rest until
+    # then, and falls after.
+    V, F = strip()
+    s = flexure.Simulation(V, F, energy="hinge", gravity=(0, 0, -9.81),
+                           pin_groups=[LEFT, (RIGHT, None, 0.055)])
+    right = V[:, 0] >= 0.45
+    for k in range(10):
+        assert s.advance(0.01)["completed"]
+        if s.time < 0.055:
+            assert np.array_equal(s.positions[right], V[right])
+    assert s.time == pytest.approx(0.1)
+    assert (s.positions[right][:, 2] < -1e-3).all()
+    assert not s.pinned[right].any()
+    assert s.balance()["checked"]  # no pin moves
+
+
 def test_a_rotating_group_and_a_still_one():
     # The left end turns about the x axis through its centre (counter-clockwise, ω = 2 rad/s)
     # while the right one stays: after 0.1 s the left pins are rotated by 0.2 rad exactly.
@@ -271,6 +289,9 @@ def test_no_crack_below_the_fracture_strain():
      r"pin_groups\[1\] motion: the rotation axis is zero"),
     ({"pin_groups": [LEFT, (RIGHT, {"spin": 1.0})]}, r"pin_groups\[1\] motion"),
     ({"pin_groups": [LEFT, "box:nonsense"]}, r"pin_groups\[1\]"),
+    ({"pin_groups": [LEFT, (RIGHT, None, 0.0)]}, "PinGroup.releaseTime"),
+    ({"pin_groups": [LEFT, (RIGHT, None, float("nan"))]}, r"pin_groups\[1\] release time"),
+    ({"pin_groups": [LEFT, (RIGHT, None, 1.0, 2.0)]}, r"pin_groups\[1\]: expected"),
     ({"pin_groups": [LEFT], "pinned": 1}, "pin_groups"),
 ])
 def test_bad_simulation_options_raise_naming_the_field(arguments, field):
