@@ -95,6 +95,9 @@ class NewtonSolver {
     rule.maxIterations = options_.maxIterations;
     rule.chordSteps = !options_.simplicialBaseline;
     rule.progress = options_.progress;
+    if (options_.hessian == HessianMode::Shifted) rule.indefinite = IndefiniteHessian::Shifted;
+    if (options_.hessian == HessianMode::ExactOrProjected)
+      rule.indefinite = IndefiniteHessian::Projected;
     const NewtonResult loop = loop_.run(objective, y, rule);
     add(loop);
     report_.iterations = loop.iterations;
