@@ -9,8 +9,11 @@
 #include <cstdio>
 
 #include "curvature/projected_hessian.h"
+#include "modeling/generators.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -77,6 +80,43 @@ TEST(ProjectedNewton, AssembledHessianOfABuckledSheetIsPositiveSemidefinite) {
   const double scale = h.cwiseAbs().maxCoeff();
   EXPECT_LT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues()[0], -1e-3 * scale);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(p).eigenvalues()[0], -1e-12 * scale);
+}
+
+// The static rule's step where the Hessian is indefinite (newton_loop.h, IndefiniteHessian): hinge
+// + StVK in xyz lifted onto a saddle, compressed near buckling, has indefinite iterates. Each
+// choice — JᵀJ (Exact, the default), H + μI (Shifted), the projected element Hessians
+// (ExactOrProjected) — takes its own steps there and reaches the same minimizer; the exact
+// Hessian's steps near it converge quadratically, so none needs more than 25 iterations.
+TEST(ProjectedNewton, EveryIndefiniteHessianRuleReachesTheSameStaticMinimizer) {
+  const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Delaunay, 6, 4, {}});
+  optimize::ProblemOptions shell;
+  shell.bending.discretization = Discretization::Hinge;
+  curvature::MembraneOptions membrane;
+  membrane.model = curvature::MembraneModel::Stvk;
+  membrane.young = membrane.lengthStiffness = membrane.areaStiffness = membrane.shapeStiffness =
+      10.0;
+  shell.membrane = membrane;
+  shell.dof = optimize::DofMode::Xyz;
+  shell.boundarySurface = modeling::PolynomialSurface::quadratic(1.0, 0.4, -0.8);
+  const optimize::Problem problem = optimize::buildProblem(mesh, shell);
+  optimize::MinimizeOptions options;
+  options.functionTolerance = 1e-16;
+  options.gradientTolerance = 1e-12;
+  options.maxIterations = 400;
+  const optimize::MinimizeResult reference = optimize::minimize(problem, options);
+  ASSERT_TRUE(reference.report.converged) << reference.report.termination;
+  EXPECT_NE(reference.report.termination.find("on J^T J where the Hessian was indefinite"),
+            std::string::npos)
+      << reference.report.termination;
+  for (auto mode : {optimize::HessianMode::Shifted, optimize::HessianMode::ExactOrProjected}) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    options.hessian = mode;
+    const optimize::MinimizeResult other = optimize::minimize(problem, options);
+    ASSERT_TRUE(other.report.converged) << other.report.termination;
+    EXPECT_LT((other.positions - reference.positions).cwiseAbs().maxCoeff(), 1e-7);
+    EXPECT_LE(other.report.iterations, 25) << other.report.termination;
+    EXPECT_LT(other.report.gradientNorm, 1e-6);
+  }
 }
 
 }  // namespace
