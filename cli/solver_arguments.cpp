@@ -14,7 +14,8 @@ void addSolverArguments(CLI::App& sub, SolverArguments& arguments) {
       ->capture_default_str();
   sub.add_option("--hessian", arguments.hessian,
                  "newton: exact (J^T J where indefinite) | projected (element Hessians "
-                 "projected to positive semidefinite)")
+                 "projected to positive semidefinite) | shifted (exact, H + mu I where "
+                 "indefinite) | exact-projected (exact, projected where indefinite)")
       ->capture_default_str();
 }
 
@@ -30,8 +31,13 @@ void applySolverArguments(const SolverArguments& arguments, optimize::MinimizeOp
     options.hessian = optimize::HessianMode::Exact;
   } else if (arguments.hessian == "projected") {
     options.hessian = optimize::HessianMode::Projected;
+  } else if (arguments.hessian == "shifted") {
+    options.hessian = optimize::HessianMode::Shifted;
+  } else if (arguments.hessian == "exact-projected") {
+    options.hessian = optimize::HessianMode::ExactOrProjected;
   } else {
-    throw InputError("--hessian " + arguments.hessian + ": expected exact or projected");
+    throw InputError("--hessian " + arguments.hessian +
+                     ": expected exact, projected, shifted or exact-projected");
   }
   if (options.solver == optimize::Solver::Ceres && arguments.hessian != "exact")
     throw InputError("--hessian applies to --solver newton (Ceres factors JᵀJ, not the Hessian)");

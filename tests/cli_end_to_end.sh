@@ -226,6 +226,12 @@ run 0 minimize --rest flat8.obj --energy cotan --boundary quadratic:1,0,1 --hess
   -o projected.obj --report projected.json --quiet
 python3 -c "import json; d=json.load(open('projected.json')); assert d['converged'] and d['solver'] == 'newton', d" \
   || fail "minimize --hessian projected"
+run 0 minimize --rest flat8.obj --energy cotan --boundary quadratic:1,0,1 --hessian shifted \
+  -o shifted.obj --report shifted.json --quiet
+python3 -c "import json; d=json.load(open('shifted.json')); assert d['converged'], d" \
+  || fail "minimize --hessian shifted"
+run 2 minimize --rest flat8.obj --energy hinge --boundary quadratic:1,0,1 --hessian jtj -o x.obj
+stderr_has "--hessian jtj"; stderr_has "exact-projected"; absent x.obj
 
 # --- run specs ---------------------------------------------------------------------------
 cat > study.json <<'JSON'

@@ -7,10 +7,15 @@
 #include <Eigen/QR>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "curvature/projected_hessian.h"
+#include "modeling/generators.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/problem.h"
 #include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -77,6 +82,49 @@ TEST(ProjectedNewton, AssembledHessianOfABuckledSheetIsPositiveSemidefinite) {
   const double scale = h.cwiseAbs().maxCoeff();
   EXPECT_LT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues()[0], -1e-3 * scale);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(p).eigenvalues()[0], -1e-12 * scale);
+}
+
+// The static rule's step where the Hessian is indefinite (newton_loop.h, IndefiniteHessian): hinge
+// + StVK in xyz lifted onto a saddle, compressed near buckling, has indefinite iterates. Each
+// choice — JᵀJ (Exact, the default), H + μI (Shifted), the projected element Hessians
+// (ExactOrProjected) — takes its own steps there and reaches the same minimizer.
+TEST(ProjectedNewton, EveryIndefiniteHessianRuleReachesTheSameStaticMinimizer) {
+  const modeling::Mesh mesh = modeling::generateMesh({modeling::MeshFamily::Delaunay, 6, 4, {}});
+  optimize::ProblemOptions shell;
+  shell.bending.discretization = Discretization::Hinge;
+  curvature::MembraneOptions membrane;
+  membrane.model = curvature::MembraneModel::Stvk;
+  membrane.young = membrane.lengthStiffness = membrane.areaStiffness = membrane.shapeStiffness =
+      10.0;
+  shell.membrane = membrane;
+  shell.dof = optimize::DofMode::Xyz;
+  shell.boundarySurface = modeling::PolynomialSurface::quadratic(1.0, 0.4, -0.8);
+  const optimize::Problem problem = optimize::buildProblem(mesh, shell);
+  optimize::MinimizeOptions options;
+  options.functionTolerance = 1e-16;
+  options.gradientTolerance = 1e-12;
+  options.maxIterations = 400;
+  const optimize::MinimizeResult reference = optimize::minimize(problem, options);
+  ASSERT_TRUE(reference.report.converged) << reference.report.termination;
+  EXPECT_NE(reference.report.termination.find("on J^T J where the Hessian was indefinite"),
+            std::string::npos)
+      << reference.report.termination;
+  // Measured iterations: 18 on JᵀJ (3 of its Newton steps), 20 shifted (7), 65 projected (51).
+  const std::pair<optimize::HessianMode, int> modes[] = {
+      {optimize::HessianMode::Shifted, 25}, {optimize::HessianMode::ExactOrProjected, 80}};
+  for (const auto& [mode, iterations] : modes) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    options.hessian = mode;
+    const optimize::MinimizeResult other = optimize::minimize(problem, options);
+    ASSERT_TRUE(other.report.converged) << other.report.termination;
+    EXPECT_LT((other.positions - reference.positions).cwiseAbs().maxCoeff(), 1e-7);
+    EXPECT_LE(other.report.iterations, iterations) << other.report.termination;
+    const std::string stepsTaken =
+        mode == optimize::HessianMode::Shifted ? " 0 shifted by mu I" : "(0 projected where";
+    EXPECT_EQ(other.report.termination.find(stepsTaken), std::string::npos)
+        << other.report.termination;
+    EXPECT_LT(other.report.gradientNorm, 1e-6);
+  }
 }
 
 }  // namespace

@@ -36,7 +36,9 @@ const char* solverName(Solver solver);  // "newton" | "ceres"
 // definite (Exact), or the sum of the element Hessians projected to positive semidefinite
 // (Projected; measured slower: the projection drops curvature a step needs, and near the
 // minimizer the convergence is no longer quadratic).
-enum class HessianMode { Exact, Projected };
+// Shifted and ExactOrProjected: the exact Hessian, and where it is not positive definite H + μI
+// (μ grown tenfold until it factors) or the projected sum.
+enum class HessianMode { Exact, Projected, Shifted, ExactOrProjected };
 
 // How a Problem (problem.h: the terms, the unknown layout, the boundary, the load, the
 // obstacles) is minimized.

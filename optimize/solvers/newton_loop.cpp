@@ -126,10 +126,14 @@ Eigen::VectorXd NewtonLoop::solve(const Eigen::VectorXd& b, NewtonResult& result
 // μ = μ₀ 10^k that makes it so; μ₀ = μ_last / 10 (the previous shifted factor's μ, so that a run
 // of such iterations does not search from scratch each time), at least 1e-8 of the largest
 // diagonal magnitude.
-bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& result) {
+bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& result,
+                               bool tryUnshifted) {
   const auto t = Clock::now();
-  ++result.factorizations;
-  bool ok = factorization_.factor(values);
+  bool ok = false;
+  if (tryUnshifted) {
+    ++result.factorizations;
+    ok = factorization_.factor(values);
+  }
   if (ok) {
     lastShift_ = 0.0;
   } else {
@@ -158,15 +162,20 @@ bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& 
 // semidefinite, hinge + StVK in xyz lifted by a unit quadratic: converged where projection did
 // not in 400 iterations. h is replaced by what was factored.
 bool NewtonLoop::factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y,
-                                    HessianEvaluation& h, NewtonResult& result) {
+                                    IndefiniteHessian indefinite, HessianEvaluation& h,
+                                    NewtonResult& result) {
   const auto t = Clock::now();
   ++result.factorizations;
   const bool exact = factorization_.factor(h.values);
   result.linearSolverSeconds += secondsSince(t);
   chordHessian_.clear();
   if (exact) return haveFactor_ = true;
+  if (indefinite == IndefiniteHessian::Shifted) return factorShifted(h.values, result, false);
   ++result.gaussNewtonSteps;
-  h = evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
+  if (indefinite == IndefiniteHessian::GaussNewton)
+    h = evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
+  else if (indefinite == IndefiniteHessian::Projected)
+    h = evaluate(objective, y, curvature::SecondDerivatives::Projected, result);
   return factorShifted(h.values, result);
 }
 
@@ -228,7 +237,7 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
     }
     if (!chord) {
       HessianEvaluation h = evaluate(objective, y, curvature::SecondDerivatives::Exact, result);
-      if (!factorNewtonStatic(objective, y, h, result)) {
+      if (!factorNewtonStatic(objective, y, rule.indefinite, h, result)) {
         result.stop = NewtonStop::NotPositiveDefinite;
         return result;
       }

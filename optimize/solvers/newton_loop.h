@@ -33,12 +33,19 @@
 
 namespace flexure::optimize {
 
+// The static rule's Newton matrix at an iterate whose Hessian H is not positive definite: the
+// Gauss–Newton matrix JᵀJ (+ μI where singular); H + μI with μ grown tenfold until it factors
+// (Nocedal & Wright 2006, §3.4, from a tenth of the last such μ); or the sum of the element
+// Hessians each projected to positive semidefinite (projected_hessian.h; + μI where singular).
+enum class IndefiniteHessian { GaussNewton, Shifted, Projected };
+
 struct StaticStopRule {
   double functionTolerance = 1e-12;  // on ½ λ² / |f|
   double gradientTolerance = 1e-10;  // on ‖∇f‖∞
   int maxIterations = 200;           // accepted steps
   bool chordSteps = true;            // false: every step factors the Hessian at its iterate
-  bool progress = false;             // one line per iteration on stderr
+  IndefiniteHessian indefinite = IndefiniteHessian::GaussNewton;
+  bool progress = false;  // one line per iteration on stderr
 };
 
 struct StepStopRule {
@@ -92,14 +99,16 @@ class NewtonLoop {
     chordHessian_.clear();
   }
   // Factors h's values, shifted by μI where singular (the static rule's); counts into `result`.
-  bool factorShifted(const std::vector<double>& values, NewtonResult& result);
+  // `tryUnshifted` false: h is known not to factor unshifted.
+  bool factorShifted(const std::vector<double>& values, NewtonResult& result,
+                     bool tryUnshifted = true);
   Eigen::VectorXd solve(const Eigen::VectorXd& b, NewtonResult& result);
 
  private:
   HessianEvaluation evaluate(Objective& objective, const Eigen::VectorXd& y,
                              curvature::SecondDerivatives kind, NewtonResult& result);
-  bool factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y, HessianEvaluation& h,
-                          NewtonResult& result);
+  bool factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y,
+                          IndefiniteHessian indefinite, HessianEvaluation& h, NewtonResult& result);
   void finishStatic(Objective& objective, Eigen::VectorXd& y, const HessianEvaluation& at,
                     const Eigen::VectorXd& delta, const std::string& why,
                     const StaticStopRule& rule, NewtonResult& result);

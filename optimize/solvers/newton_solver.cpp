@@ -95,6 +95,9 @@ class NewtonSolver {
     rule.maxIterations = options_.maxIterations;
     rule.chordSteps = !options_.simplicialBaseline;
     rule.progress = options_.progress;
+    if (options_.hessian == HessianMode::Shifted) rule.indefinite = IndefiniteHessian::Shifted;
+    if (options_.hessian == HessianMode::ExactOrProjected)
+      rule.indefinite = IndefiniteHessian::Projected;
     const NewtonResult loop = loop_.run(objective, y, rule);
     add(loop);
     report_.iterations = loop.iterations;
@@ -210,8 +213,10 @@ class NewtonSolver {
     report_.termination += " after " + std::to_string(newtonSteps_) + " Newton and " +
                            std::to_string(chordSteps_) + " chord steps";
     if (gaussNewtonIterations_ > 0 || shiftedFactorizations_ > 0) {
-      report_.termination += " (" + std::to_string(gaussNewtonIterations_) +
-                             " on J^T J where the Hessian was indefinite, " +
+      const char* indefiniteStep = options_.hessian == HessianMode::ExactOrProjected
+                                       ? " projected where the Hessian was indefinite, "
+                                       : " on J^T J where the Hessian was indefinite, ";
+      report_.termination += " (" + std::to_string(gaussNewtonIterations_) + indefiniteStep +
                              std::to_string(shiftedFactorizations_) + " shifted by mu I)";
     }
     report_.gradientNorm = gradient_.size() > 0 ? gradient_.norm() : 0.0;
