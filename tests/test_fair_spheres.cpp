@@ -227,8 +227,8 @@ TEST(FairingSpheres, SmallFlattenedCapEveryEnergyBelowCgal) {
 
 // The membrane's fade (FairingOptions::membraneFadeStages, on by default on the current metric):
 // the flattened 60° cap's max error with the fade against one solve at w = 0.1 (today's before the
-// fade). Measured (midedge, levels 3 and 4): 0.0119 → 0.0103 and 0.0070 → 0.0057; the smallest
-// angle 18.77° → 19.49° and 18.00° → 18.70°. Fails without the fade (ratios 0.87 and 0.82).
+// fade). Measured (midedge, levels 3 and 4): 0.0119 → 0.0105 and 0.0070 → 0.0059; the smallest
+// angle 18.77° → 19.22° and 18.00° → 18.43°. Fails without the fade.
 TEST(FairingSpheres, MembraneFadeBringsTheFlattenedCapCloser) {
   const Eigen::Vector3d pole(0.0, 0.0, 1.0);
   for (int level : {3, 4}) {

@@ -188,10 +188,12 @@ namespace {
 // One stage of fairNonlinear: E_bend + w E_membrane (membrane rest `membraneRest`) + the barriers,
 // minimized from `from` (ξ from `xiFrom`; empty: `from` is `start`, ξ their minimizer). The
 // dihedral barrier is built at `start`, the first stage's start, so every stage has the same
-// ceilings.
+// ceilings. ξ's minimizer at `start` does not depend on w (no membrane or barrier reads ξ): an
+// earlier stage's `startXi` is passed on as `knownStartXi` (empty: computed).
 struct FairingStage {
   MinimizeResult result;
-  double startGradientNorm = 0.0;  // |∇E| of this stage's E at `start` (ξ minimized for it)
+  Eigen::VectorXd startXi;         // ξ minimized for `start` (midedge; else empty)
+  double startGradientNorm = 0.0;  // |∇E| of this stage's E at (`start`, startXi)
   double finalGradientNorm = 0.0;  // and at the result
 };
 
@@ -199,7 +201,8 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
                                const modeling::Stencils& stencils, const modeling::RestState& rest,
                                const FairingOptions& options, ProblemOptions p, double weight,
                                double meanEdge, const Positions& start, const Positions& from,
-                               const Eigen::VectorXd& xiFrom, double angleFloorRadians) {
+                               const Eigen::VectorXd& xiFrom, const Eigen::VectorXd& knownStartXi,
+                               double angleFloorRadians) {
   const std::vector<int> region = regionFaces(patch);
   p.membrane = fairingMembrane(options.membrane, weight, p.bending.stiffness, meanEdge);
   p.boundaryPositions = from;
@@ -219,8 +222,11 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
     return minimizeEdgeUnknowns(terms, x, problem.restXi,
                                 std::vector<bool>(problem.restXi.size(), true));
   };
-  const Eigen::VectorXd startXi = problem.usesEdgeUnknowns() ? relaxedXi(start) : Eigen::VectorXd();
-  if (problem.usesEdgeUnknowns()) problem.boundary.xi = xiFrom.size() > 0 ? xiFrom : startXi;
+  FairingStage stage;
+  if (problem.usesEdgeUnknowns()) {
+    stage.startXi = knownStartXi.size() > 0 ? knownStartXi : relaxedXi(start);
+    problem.boundary.xi = xiFrom.size() > 0 ? xiFrom : stage.startXi;
+  }
   // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
   const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
     const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
@@ -229,8 +235,7 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
       if (patch.moves[static_cast<std::size_t>(v)]) squared += g.segment<3>(3 * v).squaredNorm();
     return std::sqrt(squared);
   };
-  FairingStage stage;
-  stage.startGradientNorm = freeGradientNorm(start, startXi);
+  stage.startGradientNorm = freeGradientNorm(start, stage.startXi);
   MinimizeOptions solver = options.solver;
   solver.linearized = false;
   solver.start = Start::AsGiven;
@@ -277,10 +282,11 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
                                ? fairBiharmonic(patch, stencils, rest)
                                : start;
   const double angleFloor = angleFloorDegrees(patch, region, linear) * kPi / 180.0;
-  FairingStage stage = solveFairingStage(patch, stencils, rest, options, p, options.membraneWeight,
-                                         meanEdge, start, start, Eigen::VectorXd(), angleFloor);
+  FairingStage stage =
+      solveFairingStage(patch, stencils, rest, options, p, options.membraneWeight, meanEdge, start,
+                        start, Eigen::VectorXd(), Eigen::VectorXd(), angleFloor);
   // The fade (FairingOptions::membraneFadeStages): w_k = w / 10^k, each stage started at the last
-  // converged result; a stage that does not converge or fails the triangle checks is dropped and
+  // converged result; a stage that does not converge or fails checkFairing's checks is dropped and
   // the fade stops there, so the result is the last stage that converged.
   double weight = options.membraneWeight;
   for (int k = 0; k < options.membraneFadeStages && stage.result.report.converged; ++k) {
@@ -288,7 +294,7 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
     try {
       FairingStage next =
           solveFairingStage(patch, stencils, rest, options, p, weight, meanEdge, start,
-                            stage.result.positions, stage.result.xi, angleFloor);
+                            stage.result.positions, stage.result.xi, stage.startXi, angleFloor);
       FairingResult candidate{next.result.positions, next.result.report, startKind};
       candidate.startGradientNorm = next.startGradientNorm;
       candidate.finalGradientNorm = next.finalGradientNorm;
