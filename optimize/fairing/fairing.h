@@ -94,9 +94,10 @@ struct FairingOptions {
 };
 
 // The options a fairing on `metric` starts from. On the current metric: the membrane weight
-// kCurrentMetricMembraneWeight, and cotan's barycentric vertex area — the mixed Voronoi area
-// switches formula where a current angle crosses 90°, and on the current metric that kink stalls
-// Newton (the shark's holes: 200 iterations). On the input's: w = 1 and the Voronoi area.
+// kCurrentMetricMembraneWeight faded in kCurrentMetricMembraneFadeStages stages, and cotan's
+// barycentric vertex area — the mixed Voronoi area switches formula where a current angle crosses
+// 90°, and on the current metric that kink stalls Newton (the shark's holes: 200 iterations). On
+// the input's: w = 1 and the Voronoi area.
 inline FairingOptions defaultFairingOptions(FairingMetric metric) {
   FairingOptions options;
   options.metric = metric;
