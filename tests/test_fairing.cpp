@@ -203,6 +203,11 @@ TEST(Fairing, GeometricFairDoesNotFoldAFaceOverAHeldEdge) {
       optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
   ASSERT_EQ(folded.checks.invertedFaces.size(), 1u);
   EXPECT_GT(folded.checks.invertedFaces.front().neighbourTurnDegrees, 120.0);
+  // A fade stage that fails the checks is dropped: the fold stays at w = 0.01, so the faded
+  // fairing returns the single solve's result, bit for bit.
+  optimize::FairingOptions faded = options;
+  faded.membraneFadeStages = optimize::kCurrentMetricMembraneFadeStages;
+  EXPECT_EQ(optimize::fairNonlinear(patch, faded).positions, folded.patchAfter);
   options.foldBarrier = true;
   const optimize::FairingOutcome r =
       optimize::fairAndCheck(patch, options, optimize::FairingMethod::Flexure, options.bending);
