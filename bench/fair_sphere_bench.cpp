@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> cases = {"noise40", "flat60"};
   std::vector<std::string> energies = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
   double noise = 0.05, jitter = 0.3;
-  std::optional<double> weight;  // empty: the metric's default (optimize::defaultFairingOptions)
+  std::optional<double> weight;   // empty: the metric's default (optimize::defaultFairingOptions)
+  std::optional<int> fadeStages;  // likewise
   std::string metric = "current", shape = "start", vertexArea;  // vertexArea likewise
   int threads = 2;
   bool progress = false;
@@ -82,6 +83,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"start", "input"}));
   app.add_option("--membrane-weight", weight,
                  "Membrane weight w (default: the metric's, 0.1 on the current metric)");
+  app.add_option("--membrane-fade", fadeStages,
+                 "Membrane fade stages, each lowering w tenfold (default: the metric's, 2 on the "
+                 "current metric)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--vertex-area", vertexArea,
                  "cotan's vertex area: barycentric | voronoi (default: the metric's, barycentric "
                  "on the current metric)")
@@ -182,6 +187,7 @@ int main(int argc, char** argv) {
           options.membraneShape =
               shape == "input" ? optimize::FairingShape::Input : optimize::FairingShape::Start;
           if (weight) options.membraneWeight = *weight;
+          if (fadeStages) options.membraneFadeStages = *fadeStages;
           options.solver.threads = threads;
           options.solver.progress = progress;
           t0 = Clock::now();

