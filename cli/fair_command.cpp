@@ -480,7 +480,11 @@ void addFlexureReport(const FairCommandOptions& o, const FairSettings& s, const 
   report["energy_name"] = s.energyName;
   report["poisson"] = curvature::effectivePoisson(s.bending);
   report["stiffness"] = s.bending.stiffness;
-  report["membrane"] = {{"model", o.membrane}, {"weight", s.membraneWeight}};
+  // weight: as asked; final_weight: of the solve the result is from, after the fade's stages.
+  report["membrane"] = {{"model", o.membrane},
+                        {"weight", s.membraneWeight},
+                        {"final_weight", r.fairing->membraneWeight},
+                        {"fade_stages", r.fairing->membraneFadeStages}};
   report["start"] = r.fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
   report["metric"] = o.metric;
   const optimize::MinimizeReport& solve = r.fairing->report;

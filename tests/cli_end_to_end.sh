@@ -577,7 +577,7 @@ PY
 # nefertiti's all-interior converges below CGAL's fair in E_midedge on the input's metric (13.38
 # against 14.2); the shark's holes, faded further from the input, do not (49.19 against 48.79; 46.6
 # at w = 0.1 alone) but lower what they minimize, the geometric energy (44.17; 45.90 at w = 0.1
-# alone; CGAL 51.56). The report names the metric and the weight.
+# alone; CGAL 51.56). The report names the metric, the weight asked and the one the result is from.
 run 0 fair "$CGAL_MESHES/nefertiti.off" --region all-interior --metric current -o nef.off \
   --report nef.json --quiet
 run 0 fair "$shark" --region holes --metric current -o shark-current.off \
@@ -588,6 +588,7 @@ import json
 for name in ("nef.json", "shark-current.json"):
     r = json.load(open(name))
     assert r["converged"] and r["metric"] == "current" and r["membrane"]["weight"] == 0.1, (name, r["membrane"])
+    assert r["membrane"]["fade_stages"] == 1 and abs(r["membrane"]["final_weight"] - 0.01) < 1e-15, (name, r["membrane"])
     mid = lambda column: r["measures"][column]["bending_energy"]["midedge"]
     assert mid("cgal") < mid("input") and mid("flexure") < mid("input"), (name, mid("flexure"))
     if name == "nef.json":

@@ -791,4 +791,29 @@ void EnergyBalance::record(const EnergySample& e, double dissipation, double sti
   stiffening += stiffeningWork;
 }
 
+void TimeStepper::Advance::addTried(const Advance& part) {
+  halvings += part.halvings;
+  smallestStep = std::min(smallestStep, part.smallestStep);
+  attemptedIterations += part.attemptedIterations;
+  factorizations += part.factorizations;
+  pcgSolves += part.pcgSolves;
+  pcgIterations += part.pcgIterations;
+  hessians += part.hessians;
+}
+
+void TimeStepper::Advance::addConverged(const Advance& part) {
+  steps += part.steps;
+  newtonIterations += part.newtonIterations;
+  maxNewtonIterations = std::max(maxNewtonIterations, part.maxNewtonIterations);
+}
+
+void TimeStepper::Advance::addPart(const Advance& part) {
+  addTried(part);
+  addConverged(part);
+  completed = part.completed;
+  failure = part.failure;
+  failedStep = part.failedStep;
+  failedTime = part.failedTime;
+}
+
 }  // namespace flexure::optimize

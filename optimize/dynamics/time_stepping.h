@@ -281,6 +281,13 @@ class TimeStepper {
     Outcome failure;          // the last failed step's outcome (completed: none)
     double failedStep = 0.0;  // its length, and the time it started from
     double failedTime = 0.0;
+
+    // Adds `part`'s counts over every step it tried (failed and discarded ones too).
+    void addTried(const Advance& part);
+    // Adds `part`'s converged steps and their Newton iterations.
+    void addConverged(const Advance& part);
+    // Adds both, and ends as `part` did (completed, or its failure).
+    void addPart(const Advance& part);
   };
   // Advances by h; a step that fails is replaced by two of h/2, recursively, while h/2 ≥ minStep.
   // On failure the state is that after the steps that converged.

@@ -288,7 +288,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   // The fade (FairingOptions::membraneFadeStages): w_k = w / 10^k, each stage started at the last
   // converged result; a stage that does not converge or fails checkFairing's checks is dropped and
   // the fade stops there, so the result is the last stage that converged.
-  double weight = options.membraneWeight;
+  double weight = options.membraneWeight, keptWeight = weight;
+  int keptStages = 0;
   for (int k = 0; k < options.membraneFadeStages && stage.result.report.converged; ++k) {
     weight *= kMembraneFadeFactor;
     try {
@@ -302,6 +303,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
       if (!next.result.report.converged || !checks.passed()) break;
       accumulateStageCost(next.result.report, stage.result.report);
       stage = std::move(next);
+      keptWeight = weight;
+      ++keptStages;
     } catch (const NumericalError&) {
       break;
     }
@@ -309,6 +312,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   FairingResult fairing{std::move(stage.result.positions), stage.result.report, startKind};
   fairing.startGradientNorm = stage.startGradientNorm;
   fairing.finalGradientNorm = stage.finalGradientNorm;
+  fairing.membraneWeight = keptWeight;
+  fairing.membraneFadeStages = keptStages;
   return fairing;
 }
 

@@ -131,6 +131,10 @@ struct FairingResult {
   // |∇E| (2-norm over the free unknowns: the moving vertices' x, y, z and, for midedge, every ξ)
   // of E = E_bend + E_membrane at the start and at the result.
   double startGradientNorm = 0.0, finalGradientNorm = 0.0;
+  // The membrane weight of the solve the result is from, and the fade stages kept to reach it
+  // (FairingOptions::membraneFadeStages; fewer when a stage was dropped).
+  double membraneWeight = 0.0;
+  int membraneFadeStages = 0;
 };
 
 // flexure's fairing of `patch`. Throws InputError for a degenerate element of the input (named in

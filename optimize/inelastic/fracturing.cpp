@@ -101,27 +101,14 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
   }
   const TimeStepper::State before = stepper_->state();
   const TimeStepper::Advance a = stepper_->advance(h, minStep);
-  total.attemptedIterations += a.attemptedIterations;
-  total.factorizations += a.factorizations;
-  total.pcgSolves += a.pcgSolves;
-  total.pcgIterations += a.pcgIterations;
-  total.hessians += a.hessians;
-  total.halvings += a.halvings;
-  total.smallestStep = std::min(total.smallestStep, a.smallestStep);
-  total.completed = a.completed;
   if (!a.completed) {
-    total.steps += a.steps;
-    total.newtonIterations += a.newtonIterations;
-    total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
-    total.failure = a.failure;
-    total.failedStep = a.failedStep;
-    total.failedTime = a.failedTime;
+    total.addPart(a);
     return;
   }
+  total.addTried(a);
+  total.completed = true;
   if (!fracture_) {
-    total.steps += a.steps;
-    total.newtonIterations += a.newtonIterations;
-    total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
+    total.addConverged(a);
     step += a.steps;
     return;
   }
@@ -133,9 +120,7 @@ void FracturingDynamics::advanceInto(double h, double minStep, int level, long& 
     if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
     return;
   }
-  total.steps += a.steps;
-  total.newtonIterations += a.newtonIterations;
-  total.maxNewtonIterations = std::max(total.maxNewtonIterations, a.maxNewtonIterations);
+  total.addConverged(a);
   step += a.steps;
   checkFracture(step, strain);
 }

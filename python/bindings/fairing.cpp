@@ -145,6 +145,8 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     report["final_energy"] = result->report.finalEnergy;
     report["seconds"] = result->report.totalSeconds;
     report["start"] = result->start == optimize::FairingStart::Input ? "input" : "biharmonic";
+    report["membrane_final_weight"] = result->membraneWeight;  // after the fade's kept stages
+    report["membrane_fade_stages"] = result->membraneFadeStages;
   }
   report["energy_name"] =
       std::string(curvature::discretizationName(options.bending.discretization));

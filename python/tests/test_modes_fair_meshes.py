@@ -114,6 +114,18 @@ def test_fair_report_equals_the_cli_report(cli, tmp_path):
         assert repr(value) in text or f"{value:.17g}" in text, value
 
 
+def test_fair_report_names_the_membrane_weight_of_its_result():
+    # On the current metric the membrane fades w = 0.1 -> 0.01 (one stage); the input's has no fade.
+    V, F = flexure.mesh("delaunay", 8, seed=3)
+    W = bent(V, 9, amplitude=0.02)
+    _, current = flexure.fair(W, F, region="all-interior", metric="current")
+    assert current["converged"] and current["membrane_weight"] == 0.1
+    assert current["membrane_fade_stages"] == 1 and current["membrane_final_weight"] == 0.1 * 0.1
+    _, given = flexure.fair(W, F, region="all-interior")
+    assert given["membrane_fade_stages"] == 0
+    assert given["membrane_final_weight"] == given["membrane_weight"] == 1.0
+
+
 def test_fair_by_mask_equals_by_spec(plate):
     V, F = plate
     W = bent(V, 4, amplitude=0.02)
