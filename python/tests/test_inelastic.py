@@ -36,6 +36,13 @@ def strip():
     return V, F
 
 
+def pulled_strip(V, F, fracture_strain):
+    """tests/cli_pin_groups.sh's tear: one end still, the other pulled at 0.05 L/s."""
+    return flexure.Simulation(V, F, energy="hinge",
+                              pin_groups=[LEFT, (RIGHT, {"translate": (0.05, 0, 0)})],
+                              rayleigh=(5, 0.01), fracture_strain=fracture_strain, thickness=0.01)
+
+
 def test_springback_keeps_the_reduced_curvature():
     # tests/test_plasticity.cpp CylinderSpringsBackToTheReducedCurvature (midedge, Delaunay, 2 %).
     kappa, kappa_y, gamma = 0.2, 0.1, 0.5
@@ -234,11 +241,8 @@ def test_a_rotating_group_and_a_still_one():
 
 
 def test_a_strip_pulled_apart_tears_into_two_fragments_that_keep_the_rest_area():
-    # tests/cli_pin_groups.sh's tear: one end still, the other pulled at 0.05 L/s.
     V, F = strip()
-    s = flexure.Simulation(V, F, energy="hinge",
-                           pin_groups=[LEFT, (RIGHT, {"translate": (0.05, 0, 0)})],
-                           rayleigh=(5, 0.01), fracture_strain=0.01, thickness=0.01)
+    s = pulled_strip(V, F, 0.01)
     s.run(0.3, 0.005)
     cracks = s.cracks()
     assert cracks and all(c["strain"] >= 0.01 for c in cracks)
@@ -264,9 +268,7 @@ def test_a_strip_pulled_apart_tears_into_two_fragments_that_keep_the_rest_area()
 
 def test_no_crack_below_the_fracture_strain():
     V, F = strip()
-    s = flexure.Simulation(V, F, energy="hinge",
-                           pin_groups=[LEFT, (RIGHT, {"translate": (0.05, 0, 0)})],
-                           rayleigh=(5, 0.01), fracture_strain=0.5, thickness=0.01)
+    s = pulled_strip(V, F, 0.5)
     s.run(0.1, 0.01)
     assert s.cracks() == [] and len(s.fragments()) == 1
     assert np.array_equal(s.F, F)
@@ -322,9 +324,7 @@ def test_the_tear_equals_the_cli(cli, tmp_path):
         "rayleigh:5,0.01", "--fracture-strain", "0.01", "--thickness", "0.01", "--dt", "0.005",
         "--duration", "0.3", "--fps", "20", "--render-style", "none", "-o", tmp_path / "tear")
     report = json.loads((tmp_path / "tear" / "report.json").read_text())["fracture"]
-    s = flexure.Simulation(V, F, energy="hinge",
-                           pin_groups=[LEFT, (RIGHT, {"translate": (0.05, 0, 0)})],
-                           rayleigh=(5, 0.01), fracture_strain=0.01, thickness=0.01)
+    s = pulled_strip(V, F, 0.01)
     s.run(0.3, 0.005)
     cracks = s.cracks()
     assert len(cracks) == len(report["cracks"]) >= 1
