@@ -99,12 +99,13 @@ Eigen::Vector3d momentum(const optimize::TimeStepper& stepper, const std::vector
 }
 
 // The strip with its left grip still and its right one pulled at kPull, let go at `release`
-// (+∞: never), under kGravity, tearing at ε_f = 0.01 (h = 0.01) when `fractures`; undamped, so that
-// a piece let go gains exactly the momentum of its weight. (With Rayleigh stiffness damping β =
-// 0.01 the piece's momentum jumps once, by −3.3e-3 along the pull against M g (t − T) = 6.1e-3
-// after 0.2 s, in the step after the release, and follows M g (t − T) exactly from then on:
-// Newmark's a_n there is the one from before the release, whose damping force C v left out the
-// pinned velocities, and the released vertices' a_n has none (TimeStepper::continueAfterRelease).)
+// (+∞: never), under kGravity, tearing at ε_f = 0.01 (thickness 0.01) when `fractures`; undamped,
+// so that a piece let go gains exactly the momentum of its weight. (With Rayleigh stiffness damping
+// β = 0.01 — the strip then tore near its right grip — the piece's momentum jumped once, by −3.3e-3
+// along the pull against its M g (t − T) = 6.1e-3 after 0.2 s, in the step after the release, and
+// follows M g (t − T) exactly from then on: Newmark's a_n there is the one from before the release,
+// whose damping force C v left out the pinned velocities, and the released vertices' a_n has none
+// (TimeStepper::continueAfterRelease).)
 FracturingDynamics pulledStrip(const Mesh& rest, double release, bool fractures = true) {
   optimize::ProblemOptions options;
   options.bending.discretization = curvature::Discretization::Hinge;
@@ -166,8 +167,8 @@ void expectHeldAreTheGrips(const FracturingDynamics& dynamics, bool leftHeld, bo
 // the same; from then on the right piece (the released grip's vertices and all connected to them)
 // falls freely, its momentum growing by M g (t − T), while the left one hangs from its grip.
 // Measured: in two pieces after step 36 (t = 0.18, 8 cuts), let go at 0.205; over the next 0.2 s
-// the momentum law holds to 2.6e-15 of M g (t − T) = 0.044, the grip's points leave the pin's line
-// by 0.05, the balance drifts 0.14 %.
+// the momentum law holds to 2.6e-15 (M g (t − T) = 0.044 at the end), the grip's points leave the
+// pin's line by 0.05, the balance drifts 0.14 %.
 TEST(ReleaseWithFracture, AGripLetGoAfterTheTearIsTheSameMaterialPointsAndFallsFreely) {
   const Mesh rest = strip();
   const double area = restArea(rest);
