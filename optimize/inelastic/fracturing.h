@@ -4,7 +4,9 @@
 // the cut mesh: a Problem built for it with the same ProblemOptions (its held vertices and start
 // positions those the cut carries over), and a TimeStepper restarted on it with the time,
 // positions, velocities and accelerations carried per vertex (modeling::VertexSource) and the
-// energy balance kept.
+// energy balance kept. The pin groups still held are carried as the held vertices are (a vertex a
+// cut adds on an edge is in a group when both ends of the edge are, a copy when its original is),
+// so they stay the same material points and a later release (releasePins) lets go of those.
 //
 // Energy balance across a cut: the cut keeps each split face's strain (the pieces' rest and
 // current positions are interpolated along the same edges, so a constant-strain face stays one),

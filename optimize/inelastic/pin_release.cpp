@@ -1,5 +1,7 @@
 #include "optimize/inelastic/pin_release.h"
 
+#include "modeling/errors.h"
+
 namespace flexure::optimize {
 namespace {
 
@@ -11,6 +13,10 @@ void releasePins(FracturingDynamics& dynamics, PlasticDynamics* plastic, double 
 
 TimeStepper::Advance advanceReleasingPins(FracturingDynamics& dynamics, PlasticDynamics* plastic,
                                           double h, double minStep, long step) {
+  if (plastic != nullptr && dynamics.fractures())
+    throw InputError(
+        "advanceReleasingPins: plasticity with fracture: a cut replaces the problem and the "
+        "stepper the plastic update holds, and the plastic strains do not carry across it");
   TimeStepper::Advance total;
   total.completed = true;
   total.smallestStep = h;

@@ -15,7 +15,10 @@ namespace flexure::optimize {
 // Advances by h as FracturingDynamics::advance(h, minStep, step) does, each part followed by the
 // plastic update of `plastic` (null: none), letting go of the pin groups whose release time the
 // step reaches (within 1e-9 h of its end: at its end). The counts of the parts added up; a part
-// that fails ends the advance there.
+// that fails ends the advance there. InputError for a plastic update on dynamics that fracture:
+// PlasticDynamics holds the Problem and TimeStepper a cut replaces (run on, the first cut left it
+// reading freed ones: a crash) and its per-element plastic strains are not carried to the cut
+// mesh's elements.
 TimeStepper::Advance advanceReleasingPins(FracturingDynamics& dynamics, PlasticDynamics* plastic,
                                           double h, double minStep, long step);
 
