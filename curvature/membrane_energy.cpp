@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "curvature/barrier_term.h"
 #include "curvature/element_term.h"
 #include "curvature/face_frame.h"
 #include "modeling/errors.h"
@@ -128,7 +129,8 @@ std::unique_ptr<EnergyTerm> makeAngleBarrier(const Stencils& s, const std::vecto
   std::vector<AngleBarrierResidual> elements;
   for (int f : faces)
     elements.push_back({faceVertices(s, f), std::sqrt(2.0 * stiffness), minAngle, band});
-  auto term = std::make_unique<ElementTerm<AngleBarrierResidual>>(
+  // Its Gauss–Newton Hessian is each face's exact one projected (barrier_term.h).
+  auto term = std::make_unique<BarrierTerm<AngleBarrierResidual>>(
       "angle barrier", "face", std::move(elements), faces, 0.0, false);
   term->energy(positions, Eigen::VectorXd());  // a face at or below the floor throws, naming it
   return term;

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -12,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "curvature/dihedral_barrier.h"
 #include "curvature/membrane_energy.h"
+#include "curvature/projected_hessian.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "optimize/solvers/energy_evaluation.h"
@@ -279,6 +282,88 @@ TEST(MembraneEnergies, ParseModel) {
     ADD_FAILURE() << "an unknown membrane was accepted";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("rubber"));
+  }
+}
+
+// Keeps every element a term hands over.
+struct CollectingSink : curvature::ElementHessianSink {
+  std::vector<curvature::ElementHessian> elements;
+  void add(const curvature::ElementHessian& e) override { elements.push_back(e); }
+};
+
+std::vector<curvature::ElementHessian> elementHessians(const EnergyTerm& term, const Positions& x,
+                                                       curvature::SecondDerivatives kind) {
+  CollectingSink sink;
+  term.elementHessians(x, Eigen::VectorXd(), 0, term.elementCount(), curvature::Derivatives::All,
+                       kind, sink);
+  return sink.elements;
+}
+
+// The log barriers (barrier_term.h): asked for Gauss–Newton, each element's Hessian is its exact
+// one projected to positive semidefinite — positive semidefinite, and the exact one bit for bit
+// where that is (outside the band, where b = 0) — while the exact one is the derivative of the
+// gradient (central differences, h = 1e-6). A 6 × 4 Delaunay sheet, every vertex moved by up to
+// 0.04 in x, y, z: angle barrier α_min = 5°, band 50°; dihedral barrier
+// ceiling 0.6 rad, band 0.5 rad, built flat (its hinges moved a quarter as far).
+TEST(MembraneEnergies, BarriersProjectTheirExactHessianForGaussNewton) {
+  const Mesh mesh = modeling::generateMesh({MeshFamily::Delaunay, 6, 4, {}});
+  const modeling::Stencils s = modeling::compileStencils(mesh);
+  Positions x = mesh.positions;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> move(-0.04, 0.04);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] += move(random);
+  std::vector<int> faces(s.faceCount()), hinges(s.hingeCount());
+  for (int f = 0; f < s.faceCount(); ++f) faces[f] = f;
+  for (int h = 0; h < s.hingeCount(); ++h) hinges[h] = h;
+  constexpr double kDegree = 3.14159265358979323846 / 180.0;
+  const Positions bent = mesh.positions + 0.25 * (x - mesh.positions);
+  const std::pair<std::unique_ptr<EnergyTerm>, Positions> cases[] = {
+      {curvature::makeAngleBarrier(s, faces, x, 2.0, 5.0 * kDegree, 50.0 * kDegree), x},
+      {curvature::makeDihedralBarrier(s, hinges, mesh.positions, 2.0, 0.6, 0.5, 0.0), bent}};
+  for (const auto& [term, at] : cases) {
+    SCOPED_TRACE(term->name());
+    const auto exact = elementHessians(*term, at, curvature::SecondDerivatives::Exact);
+    const auto gaussNewton = elementHessians(*term, at, curvature::SecondDerivatives::GaussNewton);
+    ASSERT_EQ(exact.size(), gaussNewton.size());
+    int indefinite = 0, zero = 0;
+    for (size_t e = 0; e < exact.size(); ++e) {
+      const Eigen::MatrixXd& h = exact[e].hessian;
+      const Eigen::MatrixXd& p = gaussNewton[e].hessian;
+      EXPECT_EQ(gaussNewton[e].unknowns, exact[e].unknowns);
+      EXPECT_EQ(gaussNewton[e].gradient, exact[e].gradient);
+      const double scale = std::max(h.cwiseAbs().maxCoeff(), 1e-300);
+      const double lowest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues()[0];
+      EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(p).eigenvalues()[0], -1e-12 * scale);
+      if (lowest >= 0.0) {
+        EXPECT_EQ(p, h);
+        zero += h.isZero(0.0);
+      } else {
+        ++indefinite;
+        EXPECT_LT(lowest, -1e-6 * scale);  // a real negative curvature, projected away
+        EXPECT_EQ(p, curvature::projectedToPositiveSemidefinite(h));
+      }
+    }
+    EXPECT_GT(indefinite, static_cast<int>(exact.size()) / 4);
+    if (term->name() == "angle barrier") {
+      EXPECT_GT(zero, 0);
+    }
+    // ∇²E_e against central differences of ∇E_e, at a few elements in the band.
+    for (size_t e = 0; e < exact.size(); e += 7) {
+      const curvature::ElementHessian& element = exact[e];
+      for (size_t k = 0; k < element.unknowns.size(); ++k) {
+        const long u = element.unknowns[k];
+        Positions plus = at, minus = at;
+        plus.data()[u] += 1e-6;  // Positions is row-major: unknown 3v + c
+        minus.data()[u] -= 1e-6;
+        const auto gp = elementHessians(*term, plus, curvature::SecondDerivatives::None)[e];
+        const auto gm = elementHessians(*term, minus, curvature::SecondDerivatives::None)[e];
+        const Eigen::VectorXd column = (gp.gradient - gm.gradient) / 2e-6;
+        EXPECT_LT(
+            (column - element.hessian.col(static_cast<Eigen::Index>(k))).cwiseAbs().maxCoeff(),
+            1e-5 * (1.0 + element.hessian.cwiseAbs().maxCoeff()))
+            << "element " << e << " unknown " << u;
+      }
+    }
   }
 }
 
