@@ -2,8 +2,12 @@
 // (hinge_face_tensors.h).
 #include "curvature/hinge_face_tensors.h"
 
+#include <Eigen/LU>
 #include <Eigen/QR>
+#include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "curvature/face_frame.h"
 
@@ -27,8 +31,9 @@ std::array<double, 2> apex(const Eigen::Vector3d& xi, const Eigen::Vector3d& uni
   return {a, (p - xi - a * unit).norm()};
 }
 
-// c_e in face `frame`: t the edge's unit direction in it, m the in-plane normal on the side of
-// `towardsG` (the apex of g: m · (x_l − x_i) > 0; of f: m · (x_k − x_i) < 0).
+// c_e in face `frame`: t the edge's unit direction in it, m the in-plane normal from f towards g,
+// found from the face's apex at `apexOffset` from x_i: m · (x_l − x_i) > 0 when `apexIsG`, else
+// m · (x_k − x_i) < 0.
 Eigen::RowVector3d rowInFrame(const FaceFrame& frame, const Eigen::Vector3d& edge,
                               const Eigen::Vector3d& apexOffset, bool apexIsG,
                               const HingeFlaps& flaps) {
@@ -67,6 +72,9 @@ HingeFaceTensors::HingeFaceTensors(const modeling::Stencils& s, const modeling::
       hasInterior[static_cast<size_t>(s.edgeFaces(s.hingeEdges[h], side))] = true;
   for (int f = 0; f < s.faceCount(); ++f)
     if (hasInterior[static_cast<size_t>(f)]) elementFor(f);
+  std::vector<FaceFrame> frames;
+  frames.reserve(static_cast<size_t>(s.faceCount()));
+  for (int f = 0; f < s.faceCount(); ++f) frames.push_back(restFrame(s, rest, f));
   hingeFaces_.resize(static_cast<size_t>(s.hingeCount()));
   hingeRows_.resize(static_cast<size_t>(s.hingeCount()));
   for (int h = 0; h < s.hingeCount(); ++h) {
@@ -86,9 +94,8 @@ HingeFaceTensors::HingeFaceTensors(const modeling::Stencils& s, const modeling::
     const auto [ag, hg] = apex(xi, unit, xl);
     const HingeFlaps flaps{length, af, hf, ag, hg};
     hingeFaces_[static_cast<size_t>(h)] = {elementFor(f), elementFor(g)};
-    hingeRows_[static_cast<size_t>(h)] = {
-        rowInFrame(restFrame(s, rest, f), xj - xi, xk - xi, false, flaps),
-        rowInFrame(restFrame(s, rest, g), xj - xi, xl - xi, true, flaps)};
+    hingeRows_[static_cast<size_t>(h)] = {rowInFrame(frames[f], xj - xi, xk - xi, false, flaps),
+                                          rowInFrame(frames[g], xj - xi, xl - xi, true, flaps)};
     faces_[static_cast<size_t>(elementFor(f))].hinges.push_back(h);
     faces_[static_cast<size_t>(elementFor(g))].hinges.push_back(h);
   }
@@ -102,8 +109,11 @@ HingeFaceTensors::HingeFaceTensors(const modeling::Stencils& s, const modeling::
       const int side = faces_[static_cast<size_t>(hingeFaces_[h][0])].id == face.id ? 0 : 1;
       rows.row(static_cast<Eigen::Index>(r)) = hingeRows_[h][static_cast<size_t>(side)];
     }
-    face.map =
-        d.asDiagonal() * (rows * d.asDiagonal()).completeOrthogonalDecomposition().pseudoInverse();
+    if (rows.rows() == 3)
+      face.map = Eigen::Matrix3d(rows).inverse();
+    else
+      face.map = d.asDiagonal() *
+                 (rows * d.asDiagonal()).completeOrthogonalDecomposition().pseudoInverse();
   }
 }
 
