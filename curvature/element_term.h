@@ -211,16 +211,14 @@ inline int elementVertexCount(const MidedgeResidual& r) {
 }
 
 // Residuals whose rest curvature a plastic update can move: a face's S̄_T (restShapeOperator,
-// with shapeOperator(blocks)) or a hinge's φ(θ̄_e).
+// with shapeOperator(blocks)). The hinge's term reads its angles as face tensors itself
+// (hinge_energy.cpp, HingeFaceTensors).
 template <class Residual, class = void>
 struct HasRestShapeOperator : std::false_type {};
 template <class Residual>
 struct HasRestShapeOperator<Residual,
                             std::void_t<decltype(std::declval<Residual&>().restShapeOperator)>>
     : std::true_type {};
-template <class Residual>
-constexpr bool kHasRestCurvature =
-    HasRestShapeOperator<Residual>::value || std::is_same_v<Residual, HingeBendingResidual>;
 
 // Residuals whose rest metric a membrane plastic update can move: a face's rest strain P_T
 // (restStrain, with strain(blocks) and restEdgeInverse).
@@ -252,46 +250,37 @@ class ElementTerm : public EnergyTerm, public RestCurvatureState, public RestMet
   const std::vector<Residual>& elements() const { return elements_; }
 
   RestCurvatureState* restCurvatureState() override {
-    if constexpr (kHasRestCurvature<Residual>) return this;
+    if constexpr (HasRestShapeOperator<Residual>::value) return this;
     return nullptr;
   }
-  int components() const override { return HasRestShapeOperator<Residual>::value ? 3 : 1; }
   int elementId(int e) const override { return elementIds_[e]; }
   Eigen::MatrixXd elementCurvatures(const Positions& x, const Eigen::VectorXd& xi) const override {
-    Eigen::MatrixXd out(elements_.size(), components());
-    std::vector<const double*> blocks;
-    for (size_t e = 0; e < elements_.size(); ++e) {
-      parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
-      const auto row = static_cast<Eigen::Index>(e);
-      if constexpr (HasRestShapeOperator<Residual>::value) {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(elements_.size(), 3);
+    if constexpr (HasRestShapeOperator<Residual>::value) {
+      std::vector<const double*> blocks;
+      for (size_t e = 0; e < elements_.size(); ++e) {
+        parameterBlocks(elements_[e], x.data(), xi.data(), blocks);
         const Sym2<double> s = elements_[e].shapeOperator(blocks.data());
-        out.row(row) << s.a, s.b, s.c;
-      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
-        out(row, 0) = hingeAngleMeasure(elements_[e].angle(blocks.data()), elements_[e].measure);
+        out.row(static_cast<Eigen::Index>(e)) << s.a, s.b, s.c;
       }
     }
     return out;
   }
   Eigen::MatrixXd restCurvatures() const override {
-    Eigen::MatrixXd out(elements_.size(), components());
-    for (size_t e = 0; e < elements_.size(); ++e) {
-      const auto row = static_cast<Eigen::Index>(e);
-      if constexpr (HasRestShapeOperator<Residual>::value) {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(elements_.size(), 3);
+    if constexpr (HasRestShapeOperator<Residual>::value) {
+      for (size_t e = 0; e < elements_.size(); ++e) {
         const Sym2<double>& s = elements_[e].restShapeOperator;
-        out.row(row) << s.a, s.b, s.c;
-      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
-        out(row, 0) = elements_[e].restMeasure;
+        out.row(static_cast<Eigen::Index>(e)) << s.a, s.b, s.c;
       }
     }
     return out;
   }
   void setRestCurvatures(const Eigen::MatrixXd& rest) override {
-    for (size_t e = 0; e < elements_.size(); ++e) {
-      const auto row = static_cast<Eigen::Index>(e);
-      if constexpr (HasRestShapeOperator<Residual>::value) {
+    if constexpr (HasRestShapeOperator<Residual>::value) {
+      for (size_t e = 0; e < elements_.size(); ++e) {
+        const auto row = static_cast<Eigen::Index>(e);
         elements_[e].restShapeOperator = {rest(row, 0), rest(row, 1), rest(row, 2)};
-      } else if constexpr (std::is_same_v<Residual, HingeBendingResidual>) {
-        elements_[e].restMeasure = rest(row, 0);
       }
     }
   }
@@ -457,6 +446,9 @@ class ElementTerm : public EnergyTerm, public RestCurvatureState, public RestMet
       problem.AddResidualBlock(cost, nullptr, blocks);
     }
   }
+
+ protected:
+  std::vector<Residual>& mutableElements() { return elements_; }
 
  private:
   // Room for `elements` more elements of `entries` Jacobian entries each (the first one's count).

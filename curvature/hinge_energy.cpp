@@ -4,6 +4,7 @@
 
 #include "curvature/element_term.h"
 #include "curvature/energy_registry.h"
+#include "curvature/hinge_face_tensors.h"
 #include "curvature/rest_element_data.h"
 #include "modeling/errors.h"
 
@@ -22,6 +23,52 @@ std::string hingeElement(const Stencils& s, int h) {
   return "edge " + std::to_string(s.hingeEdges[h]) + " (vertices " +
          std::to_string(s.hinges(h, 0)) + ", " + std::to_string(s.hinges(h, 1)) + ")";
 }
+
+// The hinge's rest curvature as per-face tensors (hinge_face_tensors.h, docs/energies.md
+// "Plasticity"): a face's tensor is T_f(φ(θ)) read from its edges' angle measures, the rest one
+// T_f(φ(θ̄⁰)); a new rest tensor S̄ moves each edge's rest angle to
+// φ(θ̄_e) = φ(θ̄⁰_e) + ½ (c_e^f · (S̄_f − S̄⁰_f) + c_e^g · (S̄_g − S̄⁰_g)).
+class HingeTerm final : public ElementTerm<HingeBendingResidual> {
+ public:
+  HingeTerm(std::vector<HingeBendingResidual> elements, std::vector<int> ids, double covered,
+            HingeFaceTensors faces)
+      : ElementTerm(kName, std::string(elementKindName(kElementKind)), std::move(elements),
+                    std::move(ids), covered, false),
+        faces_(std::move(faces)),
+        restAngles_(this->elements().size()) {
+    for (size_t e = 0; e < this->elements().size(); ++e)
+      restAngles_[static_cast<Eigen::Index>(e)] = this->elements()[e].restMeasure;
+    restTensors_ = faces_.tensors(restAngles_);
+    rest_ = restTensors_;
+  }
+
+  RestCurvatureState* restCurvatureState() override { return this; }
+  int elementId(int e) const override { return faces_.face(e); }
+  Eigen::MatrixXd elementCurvatures(const Positions& x, const Eigen::VectorXd&) const override {
+    Eigen::VectorXd angles(elements().size());
+    std::vector<const double*> blocks;
+    for (size_t e = 0; e < elements().size(); ++e) {
+      const HingeBendingResidual& r = elements()[e];
+      parameterBlocks(r, x.data(), static_cast<const double*>(nullptr), blocks);
+      angles[static_cast<Eigen::Index>(e)] = hingeAngleMeasure(r.angle(blocks.data()), r.measure);
+    }
+    return faces_.tensors(angles);
+  }
+  Eigen::MatrixXd restCurvatures() const override { return rest_; }
+  void setRestCurvatures(const Eigen::MatrixXd& rest) override {
+    rest_ = rest;
+    const Eigen::VectorXd angles = restAngles_ + faces_.angles(rest - restTensors_);
+    std::vector<HingeBendingResidual>& elements = mutableElements();
+    for (size_t e = 0; e < elements.size(); ++e)
+      elements[e].restMeasure = angles[static_cast<Eigen::Index>(e)];
+  }
+
+ private:
+  HingeFaceTensors faces_;
+  Eigen::VectorXd restAngles_;   // φ(θ̄⁰_e) as built
+  Eigen::MatrixXd restTensors_;  // S̄⁰_f = T_f(φ(θ̄⁰))
+  Eigen::MatrixXd rest_;         // S̄_f
+};
 
 std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
                                       const BendingOptions& o, double /*poisson: 1*/) {
@@ -56,9 +103,8 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
     ids.push_back(e);
     covered += areas / 3.0;
   }
-  return std::make_unique<ElementTerm<HingeBendingResidual>>(
-      kName, std::string(elementKindName(kElementKind)), std::move(elements), std::move(ids),
-      covered, false);
+  return std::make_unique<HingeTerm>(std::move(elements), std::move(ids), covered,
+                                     HingeFaceTensors(s, rest));
 }
 
 }  // namespace

@@ -55,9 +55,9 @@ run 2 simulate $BASE --pin none@translate:1,0,0 -o bad; stderr_has "none pins no
 
 # A sheet folded by a moving pin and let go (examples/crease-sheet.json): the strip x ≥ 0.4 turned
 # 90° in 1 s, released at t = 1, settling (damped) to t = 4. The fold (the angle between the mean
-# normals of the halves x̄ < −0.15 and x̄ > 0.15) is 94.9° at the release either way; with
-# --yield-curvature 2 the last frame keeps 70.7° (above 60°), without it comes back to 1.3° (below
-# 5°). From the release on the balance is checked again: 'balanced', the pins' work booked.
+# normals of the halves x̄ < −0.15 and x̄ > 0.15) is past 90° at the release either way (97.0°
+# plastic, 94.9° elastic); with --yield-curvature 2 the last frame keeps 56.9° (above 45°; the
+# hinge's earlier per-edge law kept 70.7°), without it comes back to 1.3° (below 5°). From the release on the balance is checked again: 'balanced', the pins' work booked.
 run 0 mesh --family patch48 --n 12 -o sheet.obj --quiet
 FOLD="--rest sheet.obj --energy hinge --stiffness 0.05 --membrane stvk --young 1000 \
   --pin box:-0.5,-0.4,-1,1,-1,1 --damping rayleigh:4,0 --dt 0.01 --duration 4 --fps 1 \
@@ -94,8 +94,8 @@ read -r AT_RELEASE KEPT <<<"$(python3 fold_angle.py sheet.obj creased/frame-0000
 read -r ELASTIC_AT_RELEASE BACK <<<"$(python3 fold_angle.py sheet.obj elastic/frame-00001.obj elastic/frame-00004.obj)"
 python3 -c "import sys; sys.exit(0 if $AT_RELEASE > 90 and $ELASTIC_AT_RELEASE > 90 else 1)" \
   || fail "the sheet was not folded past 90° at the release: $AT_RELEASE°, $ELASTIC_AT_RELEASE°"
-python3 -c "import sys; sys.exit(0 if $KEPT > 60 else 1)" \
-  || fail "creased: the released sheet kept a fold of $KEPT°, not above 60°"
+python3 -c "import sys; sys.exit(0 if $KEPT > 45 else 1)" \
+  || fail "creased: the released sheet kept a fold of $KEPT°, not above 45°"
 python3 -c "import sys; sys.exit(0 if $BACK < 5 else 1)" \
   || fail "elastic: the released sheet did not come back near flat: $BACK°, not below 5°"
 python3 -c "

@@ -8,14 +8,13 @@
 namespace flexure::optimize {
 namespace {
 
-// Per vertex the largest of `values` over the elements (mesh faces or edges, `ids`) it belongs to.
+// Per vertex the largest of `values` over the mesh faces (`ids`) it belongs to.
 Eigen::VectorXd vertexMaxima(const modeling::Stencils& stencils, const Eigen::VectorXd& values,
-                             const std::vector<int>& ids, bool faces) {
+                             const std::vector<int>& ids) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(stencils.vertexCount());
   for (Eigen::Index e = 0; e < values.size(); ++e)
-    for (int k = 0; k < (faces ? 3 : 2); ++k) {
-      const int id = ids[static_cast<size_t>(e)];
-      const int v = faces ? stencils.faces(id, k) : stencils.edges(id, k);
+    for (int k = 0; k < 3; ++k) {
+      const int v = stencils.faces(ids[static_cast<size_t>(e)], k);
       out[v] = std::max(out[v], values[e]);
     }
   return out;
@@ -96,8 +95,7 @@ Eigen::VectorXd PlasticDynamics::vertexPlasticCurvatures() const {
   const curvature::RestCurvatureState& rest = *problem_.terms.front()->restCurvatureState();
   std::vector<int> ids(state_.yielded.size());
   for (size_t e = 0; e < ids.size(); ++e) ids[e] = rest.elementId(static_cast<int>(e));
-  return vertexMaxima(problem_.stencils, equivalentPlasticCurvatures(state_), ids,
-                      rest.components() == 3);
+  return vertexMaxima(problem_.stencils, equivalentPlasticCurvatures(state_), ids);
 }
 
 Eigen::VectorXd PlasticDynamics::vertexPlasticStrains() const {
@@ -105,7 +103,7 @@ Eigen::VectorXd PlasticDynamics::vertexPlasticStrains() const {
   const curvature::RestMetricState& metric = *membrane_->restMetricState();
   std::vector<int> ids(state_.membraneYielded.size());
   for (size_t f = 0; f < ids.size(); ++f) ids[f] = metric.elementId(static_cast<int>(f));
-  return vertexMaxima(problem_.stencils, equivalentPlasticStrains(state_), ids, true);
+  return vertexMaxima(problem_.stencils, equivalentPlasticStrains(state_), ids);
 }
 
 Eigen::VectorXd PlasticDynamics::vertexPlasticMeasure() const {
@@ -113,10 +111,6 @@ Eigen::VectorXd PlasticDynamics::vertexPlasticMeasure() const {
   if (!options_.yieldCurvature) return vertexPlasticStrains();
   return (vertexPlasticCurvatures() / *options_.yieldCurvature)
       .cwiseMax(vertexPlasticStrains() / *options_.yieldStrain);
-}
-
-std::string PlasticDynamics::elementKind() const {
-  return problem_.terms.front()->elementKind();
 }
 
 }  // namespace flexure::optimize

@@ -2,7 +2,7 @@
 // 002; the model in plasticity.h and docs/energies.md, "Plasticity" and "Plasticity in time").
 //
 // After each accepted time step the plastic update (updatePlasticStrains: one radial return per
-// face, bending and membrane parts together by the combined yield, or per hinge) runs on the
+// face, bending and membrane parts together by the combined yield) runs on the
 // step's end state (x_{n+1}, ξ_{n+1}); the rest curvature and the membrane's rest metric move, so
 // the elastic energy at the fixed end state drops by ΔD ≥ 0. That drop is the plastic dissipation
 // D; the stepper's energy balance counts it (EnergyBalance::plastic), so that
@@ -43,16 +43,16 @@ class PlasticDynamics {
 
   const PlasticState& state() const { return state_; }
   double dissipation() const { return state_.dissipation; }
-  // The bending elements ("face" or "edge", elementKind()) that carry a plastic strain, ascending;
-  // empty without a yield curvature.
+  // The mesh faces whose bending part carries a plastic strain (every energy's, the hinge's
+  // included: curvature/hinge_face_tensors.h), ascending; empty without a yield curvature.
   std::vector<int> yieldedElements() const;
-  std::string elementKind() const;
+  std::string elementKind() const { return "face"; }
   int elementCount() const { return static_cast<int>(state_.yielded.size()); }
   // The mesh faces whose membrane part carries a plastic strain, ascending; empty without a yield
   // strain.
   std::vector<int> yieldedFaces() const;
   int membraneFaceCount() const { return static_cast<int>(state_.membraneYielded.size()); }
-  // #V: per vertex the largest equivalentPlasticCurvatures of the faces or edges it belongs to (0
+  // #V: per vertex the largest equivalentPlasticCurvatures of the faces it belongs to (0
   // without a yield curvature).
   Eigen::VectorXd vertexPlasticCurvatures() const;
   // #V: per vertex the largest equivalentPlasticStrains of its faces (0 without a yield strain).

@@ -44,32 +44,16 @@ RestCurvatureState& restCurvatureOf(Problem& problem) {
   if (state == nullptr) {
     throw InputError(
         "PlasticityOptions.yieldCurvature: the " + bending.name() +
-        " energy has no per-face shape operator or per-edge angle whose rest value a plastic "
-        "strain could move (cotan's is one mean curvature per vertex); use triavg, midedge, "
-        "quadfit or hinge");
+        " energy has no per-face shape operator whose rest value a plastic strain could move "
+        "(cotan's is one mean curvature per vertex); use triavg, midedge, quadfit or hinge");
   }
   return *state;
 }
 
-// ‖A‖²_* = Tr(A²) + (Tr A)² of a face tensor row (a, b, c) = [[a, b], [b, c]]; for a hinge's
-// scalar (already a curvature) the one-dimensional law, A², so that it yields at |A| = κ_y as a
-// plate bent into a cylinder does.
+// ‖A‖²_* = Tr(A²) + (Tr A)² of a face tensor row (a, b, c) = [[a, b], [b, c]].
 double starNormSquared(const Eigen::RowVectorXd& m) {
-  if (m.size() == 1) return 2.0 * m(0) * m(0);
   const double trace = m(0) + m(2);
   return m(0) * m(0) + 2.0 * m(1) * m(1) + m(2) * m(2) + trace * trace;
-}
-
-Eigen::VectorXd hingeLengths(const Problem& problem, const RestCurvatureState& state) {
-  if (state.components() != 1) return {};
-  Eigen::VectorXd length(problem.terms.front()->elementCount());
-  for (Eigen::Index e = 0; e < length.size(); ++e) {
-    const int edge = state.elementId(static_cast<int>(e));
-    const int f = problem.stencils.edgeFaces(edge, 0), g = problem.stencils.edgeFaces(edge, 1);
-    length[e] = 2.0 * (problem.rest.faceAreas[f] + problem.rest.faceAreas[g]) /
-                (3.0 * problem.rest.edgeLengths[edge]);
-  }
-  return length;
 }
 
 // The face whose centroid is nearest the vertices' centroid, among faces every one of whose
@@ -196,10 +180,8 @@ PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& opti
         "(nothing can yield)");
   PlasticState state;
   if (options.yieldCurvature) {
-    RestCurvatureState& rest = restCurvatureOf(problem);
-    state.initialRest = rest.restCurvatures();
+    state.initialRest = restCurvatureOf(problem).restCurvatures();
     state.plasticStrain = Eigen::MatrixXd::Zero(state.initialRest.rows(), state.initialRest.cols());
-    state.hingeLength = hingeLengths(problem, rest);
     state.yielded.assign(static_cast<size_t>(state.initialRest.rows()), false);
   }
   if (options.yieldStrain) {
@@ -213,10 +195,8 @@ PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& opti
 
 Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state) {
   Eigen::VectorXd out(state.plasticStrain.rows());
-  for (Eigen::Index e = 0; e < out.size(); ++e) {
+  for (Eigen::Index e = 0; e < out.size(); ++e)
     out[e] = std::sqrt(starNormSquared(state.plasticStrain.row(e)) / 2.0);
-    if (state.hingeLength.size() > 0) out[e] /= state.hingeLength[e];
-  }
   return out;
 }
 
@@ -247,7 +227,6 @@ Trial trialOf(Eigen::MatrixXd strain, double yieldValue) {
 // both return with the one factor s = 1/√f.
 void combineByFace(const Problem& problem, const RestCurvatureState& bending, Trial& bendingTrial,
                    const RestMetricState& metric, Trial& membraneTrial) {
-  if (bending.components() != 3) return;  // a hinge's element is an edge: no face to share
   std::vector<int> bendingOfFace(static_cast<size_t>(problem.stencils.faceCount()), -1);
   for (Eigen::Index e = 0; e < bendingTrial.yield.size(); ++e)
     bendingOfFace[static_cast<size_t>(bending.elementId(static_cast<int>(e)))] =
@@ -261,11 +240,9 @@ void combineByFace(const Problem& problem, const RestCurvatureState& bending, Tr
   }
 }
 
-// The radial return of every element with yield measure f > 1: ΔP = (1 − 1/√f) A / (1 + γ)
-// (`lengths`: a hinge's 2 h̄_e, back from curvature to its angle measure). Returns the count and
-// max ‖ΔP‖_*/√2 (in the part's units).
-std::pair<int, double> returnRadially(const Trial& trial, double gamma,
-                                      const Eigen::VectorXd& lengths, Eigen::MatrixXd& plastic,
+// The radial return of every element with yield measure f > 1: ΔP = (1 − 1/√f) A / (1 + γ).
+// Returns the count and max ‖ΔP‖_*/√2 (in the part's units).
+std::pair<int, double> returnRadially(const Trial& trial, double gamma, Eigen::MatrixXd& plastic,
                                       std::vector<bool>& yielded) {
   int count = 0;
   double largest = 0.0;
@@ -273,9 +250,8 @@ std::pair<int, double> returnRadially(const Trial& trial, double gamma,
     const double f = trial.yield[e];
     if (!(f > 1.0)) continue;
     const double s = 1.0 / std::sqrt(f);
-    Eigen::RowVectorXd increment = (1.0 - s) / (1.0 + gamma) * trial.strain.row(e);
+    const Eigen::RowVectorXd increment = (1.0 - s) / (1.0 + gamma) * trial.strain.row(e);
     largest = std::max(largest, std::sqrt(starNormSquared(increment) / 2.0));
-    if (lengths.size() > 0) increment *= lengths[e];
     plastic.row(e) += increment;
     yielded[static_cast<size_t>(e)] = true;
     ++count;
@@ -294,11 +270,9 @@ PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,
       options.yieldStrain ? membraneMetricOf(problem) : MembraneMetric{};
   Trial bendingTrial, membraneTrial;
   if (bending) {
-    // E_b = S − S̄₀, A = E_b − (1 + γ) P_b; a hinge's angle measure divided by 2 h̄_e is a
-    // curvature.
+    // E_b = S − S̄₀, A = E_b − (1 + γ) P_b.
     Eigen::MatrixXd a = bending->elementCurvatures(x, xi) - state.initialRest;
     a -= (1.0 + gamma) * state.plasticStrain;
-    if (state.hingeLength.size() > 0) a.col(0).array() /= state.hingeLength.array();
     bendingTrial = trialOf(std::move(a), *options.yieldCurvature);
   }
   if (membrane.state) {
@@ -312,11 +286,10 @@ PlasticUpdate updatePlasticStrains(Problem& problem, PlasticState& state,
   PlasticUpdate update;
   if (bending)
     std::tie(update.yieldedElements, update.largestIncrement) =
-        returnRadially(bendingTrial, gamma, state.hingeLength, state.plasticStrain, state.yielded);
+        returnRadially(bendingTrial, gamma, state.plasticStrain, state.yielded);
   if (membrane.state)
     std::tie(update.yieldedFaces, update.largestStrainIncrement) =
-        returnRadially(membraneTrial, gamma, Eigen::VectorXd(), state.membranePlasticStrain,
-                       state.membraneYielded);
+        returnRadially(membraneTrial, gamma, state.membranePlasticStrain, state.membraneYielded);
   if (update.yieldedElements == 0 && update.yieldedFaces == 0) return update;
   double before = 0.0, after = 0.0;
   if (update.yieldedElements > 0) {

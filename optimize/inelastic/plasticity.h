@@ -1,13 +1,13 @@
 // Plasticity of thin shells (Gingold, Secord, Han, Grinspun, Zorin 2004, seed 002; the model and
-// its formulas in docs/energies.md, "Plasticity"). Bending: per element a plastic strain P_b moves
-// the rest curvature, S̄ = S̄₀ + P_b (a face's shape operator; a hinge's angle measure φ(θ̄)), with
+// its formulas in docs/energies.md, "Plasticity"). Bending: per face a plastic strain P_b moves
+// the rest curvature, S̄ = S̄₀ + P_b (the face's shape operator; for the hinge the tensor its edges'
+// angle measures read as, curvature/hinge_face_tensors.h, whose rest angles it moves), with
 // the bending strain E_b = S − S̄₀. Membrane (stvk): per face a plastic Green strain P_m moves the
 // rest metric, Ā = I + 2 P_m (squared rest edge lengths ℓ̄² + 2 ūᵀ P_m ū), with the membrane strain
 // E_m = ε = ½(FᵀF − I). With linear kinematic hardening γ, A = E − (1 + γ) P per part and
 // ‖A‖²_* = Tr(A²) + (Tr A)²; a face yields when f = ‖A_m‖²_* / (2 ε_y²) + ‖A_b‖²_* / (2 κ_y²) > 1
 // (a part without its yield value is elastic) and both parts return radially with one factor:
-// A ← s A, ΔP = (1 − s) A / (1 + γ), s = 1 / √f. A hinge's element is an edge, not a face: its
-// part returns alone.
+// A ← s A, ΔP = (1 − s) A / (1 + γ), s = 1 / √f.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,16 +30,13 @@ struct PlasticityOptions {
   void validate() const;
 };
 
-// The plastic state of a problem's bending term, per element in the term's order, and of its
-// membrane, per face in the membrane term's order. A part without its yield value is empty
-// (0 rows).
+// The plastic state of a problem's bending term, per face in its rest curvature's order
+// (RestCurvatureState), and of its membrane, per face in the membrane term's order. A part without
+// its yield value is empty (0 rows).
 struct PlasticState {
-  Eigen::MatrixXd initialRest;    // S̄₀ (or φ(θ̄₀)), #elements by components
+  Eigen::MatrixXd initialRest;    // S̄₀, #faces by 3: (a, b, c) of [[a, b], [b, c]]
   Eigen::MatrixXd plasticStrain;  // P_b, the same shape
-  // 2 h̄_e = 2 (Ā_f + Ā_g) / (3 ℓ̄_e) per hinge: the length over which its angle measures curvature
-  // (θ_e ≈ κ 2 h̄_e across an edge normal to a cylinder's axis); empty for face energies.
-  Eigen::VectorXd hingeLength;
-  std::vector<bool> yielded;  // elements that have ever yielded
+  std::vector<bool> yielded;      // faces whose bending part has ever yielded
   // The membrane's rest strain as built (zero) and P_m, #faces by 3: (a, b, c) of
   // [[a, b], [b, c]] in each face's rest frame.
   Eigen::MatrixXd membraneInitialRest;
@@ -56,14 +53,14 @@ struct PlasticState {
 PlasticState initialPlasticState(Problem& problem, const PlasticityOptions& options);
 
 struct PlasticUpdate {
-  int yieldedElements = 0;  // bending elements that returned to the yield surface
-  double largestIncrement = 0;  // max over elements of ‖ΔP_b‖_*/√2 (|ΔP| for a hinge, in curvature)
-  double released = 0;          // elastic energy the update released at fixed positions
+  int yieldedElements = 0;            // faces whose bending part returned to the yield surface
+  double largestIncrement = 0;        // max over them of ‖ΔP_b‖_*/√2
+  double released = 0;                // elastic energy the update released at fixed positions
   int yieldedFaces = 0;               // faces whose membrane part returned
   double largestStrainIncrement = 0;  // max over faces of ‖ΔP_m‖_*/√2
 };
 
-// Per element, its plastic strain as a curvature, √(‖P‖²_* / 2) (a hinge's P divided by 2 h̄_e):
+// Per face, its plastic strain as a curvature, √(‖P‖²_* / 2):
 // a plate bent cylindrically past κ_y and released keeps (κ − κ_y)/(1 + γ), which this equals.
 Eigen::VectorXd equivalentPlasticCurvatures(const PlasticState& state);
 // Per membrane face, its plastic strain as a Green strain, √(‖P_m‖²_* / 2): a strip stretched past

@@ -374,7 +374,7 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
     Returns ``(V, report)``: V #V×3 float64 the formed (released: sprung-back) positions; report a
     dict: converged, solves, yielded_elements, yielded_faces, dissipation (k_B units),
     release_pins, last_solve (``minimize``'s report of the last solve), plastic_strain
-    (#elements×k: P_b per face, or per edge for hinge), plastic_curvature ((#elements,):
+    (#faces×3: P_b per face; hinge: per face with an interior edge), plastic_curvature ((#faces,):
     √(‖P_b‖²_* / 2)), yielded, membrane_plastic_strain (#F×3: (a, b, c) of P_m in each face's rest
     frame; empty without yield_strain), membrane_yielded, and "xi" (#E,) for midedge. With
     ``check`` (default), a forming that did not converge raises NumericalError with ``.report``.

@@ -256,13 +256,14 @@ class Simulation:
 
     @property
     def plastic_element(self):
-        """"face" or "edge" (hinge): what plastic_strain has a row per."""
+        """"face": what plastic_strain has a row per (for every energy, the hinge's included)."""
         return self._plastic("element")
 
     @property
     def plastic_strain(self):
-        """#elements×k float64: the bending plastic strain P_b per face (shape-operator
-        components in the face's rest frame) or per edge (hinge: its angle measure), a copy."""
+        """#faces×3 float64: the bending plastic strain P_b per face (shape-operator components
+        (a, b, c) in the face's rest frame; hinge: the tensor its edges' plastic angles read as,
+        on the faces with an interior edge), a copy."""
         return self._plastic("plastic_strain")
 
     @property
