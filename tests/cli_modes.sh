@@ -54,7 +54,10 @@ json_check ss "all(0.3 < m['participation'] and not m['localized'] for e in d['e
 run 0 modes --family patch48 --n 16 --energy cotan --fix rings:7 --count 2 -o centre --quiet
 json_check centre "all(m['localized'] and m['participation'] < 0.05 for m in d['energies'][0]['modes'])" \
   "modes on the centre's few free vertices are localized"
-stderr_has "warning: cotan: modes 1 (0.0232), 2 (0.0212) are localized on a few vertices"
+# The message, not its digits: the second mode's ratio was 0.0212 in CI and is 0.0248 on another
+# machine with the same sources (the first, 0.0232, on both); the JSON check above bounds both.
+stderr_has "warning: cotan: modes 1 (0.0"
+stderr_has "are localized on a few vertices"
 
 # A curved rest: height mode is refused (its z motions are partly tangential), midedge's default
 # normals clamp needs a flat plate; the shell's modes in xyz with a ring clamp run.

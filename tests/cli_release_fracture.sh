@@ -11,14 +11,7 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/support/cli_harness.sh"
 
-run 0 mesh --family patch48 --n 8 -o square.obj --quiet
-python3 -c "
-lines = []
-for l in open('square.obj'):
-    if l.startswith('v '):
-        _, x, y, z = l.split(); l = 'v %s %.17g %s\n' % (x, float(y) * 0.25, z)
-    lines.append(l)
-open('strip.obj', 'w').writelines(lines)"
+make_strip
 BASE="--rest strip.obj --energy hinge --membrane stvk --gravity=0,0,-1 --fracture-strain 0.01 \
   --thickness 0.01 --dt 0.005 --duration 0.4 --fps 10 --render-style none --quiet"
 LEFT="box:-0.6,-0.45,-1,1,-1,1"; RIGHT="box:0.45,0.6,-1,1,-1,1@translate:0.05,0,0"

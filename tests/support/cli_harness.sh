@@ -27,6 +27,18 @@ near() {  # near KEY VALUE TOLERANCE: the JSON on stdout has KEY within TOLERANC
   python3 -c "import json,sys; d=json.load(open('out.txt')); sys.exit(0 if abs(d['$1']-$2) <= $3 else 1)" \
     || fail "$1 is not $2 ± $3: $(cat out.txt)"
 }
+# make_strip: strip.obj, the 1 x 1/4 strip (patch48 n = 8, y scaled by 1/4) the pin, tear and
+# release runs pull and hang.
+make_strip() {
+  run 0 mesh --family patch48 --n 8 -o square.obj --quiet
+  python3 -c "
+lines = []
+for l in open('square.obj'):
+    if l.startswith('v '):
+        _, x, y, z = l.split(); l = 'v %s %.17g %s\n' % (x, float(y) * 0.25, z)
+    lines.append(l)
+open('strip.obj', 'w').writelines(lines)"
+}
 is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
 # finish NAME: the summary line, and the script's exit status.
