@@ -97,6 +97,12 @@ struct TimeStepper::Implicit {
     return out;
   }
 
+  // C y = α M y + K y over the free unknowns (K: `stiffness`, as multiply takes it; ξ rows 0).
+  Eigen::VectorXd damping(double alpha, const std::vector<double>& stiffness,
+                          const Eigen::VectorXd& y) const {
+    return Eigen::VectorXd(alpha * mass.cwiseProduct(y) + multiply(stiffness, y));
+  }
+
   // K_B(x) = J_Bᵀ J_B of the bending term at (x, ξ) on the full pattern, vertex unknowns only.
   std::vector<double> bendingStiffness(const Positions& x, const Eigen::VectorXd& xi) const {
     const HessianEvaluation e = bending->evaluate(x, xi, HessianProjection::Exact, nullptr,
@@ -345,6 +351,42 @@ void TimeStepper::continueAfterRelease(const TimeStepper& from, const Positions&
   b.driftTime = s.time;
   b.driftStep = b.steps;
   restore(s);
+  addDampingAtRelease(released);
+}
+
+// At the release T the velocities are continuous (a released vertex goes on with its pin's
+// velocity v_R at T, which movePins left in v) but the acceleration jumps: before T, with F the
+// free vertices and R the held ones, Newmark's last step solved
+//   M a_F + C_FF v_F + ∇_F (E + B) − M g = 0   (damping acts on the free velocities only),
+// and from T on the free vertices are F ∪ R, with C = α M + β K̄ + c K_B over all of them. The
+// equation of motion at T⁺ then gives (C_FR: the coupling of F to R, none for α M)
+//   a_F = a_F(T⁻) − M⁻¹ C_FR v_R,   a_R = g − M⁻¹ (∇_R (E + B) + C_RF v_F + C_RR v_R),
+// the forces' part of a_R set by continueAfterRelease. Newmark's next step starts from this a_n
+// (x̂, v̂, and the trapezoidal v_{n+1} = v_n + ½ h (a_n + a_{n+1})); with the damping left out of
+// a_n, a piece let go gained ½ h 1ᵀ(C v) of spurious momentum in that step. (c K_B is taken at
+// x(T), as the next step takes it.) Nothing changes without damping.
+void TimeStepper::addDampingAtRelease(const std::vector<bool>& released) {
+  if (!implicit_) return;
+  const std::vector<double> stiffness = stiffnessDamping();
+  if (options_.rayleighMass == 0.0 && stiffness.empty()) return;
+  const Implicit& im = *implicit_;
+  const std::vector<int>& unknowns = im.assembly.freeUnknowns();
+  const long positionCount = x_.size();
+  // C y over the free vertex coordinates, for y = v (all) and y = v on R only (coupling).
+  Eigen::VectorXd all = Eigen::VectorXd::Zero(im.assembly.size()), onReleased = all;
+  for (int k = 0; k < im.assembly.size(); ++k) {
+    if (unknowns[k] >= positionCount) continue;
+    all[k] = v_.data()[unknowns[k]];
+    if (released[static_cast<std::size_t>(unknowns[k] / 3)]) onReleased[k] = all[k];
+  }
+  const Eigen::VectorXd cAll = im.damping(options_.rayleighMass, stiffness, all);
+  const Eigen::VectorXd cCoupling = im.damping(options_.rayleighMass, stiffness, onReleased);
+  for (int k = 0; k < im.assembly.size(); ++k) {
+    if (unknowns[k] >= positionCount) continue;
+    const int v = unknowns[k] / 3;
+    a_.data()[unknowns[k]] -=
+        (released[static_cast<std::size_t>(v)] ? cAll : cCoupling)[k] / mass_[v];
+  }
 }
 
 void TimeStepper::forgetFactor() {
@@ -519,8 +561,7 @@ class TimeStepper::IncrementalPotential : public Objective {
 
  private:
   Eigen::VectorXd damping(const Eigen::VectorXd& y) const {  // C y, ξ rows 0
-    return Eigen::VectorXd(rayleighMass_ * im_.mass.cwiseProduct(y) +
-                           im_.multiply(stiffnessDamping_, y));
+    return im_.damping(rayleighMass_, stiffnessDamping_, y);
   }
 
   // Φ's inertial, damping and gravity parts at y, and their gradient.

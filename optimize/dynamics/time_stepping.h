@@ -256,11 +256,12 @@ class TimeStepper {
   // Hessian is dropped, as forgetFactor() does.
   void restore(const State& state);
   // Continues `from`, a stepper of the same problem before its pin groups' vertices `released`
-  // (#V) were let go (releasePinGroups; this stepper built without them): its state, with the
-  // released vertices' accelerations from the forces at it (Newmark's a_n, M a = M g − ∇E − ∇B, as
-  // start() has them) and the pins' work until now booked in the balance (EnergyBalance::pinWork),
-  // whose drift is measured from here on. `pinStart`: the positions from's start() took (the
-  // remaining pins' time-0 positions).
+  // (#V) were let go (releasePinGroups; this stepper built without them): its state, with
+  // Newmark's a_n that of the equation of motion after the release (the released vertices'
+  // M a = M g − ∇E − ∇B − C v, the others' a_n less M⁻¹ C's coupling to the released velocities;
+  // addDampingAtRelease) and the pins' work until now booked in the balance
+  // (EnergyBalance::pinWork), whose drift is measured from here on. `pinStart`: the positions
+  // from's start() took (the remaining pins' time-0 positions).
   void continueAfterRelease(const TimeStepper& from, const Positions& pinStart,
                             const std::vector<bool>& released);
   // Drops the kept factor of the step's Hessian (chord steps start afresh at the next step), so
@@ -341,6 +342,9 @@ class TimeStepper {
   void advanceInto(double h, double minStep, Advance& advance);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
+  // Takes the damping force −C v at the current state into a_n after a release (the released
+  // vertices' whole C v, the others' coupling to the released velocities); none without damping.
+  void addDampingAtRelease(const std::vector<bool>& released);
   // Puts the pinned rows of x (and of v, when given) where the pin motion has them at time t.
   void movePins(Positions& x, Positions* v, double t) const;
 
