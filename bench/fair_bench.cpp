@@ -10,11 +10,14 @@
 //   cgal_fair     optimize::fairCgal (CGAL's PMP::fair, continuity 1, on the patch; includes
 //                 building CGAL's Surface_mesh);
 //   linear_fair   optimize::fairBiharmonic (the same system with CHOLMOD, x, y, z);
-//   <energy>/<solver>  optimize::fairNonlinear with the default options (conformal membrane
-//                 w = 1, start = the better of input and linear fair), 2 threads, on each solver
-//                 of --solvers (newton: flexure's Newton, the default; ceres: Ceres' LM), with
-//                 its iterations and factorizations. bending_energy_after: all five energies of
-//                 the result (flat rest, the input's metric), so solvers compare in each.
+//   <energy>/<solver>[/current]  optimize::fairNonlinear with the metric's default options
+//                 (defaultFairingOptions: mips membrane, w = 1 on the input's metric, 0.1 faded to
+//                 0.01 on the current one; start = the better of input and linear fair), 2
+//                 threads, on each solver of --solvers (newton: flexure's Newton, the default;
+//                 ceres: Ceres' LM) and metric of --metrics (input, the default, and current),
+//                 with its iterations, factorizations and linear-solver seconds.
+//                 bending_energy_after: all five energies of the result (flat rest, the input's
+//                 metric), so solvers compare in each.
 // ratio_to_cgal_fair = seconds / cgal_fair seconds. The bending energy of the default energy
 // (midedge) and the smallest angle after each case are reported too.
 #include <CLI/CLI.hpp>
@@ -116,6 +119,7 @@ int main(int argc, char** argv) {
   std::string meshPath;
   int refine = 1, regionVertices = 50000, seedVertex = 0;
   std::vector<std::string> energies = {"midedge"}, solvers = {"newton", "ceres"};
+  std::vector<std::string> metrics = {"input"};
   app.add_option("--mesh", meshPath, "Input mesh")->required();
   app.add_option("--refine", refine, "Midpoint subdivisions")->capture_default_str();
   app.add_option("--region-vertices", regionVertices, "Region size")->capture_default_str();
@@ -123,7 +127,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--energies", energies, "flexure energies to run")->delimiter(',');
   app.add_option("--solvers", solvers, "newton, ceres")->delimiter(',');
+  app.add_option("--metrics", metrics, "input, current: whose metric the bending energy reads")
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
+  for (const std::string& metric : metrics)
+    if (metric != "input" && metric != "current") {
+      std::cerr << "fair_bench: --metrics " << metric << ": expected input or current\n";
+      return 2;
+    }
 
   modeling::Mesh mesh = modeling::readMesh(meshPath);
   for (int k = 0; k < refine; ++k) mesh = midpointSubdivision(mesh);
@@ -180,21 +191,28 @@ int main(int argc, char** argv) {
 
   for (const std::string& energy : energies) {
     for (const std::string& solver : solvers) {
-      optimize::FairingOptions options;
-      options.bending.discretization = curvature::parseDiscretization(energy);
-      options.solver.solver =
-          solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
-      resetPeakMemory();
-      start = Clock::now();
-      const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
-      record(energy + "/" + solver, secondsSince(start), r.positions,
-             {{"solver", r.report.solver},
-              {"iterations", r.report.iterations},
-              {"factorizations", r.report.factorizations},
-              {"converged", r.report.converged},
-              {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
-              {"linear_solver_seconds", r.report.linearSolverSeconds},
-              {"evaluation_seconds", r.report.evaluationSeconds}});
+      for (const std::string& metric : metrics) {
+        optimize::FairingOptions options =
+            optimize::defaultFairingOptions(metric == "current" ? optimize::FairingMetric::Current
+                                                                : optimize::FairingMetric::Input);
+        options.bending.discretization = curvature::parseDiscretization(energy);
+        options.solver.solver =
+            solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
+        resetPeakMemory();
+        start = Clock::now();
+        const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
+        record(energy + "/" + solver + (metric == "input" ? "" : "/" + metric), secondsSince(start),
+               r.positions,
+               {{"solver", r.report.solver},
+                {"iterations", r.report.iterations},
+                {"factorizations", r.report.factorizations},
+                {"converged", r.report.converged},
+                {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
+                {"linear_solver_seconds", r.report.linearSolverSeconds},
+                {"evaluation_seconds", r.report.evaluationSeconds},
+                {"metric", metric},
+                {"membrane_weight", r.membraneWeight}});
+      }
     }
   }
   const json out = {{"mesh", meshPath},
