@@ -15,6 +15,14 @@
 //                               BM_Setup assembled (outside the timed loop), with 2 threads and
 //                               explicit parameter blocks — what optimize::energyGradient runs per
 //                               call, minus the assembly.
+// and after them
+//   BM_HingeRestTensors         the hinge's face and rest tensors (curvature/hinge_face_tensors.h),
+//                               which its term builds on the first read of its rest curvature (a
+//                               plastic update's), not in makeBendingEnergy: per iteration a fresh
+//                               hinge term (untimed; its build time is the counter term_ms, for
+//                               the ratio in the same run) and its first restCurvatures().
+//                               Counter geometry_ms: the copy of the rest geometry the term keeps
+//                               for that build (HingeRestGeometry::of, part of term_ms).
 // and, first, per mesh size one floor:
 //   BM_LaplacianFloor/n:<n>     y = L X for the cotangent Laplacian L of the rest mesh and the
 //                               #V × 3 current positions X: one sparse matrix-vector product per
@@ -58,6 +66,7 @@
 
 #include "curvature/bending_energy.h"
 #include "curvature/element_term.h"
+#include "curvature/hinge_face_tensors.h"
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
@@ -248,6 +257,35 @@ void setup(benchmark::State& state, EnergyCase c) {
       benchmark::Counter(1e3 * problemSeconds, benchmark::Counter::kAvgIterations);
   evaluationCache().evaluation = std::move(e);
   evaluationCache().discretization = c.discretization;
+}
+
+// BM_HingeRestTensors: the hinge term's tensors, built on its first restCurvatures().
+void hingeRestTensors(benchmark::State& state) {
+  const EnergyCase& c = energyCases().front();  // the hinge's
+  const MeshData& mesh = meshData(c.n);
+  double termSeconds = 0.0, geometrySeconds = 0.0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto start = Clock::now();
+    const auto geometry = flexure::curvature::HingeRestGeometry::of(mesh.stencils, mesh.rest);
+    benchmark::DoNotOptimize(geometry.positions.data());
+    geometrySeconds += std::chrono::duration<double>(Clock::now() - start).count();
+    start = Clock::now();
+    std::unique_ptr<EnergyTerm> term = flexure::curvature::makeBendingEnergy(
+        mesh.stencils, mesh.rest, optionsFor(c.discretization));
+    termSeconds += std::chrono::duration<double>(Clock::now() - start).count();
+    state.ResumeTiming();
+    const Eigen::MatrixXd rest = term->restCurvatureState()->restCurvatures();
+    benchmark::DoNotOptimize(rest.data());
+    state.PauseTiming();
+    term.reset();
+    state.ResumeTiming();
+  }
+  state.counters["n"] = c.n;
+  state.counters["term_ms"] =
+      benchmark::Counter(1e3 * termSeconds, benchmark::Counter::kAvgIterations);
+  state.counters["geometry_ms"] =
+      benchmark::Counter(1e3 * geometrySeconds, benchmark::Counter::kAvgIterations);
 }
 
 // BM_Energy: E from the plain-double element kernels.
@@ -454,6 +492,7 @@ void registerBenchmarks() {
         benchmark::RegisterBenchmark(("BM_EnergyGradient/" + name).c_str(), ceresEvaluate, c, true))
         ->MinTime(1.0);
   }
+  configure(benchmark::RegisterBenchmark("BM_HingeRestTensors", hingeRestTensors))->Iterations(3);
   for (bool closedForm : {false, true}) {
     const std::string name =
         std::string("BM_HingeElementHessian/") + (closedForm ? "closed" : "jets");

@@ -1,5 +1,6 @@
 // hinge — Discrete Shells (hinge_bending.h): its factory and registry entry.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "curvature/element_term.h"
@@ -28,22 +29,18 @@ std::string hingeElement(const Stencils& s, int h) {
 // "Plasticity"): a face's tensor is T_f(φ(θ)) read from its edges' angle measures, the rest one
 // T_f(φ(θ̄⁰)); a new rest tensor S̄ moves each edge's rest angle to
 // φ(θ̄_e) = φ(θ̄⁰_e) + ½ (c_e^f · (S̄_f − S̄⁰_f) + c_e^g · (S̄_g − S̄⁰_g)).
+// The tensors are built on the first of these calls (HingeRestTensors): the energy and its
+// derivatives never read them, so an elastic problem never builds them.
 class HingeTerm final : public ElementTerm<HingeBendingResidual> {
  public:
   HingeTerm(std::vector<HingeBendingResidual> elements, std::vector<int> ids, double covered,
-            HingeFaceTensors faces)
+            HingeRestGeometry geometry)
       : ElementTerm(kName, std::string(elementKindName(kElementKind)), std::move(elements),
                     std::move(ids), covered, false),
-        faces_(std::move(faces)),
-        restAngles_(this->elements().size()) {
-    for (size_t e = 0; e < this->elements().size(); ++e)
-      restAngles_[static_cast<Eigen::Index>(e)] = this->elements()[e].restMeasure;
-    restTensors_ = faces_.tensors(restAngles_);
-    rest_ = restTensors_;
-  }
+        tensors_(std::move(geometry), restMeasures(this->elements())) {}
 
   RestCurvatureState* restCurvatureState() override { return this; }
-  int elementId(int e) const override { return faces_.face(e); }
+  int elementId(int e) const override { return tensors_.faces().face(e); }
   Eigen::MatrixXd elementCurvatures(const Positions& x, const Eigen::VectorXd&) const override {
     Eigen::VectorXd angles(elements().size());
     std::vector<const double*> blocks;
@@ -52,22 +49,30 @@ class HingeTerm final : public ElementTerm<HingeBendingResidual> {
       parameterBlocks(r, x.data(), static_cast<const double*>(nullptr), blocks);
       angles[static_cast<Eigen::Index>(e)] = hingeAngleMeasure(r.angle(blocks.data()), r.measure);
     }
-    return faces_.tensors(angles);
+    return tensors_.faces().tensors(angles);
   }
-  Eigen::MatrixXd restCurvatures() const override { return rest_; }
+  Eigen::MatrixXd restCurvatures() const override {
+    return rest_ ? *rest_ : tensors_.restTensors();
+  }
   void setRestCurvatures(const Eigen::MatrixXd& rest) override {
     rest_ = rest;
-    const Eigen::VectorXd angles = restAngles_ + faces_.angles(rest - restTensors_);
+    const Eigen::VectorXd angles =
+        tensors_.restAngles() + tensors_.faces().angles(rest - tensors_.restTensors());
     std::vector<HingeBendingResidual>& elements = mutableElements();
     for (size_t e = 0; e < elements.size(); ++e)
       elements[e].restMeasure = angles[static_cast<Eigen::Index>(e)];
   }
 
  private:
-  HingeFaceTensors faces_;
-  Eigen::VectorXd restAngles_;   // φ(θ̄⁰_e) as built
-  Eigen::MatrixXd restTensors_;  // S̄⁰_f = T_f(φ(θ̄⁰))
-  Eigen::MatrixXd rest_;         // S̄_f
+  static Eigen::VectorXd restMeasures(const std::vector<HingeBendingResidual>& elements) {
+    Eigen::VectorXd out(elements.size());
+    for (size_t e = 0; e < elements.size(); ++e)
+      out[static_cast<Eigen::Index>(e)] = elements[e].restMeasure;
+    return out;
+  }
+
+  HingeRestTensors tensors_;             // φ(θ̄⁰_e) as built; T_f and S̄⁰_f on first use
+  std::optional<Eigen::MatrixXd> rest_;  // S̄_f once set; S̄⁰_f until then
 };
 
 std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
@@ -104,7 +109,7 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
     covered += areas / 3.0;
   }
   return std::make_unique<HingeTerm>(std::move(elements), std::move(ids), covered,
-                                     HingeFaceTensors(s, rest));
+                                     HingeRestGeometry::of(s, rest));
 }
 
 }  // namespace

@@ -14,14 +14,14 @@
 namespace flexure::curvature {
 namespace {
 
-Eigen::Vector3d restVertex(const modeling::RestState& rest, int v) {
+Eigen::Vector3d restVertex(const HingeRestGeometry& rest, int v) {
   return rest.positions.row(v).transpose();
 }
 
 // The rest frame of mesh face f (the frame the face energies' tensors are in).
-FaceFrame restFrame(const modeling::Stencils& s, const modeling::RestState& rest, int f) {
-  return FaceFrame::of(restVertex(rest, s.faces(f, 0)), restVertex(rest, s.faces(f, 1)),
-                       restVertex(rest, s.faces(f, 2)));
+FaceFrame restFrame(const HingeRestGeometry& rest, int f) {
+  return FaceFrame::of(restVertex(rest, rest.faces(f, 0)), restVertex(rest, rest.faces(f, 1)),
+                       restVertex(rest, rest.faces(f, 2)));
 }
 
 // The apex p's coordinates (a, h) along and off the edge x_i → x_i + L t̂ (h ≥ 0).
@@ -56,8 +56,17 @@ Eigen::RowVector3d hingeAngleRow(const Eigen::Vector2d& t, const Eigen::Vector2d
   return along * tt + (f.ag - f.af) * tm + 0.5 * (f.hf + f.hg) * mm;
 }
 
-HingeFaceTensors::HingeFaceTensors(const modeling::Stencils& s, const modeling::RestState& rest) {
-  std::vector<int> elementOf(static_cast<size_t>(s.faceCount()), -1);
+HingeRestGeometry HingeRestGeometry::of(const modeling::Stencils& s,
+                                        const modeling::RestState& rest) {
+  HingeRestGeometry g{rest.positions, s.faces, s.hinges, modeling::IndexPairs(s.hingeCount(), 2)};
+  for (int h = 0; h < s.hingeCount(); ++h) g.hingeFaces.row(h) = s.edgeFaces.row(s.hingeEdges[h]);
+  return g;
+}
+
+HingeFaceTensors::HingeFaceTensors(const HingeRestGeometry& rest) {
+  const auto faceCount = static_cast<int>(rest.faces.rows());
+  const auto hingeCount = static_cast<int>(rest.hinges.rows());
+  std::vector<int> elementOf(static_cast<size_t>(faceCount), -1);
   const auto elementFor = [&](int f) {
     if (elementOf[static_cast<size_t>(f)] < 0) {
       elementOf[static_cast<size_t>(f)] = static_cast<int>(faces_.size());
@@ -66,27 +75,26 @@ HingeFaceTensors::HingeFaceTensors(const modeling::Stencils& s, const modeling::
     return elementOf[static_cast<size_t>(f)];
   };
   // Elements in mesh face order.
-  std::vector<bool> hasInterior(static_cast<size_t>(s.faceCount()), false);
-  for (int h = 0; h < s.hingeCount(); ++h)
+  std::vector<bool> hasInterior(static_cast<size_t>(faceCount), false);
+  for (int h = 0; h < hingeCount; ++h)
     for (int side = 0; side < 2; ++side)
-      hasInterior[static_cast<size_t>(s.edgeFaces(s.hingeEdges[h], side))] = true;
-  for (int f = 0; f < s.faceCount(); ++f)
+      hasInterior[static_cast<size_t>(rest.hingeFaces(h, side))] = true;
+  for (int f = 0; f < faceCount; ++f)
     if (hasInterior[static_cast<size_t>(f)]) elementFor(f);
   std::vector<FaceFrame> frames;
-  frames.reserve(static_cast<size_t>(s.faceCount()));
-  for (int f = 0; f < s.faceCount(); ++f) frames.push_back(restFrame(s, rest, f));
-  hingeFaces_.resize(static_cast<size_t>(s.hingeCount()));
-  hingeRows_.resize(static_cast<size_t>(s.hingeCount()));
-  for (int h = 0; h < s.hingeCount(); ++h) {
-    const int e = s.hingeEdges[h];
-    const Eigen::Vector3d xi = restVertex(rest, s.hinges(h, 0)),
-                          xj = restVertex(rest, s.hinges(h, 1));
-    const Eigen::Vector3d xk = restVertex(rest, s.hinges(h, 2)),
-                          xl = restVertex(rest, s.hinges(h, 3));
+  frames.reserve(static_cast<size_t>(faceCount));
+  for (int f = 0; f < faceCount; ++f) frames.push_back(restFrame(rest, f));
+  hingeFaces_.resize(static_cast<size_t>(hingeCount));
+  hingeRows_.resize(static_cast<size_t>(hingeCount));
+  for (int h = 0; h < hingeCount; ++h) {
+    const Eigen::Vector3d xi = restVertex(rest, rest.hinges(h, 0)),
+                          xj = restVertex(rest, rest.hinges(h, 1));
+    const Eigen::Vector3d xk = restVertex(rest, rest.hinges(h, 2)),
+                          xl = restVertex(rest, rest.hinges(h, 3));
     // f = (i, j, k) is the edge face that holds k.
-    int f = s.edgeFaces(e, 0), g = s.edgeFaces(e, 1);
+    int f = rest.hingeFaces(h, 0), g = rest.hingeFaces(h, 1);
     bool fHoldsK = false;
-    for (int c = 0; c < 3; ++c) fHoldsK = fHoldsK || s.faces(f, c) == s.hinges(h, 2);
+    for (int c = 0; c < 3; ++c) fHoldsK = fHoldsK || rest.faces(f, c) == rest.hinges(h, 2);
     if (!fHoldsK) std::swap(f, g);
     const double length = (xj - xi).norm();
     const Eigen::Vector3d unit = (xj - xi) / length;
@@ -135,6 +143,16 @@ Eigen::VectorXd HingeFaceTensors::angles(const Eigen::MatrixXd& tensors) const {
         0.5 * (hingeRows_[h][0].dot(tensors.row(hingeFaces_[h][0])) +
                hingeRows_[h][1].dot(tensors.row(hingeFaces_[h][1])));
   return out;
+}
+
+const HingeRestTensors::Built& HingeRestTensors::built() const {
+  std::call_once(once_, [this] {
+    HingeFaceTensors faces(geometry_);
+    Eigen::MatrixXd rest = faces.tensors(restAngles_);
+    built_.emplace(Built{std::move(faces), std::move(rest)});
+    isBuilt_.store(true, std::memory_order_release);
+  });
+  return *built_;
 }
 
 }  // namespace flexure::curvature

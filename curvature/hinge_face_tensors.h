@@ -17,6 +17,10 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
+#include <mutex>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "modeling/rest_state.h"
@@ -33,11 +37,24 @@ struct HingeFlaps {
 Eigen::RowVector3d hingeAngleRow(const Eigen::Vector2d& t, const Eigen::Vector2d& m,
                                  const HingeFlaps& flaps);
 
+// What the tensors are built from, copied out of the stencils and the rest state: a term that
+// builds them later keeps this, not references to a Problem's members (which move with it).
+struct HingeRestGeometry {
+  modeling::Positions positions;    // #V by 3: X̄
+  modeling::Triangles faces;        // #F by 3
+  modeling::IndexQuads hinges;      // #H by 4: (i, j, k, l)
+  modeling::IndexPairs hingeFaces;  // #H by 2: the faces (f, g) of each hinge's edge
+
+  static HingeRestGeometry of(const modeling::Stencils& s, const modeling::RestState& rest);
+};
+
 // The rows c_e of every hinge (the stencils' hinge order, which is the hinge term's element
 // order) in the rest frames (face_frame.h) of its two faces, and per face the inverse map.
 class HingeFaceTensors {
  public:
-  HingeFaceTensors(const modeling::Stencils& s, const modeling::RestState& rest);
+  explicit HingeFaceTensors(const HingeRestGeometry& geometry);
+  HingeFaceTensors(const modeling::Stencils& s, const modeling::RestState& rest)
+      : HingeFaceTensors(HingeRestGeometry::of(s, rest)) {}
 
   // The faces with at least one interior edge, in mesh order: element k is mesh face face(k).
   int faceCount() const { return static_cast<int>(faces_.size()); }
@@ -60,6 +77,40 @@ class HingeFaceTensors {
   std::vector<Face> faces_;
   std::vector<std::array<int, 2>> hingeFaces_;                // per hinge: the elements of f, g
   std::vector<std::array<Eigen::RowVector3d, 2>> hingeRows_;  // c_e in f's frame, in g's
+};
+
+// The hinge term's rest angles φ(θ̄⁰_e) and, built on first use, the face tensors and the rest
+// tensors S̄⁰_f = T_f(φ(θ̄⁰)) they read. Only a plastic update reads the hinge's rest curvature,
+// so a problem that never does (an elastic one) never pays the build, about 5× the rest of the
+// term's, only the copy of the geometry (bench/energy_bench.cpp, BM_HingeRestTensors: counters
+// term_ms and geometry_ms against the build's time). The build is the eager one, so the tensors
+// are the same bit for bit. The accessors are const and may be called from several threads at once:
+// the build runs once, under std::call_once, into members that are mutable for that reason only.
+class HingeRestTensors {
+ public:
+  HingeRestTensors(HingeRestGeometry geometry, Eigen::VectorXd restAngles)
+      : geometry_(std::move(geometry)), restAngles_(std::move(restAngles)) {}
+  HingeRestTensors(const HingeRestTensors&) = delete;
+  HingeRestTensors& operator=(const HingeRestTensors&) = delete;
+
+  const Eigen::VectorXd& restAngles() const { return restAngles_; }  // φ(θ̄⁰_e), #hinges
+  const HingeFaceTensors& faces() const { return built().faces; }
+  const Eigen::MatrixXd& restTensors() const { return built().rest; }  // S̄⁰, #faces by 3
+  // Whether the tensors have been built (a cheap query: a term's cost, and its test).
+  bool isBuilt() const { return isBuilt_.load(std::memory_order_acquire); }
+
+ private:
+  struct Built {
+    HingeFaceTensors faces;
+    Eigen::MatrixXd rest;
+  };
+  const Built& built() const;
+
+  HingeRestGeometry geometry_;
+  Eigen::VectorXd restAngles_;
+  mutable std::once_flag once_;
+  mutable std::optional<Built> built_;
+  mutable std::atomic<bool> isBuilt_{false};
 };
 
 }  // namespace flexure::curvature

@@ -3,12 +3,15 @@
 // axes, a sphere, a saddle) on the criss, Delaunay and 4-8 plates, with the hinge energy's own
 // angle and sign; the hinge term reads K back on every face with three interior edges, a face with
 // fewer reads the minimum-norm tensor of its edges (no larger than K), and moving the rest tensor
-// by K puts every hinge of the interpolated surface at rest.
+// by K puts every hinge of the interpolated surface at rest. The hinge term's tensors are built
+// on first use, once, from a copy of the rest geometry (HingeRestTensors).
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "curvature/bending_angle.h"
@@ -161,6 +164,46 @@ TEST(HingeFaceTensors, TheHingeTermReadsAUniformCurvaturePerFace) {
       EXPECT_NEAR(setup.term->energy(x, {}), flat, 1e-12 * flat);
     }
   }
+}
+
+TEST(HingeFaceTensors, RestTensorsAreBuiltOnFirstUseFromACopy) {
+  // A curved rest (a saddle, so that the rest angles and S̄⁰ are not zero), its stencils and rest
+  // state gone before the first use: the build reads only the holder's copy.
+  const Eigen::Matrix2d k = Eigen::Vector2d(0.3, -0.2).asDiagonal();
+  modeling::Mesh mesh = plate(MeshFamily::Delaunay);
+  mesh.positions = interpolated(mesh.positions, k);
+  std::unique_ptr<curvature::HingeRestTensors> lazy;
+  Eigen::VectorXd restAngles;
+  Eigen::MatrixXd eagerRest, eagerRead;
+  std::vector<int> eagerFaces;
+  {
+    const modeling::Stencils s = modeling::compileStencils(mesh);
+    const modeling::RestState rest = modeling::precomputeRestState(s, mesh.positions);
+    restAngles = hingeMeasures(s, mesh.positions, curvature::HingeAngle::Theta);
+    const curvature::HingeFaceTensors eager(s, rest);
+    eagerRest = eager.tensors(restAngles);
+    eagerRead = eager.tensors(2.0 * restAngles);
+    for (int e = 0; e < eager.faceCount(); ++e) eagerFaces.push_back(eager.face(e));
+    lazy = std::make_unique<curvature::HingeRestTensors>(curvature::HingeRestGeometry::of(s, rest),
+                                                         restAngles);
+  }
+  ASSERT_GT(eagerRest.cwiseAbs().maxCoeff(), 0.01);
+  EXPECT_FALSE(lazy->isBuilt());
+  EXPECT_EQ(lazy->restAngles(), restAngles);  // no build needed
+  EXPECT_FALSE(lazy->isBuilt());
+  // Two threads ask at once: one build, the same object for both.
+  const curvature::HingeFaceTensors* seen[2] = {nullptr, nullptr};
+  std::thread other([&] { seen[1] = &lazy->faces(); });
+  seen[0] = &lazy->faces();
+  other.join();
+  EXPECT_TRUE(lazy->isBuilt());
+  EXPECT_EQ(seen[0], seen[1]);
+  // The eager build's tensors, bit for bit.
+  EXPECT_EQ(lazy->restTensors(), eagerRest);
+  EXPECT_EQ(lazy->faces().tensors(2.0 * restAngles), eagerRead);
+  ASSERT_EQ(lazy->faces().faceCount(), static_cast<int>(eagerFaces.size()));
+  for (int e = 0; e < lazy->faces().faceCount(); ++e)
+    EXPECT_EQ(lazy->faces().face(e), eagerFaces[e]);
 }
 
 }  // namespace
