@@ -4,7 +4,9 @@
 // CGAL's linear fair and by flexure with each energy. Each result's distance from the exact surface
 // over the region, max and RMS of |dist| / scale, at several resolutions, and the order of the
 // error under refinement (log2 of successive ratios: each level halves the edge length). Smallest
-// angle and seconds beside. JSON on stdout, a table on stderr.
+// angle, seconds and checkFairing's verdict (faces turned over or degenerate, and for flexure the
+// gradient check: a row marked FAILS CHECKS is a result `flexure fair` would not write) beside.
+// JSON on stdout, a table on stderr.
 //
 // Cases (--cases): noise<D> — a geodesic cap of D degrees (sphere) or D/180·π tube radii (torus),
 // 5 % radial noise (--noise); flat<D> — the cap pressed flat onto the plane through its rim.
@@ -67,6 +69,7 @@ int main(int argc, char** argv) {
   std::optional<double> weight;   // empty: the metric's default (optimize::defaultFairingOptions)
   std::optional<int> fadeStages;  // likewise
   std::string metric = "current", shape = "start", vertexArea;  // vertexArea likewise
+  std::string start = "best";
   int threads = 2;
   bool progress = false;
   std::string writeDirectory;
@@ -91,11 +94,14 @@ int main(int argc, char** argv) {
                  "cotan's vertex area: barycentric | voronoi (default: the metric's, barycentric "
                  "on the current metric)")
       ->check(CLI::IsMember({"barycentric", "voronoi"}));
+  app.add_option("--start", start, "Start of the nonlinear solve: best | biharmonic | input")
+      ->check(CLI::IsMember({"best", "biharmonic", "input"}));
   app.add_option("--threads", threads);
   app.add_flag("--progress", progress);
   app.add_option("--write", writeDirectory,
                  "Also write each spoiled mesh and its region, DIR/SURFACE-CASE-LEVEL.off and "
-                 ".txt (for flexure fair --region vertices:FILE)")
+                 ".txt (for flexure fair --region vertices:FILE), and each result, "
+                 "DIR/SURFACE-CASE-LEVEL-METHOD.off")
       ->check(CLI::ExistingDirectory);
   CLI11_PARSE(app, argc, argv);
 
@@ -139,9 +145,9 @@ int main(int argc, char** argv) {
         spoiled.positions = modeling::perturbRegion(
             surface, exact, region, centre,
             flat ? modeling::Perturbation::Flatten : modeling::Perturbation::Noise, noise, 11);
+        const std::string stem =
+            writeDirectory + "/" + surfaceName + "-" + spec + "-" + std::to_string(level);
         if (!writeDirectory.empty()) {
-          const std::string stem =
-              writeDirectory + "/" + surfaceName + "-" + spec + "-" + std::to_string(level);
           modeling::writeMesh(stem + ".off", spoiled);
           std::ofstream indices(stem + ".txt");
           for (int v = 0; v < spoiled.vertexCount(); ++v)
@@ -155,18 +161,31 @@ int main(int argc, char** argv) {
                     {"level", level},
                     {"vertices", exact.vertexCount()},
                     {"region_vertices", modeling::countVertices(region)}};
+        // A result is recorded with checkFairing's checks (`solve`: flexure's, for the gradient
+        // check); a solve that stopped at a result with an inverted or degenerate face is no
+        // fairing `flexure fair` would write, so its row says so beside the distances.
         const auto record = [&](const std::string& name, const modeling::Positions& x,
-                                double seconds, json extra) {
+                                double seconds, json extra,
+                                const optimize::FairingResult* solve = nullptr) {
           const Distance d = regionDistance(surface, patch, x);
-          const optimize::FairingChecks checks = optimize::checkFairing(patch, x, nullptr);
+          const optimize::FairingChecks checks = optimize::checkFairing(patch, x, solve);
           extra["max"] = d.max;
           extra["rms"] = d.rms;
           extra["seconds"] = seconds;
           extra["min_angle"] = checks.resultMinAngleDegrees;
+          extra["inverted_faces"] = checks.invertedFaces.size();
+          extra["degenerate_faces"] = checks.degenerateFaces.size();
+          extra["checks_passed"] = checks.passed();
           row[name] = extra;
-          std::fprintf(stderr, "%-6s %-8s L%d %-8s max %.2e rms %.2e  angle %5.2f  %6.2f s %s\n",
+          if (!writeDirectory.empty() && name != "input") {
+            modeling::Mesh result = spoiled;
+            result.positions = modeling::scatterPatchPositions(spoiled.positions, patch, x);
+            modeling::writeMesh(stem + "-" + name + ".off", result);
+          }
+          std::fprintf(stderr, "%-6s %-8s L%d %-8s max %.2e rms %.2e  angle %5.2f  %6.2f s%s %s\n",
                        surfaceName.c_str(), spec.c_str(), level, name.c_str(), d.max, d.rms,
-                       checks.resultMinAngleDegrees, seconds, extra.dump().c_str());
+                       checks.resultMinAngleDegrees, seconds,
+                       checks.passed() ? "" : "  FAILS CHECKS", extra.dump().c_str());
         };
         record("input", patch.mesh.positions, 0.0, json::object());
         auto t0 = Clock::now();
@@ -186,6 +205,9 @@ int main(int argc, char** argv) {
           }
           options.membraneShape =
               shape == "input" ? optimize::FairingShape::Input : optimize::FairingShape::Start;
+          options.start = start == "input"        ? optimize::FairingStart::Input
+                          : start == "biharmonic" ? optimize::FairingStart::Biharmonic
+                                                  : optimize::FairingStart::Best;
           if (weight) options.membraneWeight = *weight;
           if (fadeStages) options.membraneFadeStages = *fadeStages;
           options.solver.threads = threads;
@@ -193,8 +215,15 @@ int main(int argc, char** argv) {
           t0 = Clock::now();
           try {
             const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
+            const char* startName =
+                r.start == optimize::FairingStart::Input ? "input" : "biharmonic";
             record(energy, r.positions, std::chrono::duration<double>(Clock::now() - t0).count(),
-                   {{"converged", r.report.converged}, {"iterations", r.report.iterations}});
+                   {{"converged", r.report.converged},
+                    {"iterations", r.report.iterations},
+                    {"start", startName},
+                    {"membrane_weight", r.membraneWeight},
+                    {"gradient_ratio", r.finalGradientNorm / r.startGradientNorm}},
+                   &r);
           } catch (const std::exception& e) {
             row[energy] = {{"error", e.what()}};
             std::fprintf(stderr, "%s: %s\n", energy.c_str(), e.what());
