@@ -148,6 +148,20 @@ int stepUntil(FracturingDynamics& dynamics, int steps, Until until) {
   return steps;
 }
 
+// The piece the right grip held (its vertices and all connected to them at rest), disjoint from
+// the left grip's after the tear, its mass and its momentum now.
+struct RightPiece {
+  std::vector<bool> vertices;
+  double mass = 0.0;
+  Eigen::Vector3d momentum;
+};
+void rightPiece(const FracturingDynamics& dynamics, RightPiece& piece) {
+  piece.vertices = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), false));
+  const std::vector<bool> left = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), true));
+  for (std::size_t v = 0; v < left.size(); ++v) ASSERT_FALSE(piece.vertices[v] && left[v]) << v;
+  piece.momentum = momentum(dynamics.stepper(), piece.vertices, &piece.mass);
+}
+
 int fragmentCount(const FracturingDynamics& dynamics) {
   return static_cast<int>(optimize::meshFragments(dynamics.restMesh()).size());
 }
@@ -200,11 +214,8 @@ TEST(ReleaseWithFracture, AGripLetGoAfterTheTearIsTheSameMaterialPointsAndFallsF
   EXPECT_NEAR(dynamics.stepper().time(), release, 1e-12);
   EXPECT_TRUE(std::isinf(dynamics.nextRelease()));
   expectHeldAreTheGrips(dynamics, true, false);
-  const std::vector<bool> right = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), false));
-  const std::vector<bool> left = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), true));
-  for (std::size_t v = 0; v < right.size(); ++v) ASSERT_FALSE(right[v] && left[v]) << v;
-  double mass = 0.0;
-  const Eigen::Vector3d p0 = momentum(dynamics.stepper(), right, &mass);
+  RightPiece piece;
+  ASSERT_NO_FATAL_FAILURE(rightPiece(dynamics, piece));
   const double pinWork = dynamics.stepper().balance().pinWork;
   EXPECT_GT(pinWork, 0.0);  // the pull stretched the strip
   EXPECT_TRUE(dynamics.stepper().balanceChecked());
@@ -216,8 +227,9 @@ TEST(ReleaseWithFracture, AGripLetGoAfterTheTearIsTheSameMaterialPointsAndFallsF
     stepUntil(dynamics, 1, [] { return false; });
     ASSERT_EQ(dynamics.cracks().size(), cracks) << "cracked again after the release, step " << k;
     const double t = dynamics.stepper().time();
-    const Eigen::Vector3d gained = momentum(dynamics.stepper(), right) - p0;
-    worstMomentum = std::max(worstMomentum, (gained - mass * kGravity * (t - release)).norm());
+    const Eigen::Vector3d gained = momentum(dynamics.stepper(), piece.vertices) - piece.momentum;
+    worstMomentum =
+        std::max(worstMomentum, (gained - piece.mass * kGravity * (t - release)).norm());
     for (int v = 0; v < dynamics.restMesh().vertexCount(); ++v)
       if (grip0[v]) {
         const Eigen::Vector3d onLine = dynamics.restMesh().positions.row(v).transpose() + t * kPull;
@@ -225,7 +237,7 @@ TEST(ReleaseWithFracture, AGripLetGoAfterTheTearIsTheSameMaterialPointsAndFallsF
             std::max(offLine, (dynamics.stepper().positions().row(v).transpose() - onLine).norm());
       }
   }
-  const double fallen = mass * kGravity.norm() * 40 * kStep;
+  const double fallen = piece.mass * kGravity.norm() * 40 * kStep;
   std::printf("momentum error %.3g of %.3g; off the pin's line %.3g; pin work %.6g; drift %.4g\n",
               worstMomentum, fallen, offLine, pinWork,
               dynamics.stepper().balance().relativeDrift());
@@ -296,17 +308,16 @@ TEST(ReleaseWithFracture, ADampedGripLetGoAfterTheTearFallsAsADampedFreeBody) {
     stepUntil(dynamics, releaseStep, [] { return false; });
     ASSERT_EQ(fragmentCount(dynamics), 2) << "alpha " << alpha;
     expectHeldAreTheGrips(dynamics, true, false);
-    const std::vector<bool> right = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), false));
-    const std::vector<bool> left = pieceOf(dynamics.restMesh(), grip(dynamics.restMesh(), true));
-    for (std::size_t v = 0; v < right.size(); ++v) ASSERT_FALSE(right[v] && left[v]) << v;
-    double mass = 0.0;
-    const Eigen::Vector3d p0 = momentum(dynamics.stepper(), right, &mass);
-    const Eigen::Vector3d q0 = alpha > 0.0 ? Eigen::Vector3d(p0 - mass * kGravity / alpha) : p0;
+    RightPiece piece;
+    ASSERT_NO_FATAL_FAILURE(rightPiece(dynamics, piece));
+    const Eigen::Vector3d q0 = alpha > 0.0
+                                   ? Eigen::Vector3d(piece.momentum - piece.mass * kGravity / alpha)
+                                   : piece.momentum;
     const optimize::DynamicsOptions o;  // Newmark's β, γ and the Newton tolerance used
     const double diagonal =
         (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
     const double newtonPerStep =
-        std::sqrt(3.0) * o.gamma / (o.beta * kStep) * o.tolerance * diagonal * mass;
+        std::sqrt(3.0) * o.gamma / (o.beta * kStep) * o.tolerance * diagonal * piece.mass;
     const std::size_t cracks = dynamics.cracks().size();
     double worst = 0.0, largest = 0.0;  // the largest error over its tolerance, and alone
     for (int k = 1; k <= 40; ++k) {
@@ -314,15 +325,16 @@ TEST(ReleaseWithFracture, ADampedGripLetGoAfterTheTearFallsAsADampedFreeBody) {
       ASSERT_EQ(dynamics.cracks().size(), cracks) << "cracked again after the release, step " << k;
       const double s = dynamics.stepper().time() - release, z = alpha * kStep;
       const double growth = alpha > 0.0 ? -std::expm1(-alpha * s) / alpha : s;
-      const Eigen::Vector3d exact = p0 * std::exp(-alpha * s) + mass * kGravity * growth;
-      const double error = (momentum(dynamics.stepper(), right) - exact).norm();
+      const Eigen::Vector3d exact =
+          piece.momentum * std::exp(-alpha * s) + piece.mass * kGravity * growth;
+      const double error = (momentum(dynamics.stepper(), piece.vertices) - exact).norm();
       const double tolerance =
           q0.norm() * alpha * s * z * z / (12.0 * (1.0 - 0.25 * z * z)) + k * newtonPerStep;
       largest = std::max(largest, error);
       worst = std::max(worst, error / tolerance);
     }
     std::printf("alpha %g beta %g: M %.4g, M g s %.4g; momentum error <= %.3g (%.3g x tolerance)\n",
-                alpha, beta, mass, mass * kGravity.norm() * 40 * kStep, largest, worst);
+                alpha, beta, piece.mass, piece.mass * kGravity.norm() * 40 * kStep, largest, worst);
     EXPECT_LE(worst, 1.0) << "alpha " << alpha;
   }
 }
