@@ -14,6 +14,7 @@
 #include "modeling/errors.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
+#include "support/damped_free_body.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -167,25 +168,15 @@ TEST(PinGroups, AGroupIsLetGoAtItsReleaseTime) {
   EXPECT_LT(dynamics.stepper().balance().relativeDrift(), 0.01);
 }
 
-// Both ends let go at T = 10 h (h = 1/64; the left end still, the right one pulled at u) with
-// Rayleigh damping C = α M + β K̄, under gravity g: from T on the plate is a free body, on which
-// the damping's β K̄ exerts no net force (K̄ = JᵀJ at rest, and the energies' residuals r do not
-// change under a translation t, so J t = 0 and 1ᵀ K̄ v = (K̄ 1)ᵀ v = 0 per direction), nor do the
-// elastic forces. Its momentum p = Σ m v obeys dp/dt = M g − α p:
-//   p(t) = p(T) e^{−α s} + M g (1 − e^{−α s}) / α,  s = t − T   (α = 0: p(T) + M g s).
-// Newmark's γ = ½ advances Σ m v by the trapezoidal rule, p_{n+1} = p_n + ½ h (F_n + F_{n+1}),
-// F = M g − α p, so q = p − M g / α shrinks by r = (1 − z/2)/(1 + z/2) per step, z = α h, and
-// ln r = −z − z³/12 − z⁵/80 − …, i.e. −z − δ with δ ≤ z³/(12 (1 − z²/4)). After n = s/h steps
-//   |p_n − p(t)| = |q(T)| e^{−α s} (1 − e^{−n δ}) ≤ |q(T)| α s (α h)² / (12 (1 − (α h)²/4)),
-// the tolerance, plus Newton's: each step's x to its stop rule, tolerance × L per coordinate,
-// gives Σ m v off by √3 γ/(β h) tolerance L M (exact but for that when α = 0). It holds
-// only when Newmark's a_n at T is the equation of motion's after the release, damping included
-// (TimeStepper::continueAfterRelease): measured before that, the released vertices' a_n
-// from the forces alone (no −α v_R, no −β (K̄ v)_R) and the others' without the coupling
-// −β K̄_FR v_R, the momentum left the closed form by 1.8e-4, 0.040 and 0.041 (125, 2.7e4 and
-// 1.3e6 × the tolerance) for (α, β) = (2, 0), (2, 0.01), (0, 0.01); now by 1.5e-5, 1.5e-5 (0.95
-// × the tolerance: the trapezoidal rule's own error, e^{−αh} × its bound after one step) and
-// 1.6e-11.
+// Both ends let go at T = 10 h (h = 1/64; the left end still, the right one pulled) with Rayleigh
+// damping C = α M + β K̄, under gravity g: from T on the plate is a free body, whose momentum
+// follows support/damped_free_body.h's law within its bound. It holds only when Newmark's a_n at T
+// is the equation of motion's after the release, damping included
+// (TimeStepper::continueAfterRelease): measured before that, the released vertices' a_n from the
+// forces alone (no −α v_R, no −β (K̄ v)_R) and the others' without the coupling −β K̄_FR v_R, the
+// momentum left the closed form by 1.8e-4, 0.040 and 0.041 (125, 2.7e4 and 1.3e6 × the bound) for
+// (α, β) = (2, 0), (2, 0.01), (0, 0.01); now by 1.5e-5, 1.5e-5 (0.95 × the bound: the trapezoidal
+// rule's own error, e^{−αh} × its bound after one step) and 1.6e-11.
 TEST(PinGroups, APlateLetGoWithDampingFallsAsADampedFreeBody) {
   const double h = 1.0 / 64, release = 10 * h;
   const Eigen::Vector3d g(0.0, 0.0, -1.0);
@@ -213,22 +204,15 @@ TEST(PinGroups, APlateLetGoWithDampingFallsAsADampedFreeBody) {
     ASSERT_TRUE(dynamics.releasePins(release));
     const double mass = dynamics.stepper().masses().sum();
     const Eigen::Vector3d p0 = momentum();
-    const Eigen::Vector3d q0 = alpha > 0.0 ? Eigen::Vector3d(p0 - mass * g / alpha) : p0;
-    // Newton stops when its step moves no coordinate by more than tolerance × L (L the rest
-    // diagonal); with x off by that, v = v̂ + γ h (x − x̂)/(β h²) is off by γ/(β h) of it.
     const double diagonal = (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm();
-    const double newtonPerStep =
-        std::sqrt(3.0) * o.gamma / (o.beta * h) * o.tolerance * diagonal * mass;
-    double worst = 0.0, largest = 0.0;  // the largest error over its tolerance, and alone
+    const testing::DampedFreeBody body(p0, mass, g, alpha, h, o, diagonal);
+    double worst = 0.0, largest = 0.0;  // the largest error over its bound, and alone
     for (int k = 1; k <= 20; ++k) {
       ASSERT_TRUE(dynamics.stepper().advance(h, h / 64).completed) << "step " << k;
-      const double s = dynamics.stepper().time() - release, z = alpha * h;
-      const double growth = alpha > 0.0 ? -std::expm1(-alpha * s) / alpha : s;
-      const Eigen::Vector3d exact = p0 * std::exp(-alpha * s) + mass * g * growth;
-      const double tolerance =
-          q0.norm() * alpha * s * z * z / (12.0 * (1.0 - 0.25 * z * z)) + k * newtonPerStep;
-      largest = std::max(largest, (momentum() - exact).norm());
-      worst = std::max(worst, (momentum() - exact).norm() / tolerance);
+      const double s = dynamics.stepper().time() - release;
+      const double error = (momentum() - body.momentum(s)).norm();
+      largest = std::max(largest, error);
+      worst = std::max(worst, error / body.tolerance(s, k));
     }
     std::printf(
         "alpha %g beta %g: |p(T)| %.4g, M %.4g; momentum error <= %.3g (%.3g x tolerance)\n", alpha,

@@ -27,6 +27,7 @@
 #include "optimize/inelastic/pin_release.h"
 #include "optimize/inelastic/plastic_dynamics.h"
 #include "optimize/problem.h"
+#include "support/damped_free_body.h"
 
 namespace flexure {
 namespace {
@@ -294,11 +295,10 @@ TEST(ReleaseWithFracture, AGripLetGoBeforeTheTearStillTears) {
 // 5 steps later, at T = 0.16. From then on the right piece is a free body, on which neither its
 // elastic forces nor β K̄ (K̄ annihilates translations) exert a net force, so its momentum obeys
 // dp/dt = M g − α p: p(t) = p(T) e^{−α s} + M g (1 − e^{−α s}) / α (s = t − T; α = 0: p(T) + M g
-// s), to the trapezoidal rule's error and Newton's (derived in test_pin_groups.cpp's
-// APlateLetGoWithDampingFallsAsADampedFreeBody). Measured: 1.2e-11 and 1.2e-7 off over 0.2 s
-// (M g s = 6.1e-3). Before Newmark's a_n at the release took the damping in
-// (TimeStepper::continueAfterRelease), the momentum jumped in the step after it, by −3.3e-3 along
-// the pull (−3.2e-3 with α = 5), and followed the law from then on.
+// s), to the trapezoidal rule's error and Newton's (support/damped_free_body.h). Measured: 1.2e-11
+// and 1.2e-7 off over 0.2 s (M g s = 6.1e-3). Before Newmark's a_n at the release took the damping
+// in (TimeStepper::continueAfterRelease), the momentum jumped in the step after it, by −3.3e-3
+// along the pull (−3.2e-3 with α = 5), and followed the law from then on.
 TEST(ReleaseWithFracture, ADampedGripLetGoAfterTheTearFallsAsADampedFreeBody) {
   const Mesh rest = strip();
   const int releaseStep = 32;
@@ -310,28 +310,19 @@ TEST(ReleaseWithFracture, ADampedGripLetGoAfterTheTearFallsAsADampedFreeBody) {
     expectHeldAreTheGrips(dynamics, true, false);
     RightPiece piece;
     ASSERT_NO_FATAL_FAILURE(rightPiece(dynamics, piece));
-    const Eigen::Vector3d q0 = alpha > 0.0
-                                   ? Eigen::Vector3d(piece.momentum - piece.mass * kGravity / alpha)
-                                   : piece.momentum;
-    const optimize::DynamicsOptions o;  // Newmark's β, γ and the Newton tolerance used
     const double diagonal =
         (rest.positions.colwise().maxCoeff() - rest.positions.colwise().minCoeff()).norm();
-    const double newtonPerStep =
-        std::sqrt(3.0) * o.gamma / (o.beta * kStep) * o.tolerance * diagonal * piece.mass;
+    const testing::DampedFreeBody body(piece.momentum, piece.mass, kGravity, alpha, kStep,
+                                       optimize::DynamicsOptions(), diagonal);
     const std::size_t cracks = dynamics.cracks().size();
-    double worst = 0.0, largest = 0.0;  // the largest error over its tolerance, and alone
+    double worst = 0.0, largest = 0.0;  // the largest error over its bound, and alone
     for (int k = 1; k <= 40; ++k) {
       stepUntil(dynamics, 1, [] { return false; });
       ASSERT_EQ(dynamics.cracks().size(), cracks) << "cracked again after the release, step " << k;
-      const double s = dynamics.stepper().time() - release, z = alpha * kStep;
-      const double growth = alpha > 0.0 ? -std::expm1(-alpha * s) / alpha : s;
-      const Eigen::Vector3d exact =
-          piece.momentum * std::exp(-alpha * s) + piece.mass * kGravity * growth;
-      const double error = (momentum(dynamics.stepper(), piece.vertices) - exact).norm();
-      const double tolerance =
-          q0.norm() * alpha * s * z * z / (12.0 * (1.0 - 0.25 * z * z)) + k * newtonPerStep;
+      const double s = dynamics.stepper().time() - release;
+      const double error = (momentum(dynamics.stepper(), piece.vertices) - body.momentum(s)).norm();
       largest = std::max(largest, error);
-      worst = std::max(worst, error / tolerance);
+      worst = std::max(worst, error / body.tolerance(s, k));
     }
     std::printf("alpha %g beta %g: M %.4g, M g s %.4g; momentum error <= %.3g (%.3g x tolerance)\n",
                 alpha, beta, piece.mass, piece.mass * kGravity.norm() * 40 * kStep, largest, worst);
