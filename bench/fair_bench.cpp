@@ -18,8 +18,10 @@
 //                 with its iterations, factorizations and linear-solver seconds.
 //                 bending_energy_after: all five energies of the result (flat rest, the input's
 //                 metric), so solvers compare in each.
-// ratio_to_cgal_fair = seconds / cgal_fair seconds. The bending energy of the default energy
-// (midedge) and the smallest angle after each case are reported too.
+// Every case carries checkFairing's verdict (checks_passed, failed_check; for flexure's the
+// gradient check too), beside the solver's own `converged`. ratio_to_cgal_fair = seconds /
+// cgal_fair seconds. The bending energy of the default energy (midedge) and the smallest angle
+// after each case are reported too.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -155,10 +157,16 @@ int main(int argc, char** argv) {
   material.discretization = curvature::Discretization::Midedge;
   json cases = json::array();
   double cgalSeconds = 0.0;
+  // Each result with checkFairing's verdict (`solve`: flexure's, for the gradient check too): a
+  // solver that stopped is not a fairing `flexure fair` would write unless it passes them.
   const auto record = [&](const std::string& name, double seconds,
-                          const modeling::Positions& result, json extra) {
+                          const modeling::Positions& result, json extra,
+                          const optimize::FairingResult* solve = nullptr) {
     const double memory = peakMemoryMb();
     const optimize::FairingMeasures m = optimize::measureFairing(patch, result, material);
+    const optimize::FairingChecks checks = optimize::checkFairing(patch, result, solve);
+    extra["checks_passed"] = checks.passed();
+    if (!checks.passed()) extra["failed_check"] = checks.failure();
     double midedge = 0.0;
     json after = json::object();
     for (const auto& e : m.bending) {
@@ -174,7 +182,7 @@ int main(int argc, char** argv) {
     c.update(extra);
     if (cgalSeconds > 0.0) c["ratio_to_cgal_fair"] = seconds / cgalSeconds;
     std::cerr << "  " << name << ": " << seconds << " s, " << memory << " MB, E_midedge " << midedge
-              << "\n";
+              << (checks.passed() ? "" : "  FAILS CHECKS: " + checks.failure()) << "\n";
     cases.push_back(c);
   };
 
@@ -211,7 +219,8 @@ int main(int argc, char** argv) {
                 {"linear_solver_seconds", r.report.linearSolverSeconds},
                 {"evaluation_seconds", r.report.evaluationSeconds},
                 {"metric", metric},
-                {"membrane_weight", r.membraneWeight}});
+                {"membrane_weight", r.membraneWeight}},
+               &r);
       }
     }
   }
