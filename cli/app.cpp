@@ -129,21 +129,26 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
     return e.get_exit_code();  // a failed `flexure run` step, already reported
   } catch (const CLI::ParseError& e) {
     // A misspelt option is left over; CLI11 may first complain about the option it was meant to
-    // be ("--energy is required" for --enrgy), so the hint comes with any parse error.
-    std::cerr << "flexure: " << e.what();
+    // be ("--energy is required" for --enrgy), so the hint comes with any parse error, first.
+    // CLI11's own words for a left-over option ("The following arguments were not expected")
+    // say less than the hint and are left out then.
     const std::vector<CLI::App*> parsed = app.get_subcommands();
     std::vector<std::string> names = optionNames(app);
     if (!parsed.empty()) {
       const std::vector<std::string> own = optionNames(*parsed.front());
       names.insert(names.end(), own.begin(), own.end());
     }
+    bool hinted = false;
     for (const std::string& extra : app.remaining(true)) {
       const std::string word = extra.substr(0, extra.find('='));
       if (word.rfind("--", 0) != 0 || std::find(names.begin(), names.end(), word) != names.end())
         continue;
-      std::cerr << "\n'" << word << "' is not an option" << didYouMean(word, names);
+      std::cerr << "flexure: '" << word << "' is not an option" << didYouMean(word, names) << '\n';
+      hinted = true;
     }
-    std::cerr << "\n(run 'flexure " << (parsed.empty() ? "" : parsed.front()->get_name() + " ")
+    if (!hinted || dynamic_cast<const CLI::ExtrasError*>(&e) == nullptr)
+      std::cerr << "flexure: " << e.what() << '\n';
+    std::cerr << "(run 'flexure " << (parsed.empty() ? "" : parsed.front()->get_name() + " ")
               << "--help' for usage)\n";
     return kExitInputError;
   } catch (const InputError& e) {

@@ -19,19 +19,6 @@ std::string lowercase(std::string_view text) {
 
 }  // namespace
 
-std::string energyNames(const std::function<bool(const curvature::EnergyEntry&)>& selects,
-                        std::string_view separator, std::string_view lastSeparator) {
-  std::vector<std::string> names;
-  for (const curvature::EnergyEntry& e : curvature::registeredEnergies())
-    if (selects(e)) names.push_back(e.name);
-  std::string joined;
-  for (size_t k = 0; k < names.size(); ++k) {
-    if (k > 0) joined += k + 1 == names.size() ? lastSeparator : separator;
-    joined += names[k];
-  }
-  return joined;
-}
-
 curvature::VertexArea parseVertexArea(std::string_view name) {
   const std::string n = lowercase(name);
   if (n == "voronoi") return curvature::VertexArea::Voronoi;
@@ -56,7 +43,8 @@ void addBendingArguments(CLI::App& sub, BendingArguments& a,
   };
   const auto readsVertexArea = [](const EnergyEntry& e) { return e.readsVertexArea; };
   const auto readsHingeAngle = [](const EnergyEntry& e) { return e.readsHingeAngle; };
-  CLI::Option* energy = sub.add_option("--energy", a.energy, energyNames(all, " | ", " | "));
+  CLI::Option* energy =
+      sub.add_option("--energy", a.energy, curvature::energyNamesWhere(all, " | ", " | "));
   // Checked as the command line is parsed, so that flexure run finds a misspelt name before
   // any step runs.
   energy->check(CLI::Validator(
@@ -76,15 +64,17 @@ void addBendingArguments(CLI::App& sub, BendingArguments& a,
     energy->capture_default_str();
   }
   sub.add_option("--poisson", a.poisson,
-                 "Poisson's ratio nu of the Koiter density (" + energyNames(koiter, ", ", ", ") +
-                     "; default 0.3)");
+                 "Poisson's ratio nu of the Koiter density (" +
+                     curvature::energyNamesWhere(koiter, ", ", ", ") + "; default 0.3)");
   sub.add_option("--stiffness", a.stiffness, "Bending stiffness k_B")
       ->capture_default_str()
       ->check(positive());
   sub.add_option("--vertex-area", a.vertexArea,
-                 energyNames(readsVertexArea, ", ", ", ") + ": voronoi (default) | barycentric");
-  sub.add_option("--hinge-angle", a.hingeAngle,
-                 energyNames(readsHingeAngle, ", ", ", ") + ": theta (default) | tan");
+                 curvature::energyNamesWhere(readsVertexArea, ", ", ", ") +
+                     ": voronoi (default) | barycentric");
+  sub.add_option(
+      "--hinge-angle", a.hingeAngle,
+      curvature::energyNamesWhere(readsHingeAngle, ", ", ", ") + ": theta (default) | tan");
   if (choices.restCurvature) {
     sub.add_flag("--flat-rest", a.flatRest,
                  "Take only the metric from the rest mesh; its rest curvature is zero (fairing)");
@@ -104,7 +94,8 @@ curvature::BendingOptions bendingOptions(const BendingArguments& a) {
     if (!value.empty() && !(chosen.*reads)) {
       throw InputError(
           std::string(option) + " applies to --energy " +
-          energyNames([&](const curvature::EnergyEntry& e) { return e.*reads; }, ", ", " or ") +
+          curvature::energyNamesWhere([&](const curvature::EnergyEntry& e) { return e.*reads; },
+                                      ", ", " or ") +
           " only");
     }
   };

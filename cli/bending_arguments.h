@@ -31,11 +31,6 @@ struct BendingArgumentChoices {
 void addBendingArguments(CLI::App& sub, BendingArguments& arguments,
                          const BendingArgumentChoices& choices = {});
 
-// The registered energies for which `selects` holds, in registry order, joined by `separator`
-// (the last two by `lastSeparator`): what help texts and messages list.
-std::string energyNames(const std::function<bool(const curvature::EnergyEntry&)>& selects,
-                        std::string_view separator, std::string_view lastSeparator);
-
 // "voronoi" | "barycentric" and "theta" | "tan" (case-insensitive); InputError listing them.
 curvature::VertexArea parseVertexArea(std::string_view name);
 curvature::HingeAngle parseHingeAngle(std::string_view name);

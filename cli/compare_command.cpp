@@ -196,7 +196,8 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
                 "--families, the only rows); panels mesh-<stem>-<energy>.png");
   sub->add_option("--energies", o.energies,
                   "Energies (columns): " +
-                      energyNames([](const auto&) { return true; }, ", ", ", ") + ", ...")
+                      curvature::energyNamesWhere([](const auto&) { return true; }, ", ", ", ") +
+                      ", ...")
       ->delimiter(',')
       ->capture_default_str();
   sub->add_option("--boundary", o.boundary,

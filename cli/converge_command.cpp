@@ -195,8 +195,9 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                       "Refinement data: a biharmonic polynomial:EXPR (none: no refinement)")
           ->capture_default_str();
   sub->add_option("--poisson", options->poisson,
-                  "Poisson's ratio nu for " + energyNames(takesPoisson, ", ", " and ") +
-                      " (default 0.3; " + energyNames(meanCurvatureOnly, ", ", " and ") +
+                  "Poisson's ratio nu for " +
+                      curvature::energyNamesWhere(takesPoisson, ", ", " and ") + " (default 0.3; " +
+                      curvature::energyNamesWhere(meanCurvatureOnly, ", ", " and ") +
                       " are nu = 1 models)");
   sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
       ->capture_default_str()

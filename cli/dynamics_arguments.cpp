@@ -11,15 +11,6 @@
 
 namespace flexure::cli {
 
-optimize::Integrator parseIntegrator(const std::string& name) {
-  using optimize::Integrator;
-  if (name == "newmark") return Integrator::Newmark;
-  if (name == "backward-euler") return Integrator::BackwardEuler;
-  if (name == "central-difference") return Integrator::CentralDifference;
-  throw InputError("--integrator " + name +
-                   ": expected newmark, backward-euler or central-difference");
-}
-
 optimize::PinMotion parsePinMotion(const std::string& spec, const std::string& option) {
   using optimize::PinMotion;
   const auto colon = spec.find(':');
@@ -124,16 +115,26 @@ void checkPinSpecs(const std::vector<std::string>& specs, const std::string& pin
   }
 }
 
-bool pinsReleased(const std::vector<std::string>& specs) {
-  for (const PinSpec& g : splitPinSpecs(specs))
-    if (!g.release.empty()) return true;
-  return false;
+std::vector<optimize::PinGroup> pinGroupMotions(const std::vector<std::string>& specs,
+                                                const optimize::PinMotion& pinMotion) {
+  std::vector<optimize::PinGroup> groups;
+  for (const PinSpec& g : splitPinSpecs(specs)) {
+    if (g.motion.empty() && g.release.empty()) continue;
+    optimize::PinGroup group;
+    // A group with a release and no motion of its own follows --pin-motion until it is let go.
+    group.motion = g.motion.empty() ? pinMotion : parsePinMotion(g.motion, g.option);
+    group.releaseTime = parseRelease(g);
+    groups.push_back(std::move(group));
+  }
+  return groups;
 }
 
 PinnedGroups pinnedGroups(const std::vector<std::string>& specs, const modeling::Stencils& stencils,
-                          const modeling::Positions& rest) {
+                          const modeling::Positions& rest,
+                          std::vector<optimize::PinGroup>& groups) {
   PinnedGroups pinned;
   pinned.held.assign(stencils.vertexCount(), false);
+  std::size_t group = 0;
   for (const PinSpec& g : splitPinSpecs(specs)) {
     if (g.set == "none") continue;
     const std::vector<bool> set = optimize::parseFixedSet(g.option, g.set, stencils, rest);
@@ -149,12 +150,7 @@ PinnedGroups pinnedGroups(const std::vector<std::string>& specs, const modeling:
       for (std::size_t e = 0; e < clamped.size(); ++e)
         pinned.clampedEdges[e] = pinned.clampedEdges[e] || clamped[e];
     }
-    if (g.motion.empty() && g.release.empty()) continue;
-    optimize::PinGroup group;
-    group.vertices = set;
-    if (!g.motion.empty()) group.motion = parsePinMotion(g.motion, g.option);
-    group.releaseTime = parseRelease(g);
-    pinned.groups.push_back(std::move(group));
+    if (!g.motion.empty() || !g.release.empty()) groups.at(group++).vertices = set;
   }
   return pinned;
 }

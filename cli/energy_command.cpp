@@ -100,7 +100,7 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
 
 }  // namespace
 
-void registerEnergyCommand(CLI::App& app, const GlobalOptions&) {
+void registerEnergyCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<EnergyCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "energy", "Bending energy of a current mesh against a rest mesh (docs/energies.md)");
@@ -118,7 +118,14 @@ void registerEnergyCommand(CLI::App& app, const GlobalOptions&) {
   sub->footer(
       "Example: flexure energy --energy midedge --rest flat.obj --current bowl.obj "
       "--boundary-surface quadratic:1,0,1 --linearized --json");
-  sub->callback([options] { runEnergyCommand(*options); });
+  sub->callback([options, &global] {
+    // flexure run's check before any step: the option values alone (the meshes may not exist yet).
+    if (global.checkOnly) {
+      bendingOptions(options->bending);
+      return;
+    }
+    runEnergyCommand(*options);
+  });
 }
 
 }  // namespace flexure::cli

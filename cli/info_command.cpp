@@ -96,14 +96,16 @@ void runInfoCommand(const InfoCommandOptions& o) {
 
 }  // namespace
 
-void registerInfoCommand(CLI::App& app, const GlobalOptions&) {
+void registerInfoCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<InfoCommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "info", "Describe a mesh file: counts, boundary loops, valences, sizes, validation verdict");
   sub->add_option("file", options->file, "Mesh file (.obj, .off, .ply, .stl)")->required();
   sub->add_flag("--json", options->json, "Print the description as JSON");
   sub->footer("Exits 2 when the mesh is not usable (the problems are listed).");
-  sub->callback([options] { runInfoCommand(*options); });
+  sub->callback([options, &global] {
+    if (!global.checkOnly) runInfoCommand(*options);  // flexure run's check: the parse alone
+  });
 }
 
 }  // namespace flexure::cli

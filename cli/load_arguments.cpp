@@ -50,7 +50,7 @@ std::vector<optimize::Obstacle> obstacleList(const LoadArguments& a) {
 }
 
 optimize::MassLumping massLumping(const LoadArguments& a) {
-  return parseMassLumping(a.mass);
+  return modeling::parseMassLumping(a.mass, "LoadOptions.mass");
 }
 
 optimize::LoadOptions loadOptions(const LoadArguments& a) {

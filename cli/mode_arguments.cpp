@@ -17,10 +17,4 @@ optimize::Clamp parseClamp(const std::string& name) {
   throw InputError("--clamp " + name + ": expected rings or normals");
 }
 
-optimize::MassLumping parseMassLumping(const std::string& name) {
-  if (name == "barycentric") return optimize::MassLumping::Barycentric;
-  if (name == "voronoi") return optimize::MassLumping::Voronoi;
-  throw InputError("--mass " + name + ": expected barycentric or voronoi");
-}
-
 }  // namespace flexure::cli

@@ -1,6 +1,7 @@
 // The command-line names of the vibration-mode choices (optimize/modes/vibration_modes.h):
 // --support,
-// --clamp, --mass. The library names them back with supportName, clampName, massLumpingName.
+// --clamp (--mass: modeling::parseMassLumping). The library names them back with supportName,
+// clampName.
 #pragma once
 
 #include <string>
@@ -9,10 +10,9 @@
 
 namespace flexure::cli {
 
-// "clamped" | "simply-supported" | "free"; "rings" | "normals"; "barycentric" | "voronoi".
+// "clamped" | "simply-supported" | "free"; "rings" | "normals".
 // InputError naming the flag and listing the names otherwise.
 optimize::Support parseSupport(const std::string& name);
 optimize::Clamp parseClamp(const std::string& name);
-optimize::MassLumping parseMassLumping(const std::string& name);
 
 }  // namespace flexure::cli

@@ -72,7 +72,7 @@ optimize::ModesOptions libraryModesOptions(const ModesOptions& o) {
   optimize::ModesOptions base;
   base.count = o.count;
   base.support = parseSupport(o.support);
-  base.mass = parseMassLumping(o.mass);
+  base.mass = modeling::parseMassLumping(o.mass, "ModesOptions.mass");
   base.density = o.density;
   base.bendingStiffness = o.stiffness;
   base.length = o.length;
@@ -557,7 +557,7 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
       ->required();
   sub->add_option("--poisson", o.poisson,
                   "ν for " +
-                      energyNames(
+                      curvature::energyNamesWhere(
                           [](const curvature::EnergyEntry& e) {
                             return e.poissonRule == curvature::PoissonRule::Koiter;
                           },

@@ -1,20 +1,16 @@
 #include "cli/option_names.h"
 
-#include <cctype>
-#include <string_view>
+#include <utility>
 #include <vector>
+
+#include "modeling/field_names.h"
 
 namespace flexure::cli {
 namespace {
 
-struct FieldFlag {
-  std::string_view field;  // as the library's messages name it: "Struct.field"
-  std::string_view flag;   // as the user types it: "--flag"
-};
-
 // One row per option field that a library message may name, grouped by subsystem.
-const std::vector<FieldFlag>& fieldFlags() {
-  static const std::vector<FieldFlag> rows = {
+const std::vector<modeling::FieldName>& fieldFlags() {
+  static const std::vector<modeling::FieldName> rows = {
       // minimize, energies, membranes
       {"ProblemOptions.dof", "--dof"},
       {"ProblemOptions.membrane", "--membrane"},
@@ -28,9 +24,11 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ProblemOptions.load.gravity", "--gravity"},
       {"ProblemOptions.load.density", "--density"},
       {"ProblemOptions.obstacles", "--obstacle"},
+      {"LoadOptions.mass", "--mass"},
       {"ProblemOptions.fixedEdge", "--pin rings:K"},
       // no flag: fair sets it to the start's shape
       {"ProblemOptions.membraneRest", "the membrane's rest shape"},
+      {"BendingOptions.discretization", "--energy"},
       {"BendingOptions.poisson", "--poisson"},
       {"BendingOptions.hingeAngle", "--hinge-angle"},
       {"MinimizeOptions.solver", "--solver"},
@@ -54,6 +52,10 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
       {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
       {"PinGroup.releaseTime", "--pin SET@release:T"},
+      {"TimeSteps.dt", "--dt"},
+      {"TimeSteps.minDt", "--min-dt"},
+      {"TimeSteps.duration", "--duration"},
+      {"SimulationSpec.checkpointed", "--checkpoint / --resume"},
       // studies, fairing, meshes, regions
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},
@@ -75,6 +77,7 @@ const std::vector<FieldFlag>& fieldFlags() {
       {"ModesOptions.clamp", "--clamp"},
       {"ModesOptions.density", "--density"},
       {"ModesOptions.dof", "--dof"},
+      {"ModesOptions.mass", "--mass"},
       {"ModesOptions.support", "--support"},
       {"SpectrumStudyOptions.energies", "--energies"},
       {"SpectrumStudyOptions.families", "--families"},
@@ -110,29 +113,10 @@ const std::vector<FieldFlag>& fieldFlags() {
   return rows;
 }
 
-bool continuesName(const std::string& text, size_t at) {
-  return at < text.size() &&
-         (std::isalnum(static_cast<unsigned char>(text[at])) || text[at] == '_');
-}
-
 }  // namespace
 
 std::string withFlagNames(std::string message) {
-  for (const FieldFlag& row : fieldFlags()) {
-    for (size_t at = message.find(row.field); at != std::string::npos;
-         at = message.find(row.field, at)) {
-      // A longer field that starts or ends with this one ("SpectrumStudyOptions.count" holds
-      // "StudyOptions.count").
-      if (continuesName(message, at + row.field.size()) ||
-          (at > 0 && continuesName(message, at - 1))) {
-        at += row.field.size();
-        continue;
-      }
-      message.replace(at, row.field.size(), row.flag);
-      at += row.flag.size();
-    }
-  }
-  return message;
+  return modeling::renameFields(std::move(message), fieldFlags());
 }
 
 }  // namespace flexure::cli

@@ -8,15 +8,13 @@ namespace flexure::cli {
 void addYieldArguments(CLI::App& sub, PlasticityArguments& a) {
   sub.add_option("--yield-curvature", a.yieldCurvature,
                  "Plastic bending: yield curvature kappa_y (a cylinder yields at kappa_y, a sphere "
-                 "at kappa_y/sqrt(3)); not cotan")
-      ->check(positive());
+                 "at kappa_y/sqrt(3)); not cotan");
   sub.add_option("--yield-strain", a.yieldStrain,
                  "Plastic membrane: yield strain epsilon_y (Green strain; a strip stretched with "
-                 "its width held yields at epsilon_y); needs --membrane stvk")
-      ->check(positive());
+                 "its width held yields at epsilon_y); needs --membrane stvk");
+  // The values' ranges are the library's (PlasticityOptions::validate names the field).
   sub.add_option("--hardening", a.hardening, "Linear kinematic hardening gamma >= 0")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->capture_default_str();
 }
 
 void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
@@ -24,7 +22,7 @@ void addPlasticityArguments(CLI::App& sub, PlasticityArguments& a) {
   sub.add_option("--load-steps", a.loadSteps,
                  "Plastic forming: reach the boundary values in K equal steps, each a static solve "
                  "and the plastic update (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   sub.add_flag("--release", a.release,
                "Plastic forming: then hold only the three vertices of the central face and relax "
                "(the sprung-back shape)");

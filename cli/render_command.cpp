@@ -252,7 +252,7 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--exaggerate", o.exaggerate,
                   "Draw x_ref + K (x - x_ref): small displacements made visible (needs "
                   "--reference; colours keep the true distances)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   sub->footer(
       "Example: flexure render bowl.obj -o bowl.png --style reflection --elevation 60\n"
       "The renderer loads libOSMesa.so.8 (Debian: libosmesa6) at run time, or the library named "

@@ -100,10 +100,9 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
   }
 
   // Every step's options and outputs are checked before the first step runs, so that a mistake in
-  // the last step does not come after the work of the others. A step's directory may not exist
-  // yet (an earlier step may make it); info and energy write nothing and are checked as they run.
+  // the last step does not come after the work of the others. A step's directory and inputs may
+  // not exist yet (an earlier step may make them).
   for (size_t k = 0; k < steps.size() && !o.dryRun; ++k) {
-    if (steps[k][1] == "info" || steps[k][1] == "energy") continue;
     const int code = runFlexure(steps[k], /*checkOnly=*/true);
     if (code != 0) {
       std::cerr << "flexure run: " << o.specFile << ": step " << k + 1 << " would fail (exit "

@@ -29,6 +29,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/dynamics/simulation_spec.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
 #include "optimize/inelastic/pin_release.h"
@@ -139,17 +140,6 @@ struct Run {
   double newtonIterationsPerStep() const { return steps ? double(newtonIterations) / steps : 0.0; }
 };
 
-// The time options checked; the smallest step a failing step is halved to.
-double checkedMinDt(const SimulateOptions& o) {
-  if (!(o.dt > 0.0)) throw InputError("--dt: expected a time step > 0");
-  if (!(o.duration >= o.dt)) throw InputError("--duration: expected at least one --dt");
-  if (o.duration / o.dt > 1e7) throw InputError("--duration / --dt: more than 10^7 steps");
-  if (!(o.fps > 0.0)) throw InputError("--fps: expected a value > 0");
-  const double minDt = o.minDt > 0.0 ? o.minDt : o.dt / 64.0;
-  if (minDt > o.dt) throw InputError("--min-dt: expected at most --dt");
-  return minDt;
-}
-
 // --damping rayleigh:α,β and/or bend:c, each at most once.
 void parseDamping(const std::vector<std::string>& specs, optimize::DynamicsOptions& dynamics) {
   bool rayleigh = false, bend = false;
@@ -169,26 +159,23 @@ void parseDamping(const std::vector<std::string>& specs, optimize::DynamicsOptio
   }
 }
 
-// The integrator, pin motion and damping (the load and obstacles belong to the problem).
+// The integrator, the pins' motions and releases (their vertices come with the mesh,
+// simulatedBody) and the damping, as the flags give them.
 optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   optimize::DynamicsOptions dynamics;
-  dynamics.integrator = parseIntegrator(o.integrator);
+  dynamics.integrator = optimize::parseIntegrator(o.integrator);
   dynamics.beta = o.beta;
   dynamics.gamma = o.gamma;
   checkPinSpecs(o.pin, o.pinMotion);
-  if (pinsReleased(o.pin) && (o.checkpointEvery > 0 || !o.resumeDir.empty()))
-    throw InputError(
-        "--pin ...@release:T: not with --checkpoint or --resume (a checkpoint keeps the pins of "
-        "the run's start)");
   if (!o.pinMotion.empty()) {
     if (o.pin == std::vector<std::string>{"none"})
       throw InputError("--pin-motion " + o.pinMotion +
                        ": moves the pinned vertices; give them with --pin");
     dynamics.pinMotion = parsePinMotion(o.pinMotion);
   }
+  dynamics.pinGroups = pinGroupMotions(o.pin, dynamics.pinMotion);
   parseDamping(o.damping, dynamics);
   dynamics.energyTolerance = o.energyTolerance;
-  dynamics.validate();
   return dynamics;
 }
 
@@ -251,18 +238,42 @@ modeling::Positions startPositions(const SimulateOptions& o, const modeling::Mes
 }
 
 // What is simulated, before the mesh is read: the bending energy and membrane, every coordinate
-// free, the load and the obstacles (each checked here, before any work).
-optimize::ProblemOptions bodyOptions(const SimulateOptions& o, const curvature::BendingOptions& b) {
+// free, the load and the obstacles.
+optimize::ProblemOptions bodyOptions(const SimulateOptions& o) {
   optimize::ProblemOptions p;
-  p.bending = b;
-  p.membrane = membraneOptions(o.membrane);
+  p.bending = bendingOptions(o.bending);
+  if (!o.membrane.model.empty()) p.membrane = membraneOptions(o.membrane);
   p.dof = optimize::DofMode::Xyz;
   p.fixedRings = 0;
   p.boundaryNormals = optimize::BoundaryNormals::Free;
   p.load = loadOptions(o.load);
   p.obstacles = obstacleList(o.load);
-  p.validate();
   return p;
+}
+
+// The flags mapped to the run's spec and the spec validated (optimize::SimulationSpec holds the
+// rules; their messages name fields, which withFlagNames turns back into these flags).
+optimize::SimulationSpec simulationSpec(const SimulateOptions& o) {
+  if (!(o.fps > 0.0)) throw InputError("--fps: expected a value > 0");
+  optimize::SimulationSpec spec;
+  spec.body = bodyOptions(o);
+  spec.dynamics = dynamicsOptions(o);
+  spec.plasticity.yieldCurvature = o.plasticity.yieldCurvature;
+  spec.plasticity.yieldStrain = o.plasticity.yieldStrain;
+  spec.plasticity.hardening = o.plasticity.hardening;
+  if (o.fractureStrain != 0.0) {
+    spec.fracture.emplace();
+    spec.fracture->fractureStrain = o.fractureStrain;
+    spec.fracture->thickness = o.thickness;
+  } else if (o.thickness != 0.0) {
+    throw InputError("--thickness: the fibres of the fracture criterion; give --fracture-strain");
+  }
+  spec.steps.dt = o.dt;
+  spec.steps.minDt = o.minDt;
+  spec.steps.duration = o.duration;
+  spec.checkpointed = o.checkpointEvery > 0 || !o.resumeDir.empty();
+  spec.validate();
+  return spec;
 }
 
 // The simulated body on the rest mesh: the pinned vertices (--pin) at their start positions
@@ -274,80 +285,12 @@ optimize::Problem simulatedBody(const SimulateOptions& o, optimize::ProblemOptio
                                 const modeling::Mesh& restMesh) {
   modeling::Stencils stencils = modeling::compileStencils(restMesh);
   modeling::RestState rest = modeling::precomputeRestState(stencils, restMesh.positions);
-  PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions);
+  PinnedGroups pinned = pinnedGroups(o.pin, stencils, rest.positions, dynamics.pinGroups);
   p.fixedVertex = std::move(pinned.held);
-  dynamics.pinGroups = std::move(pinned.groups);
-  // A group with a release and no motion of its own follows --pin-motion until it is let go.
-  for (optimize::PinGroup& group : dynamics.pinGroups)
-    if (group.motion.kind == optimize::PinMotion::Kind::None) group.motion = dynamics.pinMotion;
   p.boundaryPositions = startPositions(o, restMesh);
   if (curvature::energyEntry(p.bending.discretization).restEdgeUnknowns)
     p.fixedEdge = std::move(pinned.clampedEdges);
   return optimize::buildProblem(std::move(stencils), std::move(rest), p);
-}
-
-// --fracture-strain ε_f and --thickness h (none without --fracture-strain), checked: not with
-// midedge (its edge unknowns do not carry across a cut) nor with checkpoints (they keep one mesh).
-std::optional<optimize::FractureOptions> fractureOptions(const SimulateOptions& o,
-                                                         const curvature::BendingOptions& b) {
-  if (o.fractureStrain == 0.0) {
-    if (o.thickness != 0.0)
-      throw InputError("--thickness: the fibres of the fracture criterion; give --fracture-strain");
-    return std::nullopt;
-  }
-  optimize::FractureOptions fracture;
-  fracture.fractureStrain = o.fractureStrain;
-  fracture.thickness = o.thickness;
-  try {
-    fracture.validate();
-  } catch (const InputError& e) {
-    throw InputError(std::string("--fracture-strain / --thickness: ") + e.what());
-  }
-  if (curvature::energyEntry(b.discretization).restEdgeUnknowns)
-    throw InputError(
-        "--fracture-strain: not with --energy midedge (its edge unknowns do not carry "
-        "across a cut); use hinge, cotan, triavg or quadfit");
-  if (o.checkpointEvery > 0 || !o.resumeDir.empty())
-    throw InputError(
-        "--fracture-strain: not with --checkpoint or --resume (a checkpoint keeps "
-        "one mesh; a crack changes it)");
-  return fracture;
-}
-
-// --yield-curvature κ_y, --yield-strain ε_y and --hardening γ (none without a yield value),
-// checked: κ_y not with cotan (no rest curvature per element to move), ε_y only with --membrane
-// stvk (the library's message), neither with fracture (a cut rebuilds the problem) or checkpoints
-// (they do not keep the plastic strains).
-std::optional<optimize::PlasticityOptions> plasticityOptions(const SimulateOptions& o,
-                                                             const curvature::BendingOptions& b) {
-  if (!o.plasticity.enabled()) {
-    if (o.plasticity.hardening != 0.0)
-      throw InputError(
-          "--hardening: the plastic hardening needs a yield value: give "
-          "--yield-curvature or --yield-strain");
-    return std::nullopt;
-  }
-  const optimize::PlasticityOptions plasticity = cli::plasticityOptions(o.plasticity);
-  const std::string given = o.plasticity.yieldCurvature ? "--yield-curvature" : "--yield-strain";
-  if (o.plasticity.yieldStrain && o.membrane.model != "stvk")
-    throw InputError(
-        "--yield-strain: membrane plasticity moves the rest metric of --membrane "
-        "stvk (got --membrane " +
-        o.membrane.model + ")");
-  if (o.plasticity.yieldCurvature && b.discretization == curvature::Discretization::Cotan)
-    throw InputError(
-        "--yield-curvature: the cotan energy has one mean curvature per vertex, no per-face "
-        "shape operator or per-edge angle whose rest value a plastic strain could move; use "
-        "triavg, midedge, quadfit or hinge");
-  if (o.fractureStrain != 0.0)
-    throw InputError(given +
-                     ": not with --fracture-strain (a cut rebuilds the shell, and the "
-                     "plastic strains do not carry across it)");
-  if (o.checkpointEvery > 0 || !o.resumeDir.empty())
-    throw InputError(given +
-                     ": not with --checkpoint or --resume (a checkpoint does not keep the "
-                     "plastic strains)");
-  return plasticity;
 }
 
 // What a run records: the energies after every step (as the CSV text and as rows for the plot),
@@ -555,11 +498,12 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
 // Steps of --dt to --duration: the fracture check and the plastic update after every step, the
 // energies after every step, a frame (of the mesh as cut so far) every 1/fps of simulated time and
 // at the last step, progress on stderr unless quiet.
-Run simulate(const SimulateOptions& o, double minDt, bool quiet,
+Run simulate(const SimulateOptions& o, const optimize::TimeSteps& timeSteps, bool quiet,
              optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* plastic,
              Recording& recording, Run run, long firstStep, const std::string& meshChecksum) {
   const auto clock = std::chrono::steady_clock::now();
-  const long steps = std::lround(o.duration / o.dt);
+  const long steps = timeSteps.stepCount();
+  const double minDt = timeSteps.smallestStep();
   const double frameInterval = 1.0 / o.fps;
   double nextFrame = frameInterval;  // the first frame time after the state's, as the loop has it
   while (nextFrame <= dynamics.stepper().time() + 1e-9 * o.dt) nextFrame += frameInterval;
@@ -908,35 +852,20 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
   writeJsonFile((dir / "report.json").string(), report);
 }
 
-void checkMembraneGiven(const SimulateOptions& o) {
-  if (o.membrane.model.empty())
-    throw InputError(
-        "simulate moves every coordinate: give a membrane (--membrane stvk|springs|"
-        "conformal); bending alone has no stiffness against stretching");
-}
-
 // The option values alone, as runSimulate checks them first (for flexure run's check of every
 // step before the first runs: the inputs may not exist yet).
 void checkOptionValues(const SimulateOptions& o) {
-  checkedMinDt(o);
-  checkMembraneGiven(o);
-  dynamicsOptions(o);
-  bodyOptions(o, bendingOptions(o.bending));
-  fractureOptions(o, bendingOptions(o.bending));
-  plasticityOptions(o, bendingOptions(o.bending));
+  simulationSpec(o);
   frameLook(o);
 }
 
 void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   namespace fs = std::filesystem;
   // Every option first, then the inputs; nothing is written before the run ends well.
-  const double minDt = checkedMinDt(o);
-  checkMembraneGiven(o);
-  optimize::DynamicsOptions dynamics = dynamicsOptions(o);
-  const curvature::BendingOptions b = bendingOptions(o.bending);
-  optimize::ProblemOptions bodyBase = bodyOptions(o, b);
-  const std::optional<optimize::FractureOptions> fracture = fractureOptions(o, b);
-  const std::optional<optimize::PlasticityOptions> plasticity = plasticityOptions(o, b);
+  optimize::SimulationSpec spec = simulationSpec(o);
+  optimize::DynamicsOptions& dynamics = spec.dynamics;
+  optimize::ProblemOptions& bodyBase = spec.body;
+  const optimize::PlasticityOptions& plasticity = spec.plasticity;
   const std::optional<render::RenderOptions> look = frameLook(o);
   // A missing OSMesa fails here, before the simulation.
   std::unique_ptr<render::OffscreenContext> context;
@@ -945,12 +874,13 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   optimize::Problem body = simulatedBody(o, bodyBase, dynamics, restMesh);
   const modeling::Positions startPositions = body.boundary.start;
-  optimize::FracturingDynamics fracturing(restMesh, std::move(body), bodyBase, dynamics, fracture);
+  optimize::FracturingDynamics fracturing(restMesh, std::move(body), bodyBase, dynamics,
+                                          spec.fracture);
   optimize::TimeStepper& stepper = fracturing.stepper();
   const int vertexCount = restMesh.vertexCount();
   fracturing.start(startPositions, modeling::Positions::Zero(vertexCount, 3));
   std::optional<optimize::PlasticDynamics> plastic;
-  if (plasticity) plastic.emplace(fracturing.problem(), stepper, *plasticity);
+  if (plasticity.enabled()) plastic.emplace(fracturing.problem(), stepper, plasticity);
 
   Recording recording(fracturing.problem().termPointers(), !fracturing.problem().obstacles.empty(),
                       plastic.has_value());
@@ -962,17 +892,17 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   start.smallestStep = o.dt;
   const long firstStep =
       o.resumeDir.empty() ? 0 : resumeCheckpoint(o, checksum, stepper, recording, start, restMesh);
-  const Run run = simulate(o, minDt, global.quiet, fracturing, plastic ? &*plastic : nullptr,
+  const Run run = simulate(o, spec.steps, global.quiet, fracturing, plastic ? &*plastic : nullptr,
                            recording, start, firstStep, checksum);
-  const std::string energyName(curvature::discretizationName(b.discretization));
+  const std::string energyName(curvature::discretizationName(bodyBase.bending.discretization));
   nlohmann::json report =
       simulationReport(o, energyName, dynamics, fracturing, run, recording, vertexCount);
   if (plastic) {
-    report["plasticity"] = plasticityReport(*plasticity, *plastic, recording);
+    report["plasticity"] = plasticityReport(plasticity, *plastic, recording);
     report["energy_balance"]["plastic_dissipation"] = plastic->dissipation();
   }
   printEnergyBalance(fracturing.stepper(), dynamics.energyTolerance, global.quiet);
-  if (plastic && !global.quiet) printPlasticSummary(*plasticity, *plastic);
+  if (plastic && !global.quiet) printPlasticSummary(plasticity, *plastic);
   const fs::path dir(o.outputDir);
   const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
                             optimize::integratorName(dynamics.integrator);
@@ -1080,8 +1010,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(positive());
   sub->add_option("--thickness", o.thickness,
                   "Fracture: the shell's thickness h, the fibres at +-h/2 (default 0: membrane "
-                  "strain alone)")
-      ->check(CLI::NonNegativeNumber);
+                  "strain alone)");
   addYieldArguments(*sub, o.plasticity);
   sub->add_option("--checkpoint", o.checkpointEvery,
                   "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")

@@ -61,6 +61,7 @@ EnergyEntry cotanEnergyEntry() {
   e.elementKind = kElementKind;
   e.make = makeCotan;
   e.readsVertexArea = true;
+  e.plasticRestCurvature = false;  // one mean curvature per vertex, no tensor to move
   e.studyBytesPerVertex = 3.5e3;
   e.studyVariants = {"cotan", "cotan:barycentric"};
   e.studyRank = 2;

@@ -56,13 +56,20 @@ std::vector<std::string> energyNameList() {
 }
 
 std::string registeredEnergyNames(std::string_view separator, std::string_view lastSeparator) {
-  const std::deque<EnergyEntry>& entries = registry();
-  std::string names;
-  for (size_t k = 0; k < entries.size(); ++k) {
-    if (k > 0) names += k + 1 == entries.size() ? lastSeparator : separator;
-    names += entries[k].name;
+  return energyNamesWhere([](const EnergyEntry&) { return true; }, separator, lastSeparator);
+}
+
+std::string energyNamesWhere(const std::function<bool(const EnergyEntry&)>& selects,
+                             std::string_view separator, std::string_view lastSeparator) {
+  std::vector<std::string> names;
+  for (const EnergyEntry& e : registry())
+    if (selects(e)) names.push_back(e.name);
+  std::string joined;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (k > 0) joined += k + 1 == names.size() ? lastSeparator : separator;
+    joined += names[k];
   }
-  return names;
+  return joined;
 }
 
 Discretization parseDiscretization(std::string_view name) {

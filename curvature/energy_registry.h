@@ -46,6 +46,13 @@ struct EnergyEntry {
   // Which of BendingOptions' per-energy fields it reads: vertexArea, hingeAngle; and whether the
   // boundary values of its edge unknowns can come from a boundary surface.
   bool readsVertexArea = false, readsHingeAngle = false, takesBoundarySurface = false;
+  // Whether its elements carry a rest curvature (a shape operator per face, an angle per hinge)
+  // that a plastic strain can move (optimize/inelastic/plasticity.h); cotan's one mean curvature
+  // per vertex cannot.
+  bool plasticRestCurvature = true;
+  // Whether a crack can cut its mesh (optimize/inelastic/fracturing.h): edge unknowns (midedge's
+  // ξ) do not carry across a cut.
+  bool cuttable() const { return !restEdgeUnknowns; }
   // Peak resident memory per vertex of one convergence-study case (five quadratics' linearized
   // solves), measured with /usr/bin/time -v on patch48 between n = 128 and 256 (16 641 and
   // 66 049 vertices), one run each, and rounded up: midedge 9.9 kB (the ξ per edge: four times
@@ -66,6 +73,10 @@ std::vector<std::string> energyNameList();
 // "hinge, triavg, cotan, midedge or quadfit" (the last joined by `lastSeparator`).
 std::string registeredEnergyNames(std::string_view separator = ", ",
                                   std::string_view lastSeparator = " or ");
+// The same of the energies for which `selects` holds: what help texts and messages list.
+std::string energyNamesWhere(const std::function<bool(const EnergyEntry&)>& selects,
+                             std::string_view separator = ", ",
+                             std::string_view lastSeparator = " or ");
 
 // Adds an energy and returns its Discretization. Throws InputError for an empty or taken name
 // (names are compared case-insensitively) or an entry without a factory. Not thread-safe: register

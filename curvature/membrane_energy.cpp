@@ -17,7 +17,7 @@ using modeling::Stencils;
 
 void requirePositive(double value, const char* what) {
   if (!(value > 0.0) || !std::isfinite(value))
-    throw InputError(std::string(what) + " must be positive (got " + std::to_string(value) + ")");
+    throw InputError(std::string(what) + " must be positive (got " + numberText(value) + ")");
 }
 
 // D̄⁻¹ (row-major) of face f: its rest edges x̄1 − x̄0, x̄2 − x̄0 in the face's 2D frame.
@@ -102,7 +102,7 @@ void MembraneOptions::validate() const {
       requirePositive(young, "MembraneOptions.young (Young's modulus × thickness)");
       // Plane stress: 1 − ν² > 0 and a positive bulk modulus.
       if (!(poisson > -1.0 && poisson <= 0.5)) {
-        throw InputError("MembraneOptions.poisson " + std::to_string(poisson) +
+        throw InputError("MembraneOptions.poisson " + numberText(poisson) +
                          " is outside (-1, 0.5] (stvk membrane)");
       }
       return;

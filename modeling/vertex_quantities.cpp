@@ -1,8 +1,23 @@
 #include "modeling/vertex_quantities.h"
 
+#include <string>
+
+#include "modeling/errors.h"
+
 #include <Eigen/Geometry>
 
 namespace flexure::modeling {
+
+const char* massLumpingName(MassLumping mass) {
+  return mass == MassLumping::Barycentric ? "barycentric" : "voronoi";
+}
+
+MassLumping parseMassLumping(std::string_view name, std::string_view field) {
+  if (name == "barycentric") return MassLumping::Barycentric;
+  if (name == "voronoi") return MassLumping::Voronoi;
+  throw InputError(std::string(field) + " " + std::string(name) +
+                   ": expected barycentric or voronoi");
+}
 
 Eigen::VectorXd lumpedVertexMasses(const RestState& rest, MassLumping lumping, double density) {
   return density * (lumping == MassLumping::Barycentric ? rest.vertexBarycentricAreas

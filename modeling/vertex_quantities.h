@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string_view>
 
 #include "modeling/mesh.h"
 #include "modeling/rest_state.h"
@@ -12,6 +13,9 @@ namespace flexure::modeling {
 // Which rest area a vertex's lumped mass stands for: barycentric (Σ incident Ā_T / 3) or the
 // mixed Voronoi area (rest_state.h).
 enum class MassLumping { Barycentric, Voronoi };
+const char* massLumpingName(MassLumping mass);  // "barycentric" | "voronoi"
+// The lumping named `name`; InputError naming `field` (the option that gave it) otherwise.
+MassLumping parseMassLumping(std::string_view name, std::string_view field);
 
 // #V: m_v = ρh × the vertex's rest area, `density` = ρh (mass per unit rest area).
 Eigen::VectorXd lumpedVertexMasses(const RestState& rest, MassLumping lumping, double density);

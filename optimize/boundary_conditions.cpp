@@ -44,8 +44,15 @@ std::vector<bool> parseFixedSet(const std::string& option, const std::string& sp
     }
     return fixedRings(stencils, rings);
   }
-  if (kind == "vertices" && !value.empty())
-    return modeling::readVertexSet(value, stencils.vertexCount(), "fixed-vertex list");
+  if (kind == "vertices" && !value.empty()) {
+    std::vector<bool> listed =
+        modeling::readVertexSet(value, stencils.vertexCount(), "fixed-vertex list");
+    // As an empty box: a set that holds nothing is a mistake, not a request to hold nothing
+    // (that is "none").
+    if (std::find(listed.begin(), listed.end(), true) == listed.end())
+      throw InputError(option + " " + spec + ": " + value + " lists no vertex");
+    return listed;
+  }
   if (kind == "box") {
     // The rest vertices inside an axis-aligned box (bounds inclusive).
     double bounds[6];

@@ -50,7 +50,7 @@ void ProblemOptions::validate() const {
     throw InputError("ProblemOptions.load.gravity must be finite");
   if (!(load.density > 0.0) || !std::isfinite(load.density))
     throw InputError("ProblemOptions.load.density must be positive (got " +
-                     std::to_string(load.density) + ")");
+                     numberText(load.density) + ")");
 }
 
 namespace {

@@ -318,4 +318,38 @@ SPEC
 run 2 run surface.json; stderr_has "--boundary: bad surface 'quadratc:1,0,1'"
 stderr_has "step 2 would fail"; absent step1.obj; absent step2.obj
 
+# An energy step is checked with the others: its misspelt energy exits 2 before step 1 runs.
+cat > energy_step.json <<'SPEC'
+{"steps": [
+  {"command": "mesh", "options": {"family": "patch48", "n": 4, "o": "step1.obj"}},
+  {"command": "energy", "options": {"energy": "midedgee", "rest": "step1.obj",
+                                    "current": "step1.obj"}}
+]}
+SPEC
+run 2 run energy_step.json; stderr_has "unknown energy 'midedgee'"; stderr_has "step 2 would fail"
+absent step1.obj
+
+# The run's length and pins are refused as a person would want, before any work:
+# a duration between two steps (it would run to the next whole step without a word),
+S="simulate --rest plate.obj --energy hinge --membrane stvk --render-style none --quiet"
+run 2 $S --dt 0.01 --duration 0.015 -o bad
+stderr_has "--duration 0.015: not a whole number of steps of 0.01 (1.5); give 0.01 or 0.02"
+absent bad
+# a release after the end (the group would never be let go),
+run 2 $S --dt 0.01 --duration 0.1 --pin rings:1@release:5 -o bad
+stderr_has "--pin SET@release:T 5: after the run's end (--duration 0.1)"; absent bad
+# an empty vertex list (as an empty box: it pins nothing),
+: > empty.txt
+run 2 $S --dt 0.01 --duration 0.1 --pin vertices:empty.txt -o bad
+stderr_has "--pin vertices:empty.txt: empty.txt lists no vertex"; absent bad
+# a negative thickness, in a line a person reads (no 300-digit range),
+run 2 $S --dt 0.01 --duration 0.1 --fracture-strain 0.01 --thickness -0.01 -o bad
+stderr_has "--thickness must be a finite number ≥ 0, got -0.01"; absent bad
+[ "$(wc -c < "err.txt")" -lt 200 ] || fail "the thickness refusal is $(wc -c < "err.txt") bytes"
+# and an unknown option: the useful line first, not CLI11's "were not expected".
+run 2 $S --dt 0.01 --duration 0.1 --dampning bend:1 -o bad
+[ "$(head -1 "err.txt")" = "flexure: '--dampning' is not an option; did you mean '--damping'?" ] \
+  || fail "the first line is not the hint: $(head -1 "err.txt")"
+! grep -qF "not expected" err.txt || fail "CLI11's words came too: $(cat err.txt)"; absent bad
+
 finish cli_simulate

@@ -26,6 +26,14 @@ const char* integratorName(Integrator integrator) {
   return "";
 }
 
+Integrator parseIntegrator(std::string_view name) {
+  for (Integrator i :
+       {Integrator::Newmark, Integrator::BackwardEuler, Integrator::CentralDifference})
+    if (name == integratorName(i)) return i;
+  throw InputError("DynamicsOptions.integrator " + std::string(name) +
+                   ": expected newmark, backward-euler or central-difference");
+}
+
 Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
   switch (kind) {
     case Kind::None:
@@ -137,11 +145,6 @@ void DynamicsOptions::validatePinGroups(int vertexCount) const {
                          std::to_string(g));
       groupOf[v] = static_cast<int>(g);
     }
-    const double release = pinGroups[g].releaseTime;
-    if (!(release > 0.0))
-      throw InputError("DynamicsOptions.pinGroups: group " + std::to_string(g) +
-                       "'s PinGroup.releaseTime " + std::to_string(release) +
-                       ": expected a time > 0 (+inf: never released)");
   }
 }
 
@@ -184,11 +187,15 @@ bool DynamicsOptions::pinsMove() const {
 
 void DynamicsOptions::validate() const {
   if (integrator == Integrator::Newmark && !(beta > 0.0 && beta <= 0.5))
-    throw InputError(
-        "DynamicsOptions.beta: expected 0 < β ≤ 0.5 (β = 0 is DynamicsOptions.integrator "
-        "central-difference)");
+    throw InputError("DynamicsOptions.beta " + numberText(beta) +
+                     ": expected 0 < β ≤ 0.5 (β = 0 is DynamicsOptions.integrator "
+                     "central-difference)");
   if (integrator == Integrator::Newmark && !(gamma >= 0.5 && gamma <= 1.0))
-    throw InputError("DynamicsOptions.gamma: expected 0.5 ≤ γ ≤ 1");
+    throw InputError("DynamicsOptions.gamma " + numberText(gamma) + ": expected 0.5 ≤ γ ≤ 1");
+  for (const PinGroup& group : pinGroups)
+    if (!(group.releaseTime > 0.0))
+      throw InputError("PinGroup.releaseTime " + numberText(group.releaseTime) +
+                       ": expected a time > 0 (+inf: never released)");
   if (rayleighMass < 0.0 || rayleighStiffness < 0.0)
     throw InputError("DynamicsOptions.rayleighMass|rayleighStiffness: expected α, β ≥ 0");
   if (bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
@@ -405,8 +412,8 @@ TimeStepper::Advance TimeStepper::advance(double h, double minStep) {
   // A bound below which halving stops must be positive, or a step that keeps failing would be
   // halved without end.
   if (!(h > 0.0) || !(minStep > 0.0) || !(minStep <= h) || !std::isfinite(h)) {
-    throw InputError("TimeStepper::advance: expected 0 < minStep <= h (got h = " +
-                     std::to_string(h) + ", minStep = " + std::to_string(minStep) + ")");
+    throw InputError("TimeStepper::advance: expected 0 < minStep <= h (got h = " + numberText(h) +
+                     ", minStep = " + numberText(minStep) + ")");
   }
   Advance advance;
   advance.smallestStep = h;

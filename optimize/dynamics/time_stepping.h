@@ -34,6 +34,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvature/energy_term.h"
@@ -49,6 +50,8 @@ struct NewtonResult;
 
 enum class Integrator { Newmark, BackwardEuler, CentralDifference };
 const char* integratorName(Integrator integrator);  // newmark | backward-euler | central-difference
+// The integrator of that name; InputError naming DynamicsOptions.integrator otherwise.
+Integrator parseIntegrator(std::string_view name);
 
 // A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
 //   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
@@ -138,10 +141,9 @@ struct DynamicsOptions {
 
   // InputError naming the field for options no problem can satisfy (β outside (0, ½] for
   // Newmark, γ outside [½, 1], negative damping, damping with the explicit scheme, an energy
-  // tolerance that is not > 0).
+  // tolerance that is not > 0, a PinGroup.releaseTime that is not > 0 (finite, or +∞: never)).
   void validate() const;
-  // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two,
-  // and naming PinGroup.releaseTime for one that is not > 0 (finite, or +∞: never).
+  // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two.
   void validatePinGroups(int vertexCount) const;
   // The earliest PinGroup::releaseTime (+∞ when no group is released).
   double nextRelease() const;

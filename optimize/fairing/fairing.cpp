@@ -164,8 +164,8 @@ double angleFloorDegrees(const modeling::FairingPatch& patch, const std::vector<
 curvature::MembraneOptions fairingMembrane(curvature::MembraneModel model, double weight,
                                            double bendingStiffness, double meanEdgeLength) {
   if (!(weight > 0.0) || !std::isfinite(weight))
-    throw InputError("FairingOptions.membraneWeight must be positive (got " +
-                     std::to_string(weight) + ")");
+    throw InputError("FairingOptions.membraneWeight must be positive (got " + numberText(weight) +
+                     ")");
   const double l = meanEdgeLength;
   curvature::MembraneOptions m;
   m.model = model;

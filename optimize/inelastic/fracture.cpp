@@ -68,11 +68,11 @@ void requireMatchingRows(const Mesh& rest, const Eigen::Ref<const Positions>& cu
 void FractureOptions::validate() const {
   if (!std::isfinite(fractureStrain) || fractureStrain <= 0.0) {
     throw InputError("FractureOptions.fractureStrain must be a positive number, got " +
-                     std::to_string(fractureStrain));
+                     numberText(fractureStrain));
   }
   if (!std::isfinite(thickness) || thickness < 0.0) {
     throw InputError("FractureOptions.thickness must be a finite number ≥ 0, got " +
-                     std::to_string(thickness));
+                     numberText(thickness));
   }
 }
 

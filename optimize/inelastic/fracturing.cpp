@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 
 namespace flexure::optimize {
@@ -51,7 +52,9 @@ FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, Pro
     if (problem_->usesEdgeUnknowns())
       throw InputError(
           "FractureOptions: the energy owns edge unknowns (midedge ξ), which do not carry across a "
-          "cut; fracture needs hinge, cotan, triavg or quadfit");
+          "cut; fracture needs " +
+          curvature::energyNamesWhere(
+              [](const curvature::EnergyEntry& e) { return e.cuttable(); }));
     if (options_.membraneRest.size() > 0)
       throw InputError(
           "FractureOptions: a separate membrane rest shape does not carry across a "

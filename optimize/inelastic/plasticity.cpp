@@ -10,6 +10,7 @@
 #include <tuple>
 #include <utility>
 
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 
 namespace flexure::optimize {
@@ -45,7 +46,9 @@ RestCurvatureState& restCurvatureOf(Problem& problem) {
     throw InputError(
         "PlasticityOptions.yieldCurvature: the " + bending.name() +
         " energy has no per-face shape operator whose rest value a plastic strain could move "
-        "(cotan's is one mean curvature per vertex); use triavg, midedge, quadfit or hinge");
+        "(cotan's is one mean curvature per vertex); use " +
+        curvature::energyNamesWhere(
+            [](const curvature::EnergyEntry& e) { return e.plasticRestCurvature; }));
   }
   return *state;
 }
@@ -152,13 +155,13 @@ void PlasticityOptions::validate() const {
     return !v || (std::isfinite(*v) && *v > 0.0);
   };
   if (!positive(yieldCurvature))
-    throw InputError("PlasticityOptions.yieldCurvature " + std::to_string(*yieldCurvature) +
+    throw InputError("PlasticityOptions.yieldCurvature " + numberText(*yieldCurvature) +
                      ": must be positive and finite");
   if (!positive(yieldStrain))
-    throw InputError("PlasticityOptions.yieldStrain " + std::to_string(*yieldStrain) +
+    throw InputError("PlasticityOptions.yieldStrain " + numberText(*yieldStrain) +
                      ": must be positive and finite");
   if (!(std::isfinite(hardening) && hardening >= 0.0))
-    throw InputError("PlasticityOptions.hardening " + std::to_string(hardening) +
+    throw InputError("PlasticityOptions.hardening " + numberText(hardening) +
                      ": must be zero or positive");
 }
 

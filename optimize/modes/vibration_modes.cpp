@@ -419,10 +419,6 @@ const char* supportName(Support support) {
 const char* clampName(Clamp clamp) {
   return clamp == Clamp::Rings ? "rings" : "normals";
 }
-const char* massLumpingName(MassLumping mass) {
-  return mass == MassLumping::Barycentric ? "barycentric" : "voronoi";
-}
-
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra) {
   int rings = 0;

@@ -41,11 +41,11 @@ enum class Support { Clamped, SimplySupported, Free };
 // (curvature::linearizedClampedBoundaryXi with a flat boundary surface).
 enum class Clamp { Rings, Normals };
 using modeling::MassLumping;
+using modeling::massLumpingName;
 
-// "clamped" | "simply-supported" | "free"; "rings" | "normals"; "barycentric" | "voronoi".
+// "clamped" | "simply-supported" | "free"; "rings" | "normals".
 const char* supportName(Support support);
 const char* clampName(Clamp clamp);
-const char* massLumpingName(MassLumping mass);
 
 struct ModesOptions {
   int count = 12;  // flexible modes wanted (the expected rigid modes come on top)

@@ -40,12 +40,7 @@ optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::Be
   optimize::ModesOptions o;
   o.count = a.count;
   o.support = supportNamed(a.support);
-  if (a.mass == "barycentric")
-    o.mass = optimize::MassLumping::Barycentric;
-  else if (a.mass == "voronoi")
-    o.mass = optimize::MassLumping::Voronoi;
-  else
-    throw InputError("mass " + a.mass + ": expected barycentric or voronoi");
+  o.mass = modeling::parseMassLumping(a.mass, "ModesOptions.mass");
   o.density = a.density;
   o.bendingStiffness = b.stiffness;
   o.length = a.length;

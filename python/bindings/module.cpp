@@ -31,6 +31,7 @@
 #include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/static_energy.h"
 #include "python/bindings/bindings.h"
+#include "python/bindings/keyword_names.h"
 
 namespace py = pybind11;
 
@@ -480,6 +481,7 @@ void bindProblem(py::module_& m) {
 PYBIND11_MODULE(_flexure, m) {
   using namespace flexure::python;
   m.doc() = "flexure's C++ library (use the flexure package, which checks arguments)";
+  m.attr("__version__") = FLEXURE_VERSION;
 
   static py::exception<flexure::NumericalError> numericalError(m, "NumericalError",
                                                                PyExc_RuntimeError);
@@ -487,9 +489,9 @@ PYBIND11_MODULE(_flexure, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const flexure::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, withKeywordNames(e.what()).c_str());
     } catch (const flexure::NumericalError& e) {
-      numericalError(e.what());
+      numericalError(withKeywordNames(e.what()).c_str());
     }
   });
 

@@ -18,6 +18,7 @@
 #include "modeling/rest_state.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/obstacles.h"
+#include "optimize/dynamics/simulation_spec.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracture.h"
 #include "optimize/inelastic/fracturing.h"
@@ -75,20 +76,6 @@ struct SimulationArguments : MembraneFields {
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
 
-optimize::Integrator integrator(const std::string& name) {
-  if (name == "newmark") return optimize::Integrator::Newmark;
-  if (name == "backward-euler") return optimize::Integrator::BackwardEuler;
-  if (name == "central-difference") return optimize::Integrator::CentralDifference;
-  throw InputError("integrator " + name +
-                   ": expected newmark, backward-euler or central-difference");
-}
-
-modeling::MassLumping massLumping(const std::string& name) {
-  if (name == "barycentric") return modeling::MassLumping::Barycentric;
-  if (name == "voronoi") return modeling::MassLumping::Voronoi;
-  throw InputError("mass " + name + ": expected barycentric or voronoi");
-}
-
 // The motion `kind` (none | rotate | translate) with its parameters; `source` names the argument.
 optimize::PinMotion pinMotion(const std::string& kind, const Eigen::Vector3d& axis,
                               const Eigen::Vector3d& point, double omega,
@@ -115,7 +102,7 @@ std::string groupName(size_t k) {
 
 optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   optimize::DynamicsOptions d;
-  d.integrator = integrator(a.integrator);
+  d.integrator = optimize::parseIntegrator(a.integrator);
   d.beta = a.beta;
   d.gamma = a.gamma;
   d.rayleighMass = a.rayleighMass;
@@ -131,7 +118,6 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
-  d.validate();
   return d;
 }
 
@@ -145,11 +131,23 @@ optimize::ProblemOptions bodyOptions(const SimulationArguments& a) {
   p.boundaryNormals = optimize::BoundaryNormals::Free;
   p.load.gravity = a.gravity;
   p.load.density = a.density;
-  p.load.mass = massLumping(a.mass);
+  p.load.mass = modeling::parseMassLumping(a.mass, "LoadOptions.mass");
   for (const std::string& spec : a.obstacles)
     p.obstacles.push_back(optimize::parseObstacle("obstacles", spec));
-  p.validate();
   return p;
+}
+
+// The arguments mapped to the run's spec and the spec validated (optimize::SimulationSpec holds
+// the rules; their messages name fields, which withKeywordNames turns into these arguments).
+// The steps are given to advance, one call at a time.
+optimize::SimulationSpec simulationSpec(const SimulationArguments& a) {
+  optimize::SimulationSpec spec;
+  spec.body = bodyOptions(a);
+  spec.dynamics = dynamicsOptions(a);
+  spec.plasticity = a.plasticity;
+  spec.fracture = a.fracture;
+  spec.validate();
+  return spec;
 }
 
 py::dict advanceDict(const optimize::TimeStepper::Advance& a, double time) {
@@ -202,23 +200,6 @@ void placePins(const SimulationArguments& a, const modeling::Stencils& stencils,
   d.validatePinGroups(n);
 }
 
-// The inelastic options as a simulation takes them (the library's checks name the field):
-// plasticity not with fracture (a cut rebuilds the problem, and the plastic strains do not carry
-// across it).
-void checkInelastic(const SimulationArguments& a) {
-  const optimize::PlasticityOptions& plasticity = a.plasticity;
-  plasticity.validate();
-  if (!plasticity.enabled() && plasticity.hardening != 0.0)
-    throw InputError(
-        "hardening: the plastic hardening needs a yield value: give yield_curvature or "
-        "yield_strain");
-  if (a.fracture) a.fracture->validate();
-  if (plasticity.enabled() && a.fracture)
-    throw InputError(std::string(plasticity.yieldCurvature ? "yield_curvature" : "yield_strain") +
-                     ": not with fracture_strain (a cut rebuilds the shell, and the plastic "
-                     "strains do not carry across it)");
-}
-
 py::dict crackDict(const optimize::CrackEvent& c) {
   py::dict d;
   d["time"] = c.time;
@@ -242,9 +223,9 @@ class BoundSimulation {
  public:
   BoundSimulation(const PositionsRef& restV, const TrianglesRef& F, const SimulationArguments& a,
                   const std::optional<Positions>& start, const std::optional<Positions>& velocity) {
-    optimize::DynamicsOptions dynamics = dynamicsOptions(a);
-    optimize::ProblemOptions p = bodyOptions(a);
-    checkInelastic(a);
+    optimize::SimulationSpec spec = simulationSpec(a);
+    optimize::DynamicsOptions& dynamics = spec.dynamics;
+    optimize::ProblemOptions& p = spec.body;
     const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
     if (start && start->rows() != rest.positions.rows())
       throw InputError("V_start has " + std::to_string(start->rows()) + " rows, the mesh " +
@@ -261,7 +242,7 @@ class BoundSimulation {
         optimize::buildProblem(std::move(stencils), std::move(restState), p);
     const Positions startPositions = problem.boundary.start;
     dynamics_ = std::make_unique<optimize::FracturingDynamics>(rest, std::move(problem), p,
-                                                               dynamics, a.fracture);
+                                                               dynamics, spec.fracture);
     dynamics_->start(startPositions, velocity ? *velocity : Positions::Zero(rest.vertexCount(), 3));
     if (a.plasticity.enabled())
       plastic_ = std::make_unique<optimize::PlasticDynamics>(dynamics_->problem(),
@@ -272,11 +253,17 @@ class BoundSimulation {
   // the fracture check after each accepted step, split where a pin group is let go, then the
   // plastic update (optimize::advanceReleasingPins; also after the steps that converged when a
   // later one failed).
+  // `minStep` 0: the library's default (optimize::TimeSteps::smallestStep).
   py::dict advance(double h, double minStep) {
+    optimize::TimeSteps steps;
+    steps.dt = h;
+    steps.minDt = minStep;
+    steps.validate();
     optimize::TimeStepper::Advance a;
     {
       py::gil_scoped_release release;
-      a = optimize::advanceReleasingPins(*dynamics_, plastic_.get(), h, minStep, steps_);
+      a = optimize::advanceReleasingPins(*dynamics_, plastic_.get(), h, steps.smallestStep(),
+                                         steps_);
       steps_ += a.steps;
       if (plastic_ && !a.completed && a.steps > 0) plastic_->afterStep();
     }
@@ -372,6 +359,16 @@ class BoundSimulation {
 }  // namespace
 
 void bindSimulation(py::module_& m) {
+  m.def(
+      "step_count",
+      [](double dt, double duration) {
+        optimize::TimeSteps steps;
+        steps.dt = dt;
+        steps.duration = duration;
+        steps.validate();
+        return steps.stepCount();
+      },
+      "duration / dt, validated as a run's steps (optimize::TimeSteps)");
   // The library's inelastic options, field by field (their validate() names the fields).
   py::class_<optimize::PlasticityOptions>(m, "PlasticityOptions")
       .def(py::init<>())

@@ -19,6 +19,8 @@ import scipy.sparse
 from . import _checks
 from . import _flexure
 
+__version__ = _flexure.__version__
+
 __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
     "minimize", "form", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
@@ -100,7 +102,7 @@ def reuse_freed_memory():
 
 def _plasticity_options(yield_curvature, yield_strain, hardening):
     """PlasticityOptions with the yield values given (None: that part elastic); the library's
-    checks name the field (PlasticityOptions.yieldCurvature, …)."""
+    checks name the keyword (yield_curvature, …)."""
     plasticity = _flexure.PlasticityOptions()
     if yield_curvature is not None:
         plasticity.yield_curvature = _checks.number(yield_curvature, "yield_curvature")
@@ -369,7 +371,7 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
     strain) for a stvk membrane (dof "xyz"), hardening γ ≥ 0 (seed 002's linear kinematic
     hardening). A plate bent cylindrically to κ keeps (κ − κ_y)/(1 + γ) while γ(κ − κ_y)/(1 + γ)
     < κ_y. Solver arguments as ``minimize``'s (not linearized). Bad values raise the library's
-    ValueError naming the field (PlasticityOptions.yieldCurvature, FormingOptions.loadSteps, …).
+    ValueError naming the keyword (yield_curvature, load_steps, …).
 
     Returns ``(V, report)``: V #V×3 float64 the formed (released: sprung-back) positions; report a
     dict: converged, solves, yielded_elements, yielded_faces, dissipation (k_B units),

@@ -64,7 +64,7 @@ def _set_pinned(target, pinned, n, name):
 def _pin_groups(groups, n):
     """The pin groups: each a vertex set (as ``pinned`` takes it), a pair (set, motion or None) or
     a triple (set, motion or None, release time); the library checks that they are disjoint
-    (DynamicsOptions.pinGroups) and the release times (PinGroup.releaseTime)."""
+    (pin_groups) and the release times."""
     if isinstance(groups, (str, dict)) or not hasattr(groups, "__len__"):
         raise ValueError("pin_groups: expected a list of groups, each a vertex set, a pair "
                          "(vertex set, motion) or a triple (vertex set, motion, release time)")
@@ -88,7 +88,7 @@ def _pin_groups(groups, n):
 
 def _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness):
     """The plasticity and fracture options, passed to the library as given (its checks name the
-    field: PlasticityOptions.yieldCurvature, FractureOptions.fractureStrain, …)."""
+    keyword: yield_curvature, fracture_strain, …)."""
     a.plasticity = _plasticity_options(yield_curvature, yield_strain, hardening)
     if fracture_strain is None:
         if thickness:
@@ -135,7 +135,7 @@ class Simulation:
     yield): the rest metric moves. Fracture: fracture_strain ε_f and thickness
     h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
     motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
-    library's ValueError naming the field (PlasticityOptions.hardening, FractureOptions.thickness).
+    library's ValueError naming the keyword (hardening, thickness).
 
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
@@ -203,10 +203,8 @@ class Simulation:
         factorizations, and failure, failed_step, failed_time when it stopped. Never raises for
         a failed step (the state is that after the steps that converged)."""
         h = _checks.number(h, "h", positive=True)
-        min_dt = h / 64.0 if min_dt is None else _checks.number(min_dt, "min_dt", positive=True)
-        if min_dt > h:
-            raise ValueError(f"min_dt: {min_dt} is more than the step {h}")
-        return dict(self._s.advance(h, min_dt))
+        min_dt = 0.0 if min_dt is None else _checks.number(min_dt, "min_dt")
+        return dict(self._s.advance(h, min_dt))  # 0: the library's default, h/64
 
     def step(self, dt, min_dt=None):
         """One step of dt seconds as ``flexure simulate`` takes each (``advance``, halving down to
@@ -222,10 +220,11 @@ class Simulation:
         return report
 
     def run(self, duration, dt, min_dt=None):
-        """round(duration / dt) steps of dt; returns the list of their dicts."""
-        steps = round(_checks.number(duration, "duration", positive=True) /
-                      _checks.number(dt, "dt", positive=True))
-        return [self.step(dt, min_dt) for _ in range(max(steps, 1))]
+        """duration / dt steps of dt (ValueError when duration is not a whole number of steps, as
+        ``flexure simulate`` refuses it); returns the list of their dicts."""
+        steps = _flexure.step_count(_checks.number(dt, "dt"),
+                                    _checks.number(duration, "duration", positive=True))
+        return [self.step(dt, min_dt) for _ in range(steps)]
 
     @property
     def V_rest(self):

@@ -73,7 +73,7 @@ def test_library_input_errors_are_value_errors(small, tmp_path):
         flexure.energy(V, F, V, energy="nosuch")
     with pytest.raises(ValueError, match="hinge"):
         flexure.energy(V, F, V, energy="hinge", poisson=0.3)
-    with pytest.raises(ValueError, match="ProblemOptions.dof xyz needs a membrane"):
+    with pytest.raises(ValueError, match="^dof xyz needs a membrane"):
         flexure.Problem(V, F, dof="xyz")
     with pytest.raises(ValueError, match="missing.obj"):
         flexure.read_mesh(tmp_path / "missing.obj")

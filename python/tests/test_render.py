@@ -45,11 +45,11 @@ def test_png_round_trip(plate, tmp_path):
     ({"style": "cartoon"}, "style"),
     ({"size": 0}, "size"),
     ({"size": (10, 20, 30)}, "size"),
-    ({"size": 8}, "width"),
+    ({"size": 8}, "^size x size = 8 x 8 is outside"),
     ({"style": "error"}, "surface"),
     ({"background": "blue"}, "background"),
     ({"light": [1, 0]}, "light"),
-    ({"stripe_width": 1.5}, "stripeWidth"),
+    ({"stripe_width": 1.5}, "^stripe_width"),
 ])
 def test_bad_arguments_name_themselves(plate, arguments, name):
     V, F = plate

@@ -89,7 +89,7 @@ def test_options_quadratics_and_no_solution():
     (dict(energies=["bogus"]), "energies"),
     (dict(families=["hexagons"]), "families"),
     (dict(levels=9), "levels"),
-    (dict(n=2), "baseN"),
+    (dict(n=2), "^n 2: at least 4 cells"),
     (dict(amplitudes=1), "amplitudes"),
     (dict(quadratics=[(0, 0, 0)]), "quadratic"),
     (dict(quadratics=[(1, 0)]), "quadratics"),

@@ -1,0 +1,121 @@
+#include "python/bindings/keyword_names.h"
+
+#include <utility>
+#include <vector>
+
+#include "modeling/field_names.h"
+
+namespace flexure::python {
+namespace {
+
+// One row per option field that a library message may name, as the package's functions take it
+// (python/flexure); a longer field before one it starts with.
+const std::vector<modeling::FieldName>& keywordNames() {
+  static const std::vector<modeling::FieldName> rows = {
+      // Problem, energy, minimize, form
+      {"ProblemOptions.dof", "dof"},
+      {"ProblemOptions.membraneRest", "the membrane's rest shape"},
+      {"ProblemOptions.membrane", "membrane"},
+      {"ProblemOptions.fixedRings", "fixed_rings"},
+      {"ProblemOptions.fixedVertex", "fixed"},
+      {"ProblemOptions.fixedEdge", "pinned rings:K"},
+      {"ProblemOptions.boundarySurface", "boundary_surface"},
+      {"ConfigurationEnergyOptions.boundarySurface", "boundary_surface"},
+      {"ProblemOptions.boundaryPositions", "boundary_positions"},
+      {"ProblemOptions.boundaryNormals", "boundary_normals"},
+      {"ProblemOptions.linearizedClamp", "linearized_clamp"},
+      {"ProblemOptions.load.gravity", "gravity"},
+      {"ProblemOptions.load.density", "density"},
+      {"ProblemOptions.obstacles", "obstacles"},
+      {"LoadOptions.mass", "mass"},
+      {"BoundaryConditions.fixedVertex rings:2", "fixed_rings=2"},
+      {"BoundaryConditions.fixedVertex rings:K", "fixed_rings=K"},
+      {"BoundaryConditions.fixedVertex", "fixed"},
+      {"BendingOptions.discretization", "energy"},
+      {"BendingOptions.poisson", "poisson"},
+      {"BendingOptions.hingeAngle", "hinge_angle"},
+      {"MinimizeOptions.solver", "solver"},
+      {"MinimizeOptions.linearized", "linearized"},
+      {"PlasticityOptions.yieldCurvature", "yield_curvature"},
+      {"PlasticityOptions.yieldStrain", "yield_strain"},
+      {"PlasticityOptions.hardening", "hardening"},
+      {"FormingOptions.loadSteps", "load_steps"},
+      {"FormingOptions.maxUpdatesPerStep", "max_updates_per_step"},
+      {"FormingOptions.tolerance", "update_tolerance"},
+      {"MembraneOptions.young", "membrane young"},
+      {"MembraneOptions.poisson", "membrane poisson"},
+      {"MembraneOptions.lengthStiffness", "membrane length_stiffness"},
+      {"MembraneOptions.areaStiffness", "membrane area_stiffness"},
+      {"MembraneOptions.shapeStiffness", "membrane shape_stiffness"},
+      // Simulation
+      {"DynamicsOptions.integrator", "integrator"},
+      {"DynamicsOptions.beta", "beta"},
+      {"DynamicsOptions.gamma", "gamma"},
+      {"DynamicsOptions.rayleighMass|rayleighStiffness|bendingDamping",
+       "rayleigh / bending_damping"},
+      {"DynamicsOptions.rayleighMass|rayleighStiffness", "rayleigh"},
+      {"DynamicsOptions.rayleighMass", "rayleigh"},
+      {"DynamicsOptions.bendingDamping", "bending_damping"},
+      {"DynamicsOptions.energyTolerance", "energy_tolerance"},
+      {"DynamicsOptions.pinGroups", "pin_groups"},
+      {"PinGroup.releaseTime", "pin_groups release time"},
+      {"FractureOptions.fractureStrain", "fracture_strain"},
+      {"FractureOptions.thickness", "thickness"},
+      {"TimeSteps.dt", "dt"},
+      {"TimeSteps.minDt", "min_dt"},
+      {"TimeSteps.duration", "duration"},
+      {"SimulationSpec.checkpointed", "checkpoints"},
+      // fair, modes, studies, renders
+      {"FairingOptions.membraneWeight", "membrane_weight"},
+      {"ModesOptions.count", "count"},
+      {"ModesOptions.clamp", "clamp"},
+      {"ModesOptions.density", "density"},
+      {"ModesOptions.dof", "dof"},
+      {"ModesOptions.mass", "mass"},
+      {"ModesOptions.support", "support"},
+      {"SpectrumStudyOptions.energies", "energies"},
+      {"SpectrumStudyOptions.families", "families"},
+      {"SpectrumStudyOptions.baseN", "n"},
+      {"SpectrumStudyOptions.levels", "levels"},
+      {"SpectrumStudyOptions.count", "count"},
+      {"SpectrumStudyOptions.support", "support"},
+      {"StudyOptions.energies", "energies"},
+      {"StudyOptions.families", "families"},
+      {"StudyOptions.userMeshes", "the study's meshes"},
+      {"StudyOptions.seeds", "seeds"},
+      {"StudyOptions.baseN", "n"},
+      {"StudyOptions.levels", "levels"},
+      {"StudyOptions.amplitudes", "amplitudes"},
+      {"StudyOptions.threads", "threads"},
+      {"StudyOptions.quadratics", "quadratics"},
+      {"StudyOptions.solution", "solution"},
+      {"GeneratorOptions.aspect", "aspect"},
+      {"ComparisonOptions.rows", "families"},
+      {"ComparisonOptions.energies", "energies"},
+      {"ComparisonOptions.size", "size"},
+      {"ComparisonOptions.style", "style"},
+      {"RenderOptions.width", "size"},
+      {"RenderOptions.height", "size"},
+      {"RenderOptions.azimuthDegrees", "azimuth"},
+      {"RenderOptions.elevationDegrees", "elevation"},
+      {"RenderOptions.stripeCount", "stripes"},
+      {"RenderOptions.stripeWidth", "stripe_width"},
+      {"RenderOptions.stripeDirectionDegrees", "stripe_direction"},
+      {"RenderOptions.lightDirection", "light"},
+      {"RenderOptions.errorMax", "error_max"},
+      {"RenderOptions.curvatureMax", "curvature_max"},
+      {"RenderOptions.background", "background"},
+      {"RenderOptions.referencePositions", "surface"},
+      {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
+      {"RenderOptions.crackEdges", "the lips of the cracks"},
+  };
+  return rows;
+}
+
+}  // namespace
+
+std::string withKeywordNames(std::string message) {
+  return modeling::renameFields(std::move(message), keywordNames());
+}
+
+}  // namespace flexure::python
