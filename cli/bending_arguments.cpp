@@ -1,7 +1,5 @@
 #include "cli/bending_arguments.h"
 
-#include <cctype>
-#include <cmath>
 #include <functional>
 
 #include "cli/command_files.h"
@@ -9,30 +7,6 @@
 #include "modeling/errors.h"
 
 namespace flexure::cli {
-namespace {
-
-std::string lowercase(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-}  // namespace
-
-curvature::VertexArea parseVertexArea(std::string_view name) {
-  const std::string n = lowercase(name);
-  if (n == "voronoi") return curvature::VertexArea::Voronoi;
-  if (n == "barycentric") return curvature::VertexArea::Barycentric;
-  throw InputError("unknown vertex area '" + std::string(name) +
-                   "' (expected voronoi or barycentric)");
-}
-
-curvature::HingeAngle parseHingeAngle(std::string_view name) {
-  const std::string n = lowercase(name);
-  if (n == "theta") return curvature::HingeAngle::Theta;
-  if (n == "tan") return curvature::HingeAngle::Tan;
-  throw InputError("unknown hinge angle '" + std::string(name) + "' (expected theta or tan)");
-}
 
 void addBendingArguments(CLI::App& sub, BendingArguments& a,
                          const BendingArgumentChoices& choices) {
@@ -79,32 +53,6 @@ void addBendingArguments(CLI::App& sub, BendingArguments& a,
     sub.add_flag("--flat-rest", a.flatRest,
                  "Take only the metric from the rest mesh; its rest curvature is zero (fairing)");
   }
-}
-
-curvature::BendingOptions bendingOptions(const BendingArguments& a) {
-  curvature::BendingOptions b;
-  b.discretization = curvature::parseDiscretization(a.energy);
-  b.poisson = a.poisson;
-  b.stiffness = a.stiffness;
-  b.restCurvature =
-      a.flatRest ? curvature::RestCurvature::Flat : curvature::RestCurvature::FromRest;
-  const curvature::EnergyEntry& chosen = curvature::energyEntry(b.discretization);
-  const auto onlyFor = [&](bool curvature::EnergyEntry::*reads, const std::string& value,
-                           const char* option) {
-    if (!value.empty() && !(chosen.*reads)) {
-      throw InputError(
-          std::string(option) + " applies to --energy " +
-          curvature::energyNamesWhere([&](const curvature::EnergyEntry& e) { return e.*reads; },
-                                      ", ", " or ") +
-          " only");
-    }
-  };
-  onlyFor(&curvature::EnergyEntry::readsVertexArea, a.vertexArea, "--vertex-area");
-  onlyFor(&curvature::EnergyEntry::readsHingeAngle, a.hingeAngle, "--hinge-angle");
-  if (!a.vertexArea.empty()) b.vertexArea = parseVertexArea(a.vertexArea);
-  if (!a.hingeAngle.empty()) b.hingeAngle = parseHingeAngle(a.hingeAngle);
-  curvature::effectivePoisson(b);  // rejects a ν the energy does not take
-  return b;
 }
 
 }  // namespace flexure::cli

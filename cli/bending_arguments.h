@@ -9,18 +9,15 @@
 #include <string_view>
 
 #include "curvature/bending_energy.h"
+#include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::cli {
 
-struct BendingArguments {
-  std::string energy;
-  std::optional<double> poisson;
-  std::string vertexArea, hingeAngle;
-  double stiffness = 1.0;
-  bool flatRest = false;
-};
+// The flags map one to one onto the library's spec of a bending energy (its options() holds the
+// rules).
+using BendingArguments = curvature::BendingSpec;
 
 // --energy, --poisson, --stiffness, --vertex-area, --hinge-angle, and --flat-rest when the
 // command has a rest curvature to choose. --energy is required unless `defaultEnergy` is given.
@@ -31,11 +28,9 @@ struct BendingArgumentChoices {
 void addBendingArguments(CLI::App& sub, BendingArguments& arguments,
                          const BendingArgumentChoices& choices = {});
 
-// "voronoi" | "barycentric" and "theta" | "tan" (case-insensitive); InputError listing them.
-curvature::VertexArea parseVertexArea(std::string_view name);
-curvature::HingeAngle parseHingeAngle(std::string_view name);
-
-// Checked options: an option that does not apply to the chosen energy is an InputError.
-curvature::BendingOptions bendingOptions(const BendingArguments& arguments);
+// arguments.options(): an option that does not apply to the chosen energy is an InputError.
+inline curvature::BendingOptions bendingOptions(const BendingArguments& arguments) {
+  return arguments.options();
+}
 
 }  // namespace flexure::cli

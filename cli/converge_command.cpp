@@ -9,7 +9,6 @@
 #include "cli/bending_arguments.h"
 #include "cli/command_files.h"
 #include "cli/commands.h"
-#include "cli/mode_arguments.h"
 #include "cli/solver_arguments.h"
 #include "cli/spectrum_outputs.h"
 #include "cli/study_outputs.h"
@@ -115,7 +114,7 @@ optimize::SpectrumStudyOptions spectrumOptions(const ConvergeCommandOptions& o,
   spectrum.baseN = o.n;
   spectrum.levels = o.levels;
   spectrum.count = o.count;
-  spectrum.support = parseSupport(o.support);
+  spectrum.support = optimize::parseSupport(o.support);
   return spectrum;
 }
 

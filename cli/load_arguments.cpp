@@ -5,7 +5,6 @@
 #include <sstream>
 
 #include "cli/command_files.h"
-#include "cli/mode_arguments.h"
 #include "modeling/errors.h"
 
 namespace flexure::cli {

@@ -84,10 +84,7 @@ std::string startName(const MinimizeCommandOptions& o) {
 }
 
 optimize::Start parseStart(const MinimizeCommandOptions& o) {
-  const std::string name = startName(o);
-  if (name == "linearized") return optimize::Start::Linearized;
-  if (name == "given") return optimize::Start::AsGiven;
-  throw InputError("--start " + name + ": expected linearized or given");
+  return optimize::parseStart(startName(o));
 }
 
 // Boundary data too large for double precision (quadratic:1e300,0,1) overflows in the solve: an

@@ -19,7 +19,6 @@
 #include "cli/command_files.h"
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
-#include "cli/mode_arguments.h"
 #include "curvature/bending_energy.h"
 #include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
@@ -60,8 +59,9 @@ std::string lambdaText(double lambda) {
   return text;
 }
 
-// The library's options from the command's, every flag combination checked.
-optimize::ModesOptions libraryModesOptions(const ModesOptions& o) {
+// The command's flags mapped to the library's spec of a modes run, validated (optimize::ModesSpec
+// holds the rules, and its messages name fields that withFlagNames turns back into these flags).
+optimize::ModesSpec modesSpec(const ModesOptions& o) {
   if (o.meshFile.empty() == o.family.empty())
     throw InputError("give the plate as --mesh FILE or as --family F --n N (one of the two)");
   if (o.energies.empty()) throw InputError("--energy: give at least one energy");
@@ -69,54 +69,39 @@ optimize::ModesOptions libraryModesOptions(const ModesOptions& o) {
     for (size_t j = 0; j < i; ++j)
       if (o.energies[i] == o.energies[j])
         throw InputError("--energy: " + o.energies[i] + " is given twice");
-  optimize::ModesOptions base;
-  base.count = o.count;
-  base.support = parseSupport(o.support);
-  base.mass = modeling::parseMassLumping(o.mass, "ModesOptions.mass");
-  base.density = o.density;
-  base.bendingStiffness = o.stiffness;
-  base.length = o.length;
-  if (!o.clamp.empty() && base.support != optimize::Support::Clamped)
-    throw InputError("--clamp applies to --support clamped");
-  if (o.dof == "height") {
-    base.dof = optimize::DofMode::Height;
-    if (!o.membrane.model.empty()) throw InputError("--membrane applies to --dof xyz");
-  } else if (o.dof == "xyz") {
-    base.dof = optimize::DofMode::Xyz;
-    if (o.membrane.model.empty())
-      throw InputError("--dof xyz needs a membrane (--membrane stvk|springs|conformal)");
-  } else {
-    throw InputError("--dof " + o.dof + ": expected height or xyz");
-  }
-  return base;
+  optimize::ModesSpec spec;
+  spec.modes.count = o.count;
+  spec.modes.support = optimize::parseSupport(o.support);
+  spec.modes.mass = modeling::parseMassLumping(o.mass, "ModesOptions.mass");
+  spec.modes.density = o.density;
+  spec.modes.bendingStiffness = o.stiffness;
+  spec.modes.length = o.length;
+  spec.modes.dof = optimize::parseDofMode(o.dof, "ModesOptions.dof");
+  if (!o.clamp.empty()) spec.clamp = optimize::parseClamp(o.clamp);
+  spec.membrane = !o.membrane.model.empty();
+  spec.validate();
+  return spec;
 }
 
-// One run per --energy, with its bending options and its clamp (normals for midedge unless
-// --clamp says otherwise).
-std::vector<EnergyRun> energyRuns(const ModesOptions& o, optimize::Support support) {
+// One run per --energy, with its bending options and its clamp (ModesSpec::forEnergy).
+std::vector<EnergyRun> energyRuns(const ModesOptions& o, const optimize::ModesSpec& spec) {
   std::vector<EnergyRun> runs;
-  for (const std::string& spec : o.energies) {
-    if (spec.find(':') != std::string::npos && spec.rfind("midedge", 0) == 0)
-      throw InputError("--energy " + spec +
+  for (const std::string& name : o.energies) {
+    if (name.find(':') != std::string::npos && name.rfind("midedge", 0) == 0)
+      throw InputError("--energy " + name +
                        ": midedge's boundary normals follow --support and --clamp; give midedge");
     EnergyRun run;
-    run.spec = spec;
+    run.spec = name;
     try {
-      run.bending = optimize::parseEnergyVariant(spec, o.poisson).bending;
+      run.bending = optimize::parseEnergyVariant(name, o.poisson).bending;
     } catch (const InputError& e) {
       throw InputError(std::string("--energy: ") + e.what());
     }
     run.bending.stiffness = o.stiffness;
     curvature::effectivePoisson(run.bending);  // a ν the energy does not take fails here
-    // Clamp::Normals holds the edge unknowns (midedge's ξ) of an energy that owns them.
-    const bool midedge =
+    run.edgeUnknowns =
         static_cast<bool>(curvature::energyEntry(run.bending.discretization).restEdgeUnknowns);
-    run.edgeUnknowns = midedge;
-    run.clamp = o.clamp.empty() ? (midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings)
-                                : parseClamp(o.clamp);
-    if (run.clamp == optimize::Clamp::Normals && !midedge && support == optimize::Support::Clamped)
-      throw InputError("--clamp normals holds the midedge normals: " + spec +
-                       " has none; use --clamp rings or --energy midedge");
+    run.clamp = spec.forEnergy(run.bending).clamp;
     runs.push_back(std::move(run));
   }
   return runs;
@@ -494,8 +479,9 @@ nlohmann::json modesReport(const ModesOptions& o, const optimize::ModesOptions& 
 void runModes(const ModesOptions& o, const GlobalOptions& global, const std::string& commandName) {
   namespace fs = std::filesystem;
   // Every option and input is checked before the first solve.
-  optimize::ModesOptions base = libraryModesOptions(o);
-  std::vector<EnergyRun> runs = energyRuns(o, base.support);
+  const optimize::ModesSpec spec = modesSpec(o);
+  optimize::ModesOptions base = spec.modes;
+  std::vector<EnergyRun> runs = energyRuns(o, spec);
   checkReferenceName(o.reference, base.support);
   const Plate plate = readOrGeneratePlate(o);
   const modeling::Stencils stencils = modeling::compileStencils(plate.mesh);

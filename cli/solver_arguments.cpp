@@ -20,27 +20,9 @@ void addSolverArguments(CLI::App& sub, SolverArguments& arguments) {
 }
 
 void applySolverArguments(const SolverArguments& arguments, optimize::MinimizeOptions& options) {
-  if (arguments.solver == "newton") {
-    options.solver = optimize::Solver::Newton;
-  } else if (arguments.solver == "ceres") {
-    options.solver = optimize::Solver::Ceres;
-  } else {
-    throw InputError("--solver " + arguments.solver + ": expected newton or ceres");
-  }
-  if (arguments.hessian == "exact") {
-    options.hessian = optimize::HessianMode::Exact;
-  } else if (arguments.hessian == "projected") {
-    options.hessian = optimize::HessianMode::Projected;
-  } else if (arguments.hessian == "shifted") {
-    options.hessian = optimize::HessianMode::Shifted;
-  } else if (arguments.hessian == "exact-projected") {
-    options.hessian = optimize::HessianMode::ExactOrProjected;
-  } else {
-    throw InputError("--hessian " + arguments.hessian +
-                     ": expected exact, projected, shifted or exact-projected");
-  }
-  if (options.solver == optimize::Solver::Ceres && arguments.hessian != "exact")
-    throw InputError("--hessian applies to --solver newton (Ceres factors JᵀJ, not the Hessian)");
+  options.solver = optimize::parseSolver(arguments.solver);
+  options.hessian = optimize::parseHessianMode(arguments.hessian);
+  options.validate();
 }
 
 void addSolverLimits(CLI::App& sub, optimize::MinimizeOptions& solver, bool tolerances) {

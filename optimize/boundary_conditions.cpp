@@ -12,6 +12,19 @@
 
 namespace flexure::optimize {
 
+DofMode parseDofMode(std::string_view name, std::string_view field) {
+  if (name == "height") return DofMode::Height;
+  if (name == "xyz") return DofMode::Xyz;
+  throw InputError(std::string(field) + " " + std::string(name) + ": expected height or xyz");
+}
+
+BoundaryNormals parseBoundaryNormals(std::string_view name) {
+  if (name == "clamped") return BoundaryNormals::Clamped;
+  if (name == "free") return BoundaryNormals::Free;
+  throw InputError("ProblemOptions.boundaryNormals " + std::string(name) +
+                   ": expected clamped or free");
+}
+
 std::vector<bool> freeUnknownMask(const std::vector<bool>& heldVertex,
                                   const std::vector<bool>& heldEdge, DofMode dof) {
   const size_t vertexCount = heldVertex.size();

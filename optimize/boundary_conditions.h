@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "modeling/mesh.h"
@@ -16,6 +17,8 @@ using modeling::Positions;
 
 // The unknowns of a vertex: z alone (height; x, y held at rest) or x, y, z.
 enum class DofMode { Height, Xyz };
+// "height" | "xyz"; InputError naming `field` (the option that gave it) otherwise.
+DofMode parseDofMode(std::string_view name, std::string_view field);
 
 struct BoundaryConditions {
   std::vector<bool> fixedVertex;  // #V
@@ -55,6 +58,8 @@ Positions boundaryFromSurface(const Positions& rest, const std::vector<bool>& fi
 // Midedge boundary normals: clamped (boundary ξ prescribed from the boundary surface's normals)
 // or free (natural, moment-free).
 enum class BoundaryNormals { Clamped, Free };
+// "clamped" | "free"; InputError naming ProblemOptions.boundaryNormals otherwise.
+BoundaryNormals parseBoundaryNormals(std::string_view name);
 
 // The test problems' boundary conditions: the fixed vertices lifted onto z = p(x̄, ȳ), the
 // interior at rest, and (midedge, `restXi` non-empty) boundary ξ clamped to p's normals — for a

@@ -11,6 +11,7 @@
 #include <memory>
 #include <numeric>
 
+#include "curvature/energy_registry.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
 #include "optimize/linear/cholesky_factor.h"
@@ -405,6 +406,29 @@ void ModesOptions::validate() const {
     throw InputError("ModesOptions.count " + std::to_string(count) + ": expected at least 1");
   if (!(density > 0.0)) throw InputError("ModesOptions.density: expected a value > 0");
 }
+
+void ModesSpec::validate() const {
+  modes.validate();
+  if (clamp && modes.support != Support::Clamped)
+    throw InputError("ModesOptions.clamp applies to ModesOptions.support clamped");
+  if (modes.dof == DofMode::Height && membrane)
+    throw InputError("ProblemOptions.membrane applies to ModesOptions.dof xyz");
+  if (modes.dof == DofMode::Xyz && !membrane)
+    throw InputError(
+        "ModesOptions.dof xyz needs a membrane (ProblemOptions.membrane stvk|springs|conformal)");
+}
+
+ModesOptions ModesSpec::forEnergy(const curvature::BendingOptions& bending) const {
+  ModesOptions o = modes;
+  const curvature::EnergyEntry& entry = curvature::energyEntry(bending.discretization);
+  const bool edgeUnknowns = static_cast<bool>(entry.restEdgeUnknowns);
+  o.clamp = clamp.value_or(edgeUnknowns ? Clamp::Normals : Clamp::Rings);
+  if (o.clamp == Clamp::Normals && !edgeUnknowns && o.support == Support::Clamped)
+    throw InputError("ModesOptions.clamp normals holds the midedge normals: " + entry.name +
+                     " has none; use ModesOptions.clamp rings or BendingOptions.discretization "
+                     "midedge");
+  return o;
+}
 const char* supportName(Support support) {
   switch (support) {
     case Support::Clamped:
@@ -418,6 +442,19 @@ const char* supportName(Support support) {
 }
 const char* clampName(Clamp clamp) {
   return clamp == Clamp::Rings ? "rings" : "normals";
+}
+
+Support parseSupport(std::string_view name) {
+  for (Support s : {Support::Clamped, Support::SimplySupported, Support::Free})
+    if (name == supportName(s)) return s;
+  throw InputError("ModesOptions.support " + std::string(name) +
+                   ": expected clamped, simply-supported or free");
+}
+
+Clamp parseClamp(std::string_view name) {
+  for (Clamp c : {Clamp::Rings, Clamp::Normals})
+    if (name == clampName(c)) return c;
+  throw InputError("ModesOptions.clamp " + std::string(name) + ": expected rings or normals");
 }
 std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Support support,
                                        Clamp clamp, const std::vector<bool>& extra) {

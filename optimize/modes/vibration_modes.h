@@ -18,9 +18,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "curvature/bending_energy.h"
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
@@ -46,6 +49,9 @@ using modeling::massLumpingName;
 // "clamped" | "simply-supported" | "free"; "rings" | "normals".
 const char* supportName(Support support);
 const char* clampName(Clamp clamp);
+// The names above; InputError naming ModesOptions.support / ModesOptions.clamp otherwise.
+Support parseSupport(std::string_view name);
+Clamp parseClamp(std::string_view name);
 
 struct ModesOptions {
   int count = 12;  // flexible modes wanted (the expected rigid modes come on top)
@@ -61,6 +67,22 @@ struct ModesOptions {
   // Throws InputError naming the field for count < 1 or density ≤ 0 (what vibrationModes also
   // refuses, knowing the problem: checkModesRest's refusals, more modes than unknowns).
   void validate() const;
+};
+
+// What a modes run is, said once for the command and for Python, before its energies are known:
+// the options (their clamp aside), the clamp when one is given, and whether a membrane is.
+struct ModesSpec {
+  ModesOptions modes;
+  std::optional<Clamp> clamp;  // empty: each energy's own (forEnergy)
+  bool membrane = false;       // a membrane is given (the body of dof xyz)
+
+  // InputError naming the fields: the options' rules, a clamp without clamped support, a membrane
+  // without dof xyz or dof xyz without one.
+  void validate() const;
+  // The options for one energy: the clamp given, else normals for an energy that owns edge
+  // unknowns (midedge's ξ, which the clamp holds), else rings. InputError for a normals clamp of
+  // an energy without them (clamped support).
+  ModesOptions forEnergy(const curvature::BendingOptions& bending) const;
 };
 
 // Height mode moves each vertex along z only: the transverse motion of a plate flat in the xy

@@ -224,6 +224,56 @@ const char* solverName(Solver solver) {
   return solver == Solver::Newton ? "newton" : "ceres";
 }
 
+const char* hessianModeName(HessianMode mode) {
+  switch (mode) {
+    case HessianMode::Exact:
+      return "exact";
+    case HessianMode::Projected:
+      return "projected";
+    case HessianMode::Shifted:
+      return "shifted";
+    case HessianMode::ExactOrProjected:
+      return "exact-projected";
+  }
+  return "exact";
+}
+
+Start parseStart(std::string_view name) {
+  if (name == "linearized") return Start::Linearized;
+  if (name == "given") return Start::AsGiven;
+  throw InputError("MinimizeOptions.start " + std::string(name) + ": expected linearized or given");
+}
+
+Solver parseSolver(std::string_view name) {
+  for (Solver s : {Solver::Newton, Solver::Ceres})
+    if (name == solverName(s)) return s;
+  throw InputError("MinimizeOptions.solver " + std::string(name) + ": expected newton or ceres");
+}
+
+HessianMode parseHessianMode(std::string_view name) {
+  for (HessianMode m : {HessianMode::Exact, HessianMode::Projected, HessianMode::Shifted,
+                        HessianMode::ExactOrProjected})
+    if (name == hessianModeName(m)) return m;
+  throw InputError("MinimizeOptions.hessian " + std::string(name) +
+                   ": expected exact, projected, shifted or exact-projected");
+}
+
+void MinimizeOptions::validate() const {
+  if (maxIterations < 1)
+    throw InputError("MinimizeOptions.maxIterations " + std::to_string(maxIterations) +
+                     ": expected at least 1");
+  if (threads < 1)
+    throw InputError("MinimizeOptions.threads " + std::to_string(threads) +
+                     ": expected at least 1");
+  for (double tolerance : {functionTolerance, gradientTolerance, parameterTolerance})
+    if (!(tolerance > 0.0))
+      throw InputError("MinimizeOptions: a tolerance " + numberText(tolerance) + ": expected > 0");
+  if (solver == Solver::Ceres && hessian != HessianMode::Exact)
+    throw InputError("MinimizeOptions.hessian " + std::string(hessianModeName(hessian)) +
+                     ": applies to MinimizeOptions.solver newton (Ceres factors JᵀJ, not the "
+                     "Hessian)");
+}
+
 MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options) {
   const std::vector<bool>& heldEdge = problem.boundary.fixedEdge;
   if (options.linearized != problem.linearizedClamp &&

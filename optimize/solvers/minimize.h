@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvature/energy_term.h"
@@ -40,6 +41,14 @@ const char* solverName(Solver solver);  // "newton" | "ceres"
 // (μ grown tenfold until it factors) or the projected sum.
 enum class HessianMode { Exact, Projected, Shifted, ExactOrProjected };
 
+// The names users give them, each list in the enum's order: "linearized" | "given"; "newton" |
+// "ceres"; "exact" | "projected" | "shifted" | "exact-projected". A parse throws InputError naming
+// the field (MinimizeOptions.start, .solver, .hessian) and listing the names.
+const char* hessianModeName(HessianMode mode);
+Start parseStart(std::string_view name);
+Solver parseSolver(std::string_view name);
+HessianMode parseHessianMode(std::string_view name);
+
 // How a Problem (problem.h: the terms, the unknown layout, the boundary, the load, the
 // obstacles) is minimized.
 struct MinimizeOptions {
@@ -61,6 +70,10 @@ struct MinimizeOptions {
   // SimplicialLLT refactored in every iteration, no chord steps. The baseline of scripts/bench
   // shell.
   bool simplicialBaseline = false;
+
+  // InputError naming the field: a limit below 1, a tolerance that is not > 0, a Hessian mode
+  // other than exact with Ceres (it factors JᵀJ, not the Hessian).
+  void validate() const;
 };
 
 struct MinimizeReport {

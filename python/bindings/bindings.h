@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/mesh.h"
@@ -24,17 +25,12 @@ using TrianglesRef = Eigen::Ref<const Triangles>;  // #F by 3 int32
 modeling::Mesh checkedMesh(const PositionsRef& V, const TrianglesRef& F, const std::string& source);
 
 // The bending options as Python names them (the strings are the registry's and the CLI's values).
-struct BendingArguments {
-  std::string energy = "hinge";
-  std::optional<double> poisson;
-  double stiffness = 1.0;
-  std::string vertexArea = "voronoi";
-  std::string hingeAngle = "theta";
-  bool flatRest = false;  // the rest mesh gives only the metric; rest curvature zero
-};
-
-// InputError naming the argument (vertex_area, hinge_angle, poisson) for a bad value.
-curvature::BendingOptions bendingOptions(const BendingArguments& a);
+// The keyword arguments of a bending energy map one to one onto the library's spec (its options()
+// holds the rules and names the fields, which withKeywordNames turns into the keywords).
+using BendingArguments = curvature::BendingSpec;
+inline curvature::BendingOptions bendingOptions(const BendingArguments& a) {
+  return a.options();
+}
 
 // A membrane's parameters as Python names them: the library's defaults
 // (curvature::MembraneOptions) until Python sets one. The argument structs that take a membrane
@@ -60,9 +56,6 @@ Class& defMembraneFields(Class& c) {
       .def_readwrite("area_stiffness", &MembraneFields::areaStiffness)
       .def_readwrite("shape_stiffness", &MembraneFields::shapeStiffness);
 }
-
-// "clamped" | "simply-supported" | "free"; InputError naming the argument support otherwise.
-optimize::Support supportNamed(const std::string& name);
 
 void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);

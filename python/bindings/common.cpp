@@ -15,28 +15,6 @@ modeling::Mesh checkedMesh(const PositionsRef& V, const TrianglesRef& F,
   return mesh;
 }
 
-curvature::BendingOptions bendingOptions(const BendingArguments& a) {
-  curvature::BendingOptions b;
-  b.discretization = curvature::parseDiscretization(a.energy);
-  b.poisson = a.poisson;
-  b.stiffness = a.stiffness;
-  if (a.vertexArea == "voronoi")
-    b.vertexArea = curvature::VertexArea::Voronoi;
-  else if (a.vertexArea == "barycentric")
-    b.vertexArea = curvature::VertexArea::Barycentric;
-  else
-    throw InputError("vertex_area " + a.vertexArea + ": expected voronoi or barycentric");
-  if (a.hingeAngle == "theta")
-    b.hingeAngle = curvature::HingeAngle::Theta;
-  else if (a.hingeAngle == "tan")
-    b.hingeAngle = curvature::HingeAngle::Tan;
-  else
-    throw InputError("hinge_angle " + a.hingeAngle + ": expected theta or tan");
-  if (a.flatRest) b.restCurvature = curvature::RestCurvature::Flat;
-  curvature::effectivePoisson(b);  // the entry's ν rule, before any mesh work
-  return b;
-}
-
 curvature::MembraneOptions MembraneFields::membraneOptions(const std::string& model) const {
   curvature::MembraneOptions m;
   m.model = curvature::parseMembraneModel(model);

@@ -22,8 +22,7 @@ namespace flexure::python {
 namespace {
 
 struct FairArguments {
-  BendingArguments bending;      // energy midedge by default, as the CLI's
-  bool vertexAreaGiven = false;  // false: the metric's default vertex area
+  BendingArguments bending;  // energy midedge by default, as the CLI's
   std::optional<std::vector<bool>> regionMask;
   std::string regionSpec;  // parseRegion's text when no mask is given
   std::string membrane = "mips";
@@ -47,7 +46,7 @@ optimize::FairingOptions fairingOptions(const FairArguments& a) {
       a.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
   const curvature::VertexArea metricArea = o.bending.vertexArea;
   o.bending = bendingOptions(bending);
-  if (!a.vertexAreaGiven) o.bending.vertexArea = metricArea;
+  if (a.bending.vertexArea.empty()) o.bending.vertexArea = metricArea;
   o.membrane = curvature::parseMembraneModel(a.membrane);
   o.membraneWeight = a.membraneWeight.value_or(o.membraneWeight);
   optimize::fairingMembrane(o.membrane, o.membraneWeight, 1.0, 1.0);  // checks w
@@ -175,7 +174,6 @@ void bindFairing(py::module_& m) {
   py::class_<FairArguments>(m, "FairArguments")
       .def(py::init<>())
       .def_readwrite("bending", &FairArguments::bending)
-      .def_readwrite("vertex_area_given", &FairArguments::vertexAreaGiven)
       .def_readwrite("region_mask", &FairArguments::regionMask)
       .def_readwrite("region_spec", &FairArguments::regionSpec)
       .def_readwrite("membrane", &FairArguments::membrane)

@@ -35,40 +35,22 @@ struct ModesArguments : MembraneFields {
   bool nodalLines = true;
 };
 
-// modes' libraryModesOptions and energyRuns for one energy, every combination checked.
+// The arguments mapped to the library's spec of a modes run, validated, and the options for the
+// one energy (optimize::ModesSpec holds the rules; withKeywordNames names the keywords).
 optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::BendingOptions& b) {
-  optimize::ModesOptions o;
-  o.count = a.count;
-  o.support = supportNamed(a.support);
-  o.mass = modeling::parseMassLumping(a.mass, "ModesOptions.mass");
-  o.density = a.density;
-  o.bendingStiffness = b.stiffness;
-  o.length = a.length;
-  if (a.clamp && o.support != optimize::Support::Clamped)
-    throw InputError("clamp applies to support clamped");
-  if (a.dof == "height") {
-    o.dof = optimize::DofMode::Height;
-    if (a.membrane) throw InputError("membrane applies to dof xyz");
-  } else if (a.dof == "xyz") {
-    o.dof = optimize::DofMode::Xyz;
-    if (!a.membrane) throw InputError("dof xyz needs a membrane (stvk, springs or conformal)");
-  } else {
-    throw InputError("dof " + a.dof + ": expected height or xyz");
-  }
-  const bool midedge = static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
-  if (!a.clamp)
-    o.clamp = midedge ? optimize::Clamp::Normals : optimize::Clamp::Rings;
-  else if (*a.clamp == "rings")
-    o.clamp = optimize::Clamp::Rings;
-  else if (*a.clamp == "normals")
-    o.clamp = optimize::Clamp::Normals;
-  else
-    throw InputError("clamp " + *a.clamp + ": expected rings or normals");
-  if (o.clamp == optimize::Clamp::Normals && !midedge && o.support == optimize::Support::Clamped)
-    throw InputError("clamp normals holds the midedge normals: " + a.bending.energy +
-                     " has none; use clamp rings or energy midedge");
-  if (a.fixed) o.extraFixed = *a.fixed;
-  return o;
+  optimize::ModesSpec spec;
+  spec.modes.count = a.count;
+  spec.modes.support = optimize::parseSupport(a.support);
+  spec.modes.mass = modeling::parseMassLumping(a.mass, "ModesOptions.mass");
+  spec.modes.density = a.density;
+  spec.modes.bendingStiffness = b.stiffness;
+  spec.modes.length = a.length;
+  spec.modes.dof = optimize::parseDofMode(a.dof, "ModesOptions.dof");
+  if (a.clamp) spec.clamp = optimize::parseClamp(*a.clamp);
+  spec.membrane = a.membrane.has_value();
+  if (a.fixed) spec.modes.extraFixed = *a.fixed;
+  spec.validate();
+  return spec.forEnergy(b);
 }
 
 py::dict modeDict(const optimize::VibrationMode& mode, const optimize::Problem& problem,
@@ -144,13 +126,6 @@ py::dict modesOf(const PositionsRef& V, const TrianglesRef& F, const ModesArgume
 }
 
 }  // namespace
-
-optimize::Support supportNamed(const std::string& name) {
-  if (name == "clamped") return optimize::Support::Clamped;
-  if (name == "simply-supported") return optimize::Support::SimplySupported;
-  if (name == "free") return optimize::Support::Free;
-  throw InputError("support " + name + ": expected clamped, simply-supported or free");
-}
 
 void bindModes(py::module_& m) {
   py::class_<ModesArguments> modesArguments(m, "ModesArguments");

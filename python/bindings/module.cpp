@@ -9,6 +9,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <algorithm>
 
 #include <cstdint>
 #include <optional>
@@ -98,23 +99,13 @@ struct ProblemArguments : MembraneFields {
 optimize::ProblemOptions problemOptions(const ProblemArguments& a) {
   optimize::ProblemOptions p;
   p.bending = bendingOptions(a.bending);
-  if (a.dof == "height")
-    p.dof = optimize::DofMode::Height;
-  else if (a.dof == "xyz")
-    p.dof = optimize::DofMode::Xyz;
-  else
-    throw InputError("dof " + a.dof + ": expected height or xyz");
+  p.dof = optimize::parseDofMode(a.dof, "ProblemOptions.dof");
   if (a.fixed) p.fixedVertex = *a.fixed;
   p.fixedRings = a.fixedRings;
   if (a.boundaryPositions) p.boundaryPositions = *a.boundaryPositions;
   if (a.boundarySurface) p.boundarySurface = modeling::PolynomialSurface::parse(*a.boundarySurface);
-  const std::string normals = a.boundaryNormals.value_or(a.boundarySurface ? "clamped" : "free");
-  if (normals == "clamped")
-    p.boundaryNormals = optimize::BoundaryNormals::Clamped;
-  else if (normals == "free")
-    p.boundaryNormals = optimize::BoundaryNormals::Free;
-  else
-    throw InputError("boundary_normals " + normals + ": expected clamped or free");
+  p.boundaryNormals = optimize::parseBoundaryNormals(
+      a.boundaryNormals.value_or(a.boundarySurface ? "clamped" : "free"));
   p.linearizedClamp = a.linearizedClamp;
   if (a.membrane) p.membrane = a.membraneOptions(*a.membrane);
   p.load.gravity = a.gravity;
@@ -226,32 +217,16 @@ struct SolverArguments {
 
 optimize::MinimizeOptions minimizeOptions(const SolverArguments& a) {
   optimize::MinimizeOptions o;
-  if (a.solver == "newton")
-    o.solver = optimize::Solver::Newton;
-  else if (a.solver == "ceres")
-    o.solver = optimize::Solver::Ceres;
-  else
-    throw InputError("solver " + a.solver + ": expected newton or ceres");
-  if (a.hessian == "exact")
-    o.hessian = optimize::HessianMode::Exact;
-  else if (a.hessian == "projected")
-    o.hessian = optimize::HessianMode::Projected;
-  else
-    throw InputError("hessian " + a.hessian + ": expected exact or projected");
-  if (a.start == "linearized")
-    o.start = optimize::Start::Linearized;
-  else if (a.start == "given")
-    o.start = optimize::Start::AsGiven;
-  else
-    throw InputError("start " + a.start + ": expected linearized or given");
-  if (a.threads < 1)
-    throw InputError("threads must be >= 1 (got " + std::to_string(a.threads) + ")");
+  o.solver = optimize::parseSolver(a.solver);
+  o.hessian = optimize::parseHessianMode(a.hessian);
+  o.start = optimize::parseStart(a.start);
   o.linearized = a.linearized;
   o.maxIterations = a.maxIterations;
   o.functionTolerance = a.functionTolerance;
   o.gradientTolerance = a.gradientTolerance;
   o.parameterTolerance = a.parameterTolerance;
   o.threads = a.threads;
+  o.validate();
   return o;
 }
 
@@ -307,6 +282,15 @@ py::tuple formProblem(const PositionsRef& restV, const TrianglesRef& F,
   return py::make_tuple(formed.positions, formed.xi, report);
 }
 
+// Whether `boundary` moves a held vertex of `bc` while `bc` holds ξ: the held ξ are the clamp of
+// bc's own held values, which do not follow other ones.
+bool heldValuesMove(const optimize::BoundaryConditions& bc, const PositionsRef& boundary) {
+  if (std::find(bc.fixedEdge.begin(), bc.fixedEdge.end(), true) == bc.fixedEdge.end()) return false;
+  for (int v = 0; v < bc.start.rows(); ++v)
+    if (bc.fixedVertex[v] && bc.start.row(v) != boundary.row(v)) return true;
+  return false;
+}
+
 // A LinearizedSolver on a problem's terms, rest state and held unknowns: J at rest and
 // J_freeᵀ J_free factored once; every solve takes new boundary values.
 class BoundLinearizedSolver {
@@ -329,6 +313,11 @@ class BoundLinearizedSolver {
     if (boundary.rows() != bc.start.rows())
       throw InputError("boundary_values has " + std::to_string(boundary.rows()) +
                        " rows, the mesh " + std::to_string(bc.start.rows()) + " vertices");
+    if (!xi && heldValuesMove(bc, boundary))
+      throw InputError(
+          "xi: the problem holds ξ on its boundary edges (the clamp of its boundary), and the "
+          "held vertices of boundary_values are not its own; give the ξ that clamp them (e.g. "
+          "the start_xi of a Problem with their boundary_surface), or the old clamp would stay");
     bc.start = boundary;
     if (xi) {
       if (xi->size() != bc.xi.size())

@@ -126,7 +126,7 @@ optimize::SpectrumStudyOptions spectrumOptions(const SpectrumArguments& a) {
   s.baseN = a.n;
   s.levels = a.levels;
   s.count = a.count;
-  s.support = supportNamed(a.support);
+  s.support = optimize::parseSupport(a.support);
   s.validate();
   return s;
 }

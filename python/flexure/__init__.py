@@ -116,15 +116,15 @@ def _bending(energy, poisson, stiffness, vertex_area, hinge_angle, flat_rest):
     b = _flexure.BendingArguments()
     b.energy = str(energy)
     b.poisson = None if poisson is None else _checks.number(poisson, "poisson")
-    b.stiffness = _checks.number(stiffness, "stiffness", positive=True)
-    b.vertex_area = str(vertex_area)
-    b.hinge_angle = str(hinge_angle)
+    b.stiffness = _checks.number(stiffness, "stiffness")
+    b.vertex_area = "" if vertex_area is None else str(vertex_area)  # "": the energy's default
+    b.hinge_angle = "" if hinge_angle is None else str(hinge_angle)
     b.flat_rest = bool(flat_rest)
     return b
 
 
-def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_area="voronoi",
-           hinge_angle="theta", flat_rest=False, boundary_surface=None, linearized=False):
+def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
+           hinge_angle=None, flat_rest=False, boundary_surface=None, linearized=False):
     """The bending energy of the current positions V against the rest mesh (V_rest, F).
 
     The same computation and report as ``flexure energy --json``: nothing is held; midedge's edge
@@ -134,7 +134,8 @@ def energy(V_rest, F, V, energy="midedge", poisson=None, stiffness=1.0, vertex_a
 
     V_rest, V: #V×3 float64 (length L); F: #F×3 int32/int64. poisson: ν (None: the energy's rule,
     0.3 for the Koiter energies; hinge and cotan accept only 1); stiffness: k_B; vertex_area:
-    "voronoi" | "barycentric" (cotan); hinge_angle: "theta" | "tan" (hinge); flat_rest: take
+    "voronoi" | "barycentric" (cotan only; None: voronoi); hinge_angle: "theta" | "tan" (hinge
+    only; None: theta) — given to an energy that does not read it, ValueError; flat_rest: take
     only the metric from the rest mesh, its rest curvature zero (fairing).
 
     Returns a dict: energy (k_B units), energy_name, elements, element_kind, covered_area (L²),
@@ -175,7 +176,7 @@ class Problem:
     """
 
     def __init__(self, V_rest, F, energy="midedge", poisson=None, stiffness=1.0,
-                 vertex_area="voronoi", hinge_angle="theta", flat_rest=False, dof="height",
+                 vertex_area=None, hinge_angle=None, flat_rest=False, dof="height",
                  fixed=None,
                  fixed_rings=2, boundary_positions=None, boundary_surface=None,
                  boundary_normals=None, linearized_clamp=False, membrane=None, gravity=None,
@@ -328,7 +329,9 @@ def minimize(problem=None, *args, solver="newton", hessian="exact", linearized=F
     """Minimize a problem's objective over its free unknowns (``flexure minimize``).
 
     ``problem``: a Problem, or the arguments of Problem (``minimize(V_rest, F, energy=…,
-    boundary_surface=…)``). solver: "newton" | "ceres"; hessian: "exact" | "projected";
+    boundary_surface=…)``). solver: "newton" | "ceres"; hessian (newton's matrix, as the
+    CLI's --hessian): "exact" (JᵀJ where indefinite) | "projected" (element Hessians projected
+    to positive semidefinite) | "shifted" (H + μI where indefinite) | "exact-projected";
     linearized: minimize E_lin exactly (one sparse solve; build the problem with
     linearized_clamp=True for midedge's clamp); start: "linearized" | "given"; tolerances as the
     CLI's; threads: worker threads. The GIL is released during the solve.
@@ -430,7 +433,10 @@ class LinearizedSolver:
 
     def solve(self, boundary_values, xi=None):
         """The minimizer for held vertices at ``boundary_values``' rows (#V×3; free rows ignored)
-        and held ξ at ``xi`` ((#E,); the problem's when None).
+        and held ξ at ``xi`` ((#E,); the problem's when None). A problem that holds ξ (midedge's
+        clamp of its boundary) needs ``xi`` for held values other than its own (ValueError
+        otherwise: its clamp would not follow them), e.g. the ``start_xi`` of a Problem with their
+        ``boundary_surface``.
 
         Returns ``(V, info)``: V #V×3 float64; info a dict with "xi" ((#E,) or empty),
         "initial_energy", "energy", "gradient_norm", "initial_gradient_norm". GIL released.

@@ -6,7 +6,7 @@ from . import _bending
 
 
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
-         hinge_angle="theta", membrane="mips", membrane_weight=None, start="best",
+         hinge_angle=None, membrane="mips", membrane_weight=None, start="best",
          metric="input", method="flexure", allow_slivers=False, max_iterations=None,
          check=True):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
@@ -35,9 +35,7 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
     a = _flexure.FairArguments()
-    a.bending = _bending(energy, poisson, stiffness,
-                         "voronoi" if vertex_area is None else vertex_area, hinge_angle, True)
-    a.vertex_area_given = vertex_area is not None
+    a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, True)
     if isinstance(region, str):
         a.region_spec = region
     else:

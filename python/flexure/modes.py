@@ -9,8 +9,8 @@ from .simulation import _set_membrane
 
 
 def modes(V, F, energy="midedge", count=12, support="clamped", clamp=None, fixed=None,
-          dof="height", membrane=None, poisson=None, stiffness=1.0, vertex_area="voronoi",
-          hinge_angle="theta", mass="barycentric", density=1.0, length=None, nodal_lines=True):
+          dof="height", membrane=None, poisson=None, stiffness=1.0, vertex_area=None,
+          hinge_angle=None, mass="barycentric", density=1.0, length=None, nodal_lines=True):
     """The smallest ``count`` flexible vibration modes (and the zero modes) of the rest mesh
     (V #V×3 float64, L; F #F×3 int), for one bending energy, as ``flexure modes`` computes them.
 

@@ -141,7 +141,7 @@ class Simulation:
     """
 
     def __init__(self, V_rest, F, energy="midedge", poisson=None, stiffness=1.0,
-                 vertex_area="voronoi", hinge_angle="theta", membrane="stvk", pinned=None,
+                 vertex_area=None, hinge_angle=None, membrane="stvk", pinned=None,
                  V_start=None, velocities=None, gravity=None, density=1.0, mass="barycentric",
                  obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
                  bending_damping=0.0, pin_motion=None, pin_groups=None,

@@ -70,6 +70,24 @@ def test_many_linearized_solves_equal_one_off_solves(name):
     assert solver.factorizations == 1  # solves never refactor
 
 
+def test_linearized_solver_clamp_follows_the_boundary_values():
+    # midedge holds its boundary ξ at the clamp of the problem's surface: other held values
+    # without their ξ would keep that clamp (off by about 1 %), so they are refused; with their ξ
+    # the solve equals the one-off solve of their problem.
+    V_rest, F = flexure.mesh("patch48", 8)
+    first, other = (flexure.Problem(V_rest, F, energy="midedge", boundary_surface=s,
+                                    linearized_clamp=True) for s in SURFACES[:2])
+    solver = flexure.LinearizedSolver(first)
+    with pytest.raises(ValueError, match="^xi: the problem holds ξ on its boundary edges"):
+        solver.solve(other.start_positions)
+    V, _ = solver.solve(other.start_positions, other.start_xi)
+    one_off, _ = flexure.minimize(other, linearized=True)
+    assert np.abs(V - one_off).max() <= 1e-12 * np.abs(one_off).max()
+    V, _ = solver.solve(first.start_positions)  # its own values: its own clamp
+    one_off, _ = flexure.minimize(first, linearized=True)
+    assert np.abs(V - one_off).max() <= 1e-12 * np.abs(one_off).max()
+
+
 def test_linearized_solver_refuses_in_plane_moves_it_was_not_built_for():
     V_rest, F = flexure.mesh("patch48", 6)
     problem = flexure.Problem(V_rest, F, energy="hinge")

@@ -127,3 +127,38 @@ def test_time_steps_follow_the_library(strip_file):
         s.advance(0.01, 0.02)
     assert s.time == 0.0  # nothing was stepped
     assert flexure.__version__.count(".") == 2
+
+
+def test_every_hessian_mode_of_the_command_is_python_s(plate):
+    # One name per concept: the four modes of --hessian, by the same names, and the same refusal.
+    V, F = plate
+    for mode in ("exact", "projected", "shifted", "exact-projected"):
+        _, report = flexure.minimize(V, F, energy="hinge", boundary_surface="quadratic:0.2,0,0.1",
+                                     hessian=mode)
+        assert report["converged"], mode
+    with pytest.raises(ValueError, match="^hessian projected: applies to solver newton"):
+        flexure.minimize(V, F, energy="hinge", solver="ceres", hessian="projected")
+    with pytest.raises(ValueError, match="^hessian diagonal: expected exact, projected, shifted"):
+        flexure.minimize(V, F, energy="hinge", hessian="diagonal")
+
+
+@pytest.mark.parametrize("flags, keywords, flag_words, keyword_words", [
+    (["--energy", "hinge", "--vertex-area", "barycentric"],
+     {"energy": "hinge", "vertex_area": "barycentric"}, "--vertex-area applies to --energy cotan",
+     "vertex_area applies to energy cotan"),
+    (["--energy", "cotan", "--hinge-angle", "tan"], {"energy": "cotan", "hinge_angle": "tan"},
+     "--hinge-angle applies to --energy hinge", "hinge_angle applies to energy hinge"),
+    (["--energy", "cotan", "--vertex-area", "area"], {"energy": "cotan", "vertex_area": "area"},
+     "--vertex-area area: expected voronoi or barycentric",
+     "vertex_area area: expected voronoi or barycentric"),
+])
+def test_energy_options_are_refused_alike(plate, tmp_path, flags, keywords, flag_words,
+                                          keyword_words):
+    # The command refused options an energy ignores and Python took them: one rule now.
+    V, F = plate
+    flexure.write_mesh(tmp_path / "p.obj", V, F)
+    done = subprocess.run([cli_path(), "energy", "--rest", str(tmp_path / "p.obj"), "--current",
+                           str(tmp_path / "p.obj"), *flags], capture_output=True, text=True)
+    assert done.returncode == 2 and flag_words in done.stderr, done.stderr
+    with pytest.raises(ValueError, match="^" + keyword_words):
+        flexure.energy(V, F, V, **keywords)
