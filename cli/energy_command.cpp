@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/mesh_json.h"
 #include "curvature/bending_energy.h"
+#include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
@@ -80,10 +81,9 @@ void runEnergyCommand(const EnergyCommandOptions& o) {
       {"current", o.currentFile},
   };
   if (curvature::energyEntry(b.discretization).readsVertexArea)
-    report["vertex_area"] =
-        b.vertexArea == curvature::VertexArea::Voronoi ? "voronoi" : "barycentric";
+    report["vertex_area"] = curvature::vertexAreaName(b.vertexArea);
   if (curvature::energyEntry(b.discretization).readsHingeAngle)
-    report["hinge_angle"] = b.hingeAngle == curvature::HingeAngle::Theta ? "theta" : "tan";
+    report["hinge_angle"] = curvature::hingeAngleName(b.hingeAngle);
   if (!result.boundaryXi.empty()) report["boundary_xi"] = result.boundaryXi;
 
   if (o.json) {

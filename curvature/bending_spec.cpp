@@ -1,6 +1,5 @@
 #include "curvature/bending_spec.h"
 
-#include <cctype>
 #include <cmath>
 
 #include "curvature/energy_registry.h"
@@ -8,12 +7,6 @@
 
 namespace flexure::curvature {
 namespace {
-
-std::string lowercase(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 // InputError when `value` is given to an energy whose entry does not read it.
 void requireRead(const EnergyEntry& chosen, bool EnergyEntry::*reads, const std::string& value,
@@ -26,18 +19,24 @@ void requireRead(const EnergyEntry& chosen, bool EnergyEntry::*reads, const std:
 
 }  // namespace
 
+const char* vertexAreaName(VertexArea area) {
+  return area == VertexArea::Voronoi ? "voronoi" : "barycentric";
+}
+
+const char* hingeAngleName(HingeAngle angle) {
+  return angle == HingeAngle::Theta ? "theta" : "tan";
+}
+
 VertexArea parseVertexArea(std::string_view name) {
-  const std::string n = lowercase(name);
-  if (n == "voronoi") return VertexArea::Voronoi;
-  if (n == "barycentric") return VertexArea::Barycentric;
+  if (name == "voronoi") return VertexArea::Voronoi;
+  if (name == "barycentric") return VertexArea::Barycentric;
   throw InputError("BendingOptions.vertexArea " + std::string(name) +
                    ": expected voronoi or barycentric");
 }
 
 HingeAngle parseHingeAngle(std::string_view name) {
-  const std::string n = lowercase(name);
-  if (n == "theta") return HingeAngle::Theta;
-  if (n == "tan") return HingeAngle::Tan;
+  if (name == "theta") return HingeAngle::Theta;
+  if (name == "tan") return HingeAngle::Tan;
   throw InputError("BendingOptions.hingeAngle " + std::string(name) + ": expected theta or tan");
 }
 

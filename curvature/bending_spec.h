@@ -11,10 +11,12 @@
 
 namespace flexure::curvature {
 
-// "voronoi" | "barycentric"; "theta" | "tan" (case-insensitive). InputError naming the field
+// "voronoi" | "barycentric"; "theta" | "tan". InputError naming the field
 // (BendingOptions.vertexArea, BendingOptions.hingeAngle) and listing the names otherwise.
 VertexArea parseVertexArea(std::string_view name);
 HingeAngle parseHingeAngle(std::string_view name);
+const char* vertexAreaName(VertexArea area);
+const char* hingeAngleName(HingeAngle angle);
 
 struct BendingSpec {
   std::string energy;  // a registered energy's name

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "render/plot.h"
@@ -56,12 +57,8 @@ nlohmann::json energyJson(const optimize::EnergyVariant& v) {
       {"energy", std::string(curvature::discretizationName(v.bending.discretization))},
       {"poisson", curvature::effectivePoisson(v.bending)},
       {"stiffness", v.bending.stiffness}};
-  if (entry.readsVertexArea) {
-    j["vertex_area"] =
-        v.bending.vertexArea == curvature::VertexArea::Barycentric ? "barycentric" : "voronoi";
-  }
-  if (entry.readsHingeAngle)
-    j["hinge_angle"] = v.bending.hingeAngle == curvature::HingeAngle::Tan ? "tan" : "theta";
+  if (entry.readsVertexArea) j["vertex_area"] = curvature::vertexAreaName(v.bending.vertexArea);
+  if (entry.readsHingeAngle) j["hinge_angle"] = curvature::hingeAngleName(v.bending.hingeAngle);
   if (entry.restEdgeUnknowns) j["boundary_normals"] = normalsName(v.normals);
   return j;
 }

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <thread>
 
+#include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "curvature/koiter_density.h"
 #include "curvature/midedge_boundary.h"
@@ -570,13 +571,11 @@ EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> po
     return option.empty() || option == first || option == second;
   };
   if (e.readsHingeAngle && either("theta", "tan")) {
-    v.bending.hingeAngle =
-        option == "tan" ? curvature::HingeAngle::Tan : curvature::HingeAngle::Theta;
+    if (!option.empty()) v.bending.hingeAngle = curvature::parseHingeAngle(option);
     if (option == "tan") v.label += "(tan)";
   } else if (e.readsVertexArea && either("voronoi", "barycentric")) {
-    v.bending.vertexArea = option == "barycentric" ? curvature::VertexArea::Barycentric
-                                                   : curvature::VertexArea::Voronoi;
-    v.label += option == "barycentric" ? "(barycentric)" : "(voronoi)";
+    if (!option.empty()) v.bending.vertexArea = curvature::parseVertexArea(option);
+    v.label += std::string("(") + curvature::vertexAreaName(v.bending.vertexArea) + ")";
   } else if (e.restEdgeUnknowns && either("clamped", "free")) {
     v.normals = option == "free" ? BoundaryNormals::Free : BoundaryNormals::Clamped;
     v.label += option == "free" ? "(free)" : "(clamped)";

@@ -45,10 +45,8 @@ py::dict bendingReport(const curvature::BendingOptions& b) {
   d["poisson"] = curvature::effectivePoisson(b);
   d["stiffness"] = b.stiffness;
   const curvature::EnergyEntry& entry = curvature::energyEntry(b.discretization);
-  if (entry.readsVertexArea)
-    d["vertex_area"] = b.vertexArea == curvature::VertexArea::Voronoi ? "voronoi" : "barycentric";
-  if (entry.readsHingeAngle)
-    d["hinge_angle"] = b.hingeAngle == curvature::HingeAngle::Theta ? "theta" : "tan";
+  if (entry.readsVertexArea) d["vertex_area"] = curvature::vertexAreaName(b.vertexArea);
+  if (entry.readsHingeAngle) d["hinge_angle"] = curvature::hingeAngleName(b.hingeAngle);
   return d;
 }
 
