@@ -397,26 +397,20 @@ FairSettings fairSettings(const FairCommandOptions& o) {
   if (!o.renderFile.empty() && !endsWithPng(o.renderFile))
     throw InputError("--render '" + o.renderFile +
                      "': the figure is a PNG image; give a name ending in .png");
-  if (o.method != "flexure" && o.method != "cgal")
-    throw InputError("--method " + o.method + ": expected flexure or cgal");
   if (o.renderSize < kMinRenderSize || o.renderSize > 4096)
     throw InputError("--render-size must be in [" + std::to_string(kMinRenderSize) +
                      ", 4096] (got " + std::to_string(o.renderSize) + ")");
   FairSettings s;
-  s.cgal = o.method == "cgal";
+  s.cgal = optimize::parseFairingMethod(o.method) == optimize::FairingMethod::Cgal;
   s.solver = o.solver;
   applySolverArguments(o.solverArguments, s.solver);
-  if (o.start != "best" && o.start != "biharmonic" && o.start != "input")
-    throw InputError("--start " + o.start + ": expected best, biharmonic or input");
-  if (o.metric != "input" && o.metric != "current")
-    throw InputError("--metric " + o.metric + ": expected input or current");
+  optimize::parseFairingStart(o.start);  // with the other flags, before any work
   BendingArguments bendingArguments = o.bending;
   bendingArguments.flatRest = true;
   s.bending = bendingOptions(bendingArguments);
   s.energyName = curvature::discretizationName(s.bending.discretization);
   s.membrane = curvature::parseMembraneModel(o.membrane);
-  s.defaults = optimize::defaultFairingOptions(
-      o.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
+  s.defaults = optimize::defaultFairingOptions(optimize::parseFairingMetric(o.metric));
   s.membraneWeight = o.membraneWeight.value_or(s.defaults.membraneWeight);
   if (!s.cgal) optimize::fairingMembrane(s.membrane, s.membraneWeight, 1.0, 1.0);  // checks w
   return s;
@@ -429,9 +423,7 @@ optimize::FairingOptions flexureFairingOptions(const FairCommandOptions& o, cons
   if (o.bending.vertexArea.empty()) options.bending.vertexArea = s.defaults.bending.vertexArea;
   options.membrane = s.membrane;
   options.membraneWeight = s.membraneWeight;
-  options.start = o.start == "input"        ? optimize::FairingStart::Input
-                  : o.start == "biharmonic" ? optimize::FairingStart::Biharmonic
-                                            : optimize::FairingStart::Best;
+  options.start = optimize::parseFairingStart(o.start);
   options.angleBarrier = !o.allowSlivers;
   options.solver = s.solver;
   options.solver.progress = !quiet;

@@ -26,6 +26,26 @@
 #include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
+
+FairingStart parseFairingStart(std::string_view name) {
+  if (name == "best") return FairingStart::Best;
+  if (name == "biharmonic") return FairingStart::Biharmonic;
+  if (name == "input") return FairingStart::Input;
+  throw InputError("FairingOptions.start " + std::string(name) +
+                   ": expected best, biharmonic or input");
+}
+
+FairingMetric parseFairingMetric(std::string_view name) {
+  if (name == "input") return FairingMetric::Input;
+  if (name == "current") return FairingMetric::Current;
+  throw InputError("FairingOptions.metric " + std::string(name) + ": expected input or current");
+}
+
+FairingMethod parseFairingMethod(std::string_view name) {
+  if (name == "flexure") return FairingMethod::Flexure;
+  if (name == "cgal") return FairingMethod::Cgal;
+  throw InputError("FairingOptions.method " + std::string(name) + ": expected flexure or cgal");
+}
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

@@ -16,6 +16,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvature/bending_energy.h"
@@ -34,6 +35,8 @@ namespace flexure::optimize {
 // E_bend + E_membrane, ends with E_bend no higher than at the start: with Best, no higher than the
 // input's or the linear fair's.
 enum class FairingStart { Best, Biharmonic, Input };
+// "best" | "biharmonic" | "input"; InputError naming FairingOptions.start otherwise.
+FairingStart parseFairingStart(std::string_view name);
 
 // Whose metric the bending energy measures curvature in (curvature::CurvatureMetric).
 //  Input:   the input's (areas, lengths, cotangents of the input region): an elastic energy of the
@@ -46,6 +49,8 @@ enum class FairingStart { Best, Biharmonic, Input };
 //           approximate Willmore surfaces — spheres and the Clifford torus among them. Measured by
 //           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp).
 enum class FairingMetric { Input, Current };
+// "input" | "current"; InputError naming FairingOptions.metric otherwise.
+FairingMetric parseFairingMetric(std::string_view name);
 // `flexure fair`'s membrane weight on the current metric (1 on the input's): the membrane pulls the
 // result towards the start's triangle shapes, which on the current metric is the error that
 // remains on a sphere (scripts/bench fair-sphere: midedge's error on a flattened cap at w = 1 is
@@ -247,6 +252,8 @@ struct SliverCheck {
 };
 
 enum class FairingMethod { Flexure, Cgal };
+// "flexure" | "cgal"; InputError naming FairingOptions.method otherwise.
+FairingMethod parseFairingMethod(std::string_view name);
 
 // A region faired by `method`, with CGAL's fair always beside it (the result with Cgal, the
 // smallest-angle rule's baseline otherwise), measured (measureFairing with `material`) and

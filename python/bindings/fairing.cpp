@@ -34,25 +34,18 @@ struct FairArguments {
 };
 
 optimize::FairingOptions fairingOptions(const FairArguments& a) {
-  if (a.method != "flexure" && a.method != "cgal")
-    throw InputError("method " + a.method + ": expected flexure or cgal");
-  if (a.start != "best" && a.start != "biharmonic" && a.start != "input")
-    throw InputError("start " + a.start + ": expected best, biharmonic or input");
-  if (a.metric != "input" && a.metric != "current")
-    throw InputError("metric " + a.metric + ": expected input or current");
+  optimize::parseFairingMethod(a.method);
   BendingArguments bending = a.bending;
   bending.flatRest = true;
-  optimize::FairingOptions o = optimize::defaultFairingOptions(
-      a.metric == "current" ? optimize::FairingMetric::Current : optimize::FairingMetric::Input);
+  optimize::FairingOptions o =
+      optimize::defaultFairingOptions(optimize::parseFairingMetric(a.metric));
   const curvature::VertexArea metricArea = o.bending.vertexArea;
   o.bending = bendingOptions(bending);
   if (a.bending.vertexArea.empty()) o.bending.vertexArea = metricArea;
   o.membrane = curvature::parseMembraneModel(a.membrane);
   o.membraneWeight = a.membraneWeight.value_or(o.membraneWeight);
   optimize::fairingMembrane(o.membrane, o.membraneWeight, 1.0, 1.0);  // checks w
-  o.start = a.start == "input"        ? optimize::FairingStart::Input
-            : a.start == "biharmonic" ? optimize::FairingStart::Biharmonic
-                                      : optimize::FairingStart::Best;
+  o.start = optimize::parseFairingStart(a.start);
   o.angleBarrier = !a.allowSlivers;
   if (a.maxIterations > 0) o.solver.maxIterations = a.maxIterations;
   o.solver.progress = false;
@@ -121,8 +114,7 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     region = modeling::parseRegion(a.regionSpec, mesh, stencils);
   }
   modeling::requireFairableRegion(stencils, region, "region");
-  const optimize::FairingMethod method =
-      a.method == "cgal" ? optimize::FairingMethod::Cgal : optimize::FairingMethod::Flexure;
+  const optimize::FairingMethod method = optimize::parseFairingMethod(a.method);
   std::optional<modeling::FairingPatch> patch;
   std::optional<optimize::FairingOutcome> r;
   Positions faired;

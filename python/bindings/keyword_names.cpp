@@ -73,6 +73,9 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"SimulationSpec.checkpointed", "checkpoints"},
       // fair, modes, studies, renders
       {"FairingOptions.membraneWeight", "membrane_weight"},
+      {"FairingOptions.start", "start"},
+      {"FairingOptions.metric", "metric"},
+      {"FairingOptions.method", "method"},
       {"ModesOptions.count", "count"},
       {"ModesOptions.clamp", "clamp"},
       {"ModesOptions.density", "density"},

@@ -92,18 +92,8 @@ optimize::StudyOptions studyOptions(const StudyArguments& a) {
   s.amplitudes = a.amplitudes;
   s.solution = a.solution == "none" ? "" : a.solution;
   s.threads = a.threads;
-  if (a.solver == "newton")
-    s.solver = optimize::Solver::Newton;
-  else if (a.solver == "ceres")
-    s.solver = optimize::Solver::Ceres;
-  else
-    throw InputError("solver " + a.solver + ": expected newton or ceres");
-  if (a.hessian == "exact")
-    s.hessian = optimize::HessianMode::Exact;
-  else if (a.hessian == "projected")
-    s.hessian = optimize::HessianMode::Projected;
-  else
-    throw InputError("hessian " + a.hessian + ": expected exact or projected");
+  s.solver = optimize::parseSolver(a.solver);
+  s.hessian = optimize::parseHessianMode(a.hessian);
   s.validate();
   return s;
 }
