@@ -213,26 +213,25 @@ struct HessianFactorization::Simplicial {
 namespace {
 
 // Supernodal; a matrix that is not positive definite is an answer here (Newton's
-// indefinite-Hessian rule), not a warning. Without an order of the caller's (free ξ, or xyz
-// minimization), CHOLMOD's nested dissection: on the time step's Hessian of midedge at 10 000
-// vertices nnz(L) 11.8 M against AMD's 14.9 M, factored in 0.81 s against 2.15 s, analysed in
-// less time (simulate_bench's orderings; README "Performance").
-CholeskyOptions hessianCholeskyOptions() {
+// indefinite-Hessian rule), not a warning.
+CholeskyOptions hessianCholeskyOptions(FillReducingOrder computed) {
   CholeskyOptions options;
   options.matrix = CholeskyMatrix::SymmetricUpper;
   options.supernodal = true;
   options.stopAtNonPositivePivot = true;
   options.cholmodWarnings = false;
-  options.ordering = FillReducingOrder::NestedDissection;
+  options.ordering = computed;
   return options;
 }
 
 }  // namespace
 
 HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
-                                           const std::vector<int>& order, bool simplicial)
-    : cholmod_(new Cholmod{CholeskyFactor(assembly.size(), assembly.columnStart(),
-                                          assembly.rowIndex(), order, hessianCholeskyOptions())}),
+                                           const std::vector<int>& order,
+                                           FillReducingOrder computed, bool simplicial)
+    : cholmod_(
+          new Cholmod{CholeskyFactor(assembly.size(), assembly.columnStart(), assembly.rowIndex(),
+                                     order, hessianCholeskyOptions(computed))}),
       assembly_(assembly) {
   if (simplicial) {
     simplicial_ = std::make_unique<Simplicial>();

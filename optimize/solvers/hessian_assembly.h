@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "curvature/energy_term.h"
+#include "optimize/linear/cholesky_factor.h"
 #include "optimize/solvers/elimination_order.h"
 
 namespace flexure::optimize {
@@ -71,10 +72,12 @@ class HessianAssembly {
 // construction, and reused by every numerical factorization.
 class HessianFactorization {
  public:
-  // `order`: the elimination order of the free unknowns, or empty for CHOLMOD's dissection.
-  // `simplicial`: Eigen's SimplicialLLT on its AMD order instead (single-threaded, column by
-  // column), the linear algebra of a plain Newton solver such as libshell's: a benchmark baseline.
+  // `order`: the elimination order of the free unknowns, or empty for the one CHOLMOD computes
+  // by `computed`. `simplicial`: Eigen's SimplicialLLT on its AMD order instead (single-threaded,
+  // column by column), the linear algebra of a plain Newton solver such as libshell's: a
+  // benchmark baseline.
   HessianFactorization(const HessianAssembly& assembly, const std::vector<int>& order,
+                       FillReducingOrder computed = FillReducingOrder::NestedDissection,
                        bool simplicial = false);
   ~HessianFactorization();
   HessianFactorization(const HessianFactorization&) = delete;

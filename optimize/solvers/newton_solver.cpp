@@ -49,20 +49,31 @@ class NewtonSolver {
         assembly_(terms_, free_, static_cast<int>(rest_.rows()), derivatives_),
         factorization_(assembly_,
                        options.simplicialBaseline ? std::vector<int>() : eliminationOrder(),
-                       options.simplicialBaseline),
+                       computedOrder(), options.simplicialBaseline),
         loop_(assembly_, factorization_),
         projection_(options.hessian == HessianMode::Projected
                         ? HessianProjection::PositiveSemidefinite
                         : HessianProjection::Exact) {}
 
   // The fill-reducing order: the geometric nested dissection of the free vertices in height
-  // mode, CHOLMOD's own in xyz mode (empty: nested dissection since issue #27; these figures are
-  // AMD's). Measured, one run each: the n = 512 plate's cotan
-  // solve (height) spent 8.0 s in linear solves on the geometric order against 12.9 s on AMD;
-  // cotan fairing of a 50 000-vertex region of the bunny (xyz, scripts/bench fair) 30.4 s
-  // against 15.2 s.
+  // mode without ξ; otherwise one CHOLMOD computes (computedOrder). Measured against AMD, one run
+  // each: the n = 512 plate's cotan solve (height) spent 8.0 s in linear solves on the geometric
+  // order against 12.9 s; cotan fairing of a 50 000-vertex region of the bunny (xyz,
+  // scripts/bench fair) took 30.4 s on it against 15.2 s, so xyz takes none.
   std::vector<int> eliminationOrder() const {
     return dof_ == DofMode::Height ? hessianOrder(assembly_, rest_) : std::vector<int>();
+  }
+  // The order CHOLMOD computes where no order is given. With free ξ, AMD: a static solve factors
+  // a few times, and CHOLMOD's nested dissection (the time step's choice: dynamics factor
+  // hundreds of times) takes longer to find than the factorizations it saves. Measured on the
+  // n = 512 midedge plate (scripts/bench solve --sizes 512 --energies midedge --modes newton;
+  // 1 044 489 unknowns, 4 iterations, 2 factorizations; one run each on a loaded machine):
+  // analysis 2.0 s with AMD, nnz(L) 1.17e8, solve 22.7 s in all; 27.5 s with CHOLMOD's nested
+  // dissection, nnz(L) 1.09e8, 53.0 s in all; METIS 18.2 s, nnz(L) 1.11e8, 44.2 s; the geometric
+  // nested dissection of vertices and ξ (each ξ at its edge) 2.0 s but nnz(L) 2.33e8, 48.1 s
+  // and 3.1 GB.
+  FillReducingOrder computedOrder() const {
+    return withXi_ ? FillReducingOrder::Amd : FillReducingOrder::NestedDissection;
   }
 
   MinimizeResult run(Clock::time_point start) {
