@@ -30,6 +30,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,55 +114,68 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
-  CLI::App app("flexure fairing benchmark: nonlinear fairing vs CGAL's fair on a large region");
+// The bench's options, as the flags give them.
+struct BenchOptions {
   std::string meshPath;
   int refine = 1, regionVertices = 50000, seedVertex = 0;
   std::vector<std::string> energies = {"midedge"}, solvers = {"newton", "ceres"};
   std::vector<std::string> metrics = {"input"};
-  app.add_option("--mesh", meshPath, "Input mesh")->required();
-  app.add_option("--refine", refine, "Midpoint subdivisions")->capture_default_str();
-  app.add_option("--region-vertices", regionVertices, "Region size")->capture_default_str();
-  app.add_option("--seed-vertex", seedVertex, "The region is nearest this vertex")
+};
+
+// The command line into `o`; the exit code when it asks for help or is refused.
+std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
+  CLI::App app("flexure fairing benchmark: nonlinear fairing vs CGAL's fair on a large region");
+  app.add_option("--mesh", o.meshPath, "Input mesh")->required();
+  app.add_option("--refine", o.refine, "Midpoint subdivisions")->capture_default_str();
+  app.add_option("--region-vertices", o.regionVertices, "Region size")->capture_default_str();
+  app.add_option("--seed-vertex", o.seedVertex, "The region is nearest this vertex")
       ->capture_default_str();
-  app.add_option("--energies", energies, "flexure energies to run")->delimiter(',');
-  app.add_option("--solvers", solvers, "newton, ceres")->delimiter(',');
-  app.add_option("--metrics", metrics, "input, current: whose metric the bending energy reads")
+  app.add_option("--energies", o.energies, "flexure energies to run")->delimiter(',');
+  app.add_option("--solvers", o.solvers, "newton, ceres")->delimiter(',');
+  app.add_option("--metrics", o.metrics, "input, current: whose metric the bending energy reads")
       ->delimiter(',');
-  CLI11_PARSE(app, argc, argv);
-  for (const std::string& metric : metrics)
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (const std::string& metric : o.metrics)
     if (metric != "input" && metric != "current") {
       std::cerr << "fair_bench: --metrics " << metric << ": expected input or current\n";
       return 2;
     }
+  return std::nullopt;
+}
 
-  modeling::Mesh mesh = modeling::readMesh(meshPath);
-  for (int k = 0; k < refine; ++k) mesh = midpointSubdivision(mesh);
-  if (regionVertices >= mesh.vertexCount()) {
-    std::cerr << "fair_bench: --region-vertices must be below the mesh's " << mesh.vertexCount()
-              << " vertices\n";
-    return 2;
-  }
+// The fairing patch of the region of `regionVertices` vertices nearest `seedVertex`, described on
+// stderr.
+modeling::FairingPatch regionPatch(const modeling::Mesh& mesh, const BenchOptions& o) {
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
-  const std::vector<bool> region = nearestVertices(mesh, seedVertex, regionVertices);
+  const std::vector<bool> region = nearestVertices(mesh, o.seedVertex, o.regionVertices);
   modeling::requireFairableRegion(stencils, region, "nearest vertices");
-  const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, region);
-  std::cerr << "fair_bench: " << mesh.vertexCount() << " vertices, region " << regionVertices
+  modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, region);
+  std::cerr << "fair_bench: " << mesh.vertexCount() << " vertices, region " << o.regionVertices
             << ", patch " << patch.mesh.vertexCount() << " vertices / " << patch.mesh.faceCount()
             << " faces\n";
+  return patch;
+}
 
+// The cases measured on one patch: each result's seconds, peak memory, bending energies after
+// (by every energy, midedge's apart), smallest angle and checkFairing's verdict.
+struct CaseTable {
+  const modeling::FairingPatch& patch;
   curvature::BendingOptions material;
-  material.discretization = curvature::Discretization::Midedge;
   json cases = json::array();
-  double cgalSeconds = 0.0;
+  double cgalSeconds = 0.0;  // the ratio's denominator, once CGAL's fair has run
+
+  explicit CaseTable(const modeling::FairingPatch& fairingPatch) : patch(fairingPatch) {
+    material.discretization = curvature::Discretization::Midedge;
+  }
+
   // Each result with checkFairing's verdict (`solve`: flexure's, for the gradient check too): a
   // solver that stopped is not a fairing `flexure fair` would write unless it passes them.
-  const auto record = [&](const std::string& name, double seconds,
-                          const modeling::Positions& result, json extra,
-                          const optimize::FairingResult* solve = nullptr) {
+  void record(const std::string& name, double seconds, const modeling::Positions& result,
+              json extra, const optimize::FairingResult* solve = nullptr) {
     const double memory = peakMemoryMb();
     const optimize::FairingMeasures m = optimize::measureFairing(patch, result, material);
     const optimize::FairingChecks checks = optimize::checkFairing(patch, result, solve);
@@ -184,22 +198,28 @@ int main(int argc, char** argv) {
     std::cerr << "  " << name << ": " << seconds << " s, " << memory << " MB, E_midedge " << midedge
               << (checks.passed() ? "" : "  FAILS CHECKS: " + checks.failure()) << "\n";
     cases.push_back(c);
-  };
+  }
+};
 
+// CGAL's fair and flexure's linear (biharmonic) fair.
+void runBaselines(CaseTable& table) {
   resetPeakMemory();
   auto start = Clock::now();
-  const modeling::Positions cgal = optimize::fairCgal(patch);
-  cgalSeconds = secondsSince(start);
-  record("cgal_fair", cgalSeconds, cgal, json::object());
+  const modeling::Positions cgal = optimize::fairCgal(table.patch);
+  table.cgalSeconds = secondsSince(start);
+  table.record("cgal_fair", table.cgalSeconds, cgal, json::object());
 
   resetPeakMemory();
   start = Clock::now();
-  const modeling::Positions linear = optimize::fairBiharmonic(patch);
-  record("linear_fair", secondsSince(start), linear, json::object());
+  const modeling::Positions linear = optimize::fairBiharmonic(table.patch);
+  table.record("linear_fair", secondsSince(start), linear, json::object());
+}
 
-  for (const std::string& energy : energies) {
-    for (const std::string& solver : solvers) {
-      for (const std::string& metric : metrics) {
+// flexure's nonlinear fairing with each energy, solver and metric.
+void runNonlinear(const BenchOptions& o, CaseTable& table) {
+  for (const std::string& energy : o.energies) {
+    for (const std::string& solver : o.solvers) {
+      for (const std::string& metric : o.metrics) {
         optimize::FairingOptions options =
             optimize::defaultFairingOptions(metric == "current" ? optimize::FairingMetric::Current
                                                                 : optimize::FairingMetric::Input);
@@ -207,30 +227,50 @@ int main(int argc, char** argv) {
         options.solver.solver =
             solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
         resetPeakMemory();
-        start = Clock::now();
-        const optimize::FairingResult r = optimize::fairNonlinear(patch, options);
-        record(energy + "/" + solver + (metric == "input" ? "" : "/" + metric), secondsSince(start),
-               r.positions,
-               {{"solver", r.report.solver},
-                {"iterations", r.report.iterations},
-                {"factorizations", r.report.factorizations},
-                {"converged", r.report.converged},
-                {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
-                {"linear_solver_seconds", r.report.linearSolverSeconds},
-                {"evaluation_seconds", r.report.evaluationSeconds},
-                {"metric", metric},
-                {"membrane_weight", r.membraneWeight}},
-               &r);
+        const auto start = Clock::now();
+        const optimize::FairingResult r = optimize::fairNonlinear(table.patch, options);
+        table.record(energy + "/" + solver + (metric == "input" ? "" : "/" + metric),
+                     secondsSince(start), r.positions,
+                     {{"solver", r.report.solver},
+                      {"iterations", r.report.iterations},
+                      {"factorizations", r.report.factorizations},
+                      {"converged", r.report.converged},
+                      {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
+                      {"linear_solver_seconds", r.report.linearSolverSeconds},
+                      {"evaluation_seconds", r.report.evaluationSeconds},
+                      {"metric", metric},
+                      {"membrane_weight", r.membraneWeight}},
+                     &r);
       }
     }
   }
-  const json out = {{"mesh", meshPath},
-                    {"refine", refine},
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
+  BenchOptions o;
+  if (const std::optional<int> exitCode = parseArguments(argc, argv, o)) return *exitCode;
+
+  modeling::Mesh mesh = modeling::readMesh(o.meshPath);
+  for (int k = 0; k < o.refine; ++k) mesh = midpointSubdivision(mesh);
+  if (o.regionVertices >= mesh.vertexCount()) {
+    std::cerr << "fair_bench: --region-vertices must be below the mesh's " << mesh.vertexCount()
+              << " vertices\n";
+    return 2;
+  }
+  const modeling::FairingPatch patch = regionPatch(mesh, o);
+  CaseTable table(patch);
+  runBaselines(table);
+  runNonlinear(o, table);
+  const json out = {{"mesh", o.meshPath},
+                    {"refine", o.refine},
                     {"vertices", mesh.vertexCount()},
-                    {"region_vertices", regionVertices},
+                    {"region_vertices", o.regionVertices},
                     {"patch_vertices", patch.mesh.vertexCount()},
                     {"patch_faces", patch.mesh.faceCount()},
-                    {"cases", cases}};
+                    {"cases", table.cases}};
   std::cout << out.dump(2) << '\n';
   return 0;
 }

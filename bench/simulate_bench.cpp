@@ -535,120 +535,154 @@ void printTable(const json& records) {
   }
 }
 
-int main(int argc, char** argv) {
-  flexure::optimize::reuseFreedMemory();
+namespace {
+
+// The bench's options, as the flags give them.
+struct BenchOptions {
   int n = 99, steps = 40, repeat = 1;
   double dt = 1.0 / 200.0, duration = 0.0;
   std::string scene = "drape", sizes = "49,99", pcgModes = "both";
   std::string energies = "hinge,cotan,midedge", hessians = "exact";
+  bool orderings = false, inelastic = false;
+  bool chordSteps = true, predict = true;
+  bool trace = false;
+  double tolerance = 0.0;
+  bool energiesGiven = false;  // --energies given
+  std::vector<int> cells;      // the sizes run: --n, or --sizes
+};
+
+// The command line into `o`; the exit code when it asks for help or is refused.
+std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
   CLI::App app(
       "flexure simulate benchmark: a ~10k-vertex sheet draping on a sphere (or hanging), "
       "Newmark, per energy");
-  app.add_option("--n", n, "Cells per side (n = 99: 10 000 vertices); overrides --sizes");
-  app.add_option("--sizes", sizes,
+  app.add_option("--n", o.n, "Cells per side (n = 99: 10 000 vertices); overrides --sizes");
+  app.add_option("--sizes", o.sizes,
                  "Cells per side, a list (49, 99, 199: 2 500, 10 000, 40 000 vertices)")
       ->capture_default_str();
-  app.add_option("--pcg", pcgModes,
+  app.add_option("--pcg", o.pcgModes,
                  "both (before: Newton steps factor; after: PCG on the kept factor), on, off")
       ->capture_default_str();
-  app.add_option("--repeat", repeat, "Runs of each before/after pair, alternated (best kept)")
+  app.add_option("--repeat", o.repeat, "Runs of each before/after pair, alternated (best kept)")
       ->capture_default_str();
-  app.add_option("--steps", steps, "Steps per energy")->capture_default_str();
-  bool orderings = false, inelastic = false;
-  app.add_flag("--inelastic", inelastic,
+  app.add_option("--steps", o.steps, "Steps per energy")->capture_default_str();
+  app.add_flag("--inelastic", o.inelastic,
                "Elastic vs plastic vs fracture runs of the drape, nothing yielding (issue #29), "
                "and the parts of the rebuild after a cut");
-  app.add_flag("--orderings", orderings,
+  app.add_flag("--orderings", o.orderings,
                "Only the step Hessian's fill-reducing orders: analysis, nnz(L), factor, solve");
-  app.add_option("--duration", duration,
+  app.add_option("--duration", o.duration,
                  "Simulated seconds per energy (the issue's: 2); overrides --steps");
-  app.add_option("--scene", scene, "drape (on a sphere) | hang (from two corners)")
+  app.add_option("--scene", o.scene, "drape (on a sphere) | hang (from two corners)")
       ->capture_default_str();
-  app.add_option("--dt", dt, "Time step")->capture_default_str();
-  app.add_option("--energies", energies)->capture_default_str();
-  app.add_option("--hessians", hessians, "exact and/or gauss-newton (the step's Hessian of E)")
+  app.add_option("--dt", o.dt, "Time step")->capture_default_str();
+  app.add_option("--energies", o.energies)->capture_default_str();
+  app.add_option("--hessians", o.hessians, "exact and/or gauss-newton (the step's Hessian of E)")
       ->capture_default_str();
-  bool chordSteps = true, predict = true;
-  app.add_option("--chord-steps", chordSteps,
+  app.add_option("--chord-steps", o.chordSteps,
                  "Reuse the step Hessian's factor while it contracts (false: plain Newton)")
       ->capture_default_str();
-  app.add_option("--predict", predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
+  app.add_option("--predict", o.predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
       ->capture_default_str();
-  bool trace = false;
-  double tolerance = 0.0;
-  app.add_option("--tolerance", tolerance, "DynamicsOptions::tolerance (default: its default)");
-  app.add_flag("--trace", trace, "Each step's seconds, iterations and factorizations on stderr");
-  CLI11_PARSE(app, argc, argv);
-  if (scene != "drape" && scene != "hang") {
-    std::cerr << "--scene " << scene << ": expected drape or hang\n";
+  app.add_option("--tolerance", o.tolerance, "DynamicsOptions::tolerance (default: its default)");
+  app.add_flag("--trace", o.trace, "Each step's seconds, iterations and factorizations on stderr");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (o.scene != "drape" && o.scene != "hang") {
+    std::cerr << "--scene " << o.scene << ": expected drape or hang\n";
     return 2;
   }
-  if (app.count("--tolerance") > 0 && !(tolerance > 0.0)) {
-    std::cerr << "--tolerance " << tolerance << ": expected a value > 0\n";
+  if (app.count("--tolerance") > 0 && !(o.tolerance > 0.0)) {
+    std::cerr << "--tolerance " << o.tolerance << ": expected a value > 0\n";
     return 2;
   }
-  if (pcgModes != "both" && pcgModes != "on" && pcgModes != "off") {
-    std::cerr << "--pcg " << pcgModes << ": expected both, on or off\n";
+  if (o.pcgModes != "both" && o.pcgModes != "on" && o.pcgModes != "off") {
+    std::cerr << "--pcg " << o.pcgModes << ": expected both, on or off\n";
     return 2;
   }
-  if (duration > 0.0) steps = static_cast<int>(std::lround(duration / dt)) + 1;
-  std::vector<int> cells;
+  if (o.duration > 0.0) o.steps = static_cast<int>(std::lround(o.duration / o.dt)) + 1;
   if (app.count("--n") > 0) {
-    cells = {n};
+    o.cells = {o.n};
   } else {
-    std::stringstream sizeList(sizes);
-    for (std::string size; std::getline(sizeList, size, ',');) cells.push_back(std::stoi(size));
+    std::stringstream sizeList(o.sizes);
+    for (std::string size; std::getline(sizeList, size, ',');) o.cells.push_back(std::stoi(size));
   }
-  if (inelastic) {
-    if (app.count("--energies") == 0) energies = "hinge,midedge";
+  o.energiesGiven = app.count("--energies") > 0;
+  return std::nullopt;
+}
+
+// One energy on `mesh` with each Hessian asked for: the best of the repeated runs of each PCG
+// mode (`modes`: true after, false before), appended to `records`.
+void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std::string& energy,
+                    const std::vector<bool>& modes, json& records) {
+  for (const char* hessian : {"exact", "gauss-newton"}) {
+    if (o.hessians.find(hessian) == std::string::npos) continue;
+    json costs;  // measured once per energy and size, shared by its before and after
+    std::vector<json> best(modes.size());
+    for (int run = 0; run < o.repeat; ++run)
+      for (size_t m = 0; m < modes.size(); ++m) {
+        json record = runEnergy(mesh, energy, o.steps, o.dt, std::string(hessian) == "gauss-newton",
+                                o.scene == "drape", o.chordSteps, modes[m], o.predict, o.trace,
+                                o.tolerance, &costs);
+        if (best[m].is_null() || record.contains("error") ||
+            (!best[m].contains("error") &&
+             record["steps_per_second"] > best[m]["steps_per_second"]))
+          best[m] = record;
+      }
+    for (json& record : best) {
+      std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
+      records.push_back(record);
+    }
+  }
+}
+
+// Every size and energy: the step Hessian's orderings (--orderings) or the timed runs.
+json runElastic(const BenchOptions& o, const std::vector<bool>& modes) {
+  json records = json::array();
+  for (const int size : o.cells) {
+    const modeling::Mesh mesh =
+        modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
+    std::stringstream list(o.energies);
+    for (std::string energy; std::getline(list, energy, ',');) {
+      if (o.orderings) {
+        records.push_back({{"energy", energy},
+                           {"vertices", mesh.vertexCount()},
+                           {"orderings", measureOrderings(mesh, energy, o.dt)}});
+        std::fprintf(stderr, "%s\n", records.back().dump().c_str());
+        continue;
+      }
+      runEnergyModes(o, mesh, energy, modes, records);
+    }
+  }
+  return records;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  flexure::optimize::reuseFreedMemory();
+  BenchOptions o;
+  if (const std::optional<int> exitCode = parseArguments(argc, argv, o)) return *exitCode;
+  if (o.inelastic) {
+    const std::string energies = o.energiesGiven ? o.energies : "hinge,midedge";
     json records = json::array();
-    const bool clean = measureInelastic(cells, energies, steps, dt, repeat, records);
-    std::cout << json({{"dt", dt}, {"scene", "drape"}, {"records", records}}).dump(2) << "\n";
+    const bool clean = measureInelastic(o.cells, energies, o.steps, o.dt, o.repeat, records);
+    std::cout << json({{"dt", o.dt}, {"scene", "drape"}, {"records", records}}).dump(2) << "\n";
     return clean ? 0 : 1;
   }
   // PCG (after) first: the last record of an energy is the default stepper's, which
   // bench/python_bench.py compares with Python's Simulation.
   std::vector<bool> modes;
-  if (pcgModes != "off") modes.push_back(true);
-  if (pcgModes != "on") modes.push_back(false);
-  json records = json::array();
-  for (const int size : cells) {
-    const modeling::Mesh mesh =
-        modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
-    std::stringstream list(energies);
-    for (std::string energy; std::getline(list, energy, ',');) {
-      if (orderings) {
-        records.push_back({{"energy", energy},
-                           {"vertices", mesh.vertexCount()},
-                           {"orderings", measureOrderings(mesh, energy, dt)}});
-        std::fprintf(stderr, "%s\n", records.back().dump().c_str());
-        continue;
-      }
-      for (const char* hessian : {"exact", "gauss-newton"}) {
-        if (hessians.find(hessian) == std::string::npos) continue;
-        json costs;  // measured once per energy and size, shared by its before and after
-        std::vector<json> best(modes.size());
-        for (int run = 0; run < repeat; ++run)
-          for (size_t m = 0; m < modes.size(); ++m) {
-            json record = runEnergy(mesh, energy, steps, dt, std::string(hessian) == "gauss-newton",
-                                    scene == "drape", chordSteps, modes[m], predict, trace,
-                                    tolerance, &costs);
-            if (best[m].is_null() || record.contains("error") ||
-                (!best[m].contains("error") &&
-                 record["steps_per_second"] > best[m]["steps_per_second"]))
-              best[m] = record;
-          }
-        for (json& record : best) {
-          std::fprintf(stderr, "%-8s %s\n", energy.c_str(), record.dump().c_str());
-          records.push_back(record);
-        }
-      }
-    }
-  }
+  if (o.pcgModes != "off") modes.push_back(true);
+  if (o.pcgModes != "on") modes.push_back(false);
+  const json records = runElastic(o, modes);
   if (modes.size() == 2) printTable(records);
-  std::cout << json({{"n", cells.size() == 1 ? json(cells[0]) : json(cells)},
-                     {"dt", dt},
-                     {"scene", scene},
+  std::cout << json({{"n", o.cells.size() == 1 ? json(o.cells[0]) : json(o.cells)},
+                     {"dt", o.dt},
+                     {"scene", o.scene},
                      {"records", records}})
                    .dump(2)
             << "\n";

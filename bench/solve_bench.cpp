@@ -56,6 +56,7 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -498,12 +499,9 @@ void printTable(const json& records) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
-  Settings s;
-  std::string sizes = "64,128,256,512", energies = "hinge,triavg,cotan,midedge,quadfit", output;
+// The command line into `s` and `output`; the exit code when it asks for help or is refused.
+std::optional<int> parseArguments(int argc, char** argv, Settings& s, std::string& output) {
+  std::string sizes = "64,128,256,512", energies = "hinge,triavg,cotan,midedge,quadfit";
   bool quick = false;
   CLI::App app(
       "flexure solve benchmark: each energy's Newton, Ceres and linearized solve vs one "
@@ -526,7 +524,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--baselines", s.baselines,
                "Also each energy's Ceres solve on Ceres' AMD order (mode ceres_amd)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
   try {
     s.sizes = quick ? std::vector<int>{32, 64} : parseSizes(sizes);
     s.energies = parseEnergies(energies);
@@ -549,21 +551,57 @@ int main(int argc, char** argv) {
     std::cerr << "solve_bench: " << e.what() << "\n";
     return 1;
   }
+  return std::nullopt;
+}
 
+// The cases of one size: the floor, CGAL's fair, then each energy's solves.
+std::vector<Case> casesOfSize(const Settings& s) {
+  std::vector<Case> cases = {{"floor", "", ""}};
+  // CGAL's fair is the baseline of the static solves only.
+  if (s.newton || s.ceres || s.linearized) cases.push_back({"cgal_fair", "", ""});
+  for (const std::string& e : s.energies) {
+    if (s.vibration) cases.push_back({"energy", e, "vibration"});
+    if (s.newton) cases.push_back({"energy", e, "newton"});
+    if (s.ceres) cases.push_back({"energy", e, "ceres"});
+    if (s.linearized) cases.push_back({"energy", e, "linearized"});
+    if (s.ceres && s.baselines) cases.push_back({"energy", e, "ceres_amd"});
+  }
+  return cases;
+}
+
+// Ratios of the records from `first` on (one size), once that size's baselines are known.
+void addRatios(json& records, size_t first) {
+  double floorSeconds = std::numeric_limits<double>::infinity();
+  double fairSeconds = floorSeconds;
+  for (size_t k = first; k < records.size(); ++k) {
+    if (records[k].contains("error")) continue;
+    if (records[k]["case"] == "floor") floorSeconds = primarySeconds(records[k]);
+    if (records[k]["case"] == "cgal_fair") fairSeconds = primarySeconds(records[k]);
+  }
+  for (size_t k = first; k < records.size(); ++k) {
+    json& r = records[k];
+    const double seconds =
+        r.contains("error") ? std::numeric_limits<double>::infinity() : primarySeconds(r);
+    r["ratio_to_floor"] = ratio(seconds, floorSeconds);
+    r["ratio_to_cgal_fair"] = ratio(seconds, fairSeconds);
+    // Newton and Ceres' AMD-order solve against Ceres' default one, same run.
+    const std::string mode = r.value("mode", "");
+    if (mode != "newton" && mode != "ceres_amd") continue;
+    for (size_t j = first; j < records.size(); ++j) {
+      const json& ceres = records[j];
+      if (ceres["case"] == "energy" && ceres["energy"] == r["energy"] && ceres["mode"] == "ceres" &&
+          !ceres.contains("error"))
+        r["ratio_to_ceres"] = ratio(seconds, primarySeconds(ceres));
+    }
+  }
+}
+
+// Every case of every size, each with its ratios.
+json runAll(const Settings& s) {
   json records = json::array();
   for (int n : s.sizes) {
-    std::vector<Case> cases = {{"floor", "", ""}};
-    // CGAL's fair is the baseline of the static solves only.
-    if (s.newton || s.ceres || s.linearized) cases.push_back({"cgal_fair", "", ""});
-    for (const std::string& e : s.energies) {
-      if (s.vibration) cases.push_back({"energy", e, "vibration"});
-      if (s.newton) cases.push_back({"energy", e, "newton"});
-      if (s.ceres) cases.push_back({"energy", e, "ceres"});
-      if (s.linearized) cases.push_back({"energy", e, "linearized"});
-      if (s.ceres && s.baselines) cases.push_back({"energy", e, "ceres_amd"});
-    }
     const size_t first = records.size();
-    for (const Case& c : cases) {
+    for (const Case& c : casesOfSize(s)) {
       json record = runRepeated(n, c, s);
       std::fprintf(stderr, "n=%d %s %s %s: %s, %.0f MB%s\n", n, c.kind.c_str(), c.energy.c_str(),
                    c.mode.c_str(), formatSeconds(record).c_str(),
@@ -571,32 +609,13 @@ int main(int argc, char** argv) {
                    record.contains("error") ? (" ERROR " + record["error"].dump()).c_str() : "");
       records.push_back(std::move(record));
     }
-    // Ratios, once this n's baselines are known.
-    double floorSeconds = std::numeric_limits<double>::infinity();
-    double fairSeconds = floorSeconds;
-    for (size_t k = first; k < records.size(); ++k) {
-      if (records[k].contains("error")) continue;
-      if (records[k]["case"] == "floor") floorSeconds = primarySeconds(records[k]);
-      if (records[k]["case"] == "cgal_fair") fairSeconds = primarySeconds(records[k]);
-    }
-    for (size_t k = first; k < records.size(); ++k) {
-      json& r = records[k];
-      const double seconds =
-          r.contains("error") ? std::numeric_limits<double>::infinity() : primarySeconds(r);
-      r["ratio_to_floor"] = ratio(seconds, floorSeconds);
-      r["ratio_to_cgal_fair"] = ratio(seconds, fairSeconds);
-      // Newton and Ceres' AMD-order solve against Ceres' default one, same run.
-      const std::string mode = r.value("mode", "");
-      if (mode != "newton" && mode != "ceres_amd") continue;
-      for (size_t j = first; j < records.size(); ++j) {
-        const json& ceres = records[j];
-        if (ceres["case"] == "energy" && ceres["energy"] == r["energy"] &&
-            ceres["mode"] == "ceres" && !ceres.contains("error"))
-          r["ratio_to_ceres"] = ratio(seconds, primarySeconds(ceres));
-      }
-    }
+    addRatios(records, first);
   }
+  return records;
+}
 
+// The table on stderr, the JSON on stdout and in `output` (when given); the exit code.
+int report(const Settings& s, const json& records, const std::string& output) {
   const json result = {
       {"machine", {{"cores", sysconf(_SC_NPROCESSORS_ONLN)}}},
       {"boundary", s.boundary},
@@ -619,4 +638,14 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  flexure::optimize::reuseFreedMemory();  // as the flexure executable does
+  Settings s;
+  std::string output;
+  if (const std::optional<int> exitCode = parseArguments(argc, argv, s, output)) return *exitCode;
+  return report(s, runAll(s), output);
 }

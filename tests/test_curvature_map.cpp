@@ -74,7 +74,7 @@ TEST(CurvatureMap, RenderUsesADivergingMapSymmetricAboutZero) {
   const render::Image bowl = render(heightField(16, "quadratic:1,0,1"));
   const render::Image saddle = render(heightField(16, "quadratic:1,0,-1"));
   ASSERT_EQ(bowl.width, 256 + render::kLegendWidth);
-  // The legend bar (render/mesh_renderer.cpp: 14 px right of the mesh, 18 wide, from 18 % to
+  // The legend bar (render/legend.cpp: 14 px right of the mesh, 18 wide, from 18 % to
   // 82 % of the height): blue at the bottom (−m), white in the middle (0), red at the top (+m).
   const int barX = 256 + 14 + 9;
   EXPECT_GT(redness(bowl, barX, 50), 100);

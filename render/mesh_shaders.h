@@ -1,0 +1,13 @@
+// The GLSL 4.50 sources of the mesh renderer (internal to render/): the vertex stage and the
+// fragment stage with the styles' environments and lights (mesh_shaders.cpp states the math).
+#pragma once
+
+namespace flexure::render {
+
+// Frame coordinates in, clip coordinates out, with each corner's barycentric coordinate.
+extern const char* const kVertexShader;
+// The styles' colours: reflection, isophote and highlight stripes, shading, the scalar colour
+// map, obstacles, marked faces, the edge overlay and (with CRACKS defined) the crack band.
+extern const char* const kFragmentShader;
+
+}  // namespace flexure::render
