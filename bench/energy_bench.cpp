@@ -71,8 +71,8 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/linear/biharmonic.h"
-#include "optimize/solvers/hessian_assembly.h"
 
 namespace {
 

@@ -28,6 +28,7 @@
 #include "optimize/boundary_conditions.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/problem.h"
+#include "optimize/solvers/minimize.h"
 
 namespace {
 

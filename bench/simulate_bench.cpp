@@ -2,7 +2,7 @@
 // membrane (Y = 1e3) + each bending energy, Newmark (β = ¼, γ = ½), dt = 1/200 s, from rest under
 // gravity. --scene drape (the scene, the default): nothing pinned, the sheet falls 0.05
 // onto the sphere of radius 0.3 centred 0.35 below its centre and drapes over it (the obstacle
-// barrier of optimize/dynamics/obstacles.h); --scene hang: it hangs from two pinned corners. Per
+// barrier of optimize/assembly/obstacles.h); --scene hang: it hangs from two pinned corners. Per
 // energy: steps per second, iterations (Newton and chord steps) and Hessian factorizations per step
 // over
 // --steps steps, or --duration seconds simulated (the first step, which includes building the
@@ -46,6 +46,7 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/generators.h"
 #include "modeling/rest_state.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracture.h"
@@ -54,7 +55,7 @@
 #include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/hessian_factorization.h"
 
 namespace {
 

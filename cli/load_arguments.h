@@ -1,7 +1,7 @@
 // The command-line options of a gravity load and of obstacles, shared by minimize (static) and
 // simulate (dynamic): --gravity gx,gy,gz, --density ρ (mass per unit rest area), --mass (the
 // lumping) and --obstacle plane:nx,ny,nz,d | sphere:x,y,z,r (repeatable;
-// optimize/dynamics/obstacles.h).
+// optimize/assembly/obstacles.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "optimize/dynamics/obstacles.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/modes/vibration_modes.h"
 #include "optimize/problem.h"
 

@@ -21,11 +21,11 @@
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
-#include "optimize/dynamics/simulation_spec.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracturing.h"
 #include "optimize/inelastic/pin_release.h"
 #include "optimize/inelastic/plastic_dynamics.h"
+#include "optimize/inelastic/simulation_spec.h"
 #include "render/mesh_renderer.h"
 #include "render/offscreen_context.h"
 

@@ -11,8 +11,8 @@
 #include "cli/membrane_arguments.h"
 #include "cli/plasticity_arguments.h"
 #include "modeling/mesh.h"
-#include "optimize/dynamics/simulation_spec.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/simulation_spec.h"
 #include "render/mesh_renderer.h"
 
 namespace flexure::cli {

@@ -5,8 +5,9 @@
 #include "curvature/energy_registry.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/linear/least_squares.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
 

@@ -17,9 +17,8 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_quantities.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/dynamics/obstacles.h"
-#include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {
 

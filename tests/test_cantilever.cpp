@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "optimize/problem.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure {
 namespace {

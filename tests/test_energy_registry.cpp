@@ -14,9 +14,10 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/assembly/energy_evaluation.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/solvers/minimize.h"
 
 namespace flexure {
 namespace {

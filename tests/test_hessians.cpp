@@ -1,4 +1,4 @@
-// Exact Hessians (curvature/element_hessian.h, optimize/solvers/hessian_assembly.h) of every
+// Exact Hessians (curvature/element_hessian.h, optimize/assembly/hessian_assembly.h) of every
 // bending energy and membrane:
 // 1. against central differences of the exact gradient (Ceres' autodiff, energyGradient):
 //    column k of ∇²E is (∇E(u + h e_k) − ∇E(u − h e_k)) / 2h + O(h²) + O(ε |∇E| / h), on curved
@@ -24,9 +24,10 @@
 #include "curvature/element_hessian.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/generators.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/solvers/energy_evaluation.h"
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/linear/least_squares.h"
 #include "support/energy_fixtures.h"
 #include "support/small_meshes.h"
 

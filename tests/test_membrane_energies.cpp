@@ -18,7 +18,7 @@
 #include "curvature/projected_hessian.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/assembly/energy_evaluation.h"
 #include "support/energy_fixtures.h"
 
 namespace flexure {

@@ -19,9 +19,9 @@
 #include "curvature/membrane_energy.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "optimize/linear/elimination_order.h"
 #include "optimize/linear/heap_reuse.h"
 #include "optimize/linear/linear_algebra_threads.h"
-#include "optimize/solvers/elimination_order.h"
 #include "support/test_problem.h"
 
 namespace flexure {
@@ -278,7 +278,7 @@ TEST(NonlinearMinimize, NewtonAndCeresAgreeInXyzModeWithMembranes) {
 }
 
 // From kNestedDissectionMinBlocks free vertex blocks on, Ceres solves on a nested-dissection
-// order (optimize/solvers/elimination_order.h): every block in one of 256 groups, the free vertices
+// order (optimize/linear/elimination_order.h): every block in one of 256 groups, the free vertices
 // spread evenly in METIS order. A free scalar block (a midedge ξ) or a small problem keeps Ceres'
 // AMD.
 TEST(NonlinearMinimize, LargeProblemsSolveOnANestedDissectionOrder) {

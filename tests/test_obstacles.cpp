@@ -1,4 +1,4 @@
-// Obstacles (optimize/dynamics/obstacles.h): the barrier's derivatives against finite differences,
+// Obstacles (optimize/assembly/obstacles.h): the barrier's derivatives against finite differences,
 // the closed-form contact times, the adaptive stiffness, a sheet dropped on a plane that comes to
 // rest on it without a vertex ever inside, and a static minimizer under gravity held up by a
 // sphere.
@@ -10,9 +10,9 @@
 #include <random>
 
 #include "modeling/errors.h"
-#include "optimize/dynamics/obstacles.h"
+#include "optimize/assembly/hessian_assembly.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/dynamics/time_stepping.h"
-#include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 

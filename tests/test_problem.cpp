@@ -13,6 +13,7 @@
 #include "modeling/generators.h"
 #include "modeling/vertex_quantities.h"
 #include "optimize/problem.h"
+#include "optimize/solvers/minimize.h"
 #include "support/energy_fixtures.h"
 
 namespace flexure {

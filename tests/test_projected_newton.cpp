@@ -12,9 +12,9 @@
 
 #include "curvature/projected_hessian.h"
 #include "modeling/generators.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/hessian_assembly.h"
 #include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 

@@ -10,7 +10,7 @@
 
 #include "curvature/energy_registry.h"
 #include "modeling/field_names.h"
-#include "optimize/dynamics/simulation_spec.h"
+#include "optimize/inelastic/simulation_spec.h"
 #include "support/input_error.h"
 
 namespace flexure {

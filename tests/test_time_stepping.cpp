@@ -14,10 +14,10 @@
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
+#include "optimize/assembly/energy_evaluation.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/modes/vibration_modes.h"
-#include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/minimize.h"
 #include "support/plate.h"
 

@@ -8,8 +8,10 @@
 #include <limits>
 
 #include "modeling/errors.h"
-#include "optimize/solvers/energy_evaluation.h"
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/assembly/hessian_assembly.h"
+#include "optimize/linear/least_squares.h"
+#include "optimize/solvers/hessian_factorization.h"
 #include "optimize/solvers/newton_loop.h"
 
 namespace flexure::optimize {

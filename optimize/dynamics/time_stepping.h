@@ -40,7 +40,7 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/dynamics/obstacles.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/newton_stop.h"
 

@@ -21,9 +21,10 @@
 #include "modeling/errors.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/assembly/energy_evaluation.h"
 #include "optimize/linear/biharmonic.h"
+#include "optimize/linear/least_squares.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/assembly/energy_evaluation.h"
 
 namespace flexure::optimize {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/assembly/energy_evaluation.h"
 
 namespace flexure::optimize {
 

@@ -5,7 +5,7 @@
 
 #include "modeling/errors.h"
 #include "optimize/linear/cholesky_factor.h"
-#include "optimize/solvers/elimination_order.h"
+#include "optimize/linear/elimination_order.h"
 
 namespace flexure::optimize {
 namespace {

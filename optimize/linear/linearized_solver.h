@@ -11,8 +11,8 @@
 #include <memory>
 #include <vector>
 
+#include "optimize/assembly/energy_evaluation.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::optimize {
 

@@ -14,9 +14,9 @@
 #include "curvature/energy_registry.h"
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/linear/cholesky_factor.h"
 #include "optimize/linear/linear_algebra_threads.h"
-#include "optimize/solvers/hessian_assembly.h"
 
 namespace flexure::optimize {
 

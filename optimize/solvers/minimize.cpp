@@ -8,11 +8,11 @@
 #include <cstdio>
 
 #include "modeling/errors.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/linear/elimination_order.h"
 #include "optimize/linear/linear_algebra_threads.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/elimination_order.h"
-#include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/newton_solver.h"
 
 namespace flexure::optimize {

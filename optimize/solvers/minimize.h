@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "curvature/energy_term.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/boundary_conditions.h"
-#include "optimize/dynamics/obstacles.h"
 #include "optimize/solvers/newton_stop.h"
 
 namespace flexure::optimize {

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "optimize/solvers/hessian_factorization.h"
 #include "optimize/solvers/newton_stop.h"
 #include "optimize/solvers/objective.h"
 

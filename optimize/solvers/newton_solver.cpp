@@ -6,10 +6,11 @@
 #include <limits>
 
 #include "modeling/errors.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/assembly/hessian_assembly.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/solvers/hessian_factorization.h"
 #include "optimize/solvers/newton_loop.h"
 #include "optimize/solvers/static_energy.h"
 
@@ -66,7 +67,7 @@ class NewtonSolver {
   // The order CHOLMOD computes where no order is given. With free ξ, AMD: a static solve factors
   // a few times, and CHOLMOD's nested dissection (the time step's choice: dynamics factor
   // hundreds of times) takes longer to find than the factorizations it saves. Measured on the
-  // n = 512 midedge plate (scripts/bench solve --sizes 512 --energies midedge --modes newton;
+  // n = 512 midedge plate (bench/solve_bench.cpp: that size, that energy, the Newton solve;
   // 1 044 489 unknowns, 4 iterations, 2 factorizations; one run each on a loaded machine):
   // analysis 2.0 s with AMD, nnz(L) 1.17e8, solve 22.7 s in all; 27.5 s with CHOLMOD's nested
   // dissection, nnz(L) 1.09e8, 53.0 s in all; METIS 18.2 s, nnz(L) 1.11e8, 44.2 s; the geometric

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/assembly/hessian_assembly.h"
 
 namespace flexure::optimize {
 

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "optimize/dynamics/obstacles.h"
+#include "optimize/assembly/obstacles.h"
 #include "optimize/solvers/objective.h"
 
 namespace flexure::optimize {

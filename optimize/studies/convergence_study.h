@@ -32,10 +32,10 @@
 #include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
+#include "optimize/assembly/energy_evaluation.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
 #include "optimize/solvers/minimize.h"
 
 namespace flexure::optimize {

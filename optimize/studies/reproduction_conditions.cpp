@@ -11,6 +11,7 @@
 
 #include "curvature/midedge_boundary.h"
 #include "modeling/errors.h"
+#include "optimize/linear/least_squares.h"
 #include "optimize/studies/convergence_study.h"
 #include "optimize/studies/plate_polynomials.h"
 

@@ -1,6 +1,6 @@
 // Shared set-ups of the energy tests: a bending term bound to a rest mesh, random smooth surfaces
 // and rigid motions, and the unknown vector (positions row by row, then ξ) of
-// optimize/solvers/energy_evaluation.h.
+// optimize/assembly/energy_evaluation.h.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -12,8 +12,9 @@
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/assembly/energy_evaluation.h"
+#include "optimize/linear/least_squares.h"
 #include "optimize/problem.h"
-#include "optimize/solvers/energy_evaluation.h"
 
 namespace flexure::testing {
 

@@ -1,4 +1,4 @@
-#include "optimize/dynamics/obstacles.h"
+#include "optimize/assembly/obstacles.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "optimize/solvers/elimination_order.h"
+#include "optimize/linear/elimination_order.h"
 
 #include <algorithm>
 #include <unordered_map>
@@ -113,13 +113,6 @@ class Dissection {
 };
 
 }  // namespace
-
-void Incidence::append(std::vector<int>& read) {
-  std::sort(read.begin(), read.end());
-  read.erase(std::unique(read.begin(), read.end()), read.end());
-  nodes.insert(nodes.end(), read.begin(), read.end());
-  start.push_back(static_cast<int>(nodes.size()));
-}
 
 std::vector<int> geometricNestedDissection(const std::vector<Eigen::Vector3d>& points,
                                            const Incidence& residuals, int leafSize) {

@@ -54,7 +54,7 @@
 #include <vector>
 
 #include "modeling/rest_state.h"
-#include "optimize/solvers/hessian_assembly.h"
+#include "optimize/assembly/hessian_assembly.h"
 
 namespace flexure::optimize {
 

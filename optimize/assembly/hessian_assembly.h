@@ -1,6 +1,6 @@
 // The exact Hessian of a sum of energy terms, assembled from the element Hessians
-// (curvature/element_hessian.h) into one sparse symmetric matrix over the free unknowns, and its
-// sparse Cholesky factorization with the symbolic analysis done once per problem.
+// (curvature/element_hessian.h) into one sparse symmetric matrix over the free unknowns
+// (solvers/hessian_factorization.h factors it).
 //
 // Unknowns are those of energy_evaluation.h: 3v + c for coordinate c of vertex v, then 3 #V + e
 // for ξ_e. The free ones are renumbered 0 .. n − 1 in that order; the matrix keeps its upper
@@ -12,8 +12,7 @@
 #include <vector>
 
 #include "curvature/energy_term.h"
-#include "optimize/linear/cholesky_factor.h"
-#include "optimize/solvers/elimination_order.h"
+#include "optimize/assembly/incidence.h"
 
 namespace flexure::optimize {
 
@@ -66,39 +65,5 @@ class HessianAssembly {
   std::vector<int> columnStart_, rowIndex_;
   Incidence freeVertices_;
 };
-
-// A sparse Cholesky factorization (CHOLMOD, supernodal) of the assembled Hessian whose symbolic
-// analysis — the fill-reducing order and the factor's structure — is computed once, at
-// construction, and reused by every numerical factorization.
-class HessianFactorization {
- public:
-  // `order`: the elimination order of the free unknowns, or empty for the one CHOLMOD computes
-  // by `computed`. `simplicial`: Eigen's SimplicialLLT on its AMD order instead (single-threaded,
-  // column by column), the linear algebra of a plain Newton solver such as libshell's: a
-  // benchmark baseline.
-  HessianFactorization(const HessianAssembly& assembly, const std::vector<int>& order,
-                       FillReducingOrder computed = FillReducingOrder::NestedDissection,
-                       bool simplicial = false);
-  ~HessianFactorization();
-  HessianFactorization(const HessianFactorization&) = delete;
-  HessianFactorization& operator=(const HessianFactorization&) = delete;
-
-  // Factors H + μ I. false when it is not positive definite (or CHOLMOD fails).
-  bool factor(const std::vector<double>& values, double shift = 0.0);
-  // H⁻¹ b with the last successful factor.
-  Eigen::VectorXd solve(const Eigen::VectorXd& b);
-
- private:
-  struct Cholmod;
-  struct Simplicial;
-  std::unique_ptr<Cholmod> cholmod_;
-  std::unique_ptr<Simplicial> simplicial_;
-  const HessianAssembly& assembly_;
-};
-
-// The fill-reducing order for `assembly`'s free unknowns: geometric nested dissection of the free
-// vertices (elimination_order.h) at `at` when every free unknown is a vertex coordinate; empty
-// (CHOLMOD's nested dissection, HessianFactorization) when a ξ is free.
-std::vector<int> hessianOrder(const HessianAssembly& assembly, const Positions& at);
 
 }  // namespace flexure::optimize

@@ -1,4 +1,4 @@
-#include "optimize/dynamics/simulation_spec.h"
+#include "optimize/inelastic/simulation_spec.h"
 
 #include <cmath>
 #include <string>

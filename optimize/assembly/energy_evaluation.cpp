@@ -1,4 +1,4 @@
-#include "optimize/solvers/energy_evaluation.h"
+#include "optimize/assembly/energy_evaluation.h"
 
 #include <ceres/problem.h>
 
@@ -8,10 +8,6 @@
 #include <thread>
 
 #include "modeling/errors.h"
-#include "optimize/linear/cholmod_view.h"
-#include "optimize/linear/linear_algebra_threads.h"
-#include "optimize/linear/linearized_solver.h"
-#include "optimize/solvers/elimination_order.h"
 
 namespace flexure::optimize {
 namespace {
@@ -70,8 +66,6 @@ EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const
   return out;
 }
 
-namespace {
-
 // The stacked residuals r and their Jacobian J at (x, ξ), element by element without a Ceres
 // problem. Assembling one and having Ceres write its Jacobian as CRS took, for the rest Jacobian
 // of the n = 512 patch in bench/solve_bench (linearized "evaluation"), hinge 3.5 s, cotan 2.7,
@@ -79,11 +73,6 @@ namespace {
 // 1.0 and 1.4 s on two threads with height-mode derivatives (separate runs of the benchmark).
 // Each term's elements are split into one contiguous range per thread; the ranges' rows are
 // concatenated in element order, so J does not depend on the thread count.
-struct Linearization {
-  Eigen::VectorXd residuals;
-  SparseMatrix jacobian;
-};
-
 Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                         const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
   struct Range {
@@ -148,62 +137,13 @@ Linearization linearize(const std::vector<const EnergyTerm*>& terms, const Posit
   return out;
 }
 
-}  // namespace
-
 SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
                               const Eigen::VectorXd& xi, curvature::Derivatives derivatives) {
   return linearize(terms, x, xi, derivatives).jacobian;
 }
 
-Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::VectorXd& r0,
-                                     Eigen::VectorXd u, const std::vector<bool>& free,
-                                     const Positions& at) {
-  if (std::find(free.begin(), free.end(), true) == free.end()) return u;
-  return LinearizedSolver(jacobian, free, at).solve(std::move(u), r0);
-}
-
 double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u) {
   return 0.5 * (jacobian * u).squaredNorm();
-}
-
-double linearizedEnergyOfDisplacement(const SparseMatrix& jacobian, const Positions& rest,
-                                      const Positions& delta, const Eigen::VectorXd& deltaXi,
-                                      const std::vector<bool>& freeEdge) {
-  const int positionCount = static_cast<int>(delta.size());
-  const int edgeCount = static_cast<int>(jacobian.cols()) - positionCount;
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(jacobian.cols());
-  u.head(positionCount) = Eigen::Map<const Eigen::VectorXd>(delta.data(), positionCount);
-  if (edgeCount > 0) {
-    if (deltaXi.size() > 0) u.tail(edgeCount) = deltaXi;
-    std::vector<bool> free(u.size(), false);
-    for (int e = 0; e < edgeCount; ++e) free[positionCount + e] = freeEdge[e];
-    u = minimizeLeastSquares(jacobian, Eigen::VectorXd(), u, free, rest);
-  }
-  return linearizedEnergy(jacobian, u);
-}
-
-Eigen::VectorXd minimizeEdgeUnknowns(const std::vector<const EnergyTerm*>& terms,
-                                     const Positions& x, const Eigen::VectorXd& xi,
-                                     const std::vector<bool>& freeEdge) {
-  // Residuals are affine in ξ: r(ξ) = r(ξ0) + J_ξ (ξ − ξ0). Solve for the free part of ξ in the
-  // unknown vector (positions fixed).
-  // Positions fixed: only the ξ columns matter, which the height-mode Jacobian holds.
-  const Linearization at = linearize(terms, x, xi, curvature::Derivatives::HeightOnly);
-  const int positionCount = static_cast<int>(3 * x.rows());
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(at.jacobian.cols());
-  std::vector<bool> free(at.jacobian.cols(), false);
-  for (int e = 0; e < xi.size(); ++e) free[positionCount + e] = freeEdge[e];
-  const Eigen::VectorXd step = minimizeLeastSquares(at.jacobian, at.residuals, u, free, x);
-  return xi + step.tail(xi.size());
-}
-
-double relaxedEnergy(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                     const Eigen::VectorXd& xi, const std::vector<bool>& freeEdge) {
-  const Eigen::VectorXd relaxed =
-      usesEdgeUnknowns(terms) ? minimizeEdgeUnknowns(terms, x, xi, freeEdge) : xi;
-  double energy = 0.0;
-  for (const EnergyTerm* term : terms) energy += term->energy(x, relaxed);
-  return energy;
 }
 
 }  // namespace flexure::optimize

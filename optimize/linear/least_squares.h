@@ -1,39 +1,14 @@
-// Energies, gradients and residual Jacobians of a set of terms through Ceres, and the linearized
-// energies of docs/energies.md. Unknowns are ordered: vertex positions row by row (3 #V values),
-// then the midedge unknowns ξ (#E values) when a term uses them.
+// The linearized energies of docs/energies.md minimized: ½ |J u + r0|² over free unknowns, the
+// energy of a displacement with the edge unknowns minimized, and the midedge ξ minimizing E at
+// fixed positions. J and r0 come from assembly/energy_evaluation.h.
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 #include <vector>
 
-#include "curvature/energy_term.h"
+#include "optimize/assembly/energy_evaluation.h"
 
 namespace flexure::optimize {
-
-using curvature::EnergyTerm;
-using modeling::Positions;
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
-
-struct EnergyGradient {
-  double energy = 0.0;
-  Eigen::VectorXd gradient;  // 3 #V (+ #E): ∂E/∂x row by row, then ∂E/∂ξ
-};
-
-// Whether any term reads midedge unknowns.
-bool usesEdgeUnknowns(const std::vector<const EnergyTerm*>& terms);
-
-// E and ∇E at (x, ξ), by Ceres autodiff on the terms' residuals.
-EnergyGradient energyGradient(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                              const Eigen::VectorXd& xi);
-
-// The Jacobian J of the stacked residuals r at (x, ξ): E = ½ |r|², so at rest (r = 0) the
-// second-order expansion of E is E_lin(δ) = ½ |J δ|² (= |J' δ|² for the unscaled residuals r/√2
-// of docs/energies.md). Columns follow the unknown order above.
-// With Derivatives::HeightOnly only the z and ξ columns are filled (height_only_cost.h).
-SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const Positions& x,
-                              const Eigen::VectorXd& xi,
-                              curvature::Derivatives derivatives = curvature::Derivatives::All);
 
 // min over the unknowns marked free of ½ |J u + r0|², starting from the given u (the fixed
 // entries keep their values): returns the minimizing u. J is the residual Jacobian at positions
@@ -43,9 +18,6 @@ SparseMatrix residualJacobian(const std::vector<const EnergyTerm*>& terms, const
 Eigen::VectorXd minimizeLeastSquares(const SparseMatrix& jacobian, const Eigen::VectorXd& r0,
                                      Eigen::VectorXd u, const std::vector<bool>& free,
                                      const Positions& at);
-
-// ½ |J u|².
-double linearizedEnergy(const SparseMatrix& jacobian, const Eigen::VectorXd& u);
 
 // E_lin of a displacement: ½ |J u|² with J the residual Jacobian at `rest` and u = (δ, δξ). δ is
 // #V by 3; when J has edge-unknown columns, the edges with freeEdge[e] = false take deltaXi[e]

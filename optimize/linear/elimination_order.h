@@ -33,16 +33,9 @@
 #include <memory>
 #include <vector>
 
+#include "optimize/assembly/incidence.h"
+
 namespace flexure::optimize {
-
-// Which nodes (blocks of unknowns: a vertex, a midedge ξ) each residual reads, compressed:
-// residual k reads nodes[start[k] .. start[k + 1]).
-struct Incidence {
-  std::vector<int> start{0}, nodes;
-
-  // Appends a residual reading `read` (sorted and deduplicated in place).
-  void append(std::vector<int>& read);
-};
 
 // A fill-reducing elimination order for the normal matrix AᵀA of a least-squares problem whose
 // residuals read the nodes as `residuals` says (two nodes couple when a residual reads both),
