@@ -67,7 +67,7 @@ Rgb parseColour(std::string_view text);
 
 enum class Projection { Orthographic, Perspective };
 
-// Obstacles drawn with the mesh (the shapes of optimize/dynamics/obstacles.h, which render/ does
+// Obstacles drawn with the mesh (the shapes of optimize/assembly/obstacles.h, which render/ does
 // not depend on): the sphere |x − centre| = radius, and the plane normal·x = offset, drawn as a
 // square of half side kPlaneHalfSide × the framed points' radius (about their bounding-box centre)
 // centred on the foot of that centre.
