@@ -299,8 +299,13 @@ void writeSettingsList(const StudyOptions& o, std::ostringstream& md) {
   for (const auto& v : o.energies) {
     const double nu = curvature::effectivePoisson(v.bending);
     if (nu != 1.0) {
-      md << "- Poisson's ratio ν = " << format("%g", nu)
-         << " for the energies that take one (hinge and cotan are ν = 1 models)\n";
+      md << "- Poisson's ratio ν = " << format("%g", nu) << " for the energies that take one ("
+         << curvature::energyNamesWhere(
+                [](const curvature::EnergyEntry& e) {
+                  return e.poissonRule == curvature::PoissonRule::MeanCurvatureOnly;
+                },
+                ", ", " and ")
+         << " are ν = 1 models)\n";
       break;
     }
   }
