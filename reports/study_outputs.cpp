@@ -324,8 +324,10 @@ void writeSettingsList(const StudyOptions& o, std::ostringstream& md) {
 void writeReproductionTable(const StudyOptions& o, const StudySummary& s, std::ostringstream& md) {
   md << "\n## C1 and C2 (linearized, n = " << o.baseN << ")\n\n"
      << "C1 = |E_lin(p)/A_cov − Ψ_ν(∇²p)| / |∇²p|², C2 = max over the free vertices |z − p| / max "
-        "|p| with rings 0 and 1 fixed on p (midedge: boundary ξ clamped, or free). Each cell: the "
-        "verdict on the worst error over the quadratics"
+        "|p| with rings 0 and 1 fixed on p ("
+     << curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns)
+     << ": boundary ξ clamped, or free). Each cell: the verdict on the worst error over the "
+        "quadratics"
      << (o.seeds.size() > 1 ? " and seeds" : "")
      << " — pass below 1e-9, fail above 1e-4, inconclusive between — and that error."
      << (o.userMeshes.empty() ? "" : " User meshes count at their own size.") << "\n\n";
