@@ -2,6 +2,7 @@
 // at three refinement levels, runs a small convergence study (seconds) into convergence/ and a
 // small `flexure compare` (every energy's minimizer on three families, rendered) into compare/ and
 // the clamped square's vibration modes (`flexure modes`, the Chladni figure) into modes/.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,12 +14,14 @@
 #include "cli/mesh_json.h"
 #include "cli/modes_command.h"
 #include "cli/study_outputs.h"
+#include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/generators.h"
 #include "modeling/mesh_info.h"
 #include "modeling/mesh_io.h"
 #include "modeling/polynomial_surface.h"
+#include "optimize/studies/spectrum_study.h"
 
 namespace flexure::cli {
 namespace {
@@ -26,6 +29,20 @@ namespace {
 struct DemoCommandOptions {
   std::string outputDir = "demo-output";
 };
+
+// The energies of the demo's Chladni figure: one per element kind (an edge, a face, a vertex
+// energy), each the first of its kind among the spectrum study's default energies.
+std::vector<std::string> oneEnergyPerElementKind() {
+  std::vector<std::string> names;
+  std::vector<curvature::ElementKind> kinds;
+  for (const optimize::EnergyVariant& v : optimize::defaultSpectrumEnergies()) {
+    const curvature::EnergyEntry& entry = curvature::energyEntry(v.bending.discretization);
+    if (std::find(kinds.begin(), kinds.end(), entry.elementKind) != kinds.end()) continue;
+    kinds.push_back(entry.elementKind);
+    names.push_back(entry.name);
+  }
+  return names;
+}
 
 // The general quadratic of the convergence study's default set: boundary data of the test problem.
 constexpr const char* kDemoSurface = "quadratic:0.3,-0.7,0.5";
@@ -96,13 +113,14 @@ void runDemoCommand(const DemoCommandOptions& o, const GlobalOptions& global) {
   compare.stripes = 10;
   runCompare(compare, global, "flexure demo");
 
-  // Chladni's plates: the first six vibration modes of the clamped square for three energies
-  // against Leissa's frequencies, with their nodal lines (a second).
+  // Chladni's plates: the first six vibration modes of the clamped square for one energy of each
+  // element kind (midedge, cotan, hinge) against Leissa's frequencies, with their nodal lines (a
+  // second).
   ModesOptions modes;
   modes.outputDir = (dir / "modes").string();
   modes.family = "patch48";
   modes.n = 24;
-  modes.energies = {"midedge", "cotan", "hinge"};
+  modes.energies = oneEnergyPerElementKind();
   modes.count = 6;
   modes.reference = "square-clamped";
   std::printf("\nVibration modes of the clamped square (λ = ω L² √(ρh/D)):\n");

@@ -109,8 +109,9 @@ void registerEnergyCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--current", options->currentFile, "Current (deformed) mesh, same connectivity")
       ->required();
   sub->add_option("--boundary-surface", options->boundarySurface,
-                  "midedge: clamp boundary xi to this surface's normals (quadratic:a,b,c or "
-                  "polynomial:EXPR); free otherwise")
+                  curvature::energyNamesWhere(&curvature::EnergyEntry::takesBoundarySurface) +
+                      ": clamp boundary xi to this surface's normals (quadratic:a,b,c or "
+                      "polynomial:EXPR); free otherwise")
       ->check(surfaceSpec());
   sub->add_flag("--linearized", options->linearized,
                 "The second-order expansion about rest, E_lin(delta) = |J delta|^2");

@@ -58,9 +58,12 @@ void requireSameConnectivity(const std::string& file, const modeling::Mesh& mesh
 }
 
 optimize::BoundaryNormals boundaryNormals(const MinimizeCommandOptions& o, bool haveSurface,
-                                          bool midedge, const GlobalOptions& global) {
-  if (!o.boundaryNormals.empty() && !midedge)
-    throw InputError("--boundary-normals applies to --energy midedge only");
+                                          const curvature::EnergyEntry& energy,
+                                          const GlobalOptions& global) {
+  if (!o.boundaryNormals.empty() && !energy.hasEdgeUnknowns())
+    throw InputError("--boundary-normals applies to --energy " +
+                     curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns) +
+                     " only");
   if (o.boundaryNormals == "free") return optimize::BoundaryNormals::Free;
   if (o.boundaryNormals == "clamped") {
     if (!haveSurface) {
@@ -72,8 +75,9 @@ optimize::BoundaryNormals boundaryNormals(const MinimizeCommandOptions& o, bool 
   }
   if (!o.boundaryNormals.empty())
     throw InputError("--boundary-normals " + o.boundaryNormals + ": expected clamped or free");
-  if (midedge && !haveSurface && !global.quiet)
-    std::cerr << "flexure minimize: no boundary surface: midedge boundary normals are free\n";
+  if (energy.hasEdgeUnknowns() && !haveSurface && !global.quiet)
+    std::cerr << "flexure minimize: no boundary surface: " << energy.name
+              << " boundary normals are free\n";
   return haveSurface ? optimize::BoundaryNormals::Clamped : optimize::BoundaryNormals::Free;
 }
 
@@ -198,8 +202,8 @@ optimize::ProblemOptions problemOptions(const MinimizeCommandOptions& o,
   if (!o.boundary.empty()) p.boundarySurface = modeling::PolynomialSurface::parse(o.boundary);
   const std::optional<modeling::PolynomialSurface>& surface = p.boundarySurface;
   // An energy that owns edge unknowns (midedge's ξ) has boundary normals to hold or free.
-  const bool midedge = static_cast<bool>(curvature::energyEntry(b.discretization).restEdgeUnknowns);
-  p.boundaryNormals = boundaryNormals(o, surface.has_value(), midedge, global);
+  p.boundaryNormals =
+      boundaryNormals(o, surface.has_value(), curvature::energyEntry(b.discretization), global);
   p.linearizedClamp = o.linearized;
   p.load = loadOptions(o.load);
 
@@ -347,8 +351,9 @@ void registerMinimizeCommand(CLI::App& app, const GlobalOptions& global) {
                   "solve; default with --boundary) | given (the interior at rest, or as in --init; "
                   "default with --init)");
   sub->add_option("--boundary-normals", options->boundaryNormals,
-                  "midedge: clamped (boundary xi from --boundary's normals; the default with "
-                  "--boundary) | free");
+                  curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns) +
+                      ": clamped (boundary xi from --boundary's normals; the default with "
+                      "--boundary) | free");
   sub->add_flag("--linearized", options->linearized,
                 "Minimize the linearized energy E_lin exactly (one sparse solve)");
   addSolverArguments(*sub, options->solverArguments);

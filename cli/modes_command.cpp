@@ -87,9 +87,10 @@ optimize::ModesSpec modesSpec(const ModesOptions& o) {
 std::vector<EnergyRun> energyRuns(const ModesOptions& o, const optimize::ModesSpec& spec) {
   std::vector<EnergyRun> runs;
   for (const std::string& name : o.energies) {
-    if (name.find(':') != std::string::npos && name.rfind("midedge", 0) == 0)
-      throw InputError("--energy " + name +
-                       ": midedge's boundary normals follow --support and --clamp; give midedge");
+    const curvature::EnergyEntry* entry = curvature::findEnergy(name.substr(0, name.find(':')));
+    if (name.find(':') != std::string::npos && entry && entry->hasEdgeUnknowns())
+      throw InputError("--energy " + name + ": " + entry->name +
+                       "'s boundary normals follow --support and --clamp; give " + entry->name);
     EnergyRun run;
     run.spec = name;
     try {
@@ -99,8 +100,7 @@ std::vector<EnergyRun> energyRuns(const ModesOptions& o, const optimize::ModesSp
     }
     run.bending.stiffness = o.stiffness;
     curvature::effectivePoisson(run.bending);  // a ν the energy does not take fails here
-    run.edgeUnknowns =
-        static_cast<bool>(curvature::energyEntry(run.bending.discretization).restEdgeUnknowns);
+    run.edgeUnknowns = curvature::energyEntry(run.bending.discretization).hasEdgeUnknowns();
     run.clamp = spec.forEnergy(run.bending).clamp;
     runs.push_back(std::move(run));
   }
@@ -554,10 +554,13 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(positive());
   sub->add_option("--support", o.support, "clamped | simply-supported | free")
       ->capture_default_str();
+  const std::string edgeUnknowns =
+      curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns);
   sub->add_option("--clamp", o.clamp,
                   "How a clamp holds the slope: rings (rings 0 and 1 fixed) | normals (ring 0 "
-                  "fixed, midedge boundary normals held); default normals for midedge, rings "
-                  "otherwise");
+                  "fixed, " +
+                      edgeUnknowns + " boundary normals held); default normals for " +
+                      edgeUnknowns + ", rings otherwise");
   sub->add_option("--fix", o.fix,
                   "Vertices held in addition: vertices:FILE (e.g. the centre point) | rings:K | "
                   "box:X0,X1,Y0,Y1,Z0,Z1");

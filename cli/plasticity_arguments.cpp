@@ -1,6 +1,7 @@
 #include "cli/plasticity_arguments.h"
 
 #include "cli/command_files.h"
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 
 namespace flexure::cli {
@@ -8,7 +9,9 @@ namespace flexure::cli {
 void addYieldArguments(CLI::App& sub, PlasticityArguments& a) {
   sub.add_option("--yield-curvature", a.yieldCurvature,
                  "Plastic bending: yield curvature kappa_y (a cylinder yields at kappa_y, a sphere "
-                 "at kappa_y/sqrt(3)); not cotan");
+                 "at kappa_y/sqrt(3)); not " +
+                     curvature::energyNamesWhere(
+                         [](const curvature::EnergyEntry& e) { return !e.plasticRestCurvature; }));
   sub.add_option("--yield-strain", a.yieldStrain,
                  "Plastic membrane: yield strain epsilon_y (Green strain; a strip stretched with "
                  "its width held yields at epsilon_y); needs --membrane stvk");

@@ -12,7 +12,7 @@
 
 #include "cli/command_files.h"
 #include "cli/commands.h"
-#include "curvature/mean_curvature_field.h"
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_check.h"
 #include "modeling/mesh_io.h"
@@ -108,6 +108,31 @@ std::string problemSummary(const modeling::MeshCheck& check) {
   return text;
 }
 
+bool givesMeanCurvature(const curvature::EnergyEntry& e) {
+  return static_cast<bool>(e.meanCurvatureField);
+}
+
+// The energy whose kernel measures H for the curvature style: --curvature-energy's, else the
+// registry's default (the first that gives a mean-curvature field).
+const curvature::EnergyEntry& curvatureEnergy(const std::string& name) {
+  if (name.empty()) return curvature::defaultMeanCurvatureEnergy();
+  const curvature::EnergyEntry* entry = curvature::findEnergy(name);
+  if (!entry || !givesMeanCurvature(*entry))
+    throw InputError("--curvature-energy " + name + ": expected " +
+                     curvature::energyNamesWhere(givesMeanCurvature));
+  return *entry;
+}
+
+// --curvature-energy's help: each energy that gives H, how, and the default.
+std::string curvatureEnergyHelp() {
+  std::string ways;
+  for (const curvature::EnergyEntry& e : curvature::registeredEnergies())
+    if (givesMeanCurvature(e))
+      ways += (ways.empty() ? "" : "; ") + e.name + ": " + e.meanCurvatureFormula;
+  return "Curvature style: the discretization of H (" + ways + "; default " +
+         curvature::defaultMeanCurvatureEnergy().name + ")";
+}
+
 // The mesh to draw: a valid one as every command reads it; one that only the mesh checks refuse,
 // as read, with its problems' faces in r.markedFaces, a caption saying what is marked and a
 // warning on stderr (always: the picture is not of a usable mesh). Anything else rethrows.
@@ -156,10 +181,7 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   }
   const bool curvatureStyle = r.style == render::RenderStyle::Curvature;
   if (curvatureStyle) {
-    // One discretization so far; the option names it so that others can join.
-    if (!o.curvatureEnergy.empty() && o.curvatureEnergy != "cotan") {
-      throw InputError("--curvature-energy " + o.curvatureEnergy + ": expected cotan");
-    }
+    curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
     r.curvatureMax = o.curvatureMax;
     r.scalarLabel = "mean curvature H";
   } else if (!o.curvatureEnergy.empty() || o.curvatureMax) {
@@ -189,7 +211,7 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure render: " << notice << '\n';
   const auto start = std::chrono::steady_clock::now();
-  if (curvatureStyle) r.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
+  if (curvatureStyle) r.vertexScalars = curvatureEnergy(o.curvatureEnergy).meanCurvatureField(mesh);
   const render::Image image = render::renderMesh(mesh, r);
   render::writePng(o.output, image);
   if (!global.quiet) {
@@ -240,9 +262,7 @@ void registerRenderCommand(CLI::App& app, const GlobalOptions& global) {
                   "Error style: the surface p, quadratic:a,b,c or polynomial:EXPR");
   sub->add_option("--error-max", o.errorMax,
                   "Error style: top of the colour map (default: the largest |z - p|)");
-  sub->add_option("--curvature-energy", o.curvatureEnergy,
-                  "Curvature style: the discretization of H (cotan: H = K.n / (2 A), the cotan "
-                  "energy's kernel; default cotan)");
+  sub->add_option("--curvature-energy", o.curvatureEnergy, curvatureEnergyHelp());
   sub->add_option("--curvature-max", o.curvatureMax,
                   "Curvature style: the colour map spans [-M, M] (default: the 98th percentile of "
                   "|H| over the vertices)");

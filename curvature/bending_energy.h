@@ -4,7 +4,6 @@
 // × rest curvature (the rest mesh's, or flat for fairing).
 #pragma once
 
-#include <array>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -41,10 +40,6 @@ inline constexpr Discretization Discretization::TriangleAveraged{1};
 inline constexpr Discretization Discretization::Cotan{2};
 inline constexpr Discretization Discretization::Midedge{3};
 inline constexpr Discretization Discretization::QuadraticFit{4};
-// The five built-ins, in docs/energies.md's order (the registry's first five entries).
-inline constexpr std::array<Discretization, 5> kDiscretizations = {
-    Discretization::Hinge, Discretization::TriangleAveraged, Discretization::Cotan,
-    Discretization::Midedge, Discretization::QuadraticFit};
 enum class VertexArea { Voronoi, Barycentric };
 // FromRest: a shell, whose rest angles, shape operators and ξ̄ come from the rest mesh.
 // Flat: the rest mesh gives only the metric (areas, lengths); rest curvature is zero (fairing).

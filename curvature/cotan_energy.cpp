@@ -4,6 +4,7 @@
 
 #include "curvature/element_term.h"
 #include "curvature/energy_registry.h"
+#include "curvature/mean_curvature_field.h"
 #include "curvature/rest_element_data.h"
 
 namespace flexure::curvature {
@@ -65,6 +66,9 @@ EnergyEntry cotanEnergyEntry() {
   e.studyBytesPerVertex = 3.5e3;
   e.studyVariants = {"cotan", "cotan:barycentric"};
   e.studyRank = 2;
+  e.spectrumRank = 1;
+  e.meanCurvatureField = cotanVertexMeanCurvature;
+  e.meanCurvatureFormula = "H = K.n / (2 A), the cotan energy's kernel";
   return e;
 }
 

@@ -14,13 +14,36 @@ std::string lowercase(std::string_view text) {
   return out;
 }
 
-std::deque<EnergyEntry>& registry() {
+struct Registry {
+  std::deque<EnergyEntry> entries;
+  size_t builtinCount = 0;
+};
+
+Registry& registryWithBuiltins() {
   // The built-ins, one line each, at the indices Discretization::Hinge … QuadraticFit name.
-  static std::deque<EnergyEntry> entries = {
-      hingeEnergyEntry(),   triangleAveragedEnergyEntry(), cotanEnergyEntry(),
-      midedgeEnergyEntry(), quadraticFitEnergyEntry(),
-  };
-  return entries;
+  static Registry r = [] {
+    Registry built;
+    built.entries = {
+        hingeEnergyEntry(),   triangleAveragedEnergyEntry(), cotanEnergyEntry(),
+        midedgeEnergyEntry(), quadraticFitEnergyEntry(),
+    };
+    built.builtinCount = built.entries.size();
+    return built;
+  }();
+  return r;
+}
+
+std::deque<EnergyEntry>& registry() {
+  return registryWithBuiltins().entries;
+}
+
+// The registry index of the energy of that name (case-insensitive); −1 when none.
+int indexOf(std::string_view name) {
+  const std::string wanted = lowercase(name);
+  const std::deque<EnergyEntry>& entries = registry();
+  for (size_t k = 0; k < entries.size(); ++k)
+    if (entries[k].name == wanted) return static_cast<int>(k);
+  return -1;
 }
 
 }  // namespace
@@ -49,6 +72,24 @@ const EnergyEntry& energyEntry(Discretization d) {
   return entries[static_cast<size_t>(d.index())];
 }
 
+std::vector<Discretization> builtinDiscretizations() {
+  std::vector<Discretization> builtins;
+  for (size_t k = 0; k < registryWithBuiltins().builtinCount; ++k)
+    builtins.emplace_back(static_cast<int>(k));
+  return builtins;
+}
+
+const EnergyEntry* findEnergy(std::string_view name) {
+  const int index = indexOf(name);
+  return index < 0 ? nullptr : &registry()[static_cast<size_t>(index)];
+}
+
+const EnergyEntry& defaultMeanCurvatureEnergy() {
+  for (const EnergyEntry& e : registry())
+    if (e.meanCurvatureField) return e;
+  throw std::logic_error("defaultMeanCurvatureEnergy: no energy gives a mean-curvature field");
+}
+
 std::vector<std::string> energyNameList() {
   std::vector<std::string> names;
   for (const EnergyEntry& e : registry()) names.push_back(e.name);
@@ -73,10 +114,8 @@ std::string energyNamesWhere(const std::function<bool(const EnergyEntry&)>& sele
 }
 
 Discretization parseDiscretization(std::string_view name) {
-  const std::string wanted = lowercase(name);
-  const std::deque<EnergyEntry>& entries = registry();
-  for (size_t k = 0; k < entries.size(); ++k)
-    if (entries[k].name == wanted) return Discretization(static_cast<int>(k));
+  const int index = indexOf(name);
+  if (index >= 0) return Discretization(index);
   throw InputError("unknown energy '" + std::string(name) + "' (expected " +
                    registeredEnergyNames() + ")");
 }

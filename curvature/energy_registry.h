@@ -9,11 +9,13 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "curvature/bending_energy.h"
+#include "modeling/mesh.h"
 
 namespace flexure::curvature {
 
@@ -33,6 +35,9 @@ using EnergyFactory = std::function<std::unique_ptr<EnergyTerm>(
 // Rest values of the edge unknowns an energy owns (#E), e.g. midedge's ξ̄.
 using RestEdgeUnknowns = std::function<Eigen::VectorXd(const modeling::Stencils&,
                                                        const modeling::RestState&, RestCurvature)>;
+// Per-vertex mean curvature H (#V) of a mesh as it stands, from the energy's kernel: what a
+// curvature map colours. Throws InputError for a mesh the kernel cannot measure.
+using MeanCurvatureField = std::function<std::vector<double>(const modeling::Mesh&)>;
 
 struct EnergyEntry {
   std::string name;         // as users type it, lower case: "hinge"
@@ -43,6 +48,7 @@ struct EnergyEntry {
   EnergyFactory make;
   // Set when the energy owns one unknown per edge (midedge's ξ): their rest values.
   RestEdgeUnknowns restEdgeUnknowns;
+  bool hasEdgeUnknowns() const { return static_cast<bool>(restEdgeUnknowns); }
   // Which of BendingOptions' per-energy fields it reads: vertexArea, hingeAngle; and whether the
   // boundary values of its edge unknowns can come from a boundary surface.
   bool readsVertexArea = false, readsHingeAngle = false, takesBoundarySurface = false;
@@ -52,7 +58,7 @@ struct EnergyEntry {
   bool plasticRestCurvature = true;
   // Whether a crack can cut its mesh (optimize/inelastic/fracturing.h): edge unknowns (midedge's
   // ξ) do not carry across a cut.
-  bool cuttable() const { return !restEdgeUnknowns; }
+  bool cuttable() const { return !hasEdgeUnknowns(); }
   // Peak resident memory per vertex of one convergence-study case (five quadratics' linearized
   // solves), measured with /usr/bin/time -v on patch48 between n = 128 and 256 (16 641 and
   // 66 049 vertices), one run each, and rounded up: midedge 9.9 kB (the ξ per edge: four times
@@ -62,12 +68,26 @@ struct EnergyEntry {
   // where they go in its table (rows sorted by this rank, stable).
   std::vector<std::string> studyVariants;
   int studyRank = 0;
+  // Where the energy goes among the spectrum study's default energies (optimize/studies/
+  // spectrum_study.h), which run each energy once with its default options, sorted by this rank;
+  // empty: not among them.
+  std::optional<int> spectrumRank;
+  // Set when the energy's kernel gives a per-vertex mean curvature of a surface (cotan's
+  // H = K·n / (2 A)), for curvature maps; `meanCurvatureFormula` says how, for help texts.
+  MeanCurvatureField meanCurvatureField;
+  std::string meanCurvatureFormula;
 };
 
 // All registered energies: the five built-ins first, in docs/energies.md's order, then those
 // registered at run time. Entries never move (a deque: references stay valid).
 const std::deque<EnergyEntry>& registeredEnergies();
 const EnergyEntry& energyEntry(Discretization d);
+// The built-in energies (the registry's first entries), in docs/energies.md's order.
+std::vector<Discretization> builtinDiscretizations();
+// The entry of that name, compared case-insensitively; nullptr when none is registered.
+const EnergyEntry* findEnergy(std::string_view name);
+// The first registered energy whose kernel gives a mean-curvature field (curvature maps' default).
+const EnergyEntry& defaultMeanCurvatureEnergy();
 // The registered names, in registry order.
 std::vector<std::string> energyNameList();
 // "hinge, triavg, cotan, midedge or quadfit" (the last joined by `lastSeparator`).

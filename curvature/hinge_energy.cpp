@@ -126,6 +126,7 @@ EnergyEntry hingeEnergyEntry() {
   e.studyBytesPerVertex = 3.5e3;
   e.studyVariants = {"hinge"};
   e.studyRank = 0;
+  e.spectrumRank = 4;
   return e;
 }
 

@@ -9,7 +9,8 @@
 // their counter-clockwise order (right-hand rule), so a bowl z = x² + y² with faces counter-
 // clockwise seen from above (normals +z) has H > 0 (H ≈ 2 at its apex: ½ (κ₁ + κ₂) with
 // κ₁ = κ₂ = 2), and a saddle z = x² − y² has H ≈ 0 at its centre and both signs elsewhere.
-// Boundary vertices have no closed ring: their H is 0.
+// Boundary vertices have no closed ring: their H is 0. The cotan registry entry's
+// meanCurvatureField (energy_registry.h): curvature maps reach it through the registry.
 #pragma once
 
 #include <vector>

@@ -112,6 +112,7 @@ EnergyEntry midedgeEnergyEntry() {
   e.studyBytesPerVertex = 11e3;
   e.studyVariants = {"midedge", "midedge:free"};
   e.studyRank = 4;
+  e.spectrumRank = 0;
   return e;
 }
 

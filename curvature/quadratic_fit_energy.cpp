@@ -92,6 +92,7 @@ EnergyEntry quadraticFitEnergyEntry() {
   e.studyBytesPerVertex = 6.5e3;
   e.studyVariants = {"quadfit"};
   e.studyRank = 3;
+  e.spectrumRank = 2;
   return e;
 }
 

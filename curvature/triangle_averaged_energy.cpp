@@ -71,6 +71,7 @@ EnergyEntry triangleAveragedEnergyEntry() {
   e.studyBytesPerVertex = 6.5e3;
   e.studyVariants = {"triavg"};
   e.studyRank = 1;
+  e.spectrumRank = 3;
   return e;
 }
 

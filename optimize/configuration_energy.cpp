@@ -14,8 +14,8 @@ namespace flexure::optimize {
 void ConfigurationEnergyOptions::validate() const {
   if (boundarySurface && !curvature::energyEntry(bending.discretization).takesBoundarySurface)
     throw InputError(
-        "ConfigurationEnergyOptions.boundarySurface applies to an energy with edge unknowns "
-        "(midedge) only");
+        "ConfigurationEnergyOptions.boundarySurface applies to an energy with edge unknowns (" +
+        curvature::energyNamesWhere(&curvature::EnergyEntry::takesBoundarySurface) + ") only");
 }
 
 namespace {

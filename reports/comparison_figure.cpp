@@ -3,7 +3,7 @@
 #include <cctype>
 #include <cstdio>
 
-#include "curvature/mean_curvature_field.h"
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/studies/convergence_study.h"
@@ -106,7 +106,7 @@ render::RenderOptions sharedLook(render::RenderOptions look, const Surfaces& sur
       if (look.style == render::RenderStyle::Error)
         fields.push_back(render::vertexSurfaceErrors(surface, look.surface));
       else if (look.style == render::RenderStyle::Curvature)
-        fields.push_back(curvature::cotanVertexMeanCurvature(surface));
+        fields.push_back(curvature::defaultMeanCurvatureEnergy().meanCurvatureField(surface));
     }
   }
   if (look.style == render::RenderStyle::Error) {
@@ -132,7 +132,8 @@ void renderPanels(render::OffscreenContext& context, const render::RenderOptions
     for (size_t c = 0; c < surfaces[r].size(); ++c) {
       render::RenderOptions panelLook = look;
       if (look.style == render::RenderStyle::Curvature)
-        panelLook.vertexScalars = curvature::cotanVertexMeanCurvature(surfaces[r][c]);
+        panelLook.vertexScalars =
+            curvature::defaultMeanCurvatureEnergy().meanCurvatureField(surfaces[r][c]);
       render::Image image = render::renderMesh(context, surfaces[r][c], panelLook);
       out.grid.panels.back().push_back(image);
       out.images.emplace_back(fileNames[r][c], std::move(image));

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "render/plot.h"
 #include "reports/output_files.h"
@@ -29,6 +30,17 @@ std::vector<double> worstErrors(const optimize::SpectrumSeries& s) {
   return worst;
 }
 
+// How the clamped square is clamped: energies with edge unknowns by their normals, the others by
+// rings 0 and 1 (vibration_modes.h).
+std::string clampSentence() {
+  const auto& energies = curvature::registeredEnergies();
+  const auto edgeUnknowns = [](const curvature::EnergyEntry& e) { return e.hasEdgeUnknowns(); };
+  const std::string names = curvature::energyNamesWhere(edgeUnknowns, ", ", " and ");
+  const bool one = std::count_if(energies.begin(), energies.end(), edgeUnknowns) == 1;
+  return "; " + names + (one ? " clamps its" : " clamp their") +
+         " normals, the other energies rings 0 and 1";
+}
+
 std::string summaryText(const optimize::SpectrumStudyOptions& o,
                         const std::vector<optimize::SpectrumSeries>& all) {
   const std::vector<double> reference = optimize::squarePlateLambdas(o.support, o.count);
@@ -36,10 +48,7 @@ std::string summaryText(const optimize::SpectrumStudyOptions& o,
   md << "# Vibration spectrum of the " << optimize::supportName(o.support) << " square\n\n"
      << "λ₁ … λ" << o.count << " = ω L² √(ρh/D) against " << optimize::squarePlateSource(o.support)
      << "; n = " << o.baseN << " … " << (o.baseN << (o.levels - 1))
-     << (o.support == optimize::Support::Clamped
-             ? "; midedge clamps its normals, the other energies rings 0 and 1"
-             : "")
-     << ".\n\n"
+     << (o.support == optimize::Support::Clamped ? clampSentence() : "") << ".\n\n"
      << "Each cell: the smallest order over the modes (least-squares slope of |λ/λ_ref − 1| in h)"
      << " and the largest error at the finest level; \"does not converge\" when any mode's "
         "error stalls.\n\n| energy |";
@@ -121,11 +130,8 @@ bool isSpectrumFile(const std::string& name) {
 
 std::vector<optimize::EnergyVariant> spectrumEnergies(std::vector<optimize::EnergyVariant> chosen,
                                                       std::optional<double> poisson) {
-  if (chosen.empty())
-    for (const char* name : {"midedge", "cotan", "quadfit", "triavg", "hinge"})
-      chosen.push_back(optimize::parseEnergyVariant(name, poisson));
-  for (optimize::EnergyVariant& v : chosen)
-    if (v.label == "midedge(clamped)") v.label = "midedge";
+  if (chosen.empty()) chosen = optimize::defaultSpectrumEnergies(poisson);
+  for (optimize::EnergyVariant& v : chosen) v.label = optimize::spectrumLabel(v);
   return chosen;
 }
 

@@ -17,9 +17,9 @@ namespace flexure::reports {
 // Whether `name` is a file writeSpectrumOutputs writes.
 bool isSpectrumFile(const std::string& name);
 
-// The spectrum study's energies: `chosen`, or when empty the five discretizations once each (ν =
-// `poisson` where they take one). Midedge's normals follow the support in this study, not the
-// variant's clamped/free, so its clamped variant is labelled plain "midedge".
+// The spectrum study's energies: `chosen`, or when empty optimize::defaultSpectrumEnergies (ν =
+// `poisson` where they take one), each labelled by optimize::spectrumLabel (midedge's normals
+// follow the support in this study, not the variant's clamped/free: plain "midedge").
 std::vector<optimize::EnergyVariant> spectrumEnergies(std::vector<optimize::EnergyVariant> chosen,
                                                       std::optional<double> poisson);
 

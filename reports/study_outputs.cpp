@@ -299,8 +299,13 @@ void writeSettingsList(const StudyOptions& o, std::ostringstream& md) {
   for (const auto& v : o.energies) {
     const double nu = curvature::effectivePoisson(v.bending);
     if (nu != 1.0) {
-      md << "- Poisson's ratio ν = " << format("%g", nu)
-         << " for the energies that take one (hinge and cotan are ν = 1 models)\n";
+      md << "- Poisson's ratio ν = " << format("%g", nu) << " for the energies that take one ("
+         << curvature::energyNamesWhere(
+                [](const curvature::EnergyEntry& e) {
+                  return e.poissonRule == curvature::PoissonRule::MeanCurvatureOnly;
+                },
+                ", ", " and ")
+         << " are ν = 1 models)\n";
       break;
     }
   }
@@ -319,8 +324,10 @@ void writeSettingsList(const StudyOptions& o, std::ostringstream& md) {
 void writeReproductionTable(const StudyOptions& o, const StudySummary& s, std::ostringstream& md) {
   md << "\n## C1 and C2 (linearized, n = " << o.baseN << ")\n\n"
      << "C1 = |E_lin(p)/A_cov − Ψ_ν(∇²p)| / |∇²p|², C2 = max over the free vertices |z − p| / max "
-        "|p| with rings 0 and 1 fixed on p (midedge: boundary ξ clamped, or free). Each cell: the "
-        "verdict on the worst error over the quadratics"
+        "|p| with rings 0 and 1 fixed on p ("
+     << curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns)
+     << ": boundary ξ clamped, or free). Each cell: the verdict on the worst error over the "
+        "quadratics"
      << (o.seeds.size() > 1 ? " and seeds" : "")
      << " — pass below 1e-9, fail above 1e-4, inconclusive between — and that error."
      << (o.userMeshes.empty() ? "" : " User meshes count at their own size.") << "\n\n";

@@ -1,9 +1,11 @@
-// The energy registry: lookups, the built-ins' order, and a test-only energy — registered here
-// and defined nowhere else — run through energy, gradient, Hessian and minimize.
+// The energy registry: lookups, the built-ins' order, the default lists generated from the
+// entries, and a test-only energy — registered here and defined nowhere else — run through
+// energy, gradient, Hessian, minimize, time stepping, vibration modes and the spectrum study.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -16,8 +18,12 @@
 #include "modeling/stencils.h"
 #include "optimize/assembly/energy_evaluation.h"
 #include "optimize/boundary_conditions.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "optimize/modes/vibration_modes.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
+#include "optimize/studies/spectrum_study.h"
+#include "support/plate.h"
 
 namespace flexure {
 namespace {
@@ -127,7 +133,7 @@ TEST(EnergyRegistry, BuiltinsAreInDocsOrder) {
   const std::vector<std::string> docsOrder = {"hinge", "triavg", "cotan", "midedge", "quadfit"};
   for (size_t k = 0; k < docsOrder.size(); ++k) {
     EXPECT_EQ(entries[k].name, docsOrder[k]);
-    EXPECT_EQ(curvature::discretizationName(curvature::kDiscretizations[k]), docsOrder[k]);
+    EXPECT_EQ(curvature::discretizationName(curvature::builtinDiscretizations()[k]), docsOrder[k]);
   }
   EXPECT_EQ(curvature::parseDiscretization("MidEdge"), Discretization::Midedge);
   EXPECT_TRUE(curvature::energyEntry(Discretization::Midedge).restEdgeUnknowns);
@@ -136,6 +142,42 @@ TEST(EnergyRegistry, BuiltinsAreInDocsOrder) {
             curvature::PoissonRule::MeanCurvatureOnly);
   EXPECT_EQ(curvature::energyEntry(Discretization::QuadraticFit).poissonRule,
             curvature::PoissonRule::Koiter);
+  heightDirichlet();  // a run-time energy is not a built-in
+  EXPECT_EQ(curvature::builtinDiscretizations().size(), docsOrder.size());
+  EXPECT_EQ(curvature::findEnergy("QuadFit"), &entries[4]);
+  EXPECT_EQ(curvature::findEnergy("membrane"), nullptr);
+}
+
+// The lists other parts take from the entries: the spectrum study's default energies and labels,
+// the energy curvature maps measure H with, the names messages give.
+TEST(EnergyRegistry, DefaultListsComeFromTheEntries) {
+  heightDirichlet();  // registered without a spectrum rank or a mean-curvature field
+  std::vector<std::string> spectrum;
+  for (const optimize::EnergyVariant& v : optimize::defaultSpectrumEnergies())
+    spectrum.push_back(optimize::spectrumLabel(v));
+  EXPECT_EQ(spectrum,
+            (std::vector<std::string>{"midedge", "cotan(voronoi)", "quadfit", "triavg", "hinge"}));
+  EXPECT_EQ(optimize::spectrumLabel(optimize::parseEnergyVariant("midedge:free")),
+            "midedge(free)");  // the study refuses it, by this name
+  EXPECT_EQ(optimize::spectrumLabel(optimize::parseEnergyVariant("dirichlet")), "dirichlet");
+
+  EXPECT_EQ(curvature::defaultMeanCurvatureEnergy().name, "cotan");
+  EXPECT_EQ(curvature::energyNamesWhere(
+                [](const EnergyEntry& e) { return static_cast<bool>(e.meanCurvatureField); }),
+            "cotan");
+  EXPECT_EQ(curvature::energyNamesWhere(&EnergyEntry::hasEdgeUnknowns), "midedge");
+
+  // A normals clamp names the energies that have normals to hold.
+  optimize::ModesSpec spec;
+  spec.clamp = optimize::Clamp::Normals;
+  curvature::BendingOptions dirichlet;
+  dirichlet.discretization = heightDirichlet();
+  try {
+    spec.forEnergy(dirichlet);
+    ADD_FAILURE() << "a normals clamp was accepted for an energy without edge unknowns";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("holds the midedge normals: dirichlet has none"));
+  }
 }
 
 TEST(EnergyRegistry, UnknownNameListsTheRegisteredNames) {
@@ -251,6 +293,128 @@ TEST(EnergyRegistry, TestEnergyMinimizesToThePlane) {
         << (linearized ? "linearized" : "newton");
     EXPECT_NEAR(setup.term->energy(result.positions, Eigen::VectorXd()),
                 2.0 * (kA * kA + kB * kB) * area, 1e-10);
+  }
+}
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The vibration of E = k_B Σ Ā |∇z|² (a membrane under tension 2 k_B): ρ z̈ = 2 k_B Δz, so on the
+// simply supported unit square (z = 0 on the boundary) ω² = 2 k_B π² (m² + n²) / ρ, and the
+// study's λ = ω L² √(ρ/D), D = 2 k_B, is λ = π √(m² + n²): λ² = π² (m² + n²), the plate's λ.
+// The first four: (1,1), (1,2) and (2,1), (2,2).
+const std::vector<double> kSquaredLambdas = {2 * kPi * kPi, 5 * kPi* kPi, 5 * kPi* kPi,
+                                             8 * kPi* kPi};
+
+// Height modes of the run-time energy on patch48, n = 16: flexible, positive, ascending, the
+// (1,2)/(2,1) pair double, each pair an eigenpair, λ² within 3 % of the membrane's.
+TEST(EnergyRegistry, TestEnergyVibratesAsAMembrane) {
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 16, heightDirichlet());
+  optimize::ModesOptions o;
+  o.count = 4;
+  o.support = optimize::Support::SimplySupported;
+  const optimize::ModesResult r =
+      optimize::vibrationModes(plate.terms(), plate.stencils, plate.rest, plate.restXi, o);
+  ASSERT_EQ(r.modes.size(), 4u);
+  EXPECT_EQ(r.spuriousZeroModes, 0);
+  double previous = 0.0;
+  for (size_t k = 0; k < r.modes.size(); ++k) {
+    const optimize::VibrationMode& mode = r.modes[k];
+    EXPECT_FALSE(mode.zero) << k;
+    EXPECT_GT(mode.lambda, previous) << k;
+    EXPECT_LE(mode.residual, 1e-8) << k;
+    std::printf("dirichlet λ_%zu² = %.4f against π²(m² + n²) = %.4f\n", k + 1,
+                mode.lambda * mode.lambda, kSquaredLambdas[k]);
+    EXPECT_NEAR(mode.lambda * mode.lambda / kSquaredLambdas[k], 1.0, 0.03) << k;
+    previous = mode.lambda * (1.0 - 1e-6);  // the double pair may come in either order
+  }
+  EXPECT_EQ(r.modes[1].multiplicity, 2);
+  EXPECT_EQ(r.modes[0].multiplicity, 1);
+}
+
+// The spectrum study on the run-time energy: its λ² converge to the membrane's at order about 2
+// (linear elements with a lumped mass), while the study, which compares λ with the plate's,
+// finds that they do not converge to those.
+TEST(EnergyRegistry, SpectrumStudyOfTheTestEnergy) {
+  heightDirichlet();
+  optimize::SpectrumStudyOptions o;
+  o.energies = {optimize::parseEnergyVariant("dirichlet")};
+  o.families = {modeling::MeshFamily::Patch48};
+  o.count = 4;
+  o.baseN = 8;
+  o.levels = 3;
+  o.support = optimize::Support::SimplySupported;
+  const std::vector<optimize::SpectrumSeries> series = optimize::runSpectrumStudy(o);
+  ASSERT_EQ(series.size(), 1u);
+  const optimize::SpectrumSeries& s = series.front();
+  EXPECT_EQ(s.clamp, optimize::Clamp::Rings);
+  ASSERT_EQ(s.lambdas.size(), 3u);
+  for (int k = 0; k < o.count; ++k) {
+    std::vector<double> errors;
+    for (const auto& level : s.lambdas)
+      errors.push_back(std::abs(level[k] * level[k] / kSquaredLambdas[k] - 1.0));
+    std::printf("dirichlet λ_%d²: errors %.2e %.2e %.2e\n", k + 1, errors[0], errors[1], errors[2]);
+    EXPECT_GT(std::log2(errors[1] / errors[2]), 1.7) << k;
+    EXPECT_LT(errors[2], 0.01) << k;
+    EXPECT_EQ(s.verdicts[k], optimize::Refinement::DoesNotConverge) << k;
+  }
+}
+
+// A shell of the run-time energy (and a StVK membrane, xyz; rings 0 and 1 pinned) released from
+// its first mode: undamped Newmark keeps the total energy within 1 % and swings with the mode's
+// period; backward Euler loses energy at every step.
+TEST(EnergyRegistry, TestEnergyShellOscillatesWithItsModesPeriod) {
+  const testing::Plate shell(
+      modeling::MeshFamily::Delaunay, 8, heightDirichlet(), 1e3,
+      [](optimize::ProblemOptions& p, const modeling::Stencils&) { p.fixedRings = 2; });
+  optimize::ModesOptions modes;
+  modes.count = 1;
+  modes.dof = optimize::DofMode::Xyz;
+  const optimize::VibrationMode mode =
+      optimize::vibrationModes(shell.terms(), shell.stencils, shell.rest, shell.restXi, modes)
+          .modes.front();
+  ASSERT_GT(mode.omega, 0.0);
+  const double period = 2.0 * kPi / mode.omega, h = period / 40.0;
+  const modeling::Positions start =
+      shell.rest.positions + (1e-4 / mode.shape.cwiseAbs().maxCoeff()) * mode.shape;
+  const modeling::Positions still = modeling::Positions::Zero(shell.mesh.vertexCount(), 3);
+  for (const optimize::Integrator integrator :
+       {optimize::Integrator::Newmark, optimize::Integrator::BackwardEuler}) {
+    SCOPED_TRACE(optimize::integratorName(integrator));
+    optimize::DynamicsOptions d;
+    d.integrator = integrator;
+    optimize::TimeStepper stepper(shell.problem, d);
+    stepper.start(start, still, Eigen::VectorXd());
+    const double initial = stepper.energies().total();
+    ASSERT_GT(initial, 0.0);
+    double previous = initial, worst = 0.0, lastHeight = start.col(2).dot(mode.shape.col(2));
+    std::vector<double> crossings;  // downward zero crossings of z along the mode's shape
+    for (int k = 0; k < 120; ++k) {
+      const auto outcome = stepper.step(h);
+      ASSERT_TRUE(outcome.converged) << outcome.failure << " at step " << k;
+      const double total = stepper.energies().total();
+      ASSERT_TRUE(std::isfinite(total));
+      worst = std::max(worst, std::abs(total / initial - 1.0));
+      if (integrator == optimize::Integrator::BackwardEuler) {
+        EXPECT_LE(total, previous * (1.0 + 1e-12)) << "step " << k;
+      }
+      previous = total;
+      const double height =
+          (stepper.positions() - shell.rest.positions).col(2).dot(mode.shape.col(2));
+      if (lastHeight > 0.0 && height <= 0.0)
+        crossings.push_back(stepper.time() - h * height / (height - lastHeight));
+      lastHeight = height;
+    }
+    if (integrator == optimize::Integrator::Newmark) {
+      EXPECT_LT(worst, 0.01);
+      ASSERT_GE(crossings.size(), 2u);
+      // Newmark's average acceleration lengthens the period to T (ωh/2) / atan(ωh/2).
+      const double half = 0.5 * mode.omega * h;
+      EXPECT_NEAR(
+          (crossings.back() - crossings[crossings.size() - 2]) / (period * half / std::atan(half)),
+          1.0, 0.01);
+    } else {
+      EXPECT_LT(previous, 0.5 * initial);
+    }
   }
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/fairing_region.h"
 #include "modeling/mesh_check.h"
@@ -199,7 +200,7 @@ TEST(FairingSpheres, FlattenedCapComesBackOnTheCurrentMetric) {
 // CGAL's. Measured at level 4: CGAL 0.0244; hinge 0.0035, triavg 0.0013, cotan 0.00047, midedge
 // 0.0042, quadfit 0.0013.
 TEST(FairingSpheres, NoisyCapIsSmoothedCloserThanCgalFair) {
-  for (auto energy : curvature::kDiscretizations) {
+  for (auto energy : curvature::builtinDiscretizations()) {
     SCOPED_TRACE(std::string(curvature::discretizationName(energy)));
     const CapFairing r = fairSphereCap(4, 40.0, modeling::Perturbation::Noise, energy);
     EXPECT_NEAR(r.input, 0.05, 0.001);
@@ -214,7 +215,7 @@ TEST(FairingSpheres, NoisyCapIsSmoothedCloserThanCgalFair) {
 // (CGAL 0.0029), every energy closer on the current metric. Measured: hinge 0.0022, triavg
 // 0.00076, cotan 0.00045, midedge 0.0014, quadfit 0.00093.
 TEST(FairingSpheres, SmallFlattenedCapEveryEnergyBelowCgal) {
-  for (auto energy : curvature::kDiscretizations) {
+  for (auto energy : curvature::builtinDiscretizations()) {
     SCOPED_TRACE(std::string(curvature::discretizationName(energy)));
     const CapFairing r = fairSphereCap(4, 20.0, modeling::Perturbation::Flatten, energy);
     EXPECT_GT(r.input, 0.05);

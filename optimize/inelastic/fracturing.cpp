@@ -50,11 +50,11 @@ FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, Pro
   if (fracture_) {
     fracture_->validate();
     if (problem_->usesEdgeUnknowns())
-      throw InputError(
-          "FractureOptions: the energy owns edge unknowns (midedge ξ), which do not carry across a "
-          "cut; fracture needs " +
-          curvature::energyNamesWhere(
-              [](const curvature::EnergyEntry& e) { return e.cuttable(); }));
+      throw InputError("FractureOptions: the energy owns edge unknowns (" +
+                       curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns) +
+                       " ξ), which do not carry across a cut; fracture needs " +
+                       curvature::energyNamesWhere(
+                           [](const curvature::EnergyEntry& e) { return e.cuttable(); }));
     if (options_.membraneRest.size() > 0)
       throw InputError(
           "FractureOptions: a separate membrane rest shape does not carry across a "

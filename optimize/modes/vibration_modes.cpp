@@ -361,6 +361,11 @@ void setMultiplicities(std::vector<VibrationMode>& modes) {
   }
 }
 
+// The energies whose edge unknowns give boundary normals a normals clamp can hold: "midedge".
+std::string edgeUnknownEnergyNames() {
+  return curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns);
+}
+
 }  // namespace
 
 bool restIsFlatPlate(const Positions& rest) {
@@ -384,8 +389,8 @@ void checkModesRest(const ModesOptions& o, const Positions& rest, bool edgeUnkno
   }
   if (o.clamp != Clamp::Normals || o.support != Support::Clamped) return;
   if (!edgeUnknowns)
-    throw InputError(
-        "ModesOptions.clamp normals holds the midedge normals: it applies to midedge only");
+    throw InputError("ModesOptions.clamp normals holds the " + edgeUnknownEnergyNames() +
+                     " normals: it applies to " + edgeUnknownEnergyNames() + " only");
   if (o.dof != DofMode::Height || !flat)
     throw InputError(
         "ModesOptions.clamp normals holds the boundary normals vertical, which needs a flat plate "
@@ -424,9 +429,10 @@ ModesOptions ModesSpec::forEnergy(const curvature::BendingOptions& bending) cons
   const bool edgeUnknowns = static_cast<bool>(entry.restEdgeUnknowns);
   o.clamp = clamp.value_or(edgeUnknowns ? Clamp::Normals : Clamp::Rings);
   if (o.clamp == Clamp::Normals && !edgeUnknowns && o.support == Support::Clamped)
-    throw InputError("ModesOptions.clamp normals holds the midedge normals: " + entry.name +
-                     " has none; use ModesOptions.clamp rings or BendingOptions.discretization "
-                     "midedge");
+    throw InputError("ModesOptions.clamp normals holds the " + edgeUnknownEnergyNames() +
+                     " normals: " + entry.name +
+                     " has none; use ModesOptions.clamp rings or BendingOptions.discretization " +
+                     edgeUnknownEnergyNames());
   return o;
 }
 const char* supportName(Support support) {

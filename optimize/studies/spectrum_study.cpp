@@ -60,11 +60,31 @@ void SpectrumStudyOptions::validate() const {
   } catch (const InputError& e) {
     throw InputError("SpectrumStudyOptions.count " + std::to_string(count) + ": " + e.what());
   }
-  for (const EnergyVariant& v : energies)
-    if (v.normals == BoundaryNormals::Free)
-      throw InputError("SpectrumStudyOptions.energies " + v.label +
-                       ": midedge's boundary normals follow SpectrumStudyOptions.support; give "
-                       "midedge");
+  for (const EnergyVariant& v : energies) {
+    if (v.normals != BoundaryNormals::Free) continue;
+    const std::string& name = curvature::energyEntry(v.bending.discretization).name;
+    throw InputError("SpectrumStudyOptions.energies " + v.label + ": " + name +
+                     "'s boundary normals follow SpectrumStudyOptions.support; give " + name);
+  }
+}
+
+std::vector<EnergyVariant> defaultSpectrumEnergies(std::optional<double> poisson) {
+  std::vector<const curvature::EnergyEntry*> ranked;
+  for (const curvature::EnergyEntry& e : curvature::registeredEnergies())
+    if (e.spectrumRank) ranked.push_back(&e);
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto* a, const auto* b) {
+    return *a->spectrumRank < *b->spectrumRank;
+  });
+  std::vector<EnergyVariant> variants;
+  for (const curvature::EnergyEntry* e : ranked)
+    variants.push_back(parseEnergyVariant(e->name, poisson));
+  return variants;
+}
+
+std::string spectrumLabel(const EnergyVariant& variant) {
+  const curvature::EnergyEntry& entry = curvature::energyEntry(variant.bending.discretization);
+  return entry.hasEdgeUnknowns() && variant.normals == BoundaryNormals::Clamped ? entry.name
+                                                                                : variant.label;
 }
 
 std::vector<SpectrumSeries> runSpectrumStudy(
@@ -75,8 +95,7 @@ std::vector<SpectrumSeries> runSpectrumStudy(
   for (int e = 0; e < static_cast<int>(o.energies.size()); ++e) {
     const EnergyVariant& variant = o.energies[e];
     // An energy with edge unknowns (midedge's ξ) clamps by its boundary normals.
-    const bool midedge =
-        static_cast<bool>(curvature::energyEntry(variant.bending.discretization).restEdgeUnknowns);
+    const bool midedge = curvature::energyEntry(variant.bending.discretization).hasEdgeUnknowns();
     for (const modeling::MeshFamily family : o.families) {
       std::vector<std::optional<std::uint64_t>> seeds = {std::nullopt};
       if (family == modeling::MeshFamily::Delaunay) seeds.assign(o.seeds.begin(), o.seeds.end());

@@ -38,6 +38,14 @@ struct SpectrumStudyOptions {
   void validate() const;
 };
 
+// The study's default energies: every registered energy with a spectrum rank (energy_registry.h)
+// once, with its default options (ν = `poisson` where it takes one), sorted by that rank.
+std::vector<EnergyVariant> defaultSpectrumEnergies(std::optional<double> poisson = {});
+// What the study's tables call `variant`: its label, except for an energy with edge unknowns
+// (midedge's ξ), whose boundary normals follow the support here rather than the variant's
+// clamped/free: its plain name ("midedge", not "midedge(clamped)").
+std::string spectrumLabel(const EnergyVariant& variant);
+
 // One energy on one mesh sequence.
 struct SpectrumSeries {
   int energy = 0;  // index into SpectrumStudyOptions::energies

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "curvature/mean_curvature_field.h"
+#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/polynomial_surface.h"
 #include "python/bindings/bindings.h"
@@ -87,7 +87,7 @@ py::array_t<std::uint8_t> renderImage(const PositionsRef& V, const TrianglesRef&
   render::RenderOptions options = renderOptions(a);
   const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
   if (options.style == render::RenderStyle::Curvature)
-    options.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
+    options.vertexScalars = curvature::defaultMeanCurvatureEnergy().meanCurvatureField(mesh);
   // The GIL stays held: the context is one, used by one thread at a time.
   const render::Image image = render::renderMesh(sharedContext(), mesh, options);
   py::array_t<std::uint8_t> pixels(

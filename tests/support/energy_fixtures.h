@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "curvature/bending_energy.h"
+#include "curvature/energy_registry.h"
 #include "modeling/polynomial_surface.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
@@ -23,7 +24,8 @@ using curvature::Discretization;
 using curvature::RestCurvature;
 using modeling::Positions;
 
-inline constexpr const auto& kAllDiscretizations = curvature::kDiscretizations;
+// The built-in energies, from the registry (energies registered by a test are not among them).
+inline const std::vector<Discretization> kAllDiscretizations = curvature::builtinDiscretizations();
 
 inline BendingOptions bendingOptions(Discretization d,
                                      RestCurvature restCurvature = RestCurvature::FromRest) {
