@@ -77,6 +77,7 @@ const std::vector<modeling::FieldName>& fieldFlags() {
       {"FairingOptions.start", "--start"},
       {"FairingOptions.metric", "--metric"},
       {"FairingOptions.method", "--method"},
+      {"FairingSpec.allowSlivers", "--allow-slivers"},
       {"MembraneOptions.young", "--young"},
       {"MembraneOptions.poisson", "--membrane-poisson"},
       {"MembraneOptions.lengthStiffness", "--length-stiffness"},

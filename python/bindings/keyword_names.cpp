@@ -76,6 +76,7 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"FairingOptions.start", "start"},
       {"FairingOptions.metric", "metric"},
       {"FairingOptions.method", "method"},
+      {"FairingSpec.allowSlivers", "allow_slivers"},
       {"ModesOptions.count", "count"},
       {"ModesOptions.clamp", "clamp"},
       {"ModesOptions.density", "density"},

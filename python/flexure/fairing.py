@@ -35,20 +35,20 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
     a = _flexure.FairArguments()
-    a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, True)
+    spec = a.spec
+    spec.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, True)
     if isinstance(region, str):
         a.region_spec = region
     else:
         a.region_mask = [bool(b) for b in _checks.mask(region, V.shape[0], "region")]
-    a.membrane = str(membrane)
+    spec.membrane = str(membrane)
     if membrane_weight is not None:
-        a.membrane_weight = _checks.number(membrane_weight, "membrane_weight", positive=True)
-    a.start, a.metric = str(start), str(metric)
-    a.method = str(method)
-    a.allow_slivers = bool(allow_slivers)
+        spec.membrane_weight = _checks.number(membrane_weight, "membrane_weight")
+    spec.start, spec.metric = str(start), str(metric)
+    spec.method = str(method)
+    spec.allow_slivers = bool(allow_slivers)
     if max_iterations is not None:
-        a.max_iterations = _checks.number(max_iterations, "max_iterations", positive=True,
-                                          integer=True)
+        spec.max_iterations = _checks.number(max_iterations, "max_iterations", integer=True)
     faired, report = _flexure.fair(V, F, a)
     report = dict(report)
     if check and not report["converged"]:
