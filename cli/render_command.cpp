@@ -145,25 +145,19 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   r.projection = o.perspective ? render::Projection::Perspective : render::Projection::Orthographic;
   r.smoothNormals = !o.flat;
   if (!o.light.empty()) r.lightDirection = {o.light[0], o.light[1], o.light[2]};
-  if (r.style == render::RenderStyle::Error) {
-    if (o.surface.empty()) {
-      throw InputError("--style error needs --surface (e.g. --surface quadratic:1,0,1)");
-    }
-    r.surface = modeling::PolynomialSurface::parse(o.surface);
-    r.errorMax = o.errorMax;
-  } else if (!o.surface.empty() || o.errorMax) {
-    throw InputError("--surface and --error-max apply to --style error only");
-  }
-  const bool curvatureStyle = r.style == render::RenderStyle::Curvature;
-  if (curvatureStyle) {
+  render::StyleOptions styleOptions;
+  if (!o.surface.empty()) styleOptions.surface = o.surface;
+  styleOptions.errorMax = o.errorMax;
+  styleOptions.curvatureMax = o.curvatureMax;
+  styleOptions.applyTo(r);
+  if (r.style == render::RenderStyle::Curvature) {
     // One discretization so far; the option names it so that others can join.
     if (!o.curvatureEnergy.empty() && o.curvatureEnergy != "cotan") {
       throw InputError("--curvature-energy " + o.curvatureEnergy + ": expected cotan");
     }
-    r.curvatureMax = o.curvatureMax;
     r.scalarLabel = "mean curvature H";
-  } else if (!o.curvatureEnergy.empty() || o.curvatureMax) {
-    throw InputError("--curvature-energy and --curvature-max apply to --style curvature only");
+  } else if (!o.curvatureEnergy.empty()) {
+    throw InputError("--curvature-energy applies to --style curvature only");
   }
 
   if (r.style == render::RenderStyle::Displacement && o.reference.empty())
@@ -189,7 +183,8 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure render: " << notice << '\n';
   const auto start = std::chrono::steady_clock::now();
-  if (curvatureStyle) r.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
+  if (r.style == render::RenderStyle::Curvature)
+    r.vertexScalars = curvature::cotanVertexMeanCurvature(mesh);
   const render::Image image = render::renderMesh(mesh, r);
   render::writePng(o.output, image);
   if (!global.quiet) {
