@@ -15,10 +15,12 @@
 namespace flexure::optimize {
 
 struct FairingSpec {
+  FairingSpec() { bending.energy = "midedge"; }
+
   std::string method = "flexure";  // parseFairingMethod's names
   // The energy of flexure's solve and of the measures; its rest curvature is flat whatever
   // flatRest says. An empty vertexArea is the metric's default (defaultFairingOptions).
-  curvature::BendingSpec bending{"midedge"};
+  curvature::BendingSpec bending;        // midedge unless given
   std::string membrane = "mips";         // curvature::parseMembraneModel's names
   std::optional<double> membraneWeight;  // empty: the metric's default
   std::string start = "best";            // parseFairingStart's names

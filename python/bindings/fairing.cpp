@@ -80,9 +80,12 @@ py::dict checkDict(const optimize::FairingChecks& c) {
 }
 
 // (V' #V by 3, report).
-py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a) {
+py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a,
+                   py::object progress) {
   optimize::FairingOptions options = a.spec.options();  // every rule, before any work
   options.solver.progress = false;
+  SolveObserver observer(std::move(progress));  // every stage of the solve reports to it
+  options.solver.observer = observer.observer();
   const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   std::vector<bool> region;
@@ -103,6 +106,7 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     r.emplace(optimize::fairAndCheck(*patch, options, method, material));
     faired = modeling::scatterPatchPositions(mesh.positions, *patch, r->patchAfter);
   }
+  observer.raiseIfStopped();
   const std::optional<optimize::FairingResult>& result = r->fairing;
   py::dict report;
   report["converged"] = r->converged(a.spec.allowSlivers);

@@ -8,7 +8,7 @@ from . import _bending
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
          hinge_angle=None, membrane="mips", membrane_weight=None, start="best",
          metric="input", method="flexure", allow_slivers=False, max_iterations=None,
-         check=True):
+         check=True, progress=None):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
     rest of the mesh (V #V×3 float64, F #F×3 int) is held, with the two rings around the region.
 
@@ -30,7 +30,8 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     max_displacement (L)); checks (passed, failure, gradient_passed, final_gradient_norm,
     triangles_passed, degenerate_faces, inverted_faces, input / result min angles) and slivers
     (input, cgal, result and limit degrees, passed). With ``check``, a fair that did not
-    converge raises NumericalError with the report in ``.report``.
+    converge raises NumericalError with the report in ``.report``. progress and Ctrl-C as
+    ``flexure.minimize``'s, over every stage of the solve.
     """
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
@@ -49,7 +50,7 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     spec.allow_slivers = bool(allow_slivers)
     if max_iterations is not None:
         spec.max_iterations = _checks.number(max_iterations, "max_iterations", integer=True)
-    faired, report = _flexure.fair(V, F, a)
+    faired, report = _flexure.fair(V, F, a, _checks.progress(progress))
     report = dict(report)
     if check and not report["converged"]:
         error = _flexure.NumericalError(f"the fair did not converge: {report['failure']}")
