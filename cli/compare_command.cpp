@@ -40,9 +40,7 @@ bool isCompareFile(const std::string& name) {
 void checkCompareOptions(const CompareOptions& o) {
   if (o.families.empty() && o.meshFiles.empty())
     throw InputError("--families: give at least one mesh family (or --mesh FILE)");
-  if (o.solve != "linearized" && o.solve != "nonlinear")
-    throw InputError("--solve " + o.solve + ": expected linearized or nonlinear");
-  if (o.n < 4) throw InputError("--n " + std::to_string(o.n) + ": expected at least 4");
+  reports::parseComparisonSolve(o.solve);
 }
 
 // The rows: one generated mesh per family, with the family's name, then the user's meshes, named
@@ -146,7 +144,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& global,
     comparison.rows.push_back({families.meshes[f], families.names[f], families.labels[f]});
   comparison.energies = o.energies;
   comparison.boundary = o.boundary;
-  comparison.linearized = o.solve == "linearized";
+  comparison.linearized = reports::parseComparisonSolve(o.solve);
   comparison.style = compareStyle(o);
   comparison.size = o.size;
   comparison.stripes = o.stripes;

@@ -30,19 +30,13 @@ optimize::PinMotion parsePinMotion(const std::string& spec, const std::string& o
                        " finite numbers)");
     cursor = end + 1;
   }
-  PinMotion m;
-  if (kind == "translate") {
-    m.kind = PinMotion::Kind::Translate;
-    m.velocity = Eigen::Vector3d(value[0], value[1], value[2]);
-    return m;
+  try {
+    if (kind == "translate") return PinMotion::translation({value[0], value[1], value[2]});
+    return PinMotion::rotation({value[0], value[1], value[2]}, {value[3], value[4], value[5]},
+                               value[6]);
+  } catch (const InputError& e) {
+    throw InputError(option + " " + spec + ": " + e.what());
   }
-  const Eigen::Vector3d axis(value[0], value[1], value[2]);
-  if (!(axis.norm() > 0.0)) throw InputError(option + " " + spec + ": the axis is zero");
-  m.kind = PinMotion::Kind::Rotate;
-  m.axis = axis.normalized();
-  m.point = Eigen::Vector3d(value[3], value[4], value[5]);
-  m.omega = value[6];
-  return m;
 }
 
 namespace {

@@ -28,6 +28,7 @@
 #include "modeling/vertex_quantities.h"
 #include "modeling/vertex_sets.h"
 #include "optimize/fairing/fairing.h"
+#include "optimize/fairing/fairing_spec.h"
 #include "optimize/modes/vibration_modes.h"
 #include "render/figure_grid.h"
 #include "render/mesh_renderer.h"
@@ -49,15 +50,8 @@ using optimize::kSliverToleranceDegrees;
 
 struct FairCommandOptions {
   std::string input, region, output, reportFile, renderFile;
-  std::string method = "flexure";
-  BendingArguments bending;
-  std::string membrane = "mips";
-  std::optional<double> membraneWeight;  // default: 1 on the input's metric, 0.1 on the current
-  std::string start = "best";
-  std::string metric = "input";
-  bool allowSlivers = false;
+  optimize::FairingSpec spec;  // the flags map one to one onto its fields; it holds the rules
   int renderSize = 700;
-  optimize::MinimizeOptions solver;
   SolverArguments solverArguments;
 };
 
@@ -376,13 +370,10 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
 
 // The method, energies and solver that the options name, each checked before any work.
 struct FairSettings {
-  bool cgal = false;  // --method cgal: CGAL's fair is the result
-  optimize::MinimizeOptions solver;
-  curvature::BendingOptions bending;
+  bool cgal = false;                  // --method cgal: CGAL's fair is the result
+  curvature::BendingOptions bending;  // the measures' energy (flat rest)
   std::string energyName;
-  curvature::MembraneModel membrane = curvature::MembraneModel::Mips;
-  optimize::FairingOptions defaults;  // for the chosen metric
-  double membraneWeight = 0.0;
+  optimize::FairingOptions options;  // flexure's solve
 };
 
 // The figure is written as PNG: a name with another extension would hold a PNG under a wrong name.
@@ -400,32 +391,18 @@ FairSettings fairSettings(const FairCommandOptions& o) {
   if (o.renderSize < kMinRenderSize || o.renderSize > 4096)
     throw InputError("--render-size must be in [" + std::to_string(kMinRenderSize) +
                      ", 4096] (got " + std::to_string(o.renderSize) + ")");
+  optimize::FairingSpec spec = o.spec;
+  applySolverArguments(o.solverArguments, spec.solver);
   FairSettings s;
-  s.cgal = optimize::parseFairingMethod(o.method) == optimize::FairingMethod::Cgal;
-  s.solver = o.solver;
-  applySolverArguments(o.solverArguments, s.solver);
-  optimize::parseFairingStart(o.start);  // with the other flags, before any work
-  BendingArguments bendingArguments = o.bending;
-  bendingArguments.flatRest = true;
-  s.bending = bendingOptions(bendingArguments);
+  s.options = spec.options();  // every rule of the run, before any work
+  s.cgal = spec.fairingMethod() == optimize::FairingMethod::Cgal;
+  s.bending = spec.material();
   s.energyName = curvature::discretizationName(s.bending.discretization);
-  s.membrane = curvature::parseMembraneModel(o.membrane);
-  s.defaults = optimize::defaultFairingOptions(optimize::parseFairingMetric(o.metric));
-  s.membraneWeight = o.membraneWeight.value_or(s.defaults.membraneWeight);
-  if (!s.cgal) optimize::fairingMembrane(s.membrane, s.membraneWeight, 1.0, 1.0);  // checks w
   return s;
 }
 
-optimize::FairingOptions flexureFairingOptions(const FairCommandOptions& o, const FairSettings& s,
-                                               bool quiet) {
-  optimize::FairingOptions options = s.defaults;
-  options.bending = s.bending;
-  if (o.bending.vertexArea.empty()) options.bending.vertexArea = s.defaults.bending.vertexArea;
-  options.membrane = s.membrane;
-  options.membraneWeight = s.membraneWeight;
-  options.start = optimize::parseFairingStart(o.start);
-  options.angleBarrier = !o.allowSlivers;
-  options.solver = s.solver;
+optimize::FairingOptions flexureFairingOptions(const FairSettings& s, bool quiet) {
+  optimize::FairingOptions options = s.options;
   options.solver.progress = !quiet;
   return options;
 }
@@ -434,10 +411,9 @@ using FairOutcome = optimize::FairingOutcome;
 
 // The patch faired by flexure (unless --method cgal) and by CGAL, measured with the command's
 // bending options and checked.
-FairOutcome fairPatch(const FairCommandOptions& o, const FairSettings& s,
-                      const modeling::FairingPatch& patch, bool quiet) {
+FairOutcome fairPatch(const FairSettings& s, const modeling::FairingPatch& patch, bool quiet) {
   return optimize::fairAndCheck(
-      patch, flexureFairingOptions(o, s, quiet),
+      patch, flexureFairingOptions(s, quiet),
       s.cgal ? optimize::FairingMethod::Cgal : optimize::FairingMethod::Flexure, s.bending);
 }
 
@@ -473,12 +449,12 @@ void addFlexureReport(const FairCommandOptions& o, const FairSettings& s, const 
   report["poisson"] = curvature::effectivePoisson(s.bending);
   report["stiffness"] = s.bending.stiffness;
   // weight: as asked; final_weight: of the solve the result is from, after the fade's stages.
-  report["membrane"] = {{"model", o.membrane},
-                        {"weight", s.membraneWeight},
+  report["membrane"] = {{"model", o.spec.membrane},
+                        {"weight", s.options.membraneWeight},
                         {"final_weight", r.fairing->membraneWeight},
                         {"fade_stages", r.fairing->membraneFadeStages}};
   report["start"] = r.fairing->start == optimize::FairingStart::Input ? "input" : "biharmonic";
-  report["metric"] = o.metric;
+  report["metric"] = o.spec.metric;
   const optimize::MinimizeReport& solve = r.fairing->report;
   report["solver"] = {{"name", solve.solver},
                       {"factorizations", solve.factorizations},
@@ -503,12 +479,13 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
         {"input", r.slivers.inputDegrees},      {"cgal", r.slivers.cgalDegrees},
         {"result", r.slivers.resultDegrees},    {"limit", r.slivers.limitDegrees()},
         {"tolerance", kSliverToleranceDegrees}, {"passed", r.slivers.passed()},
-        {"allow_slivers", o.allowSlivers}};
+        {"allow_slivers", o.spec.allowSlivers}};
   }
   nlohmann::json report = {
       {"input", o.input},
-      {"output", r.converged(o.allowSlivers) ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
-      {"method", o.method},
+      {"output",
+       r.converged(o.spec.allowSlivers) ? nlohmann::json(o.output) : nlohmann::json(nullptr)},
+      {"method", o.spec.method},
       {"region",
        {{"spec", o.region},
         {"vertices", modeling::countVertices(choice.region)},
@@ -519,10 +496,10 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
       // --method flexure); "result" names the column that was written.
       {"measures", measures},
       {"result", s.cgal ? "cgal" : "flexure"},
-      {"converged", r.converged(o.allowSlivers)},
+      {"converged", r.converged(o.spec.allowSlivers)},
       {"checks", checksReport},
   };
-  const std::string failure = r.failure(o.allowSlivers);
+  const std::string failure = r.failure(o.spec.allowSlivers);
   if (!failure.empty()) report["failed_check"] = failure;
   if (!s.cgal) addFlexureReport(o, s, r, report);
   if (choice.filled) report["holes"] = holesJson(*choice.filled);
@@ -543,14 +520,14 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
     const bool onlySlivers = r.checks.passed();
     throw NumericalError(
         std::string(s.cgal ? "CGAL's fair" : "the fairing solve") +
-        " ended at a result that fails its checks: " + r.failure(o.allowSlivers) + "; " +
+        " ended at a result that fails its checks: " + r.failure(o.spec.allowSlivers) + "; " +
         notWritten +
         (s.cgal        ? ""
          : onlySlivers ? "; try a larger --membrane-weight, or pass --allow-slivers to accept it"
                        : "; try a larger --membrane-weight, another --energy or a smaller region"));
   }
   throw NumericalError("the fairing solve did not converge (" + r.fairing->report.termination +
-                       "); " + notWritten + "; " + solverAdvice(r.fairing->report, o.solver) +
+                       "); " + notWritten + "; " + solverAdvice(r.fairing->report, o.spec.solver) +
                        " (or lower --membrane-weight)");
 }
 
@@ -600,7 +577,7 @@ render::Image fairFigure(const FairCommandOptions& o, const FairSettings& s,
 void writeFilledOnly(const FairCommandOptions& o, const RegionChoice& choice, bool quiet) {
   const nlohmann::json report = {{"input", o.input},
                                  {"output", o.output},
-                                 {"method", o.method},
+                                 {"method", o.spec.method},
                                  {"region", {{"spec", o.region}, {"vertices", 0}}},
                                  {"result", "filled"},
                                  {"converged", true},
@@ -640,7 +617,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
               << " held rings)\n";
   }
 
-  const FairOutcome r = fairPatch(o, s, patch, global.quiet);
+  const FairOutcome r = fairPatch(s, patch, global.quiet);
   const modeling::Positions faired =
       modeling::scatterPatchPositions(mesh.positions, patch, r.patchAfter);
   const std::vector<MeasureColumn> columns = measureColumns(choice, s, r);
@@ -651,7 +628,7 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
     return nlohmann::json{
         {"solve", r.solveSeconds}, {"cgal", r.cgalSeconds}, {"total", secondsSince(start)}};
   };
-  if (!r.converged(o.allowSlivers)) {
+  if (!r.converged(o.spec.allowSlivers)) {
     report["seconds"] = seconds();
     failUnconverged(o, s, r, report);
   }
@@ -692,33 +669,32 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
                   "with CGAL and fair the new patches)")
       ->required();
   sub->add_option(
-         "--method", options->method,
+         "--method", options->spec.method,
          "flexure (nonlinear bending + membrane) | cgal (CGAL's linear fair, continuity 1)")
       ->capture_default_str();
-  addBendingArguments(*sub, options->bending, {"midedge", /*restCurvature=*/false});
-  sub->add_option("--membrane", options->membrane,
+  addBendingArguments(*sub, options->spec.bending, {"midedge", /*restCurvature=*/false});
+  sub->add_option("--membrane", options->spec.membrane,
                   "mips (triangle shapes kept, sizes free; a barrier against collapse) | "
                   "conformal (the same, bounded) | stvk | springs (lengths kept too), on the "
                   "start's metric")
       ->capture_default_str();
-  sub->add_option("--membrane-weight", options->membraneWeight,
+  sub->add_option("--membrane-weight", options->spec.membraneWeight,
                   "w: how firmly the triangles keep their shapes against bending (mips, "
                   "conformal k_S = w k_B; stvk Y = w k_B / l^2, l the mean edge length); "
-                  "default 1 on the input's metric, 0.1 on the current one")
-      ->check(positive());
-  sub->add_option("--start", options->start,
+                  "default 1 on the input's metric, 0.1 on the current one");
+  sub->add_option("--start", options->spec.start,
                   "Start of the nonlinear solve: best (whichever of the other two has the lower "
                   "bending energy) | biharmonic (the linear fair) | input")
       ->capture_default_str();
-  sub->add_option("--metric", options->metric,
+  sub->add_option("--metric", options->spec.metric,
                   "Whose metric the bending energy measures curvature in: input (an elastic "
                   "energy of the displacement from the input) | current (the surface's own: a "
                   "geometric, Willmore-type energy whose minimizers approach spheres)")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
-  addSolverLimits(*sub, options->solver, /*tolerances=*/false);
+  addSolverLimits(*sub, options->spec.solver, /*tolerances=*/false);
   files->output("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
-  sub->add_flag("--allow-slivers", options->allowSlivers,
+  sub->add_flag("--allow-slivers", options->spec.allowSlivers,
                 "Fair without the angle barrier that keeps the smallest angle at most 1 degree "
                 "below the input's and CGAL's fair's, and accept a result below that (otherwise "
                 "exit 3)");

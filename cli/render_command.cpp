@@ -170,22 +170,17 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   r.projection = o.perspective ? render::Projection::Perspective : render::Projection::Orthographic;
   r.smoothNormals = !o.flat;
   if (!o.light.empty()) r.lightDirection = {o.light[0], o.light[1], o.light[2]};
-  if (r.style == render::RenderStyle::Error) {
-    if (o.surface.empty()) {
-      throw InputError("--style error needs --surface (e.g. --surface quadratic:1,0,1)");
-    }
-    r.surface = modeling::PolynomialSurface::parse(o.surface);
-    r.errorMax = o.errorMax;
-  } else if (!o.surface.empty() || o.errorMax) {
-    throw InputError("--surface and --error-max apply to --style error only");
-  }
+  render::StyleOptions styleOptions;
+  if (!o.surface.empty()) styleOptions.surface = o.surface;
+  styleOptions.errorMax = o.errorMax;
+  styleOptions.curvatureMax = o.curvatureMax;
+  styleOptions.applyTo(r);
   const bool curvatureStyle = r.style == render::RenderStyle::Curvature;
   if (curvatureStyle) {
     curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
-    r.curvatureMax = o.curvatureMax;
     r.scalarLabel = "mean curvature H";
-  } else if (!o.curvatureEnergy.empty() || o.curvatureMax) {
-    throw InputError("--curvature-energy and --curvature-max apply to --style curvature only");
+  } else if (!o.curvatureEnergy.empty()) {
+    throw InputError("--curvature-energy applies to --style curvature only");
   }
 
   if (r.style == render::RenderStyle::Displacement && o.reference.empty())

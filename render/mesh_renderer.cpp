@@ -74,6 +74,23 @@ Rgb parseColour(std::string_view text) {
   return {channel(0), channel(1), channel(2)};
 }
 
+void StyleOptions::applyTo(RenderOptions& options) const {
+  if (options.style == RenderStyle::Error) {
+    if (!surface)
+      throw InputError(
+          "RenderOptions.style error needs RenderOptions.surface (e.g. quadratic:1,0,1)");
+    options.surface = modeling::PolynomialSurface::parse(*surface);
+    options.errorMax = errorMax;
+  } else if (surface || errorMax) {
+    throw InputError(
+        "RenderOptions.surface and RenderOptions.errorMax apply to RenderOptions.style error only");
+  }
+  if (options.style == RenderStyle::Curvature)
+    options.curvatureMax = curvatureMax;
+  else if (curvatureMax)
+    throw InputError("RenderOptions.curvatureMax applies to RenderOptions.style curvature only");
+}
+
 void RenderOptions::validate() const {
   const auto fail = [](const std::string& what) { throw InputError("RenderOptions." + what); };
   const int minWidth = hasLegend(style) ? kLegendWidth + 64 : 32;

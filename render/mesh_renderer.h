@@ -164,6 +164,18 @@ struct RenderOptions {
   void validate() const;
 };
 
+// The options that belong to one style, as a person gives them (the command's flags, Python's
+// keywords): the error style's surface p (PolynomialSurface::parse's text) and colour-map maximum,
+// the curvature style's colour-map bound.
+struct StyleOptions {
+  std::optional<std::string> surface;
+  std::optional<double> errorMax, curvatureMax;
+
+  // Sets them on `options`, whose style is chosen. InputError naming the fields: the error style
+  // without a surface, an option given to a style that does not draw it.
+  void applyTo(RenderOptions& options) const;
+};
+
 // Legend ticks over [minimum, maximum]: the multiples in the range of the largest step 1, 2 or
 // 5 × 10^k that gives at least four ([-0.75, 0.75] → -0.6, -0.4, …, 0.6).
 std::vector<double> legendTicks(double minimum, double maximum);

@@ -5,6 +5,7 @@
 
 #include "curvature/energy_registry.h"
 #include "modeling/errors.h"
+#include "modeling/generators.h"
 #include "modeling/polynomial_surface.h"
 #include "optimize/studies/convergence_study.h"
 
@@ -143,6 +144,36 @@ void renderPanels(render::OffscreenContext& context, const render::RenderOptions
 
 }  // namespace
 
+bool parseComparisonSolve(std::string_view name) {
+  if (name == "linearized") return true;
+  if (name == "nonlinear") return false;
+  throw InputError("ComparisonOptions.solve " + std::string(name) +
+                   ": expected linearized or nonlinear");
+}
+
+namespace {
+
+void requireCells(int cellsPerSide) {
+  if (cellsPerSide < kMinComparisonCells)
+    throw InputError("ComparisonOptions.cellsPerSide " + std::to_string(cellsPerSide) +
+                     ": expected at least " + std::to_string(kMinComparisonCells));
+}
+
+}  // namespace
+
+std::vector<ComparisonRow> familyRows(const std::vector<std::string>& families, int cellsPerSide) {
+  requireCells(cellsPerSide);
+  std::vector<ComparisonRow> rows;
+  for (const std::string& name : families) {
+    modeling::GeneratorOptions generator;
+    generator.family = modeling::parsePlateFamily(name);
+    generator.n = cellsPerSide;
+    const std::string familyName(modeling::meshFamilyName(generator.family));
+    rows.push_back({modeling::generateMesh(generator), familyName, familyName});
+  }
+  return rows;
+}
+
 void ComparisonOptions::validate() const {
   if (rows.empty()) throw InputError("ComparisonOptions.rows: give at least one mesh");
   if (energies.empty()) throw InputError("ComparisonOptions.energies: give at least one energy");
@@ -158,6 +189,7 @@ void ComparisonOptions::validate() const {
       throw InputError(std::string("ComparisonOptions.energies: ") + e.what());
     }
   }
+  if (cellsPerSide) requireCells(*cellsPerSide);
   if (size < 64 || size > 4096)
     throw InputError("ComparisonOptions.size " + std::to_string(size) +
                      ": expected 64 .. 4096 pixels");

@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -40,9 +41,19 @@ struct ComparisonOptions {
   optimize::MinimizeOptions solver;
 
   // InputError naming the field: no row or energy, a row or energy given twice, a size out of
-  // range, the displacement style (the panels have no reference mesh).
+  // range, fewer than kMinComparisonCells cells per side, the displacement style (the panels have
+  // no reference mesh).
   void validate() const;
 };
+
+// "linearized" | "nonlinear": ComparisonOptions::linearized; InputError naming
+// ComparisonOptions.solve otherwise.
+bool parseComparisonSolve(std::string_view name);
+// The fewest cells per side of a generated row (its rings 0 and 1 held, the rest free).
+inline constexpr int kMinComparisonCells = 4;
+// One row per plate family (modeling::parsePlateFamily's names), generated at `cellsPerSide`.
+// InputError naming ComparisonOptions.cellsPerSide below kMinComparisonCells, or the family.
+std::vector<ComparisonRow> familyRows(const std::vector<std::string>& families, int cellsPerSide);
 
 // One minimizer's panel, as compare.json lists it.
 struct ComparisonPanel {

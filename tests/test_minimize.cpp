@@ -183,6 +183,42 @@ TEST(NonlinearMinimize, ReportsWhyNewtonStopped) {
             0u);
 }
 
+// MinimizeOptions::observer sees every iteration of both solvers and may stop the solve there:
+// reported as Stopped, never converged, whatever the solver.
+TEST(NonlinearMinimize, AnObserverSeesEachIterationAndMayStopTheSolve) {
+  const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Patch48, 8, 1, {}});
+  const auto p = PolynomialSurface::quadratic(0.3, -0.7, 0.5);
+  const testing::TestProblem problem(mesh, energy(Discretization::Cotan));
+  for (optimize::Solver solver : {optimize::Solver::Newton, optimize::Solver::Ceres}) {
+    SCOPED_TRACE(optimize::solverName(solver));
+    optimize::MinimizeOptions watched;
+    watched.solver = solver;
+    watched.start = optimize::Start::AsGiven;
+    std::vector<optimize::IterationProgress> seen;
+    watched.observer = [&](const optimize::IterationProgress& at) {
+      seen.push_back(at);
+      return false;
+    };
+    const optimize::MinimizeResult run = problem.solve(p, false, BoundaryNormals::Clamped, watched);
+    ASSERT_TRUE(run.report.converged) << run.report.termination;
+    ASSERT_FALSE(seen.empty());
+    EXPECT_EQ(seen.front().iteration, 0);
+    EXPECT_NEAR(seen.front().energy, run.report.initialEnergy, 1e-12 * run.report.initialEnergy);
+    for (std::size_t k = 1; k < seen.size(); ++k) EXPECT_LE(seen[k].energy, seen[k - 1].energy);
+
+    optimize::MinimizeOptions stopping = watched;
+    int calls = 0;
+    stopping.observer = [&](const optimize::IterationProgress&) { return ++calls == 2; };
+    const optimize::MinimizeResult stopped =
+        problem.solve(p, false, BoundaryNormals::Clamped, stopping);
+    EXPECT_EQ(calls, 2);
+    EXPECT_FALSE(stopped.report.converged);
+    EXPECT_EQ(stopped.report.stop, optimize::NewtonStop::Stopped);
+    EXPECT_EQ(stopped.report.termination.rfind("NO_CONVERGENCE: stopped by its observer", 0), 0u)
+        << stopped.report.termination;
+  }
+}
+
 // Newton (the default) and Ceres' Levenberg–Marquardt, the reference, reach the same minimizer on
 // every energy and option, on a regular and an irregular mesh, both solved tightly: max vertex
 // difference ≤ 1e-8 × the boundary amplitude. Newton converges quadratically: a few iterations,

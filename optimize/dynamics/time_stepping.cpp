@@ -36,6 +36,35 @@ Integrator parseIntegrator(std::string_view name) {
                    ": expected newmark, backward-euler or central-difference");
 }
 
+PinMotion PinMotion::rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
+                              double omega) {
+  if (!axis.allFinite() || !(axis.norm() > 0.0))
+    throw InputError("PinMotion.axis: the axis is zero or not finite");
+  if (!point.allFinite()) throw InputError("PinMotion.point: the point is not finite");
+  if (!std::isfinite(omega)) throw InputError("PinMotion.omega: the angular speed is not finite");
+  PinMotion m;
+  m.kind = Kind::Rotate;
+  m.axis = axis.normalized();
+  m.point = point;
+  m.omega = omega;
+  return m;
+}
+
+PinMotion PinMotion::translation(const Eigen::Vector3d& velocity) {
+  if (!velocity.allFinite()) throw InputError("PinMotion.velocity: the velocity is not finite");
+  PinMotion m;
+  m.kind = Kind::Translate;
+  m.velocity = velocity;
+  return m;
+}
+
+PinMotion::Kind parsePinMotionKind(std::string_view name) {
+  if (name == "none") return PinMotion::Kind::None;
+  if (name == "rotate") return PinMotion::Kind::Rotate;
+  if (name == "translate") return PinMotion::Kind::Translate;
+  throw InputError("PinMotion.kind " + std::string(name) + ": expected none, rotate or translate");
+}
+
 Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
   switch (kind) {
     case Kind::None:

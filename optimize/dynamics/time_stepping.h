@@ -68,7 +68,15 @@ struct PinMotion {
 
   Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
+
+  // A rotation about `axis` (any length > 0; normalized here) through `point` at `omega`, and a
+  // translation. InputError naming the field for a zero or non-finite axis, point, ω or velocity.
+  static PinMotion rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
+                            double omega);
+  static PinMotion translation(const Eigen::Vector3d& velocity);
 };
+// "none" | "rotate" | "translate"; InputError naming PinMotion.kind otherwise.
+PinMotion::Kind parsePinMotionKind(std::string_view name);
 
 // A group of pinned vertices with its own motion, held until its release time: from then on its
 // vertices are free and go on with the velocity the motion gave them (releasePinGroups,

@@ -308,7 +308,8 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
                         start, Eigen::VectorXd(), Eigen::VectorXd(), angleFloor);
   // The fade (FairingOptions::membraneFadeStages): w_k = w / 10^k, each stage started at the last
   // converged result; a stage that does not converge or fails checkFairing's checks is dropped and
-  // the fade stops there, so the result is the last stage that converged.
+  // the fade stops there, so the result is the last stage that converged — unless the solver's
+  // observer stopped the stage: a stopped fairing is reported as stopped, not converged.
   double weight = options.membraneWeight, keptWeight = weight;
   int keptStages = 0;
   for (int k = 0; k < options.membraneFadeStages && stage.result.report.converged; ++k) {
@@ -317,6 +318,12 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
       FairingStage next =
           solveFairingStage(patch, stencils, rest, options, p, weight, meanEdge, start,
                             stage.result.positions, stage.result.xi, stage.startXi, angleFloor);
+      if (next.result.report.stop == NewtonStop::Stopped) {
+        stage.result.report.converged = false;
+        stage.result.report.stop = NewtonStop::Stopped;
+        stage.result.report.termination = next.result.report.termination;
+        break;
+      }
       FairingResult candidate{next.result.positions, next.result.report, startKind};
       candidate.startGradientNorm = next.startGradientNorm;
       candidate.finalGradientNorm = next.finalGradientNorm;

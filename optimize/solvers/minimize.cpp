@@ -62,6 +62,21 @@ class ProgressPrinter : public ceres::IterationCallback {
   }
 };
 
+// Ceres' iterations shown to a MinimizeOptions::observer; true from it aborts the solve.
+class ObserverCallback : public ceres::IterationCallback {
+ public:
+  explicit ObserverCallback(const IterationObserver& observer) : observer_(observer) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    stopped_ = observer_({s.iteration, s.cost, s.gradient_norm});
+    return stopped_ ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+  bool stopped() const { return stopped_; }
+
+ private:
+  const IterationObserver& observer_;
+  bool stopped_ = false;
+};
+
 // The linearized solve is accepted when it brings the free gradient below this fraction of the
 // start's.
 constexpr double kLinearizedGradientDrop = 1e-6;
@@ -190,6 +205,8 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   const double orderingSeconds = secondsSince(orderingStart);
   ProgressPrinter printer;
   if (options.progress) solver.callbacks.push_back(&printer);
+  ObserverCallback observer(options.observer);
+  if (options.observer) solver.callbacks.push_back(&observer);
 
   ceres::Solver::Summary summary;
   {
@@ -203,7 +220,11 @@ MinimizeResult minimizeNonlinear(const std::vector<const EnergyTerm*>& terms,
   r.factorizations = summary.num_linear_solves;
   r.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
                   summary.message;
-  r.stop = ceresStop(summary);
+  r.stop = observer.stopped() ? NewtonStop::Stopped : ceresStop(summary);
+  if (observer.stopped()) {
+    r.converged = false;
+    r.termination = std::string("NO_CONVERGENCE: ") + newtonStopMessage(NewtonStop::Stopped);
+  }
   r.iterations = summary.iterations.empty() ? 0 : static_cast<int>(summary.iterations.size()) - 1;
   r.initialEnergy = summary.initial_cost;
   r.finalEnergy = summary.final_cost;

@@ -63,6 +63,9 @@ struct MinimizeOptions {
   double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
   int threads = 2;
   bool progress = false;  // one line per iteration on stderr
+  // Called at every iteration of the nonlinear solvers (not the linearized solve); true stops the
+  // solve, reported as MinimizeReport::stop NewtonStop::Stopped, not converged.
+  IterationObserver observer;
   // Hand Ceres a METIS nested-dissection order of the vertices (elimination_order.h). false:
   // Ceres' AMD, the benchmark's baseline.
   bool nestedDissection = true;

@@ -64,6 +64,8 @@ const char* newtonStopMessage(NewtonStop stop) {
       return "a fixed vertex is moved into an obstacle";
     case NewtonStop::SolverFailure:
       return "the solver failed";
+    case NewtonStop::Stopped:
+      return "stopped by its observer";
   }
   return "";
 }
@@ -215,6 +217,10 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
       result.stop = NewtonStop::Converged;
       result.convergedBy =
           "gradient max-norm " + number(gradientMax) + " <= " + number(rule.gradientTolerance);
+      return result;
+    }
+    if (rule.observer && rule.observer({result.iterations, at.energy, gradientMax})) {
+      result.stop = NewtonStop::Stopped;
       return result;
     }
     if (iteration == rule.maxIterations) {

@@ -47,6 +47,8 @@ struct StaticStopRule {
   bool chordSteps = true;            // false: every step factors the Hessian at its iterate
   IndefiniteHessian indefinite = IndefiniteHessian::GaussNewton;
   bool progress = false;  // one line per iteration on stderr
+  // Called at each iterate before the iteration limit is tested (the start included).
+  IterationObserver observer;
 };
 
 struct StepStopRule {

@@ -107,6 +107,7 @@ class NewtonSolver {
     rule.maxIterations = options_.maxIterations;
     rule.chordSteps = !options_.simplicialBaseline;
     rule.progress = options_.progress;
+    rule.observer = options_.observer;
     if (options_.hessian == HessianMode::Shifted) rule.indefinite = IndefiniteHessian::Shifted;
     if (options_.hessian == HessianMode::ExactOrProjected)
       rule.indefinite = IndefiniteHessian::Projected;

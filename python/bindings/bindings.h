@@ -7,12 +7,14 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "curvature/membrane_energy.h"
 #include "modeling/mesh.h"
 #include "optimize/modes/vibration_modes.h"
+#include "optimize/solvers/newton_stop.h"
 
 namespace flexure::python {
 
@@ -56,6 +58,23 @@ Class& defMembraneFields(Class& c) {
       .def_readwrite("area_stiffness", &MembraneFields::areaStiffness)
       .def_readwrite("shape_stiffness", &MembraneFields::shapeStiffness);
 }
+
+// A long solve's observer for Python (optimize::IterationObserver), for a solve run with the GIL
+// released: at every iteration it takes the GIL, calls `progress` (unless None) with a dict
+// {"iteration", "energy", "gradient_norm"}, and checks for signals (Ctrl-C: KeyboardInterrupt).
+// Whatever Python raised stops the solve, and raiseIfStopped() raises it once the solve has
+// returned, so that the call returns nothing. Built and destroyed with the GIL held.
+class SolveObserver {
+ public:
+  explicit SolveObserver(pybind11::object progress) : progress_(std::move(progress)) {}
+  optimize::IterationObserver observer();
+  // With the GIL held, after the solve: the exception that stopped it, if any.
+  void raiseIfStopped();
+
+ private:
+  pybind11::object progress_;
+  std::optional<pybind11::error_already_set> raised_;
+};
 
 void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);

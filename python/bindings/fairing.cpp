@@ -14,6 +14,7 @@
 #include "modeling/fairing_region.h"
 #include "modeling/stencils.h"
 #include "optimize/fairing/fairing.h"
+#include "optimize/fairing/fairing_spec.h"
 #include "python/bindings/bindings.h"
 
 namespace py = pybind11;
@@ -21,36 +22,12 @@ namespace py = pybind11;
 namespace flexure::python {
 namespace {
 
+// The run's options are the library's spec (it holds the rules); the region is Python's.
 struct FairArguments {
-  BendingArguments bending;  // energy midedge by default, as the CLI's
+  optimize::FairingSpec spec;
   std::optional<std::vector<bool>> regionMask;
   std::string regionSpec;  // parseRegion's text when no mask is given
-  std::string membrane = "mips";
-  std::optional<double> membraneWeight;  // empty: the metric's default
-  std::string start = "best", metric = "input";
-  std::string method = "flexure";  // or "cgal": CGAL's linear fair is the result
-  bool allowSlivers = false;       // no angle barrier, and the smallest-angle rule not applied
-  int maxIterations = 0;           // ≤ 0: MinimizeOptions' default
 };
-
-optimize::FairingOptions fairingOptions(const FairArguments& a) {
-  optimize::parseFairingMethod(a.method);
-  BendingArguments bending = a.bending;
-  bending.flatRest = true;
-  optimize::FairingOptions o =
-      optimize::defaultFairingOptions(optimize::parseFairingMetric(a.metric));
-  const curvature::VertexArea metricArea = o.bending.vertexArea;
-  o.bending = bendingOptions(bending);
-  if (a.bending.vertexArea.empty()) o.bending.vertexArea = metricArea;
-  o.membrane = curvature::parseMembraneModel(a.membrane);
-  o.membraneWeight = a.membraneWeight.value_or(o.membraneWeight);
-  optimize::fairingMembrane(o.membrane, o.membraneWeight, 1.0, 1.0);  // checks w
-  o.start = optimize::parseFairingStart(a.start);
-  o.angleBarrier = !a.allowSlivers;
-  if (a.maxIterations > 0) o.solver.maxIterations = a.maxIterations;
-  o.solver.progress = false;
-  return o;
-}
 
 py::list energyList(const std::vector<optimize::EnergyMeasure>& measures) {
   py::list list;
@@ -103,8 +80,12 @@ py::dict checkDict(const optimize::FairingChecks& c) {
 }
 
 // (V' #V by 3, report).
-py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a) {
-  const optimize::FairingOptions options = fairingOptions(a);
+py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a,
+                   py::object progress) {
+  optimize::FairingOptions options = a.spec.options();  // every rule, before any work
+  options.solver.progress = false;
+  SolveObserver observer(std::move(progress));  // every stage of the solve reports to it
+  options.solver.observer = observer.observer();
   const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
   const modeling::Stencils stencils = modeling::compileStencils(mesh);
   std::vector<bool> region;
@@ -114,20 +95,22 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     region = modeling::parseRegion(a.regionSpec, mesh, stencils);
   }
   modeling::requireFairableRegion(stencils, region, "region");
-  const optimize::FairingMethod method = optimize::parseFairingMethod(a.method);
+  const optimize::FairingMethod method = a.spec.fairingMethod();
+  const curvature::BendingOptions material = a.spec.material();
   std::optional<modeling::FairingPatch> patch;
   std::optional<optimize::FairingOutcome> r;
   Positions faired;
   {
     py::gil_scoped_release release;
     patch.emplace(modeling::extractFairingPatch(mesh, stencils, region));
-    r.emplace(optimize::fairAndCheck(*patch, options, method, options.bending));
+    r.emplace(optimize::fairAndCheck(*patch, options, method, material));
     faired = modeling::scatterPatchPositions(mesh.positions, *patch, r->patchAfter);
   }
+  observer.raiseIfStopped();
   const std::optional<optimize::FairingResult>& result = r->fairing;
   py::dict report;
-  report["converged"] = r->converged(a.allowSlivers);
-  report["method"] = a.method;
+  report["converged"] = r->converged(a.spec.allowSlivers);
+  report["method"] = a.spec.method;
   report["solver_converged"] = r->solverConverged;
   if (result) {
     report["termination"] = result->report.termination;
@@ -139,8 +122,7 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     report["membrane_final_weight"] = result->membraneWeight;  // after the fade's kept stages
     report["membrane_fade_stages"] = result->membraneFadeStages;
   }
-  report["energy_name"] =
-      std::string(curvature::discretizationName(options.bending.discretization));
+  report["energy_name"] = std::string(curvature::discretizationName(material.discretization));
   report["membrane_weight"] = options.membraneWeight;
   int regionVertices = 0;
   for (bool moves : region) regionVertices += moves;
@@ -152,7 +134,7 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
   report["cgal"] = measureDict(r->cgalMeasures);
   report["checks"] = checkDict(r->checks);
   report["slivers"] = sliverDict(r->slivers);
-  std::string failure = r->failure(a.allowSlivers);
+  std::string failure = r->failure(a.spec.allowSlivers);
   if (!r->solverConverged)
     failure = "the solve did not converge (" + result->report.termination + ")" +
               (failure.empty() ? "" : "; " + failure);
@@ -163,18 +145,23 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
 }  // namespace
 
 void bindFairing(py::module_& m) {
+  py::class_<optimize::FairingSpec>(m, "FairingSpec")
+      .def(py::init<>())
+      .def_readwrite("bending", &optimize::FairingSpec::bending)
+      .def_readwrite("membrane", &optimize::FairingSpec::membrane)
+      .def_readwrite("membrane_weight", &optimize::FairingSpec::membraneWeight)
+      .def_readwrite("start", &optimize::FairingSpec::start)
+      .def_readwrite("metric", &optimize::FairingSpec::metric)
+      .def_readwrite("method", &optimize::FairingSpec::method)
+      .def_readwrite("allow_slivers", &optimize::FairingSpec::allowSlivers)
+      .def_property(
+          "max_iterations", [](const optimize::FairingSpec& s) { return s.solver.maxIterations; },
+          [](optimize::FairingSpec& s, int n) { s.solver.maxIterations = n; });
   py::class_<FairArguments>(m, "FairArguments")
       .def(py::init<>())
-      .def_readwrite("bending", &FairArguments::bending)
+      .def_readwrite("spec", &FairArguments::spec)
       .def_readwrite("region_mask", &FairArguments::regionMask)
-      .def_readwrite("region_spec", &FairArguments::regionSpec)
-      .def_readwrite("membrane", &FairArguments::membrane)
-      .def_readwrite("membrane_weight", &FairArguments::membraneWeight)
-      .def_readwrite("start", &FairArguments::start)
-      .def_readwrite("metric", &FairArguments::metric)
-      .def_readwrite("method", &FairArguments::method)
-      .def_readwrite("allow_slivers", &FairArguments::allowSlivers)
-      .def_readwrite("max_iterations", &FairArguments::maxIterations);
+      .def_readwrite("region_spec", &FairArguments::regionSpec);
   m.def("fair", &fairMesh);
 }
 

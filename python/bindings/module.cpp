@@ -229,13 +229,17 @@ optimize::MinimizeOptions minimizeOptions(const SolverArguments& a) {
 }
 
 // (V, ξ, report); the report also says "energy_name", "poisson", "dof" and "linearized".
-py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
-  const optimize::MinimizeOptions o = minimizeOptions(a);
+// `progress`: None or a callable (SolveObserver); Ctrl-C stops the solve either way.
+py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a, py::object progress) {
+  optimize::MinimizeOptions o = minimizeOptions(a);
+  SolveObserver observer(std::move(progress));
+  o.observer = observer.observer();
   optimize::MinimizeResult result;
   {
     py::gil_scoped_release release;
     result = optimize::minimize(p.problem(), o);
   }
+  observer.raiseIfStopped();
   py::dict report = reportDict(result.report);
   const py::dict bending = bendingReport(p.bending());
   report["energy_name"] = bending["energy_name"];
@@ -251,9 +255,11 @@ py::tuple minimizeProblem(const BoundProblem& p, const SolverArguments& a) {
 py::tuple formProblem(const PositionsRef& restV, const TrianglesRef& F,
                       const ProblemArguments& arguments, const SolverArguments& solver,
                       const optimize::PlasticityOptions& plasticity,
-                      const optimize::FormingOptions& forming) {
+                      const optimize::FormingOptions& forming, py::object progress) {
   const optimize::ProblemOptions options = problemOptions(arguments);
-  const optimize::MinimizeOptions o = minimizeOptions(solver);
+  optimize::MinimizeOptions o = minimizeOptions(solver);
+  SolveObserver observer(std::move(progress));  // every solve of the forming reports to it
+  o.observer = observer.observer();
   plasticity.validate();
   forming.validate();
   const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
@@ -263,6 +269,7 @@ py::tuple formProblem(const PositionsRef& restV, const TrianglesRef& F,
     optimize::Problem problem = optimize::buildProblem(rest, options);
     formed = optimize::formPlastically(problem, plasticity, forming, o);
   }
+  observer.raiseIfStopped();
   const optimize::FormingReport& r = formed.report;
   py::dict report;
   report["converged"] = r.converged;

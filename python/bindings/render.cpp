@@ -57,19 +57,8 @@ render::RenderOptions renderOptions(const RenderArguments& a) {
   r.stripeWidth = a.stripeWidth;
   r.stripeDirectionDegrees = a.stripeDirection;
   if (a.light) r.lightDirection = *a.light;
-  if (r.style == render::RenderStyle::Error) {
-    if (!a.surface) throw InputError("style error needs surface (e.g. \"quadratic:1,0,1\")");
-    r.surface = modeling::PolynomialSurface::parse(*a.surface);
-    r.errorMax = a.errorMax;
-  } else if (a.surface || a.errorMax) {
-    throw InputError("surface and error_max apply to style error only");
-  }
-  if (r.style == render::RenderStyle::Curvature) {
-    r.curvatureMax = a.curvatureMax;
-    r.scalarLabel = "mean curvature H";
-  } else if (a.curvatureMax) {
-    throw InputError("curvature_max applies to style curvature only");
-  }
+  render::StyleOptions{a.surface, a.errorMax, a.curvatureMax}.applyTo(r);
+  if (r.style == render::RenderStyle::Curvature) r.scalarLabel = "mean curvature H";
   if (a.framingPoints) r.framingPoints = *a.framingPoints;
   return r;
 }

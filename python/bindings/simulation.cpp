@@ -76,24 +76,24 @@ struct SimulationArguments : MembraneFields {
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
 
-// The motion `kind` (none | rotate | translate) with its parameters; `source` names the argument.
+// The motion `kind` (none | rotate | translate) with its parameters (the library's rules);
+// `source` names the argument in the library's message.
 optimize::PinMotion pinMotion(const std::string& kind, const Eigen::Vector3d& axis,
                               const Eigen::Vector3d& point, double omega,
                               const Eigen::Vector3d& velocity, const std::string& source) {
-  optimize::PinMotion motion;
-  if (kind == "rotate") {
-    if (!(axis.norm() > 0.0)) throw InputError(source + ": the rotation axis is zero");
-    motion.kind = optimize::PinMotion::Kind::Rotate;
-    motion.axis = axis.normalized();
-    motion.point = point;
-    motion.omega = omega;
-  } else if (kind == "translate") {
-    motion.kind = optimize::PinMotion::Kind::Translate;
-    motion.velocity = velocity;
-  } else if (kind != "none") {
-    throw InputError(source + " " + kind + ": expected rotate or translate");
+  try {
+    switch (optimize::parsePinMotionKind(kind)) {
+      case optimize::PinMotion::Kind::Rotate:
+        return optimize::PinMotion::rotation(axis, point, omega);
+      case optimize::PinMotion::Kind::Translate:
+        return optimize::PinMotion::translation(velocity);
+      case optimize::PinMotion::Kind::None:
+        break;
+    }
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());  // the argument's name, no rule
   }
-  return motion;
+  return {};
 }
 
 std::string groupName(size_t k) {

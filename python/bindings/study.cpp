@@ -204,22 +204,11 @@ struct CompareArguments {
 
 // The figure's options from Python's arguments; the families' meshes generated.
 reports::ComparisonOptions comparisonOptions(const CompareArguments& a) {
-  if (a.size < 64 || a.size > 4096)
-    throw InputError("size " + std::to_string(a.size) + ": expected 64 .. 4096 pixels");
-  if (a.solve != "linearized" && a.solve != "nonlinear")
-    throw InputError("solve " + a.solve + ": expected linearized or nonlinear");
-  if (a.n < 4) throw InputError("n " + std::to_string(a.n) + ": expected at least 4");
   reports::ComparisonOptions o;
-  for (const std::string& name : a.families) {
-    modeling::GeneratorOptions generator;
-    generator.family = modeling::parsePlateFamily(name);
-    generator.n = a.n;
-    const std::string familyName(modeling::meshFamilyName(generator.family));
-    o.rows.push_back({modeling::generateMesh(generator), familyName, familyName});
-  }
+  o.rows = reports::familyRows(a.families, a.n);
   o.energies = a.energies;
   o.boundary = a.boundary;
-  o.linearized = a.solve == "linearized";
+  o.linearized = reports::parseComparisonSolve(a.solve);
   o.style = render::parseRenderStyle(a.style);
   o.size = a.size;
   o.stripes = a.stripes;

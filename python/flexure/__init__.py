@@ -325,7 +325,7 @@ def _problem_of(problem, args, problem_arguments, caller):
 def minimize(problem=None, *args, solver="newton", hessian="exact", linearized=False,
              start="linearized", max_iterations=200, function_tolerance=1e-12,
              gradient_tolerance=1e-10, parameter_tolerance=1e-12, threads=2, check=True,
-             **problem_arguments):
+             progress=None, **problem_arguments):
     """Minimize a problem's objective over its free unknowns (``flexure minimize``).
 
     ``problem``: a Problem, or the arguments of Problem (``minimize(V_rest, F, energy=…,
@@ -341,11 +341,16 @@ def minimize(problem=None, *args, solver="newton", hessian="exact", linearized=F
     seconds, problem counts, energy_name, poisson, dof, linearized, and "xi" (#E,) for midedge).
     With ``check`` (default), a solve that did not converge raises NumericalError whose
     ``.report`` is that dict.
+
+    progress: None or a callable, called at every iteration of the nonlinear solvers with a dict
+    (iteration, energy, gradient_norm); an exception it raises stops the solve and propagates.
+    Ctrl-C stops the solve within an iteration and raises KeyboardInterrupt.
     """
     problem = _problem_of(problem, args, problem_arguments, "minimize")
+    progress = _checks.progress(progress)
     s = _solver_arguments(solver, hessian, linearized, start, max_iterations, function_tolerance,
                           gradient_tolerance, parameter_tolerance, threads)
-    V, xi, report = problem._p.minimize(s)
+    V, xi, report = problem._p.minimize(s, progress)
     report = dict(report)
     if xi.size:
         report["xi"] = xi
@@ -360,7 +365,7 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
          load_steps=1, release=False, max_updates_per_step=200, update_tolerance=1e-9,
          solver="newton", hessian="exact", start="linearized", max_iterations=200,
          function_tolerance=1e-12, gradient_tolerance=1e-10, parameter_tolerance=1e-12,
-         threads=2, check=True, **problem_arguments):
+         threads=2, check=True, progress=None, **problem_arguments):
     """Quasi-static plastic forming with springback (``flexure minimize --yield-curvature …
     --load-steps K --release``; optimize/inelastic/plasticity.h formPlastically).
 
@@ -383,8 +388,10 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
     √(‖P_b‖²_* / 2)), yielded, membrane_plastic_strain (#F×3: (a, b, c) of P_m in each face's rest
     frame; empty without yield_strain), membrane_yielded, and "xi" (#E,) for midedge. With
     ``check`` (default), a forming that did not converge raises NumericalError with ``.report``.
+    progress and Ctrl-C as ``minimize``'s, over every solve of the forming.
     """
     problem = _problem_of(problem, args, problem_arguments, "form")
+    progress = _checks.progress(progress)
     s = _solver_arguments(solver, hessian, False, start, max_iterations, function_tolerance,
                           gradient_tolerance, parameter_tolerance, threads)
     plasticity = _plasticity_options(yield_curvature, yield_strain, hardening)
@@ -395,7 +402,7 @@ def form(problem=None, *args, yield_curvature=None, yield_strain=None, hardening
                                                   integer=True)
     forming.tolerance = _checks.number(update_tolerance, "update_tolerance")
     V, xi, report = _flexure.form(problem.V_rest, problem.F, problem._arguments, s, plasticity,
-                                  forming)
+                                  forming, progress)
     report = dict(report)
     report["last_solve"] = dict(report["last_solve"])
     report["yielded"] = np.asarray(report["yielded"], dtype=bool)

@@ -83,3 +83,10 @@ def number(x, name, positive=False, integer=False):
     if positive and not x > 0:
         raise ValueError(f"{name}: must be positive (got {x})")
     return int(x) if integer else float(x)
+
+
+def progress(callback):
+    """None or a callable (a long call's progress callback)."""
+    if callback is not None and not callable(callback):
+        raise ValueError(f"progress: expected a callable or None, got {callback!r}")
+    return callback

@@ -8,7 +8,7 @@ from . import _bending
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
          hinge_angle=None, membrane="mips", membrane_weight=None, start="best",
          metric="input", method="flexure", allow_slivers=False, max_iterations=None,
-         check=True):
+         check=True, progress=None):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
     rest of the mesh (V #V×3 float64, F #F×3 int) is held, with the two rings around the region.
 
@@ -30,26 +30,27 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     max_displacement (L)); checks (passed, failure, gradient_passed, final_gradient_norm,
     triangles_passed, degenerate_faces, inverted_faces, input / result min angles) and slivers
     (input, cgal, result and limit degrees, passed). With ``check``, a fair that did not
-    converge raises NumericalError with the report in ``.report``.
+    converge raises NumericalError with the report in ``.report``. progress and Ctrl-C as
+    ``flexure.minimize``'s, over every stage of the solve.
     """
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
     a = _flexure.FairArguments()
-    a.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, True)
+    spec = a.spec
+    spec.bending = _bending(energy, poisson, stiffness, vertex_area, hinge_angle, True)
     if isinstance(region, str):
         a.region_spec = region
     else:
         a.region_mask = [bool(b) for b in _checks.mask(region, V.shape[0], "region")]
-    a.membrane = str(membrane)
+    spec.membrane = str(membrane)
     if membrane_weight is not None:
-        a.membrane_weight = _checks.number(membrane_weight, "membrane_weight", positive=True)
-    a.start, a.metric = str(start), str(metric)
-    a.method = str(method)
-    a.allow_slivers = bool(allow_slivers)
+        spec.membrane_weight = _checks.number(membrane_weight, "membrane_weight")
+    spec.start, spec.metric = str(start), str(metric)
+    spec.method = str(method)
+    spec.allow_slivers = bool(allow_slivers)
     if max_iterations is not None:
-        a.max_iterations = _checks.number(max_iterations, "max_iterations", positive=True,
-                                          integer=True)
-    faired, report = _flexure.fair(V, F, a)
+        spec.max_iterations = _checks.number(max_iterations, "max_iterations", integer=True)
+    faired, report = _flexure.fair(V, F, a, _checks.progress(progress))
     report = dict(report)
     if check and not report["converged"]:
         error = _flexure.NumericalError(f"the fair did not converge: {report['failure']}")

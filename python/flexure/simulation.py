@@ -219,12 +219,22 @@ class Simulation:
             raise error
         return report
 
-    def run(self, duration, dt, min_dt=None):
+    def run(self, duration, dt, min_dt=None, progress=None):
         """duration / dt steps of dt (ValueError when duration is not a whole number of steps, as
-        ``flexure simulate`` refuses it); returns the list of their dicts."""
+        ``flexure simulate`` refuses it); returns the list of their dicts.
+
+        progress: None or a callable, called after every step with a dict (step, time, energy:
+        the total of ``energies()``); an exception it raises stops the run there. Ctrl-C stops
+        the run after the step under way (KeyboardInterrupt)."""
         steps = _flexure.step_count(_checks.number(dt, "dt"),
                                     _checks.number(duration, "duration", positive=True))
-        return [self.step(dt, min_dt) for _ in range(steps)]
+        progress = _checks.progress(progress)
+        reports = []
+        for k in range(steps):
+            reports.append(self.step(dt, min_dt))
+            if progress is not None:
+                progress({"step": k + 1, "time": self.time, "energy": self.energies()["total"]})
+        return reports
 
     @property
     def V_rest(self):

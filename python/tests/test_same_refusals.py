@@ -1,4 +1,4 @@
-"""The command and Python refuse the same bad simulation for the same reason.
+"""The command and Python refuse the same bad simulation (or fair) for the same reason.
 
 The rules are the library's (optimize::SimulationSpec::validate and the options it validates); the
 command maps its flags to the spec's fields and Python its keyword arguments, and each renames the
@@ -162,3 +162,48 @@ def test_energy_options_are_refused_alike(plate, tmp_path, flags, keywords, flag
     assert done.returncode == 2 and flag_words in done.stderr, done.stderr
     with pytest.raises(ValueError, match="^" + keyword_words):
         flexure.energy(V, F, V, **keywords)
+
+
+# A fairing's rules are the library's too (optimize::FairingSpec::validate): (case, the flags of
+# `flexure fair`, the keyword arguments of flexure.fair, what the command names, what Python
+# names, the reason both give).
+FAIR_CASES = [
+    ("membrane weight not positive", ["--membrane-weight", "0"], {"membrane_weight": 0},
+     "--membrane-weight 0", "membrane_weight 0", "expected a weight > 0"),
+    ("unknown start", ["--start", "middle"], {"start": "middle"}, "--start middle",
+     "start middle", "expected best, biharmonic or input"),
+    ("unknown metric", ["--metric", "intrinsic"], {"metric": "intrinsic"}, "--metric intrinsic",
+     "metric intrinsic", "expected input or current"),
+    ("unknown method", ["--method", "laplace"], {"method": "laplace"}, "--method laplace",
+     "method laplace", "expected flexure or cgal"),
+    ("unknown membrane", ["--membrane", "rubber"], {"membrane": "rubber"}, "membrane 'rubber'",
+     "membrane 'rubber'", "expected stvk, springs, conformal or mips"),
+    ("membrane weight with CGAL's fair", ["--method", "cgal", "--membrane-weight", "0.5"],
+     {"method": "cgal", "membrane_weight": 0.5}, "--membrane-weight: not with --method cgal",
+     "membrane_weight: not with method cgal", "CGAL's linear fair has no membrane"),
+    ("slivers allowed with CGAL's fair", ["--method", "cgal", "--allow-slivers"],
+     {"method": "cgal", "allow_slivers": True}, "--allow-slivers: not with --method cgal",
+     "allow_slivers: not with method cgal", "the smallest-angle rule judges flexure's result"),
+    ("vertex area of an energy without one", ["--energy", "hinge", "--vertex-area", "voronoi"],
+     {"energy": "hinge", "vertex_area": "voronoi"}, "--vertex-area applies to --energy cotan",
+     "vertex_area applies to energy cotan", "only (not hinge)"),
+]
+
+
+@pytest.mark.parametrize("case, flags, keywords, flag_words, keyword_words, reason", FAIR_CASES,
+                         ids=[c[0] for c in FAIR_CASES])
+def test_the_command_and_python_refuse_a_fair_alike(strip_file, tmp_path, case, flags, keywords,
+                                                    flag_words, keyword_words, reason):
+    out = tmp_path / "faired.obj"
+    done = subprocess.run([cli_path(), "fair", "--quiet", str(strip_file), "--region",
+                           "all-interior", *flags, "-o", str(out)], capture_output=True,
+                          text=True)
+    assert done.returncode == 2, f"{case}: exit {done.returncode}: {done.stderr}"
+    assert not out.exists(), f"{case}: the refused fair wrote {out}"
+    assert flag_words in done.stderr and reason in done.stderr, f"{case}: {done.stderr}"
+    V, F = flexure.read_mesh(strip_file)
+    with pytest.raises(ValueError) as refused:
+        flexure.fair(V, F, "all-interior", **keywords)
+    message = str(refused.value)
+    assert keyword_words in message and reason in message, f"{case}: {message}"
+    assert "Options." not in message and "Spec." not in message and "--" not in message, message

@@ -1,0 +1,52 @@
+#include "optimize/fairing/fairing_spec.h"
+
+#include <cmath>
+
+#include "curvature/membrane_energy.h"
+#include "modeling/errors.h"
+
+namespace flexure::optimize {
+
+curvature::BendingOptions FairingSpec::material() const {
+  curvature::BendingSpec flat = bending;
+  flat.flatRest = true;
+  return flat.options();
+}
+
+void FairingSpec::validate() const {
+  const FairingMethod chosen = fairingMethod();
+  material();
+  curvature::parseMembraneModel(membrane);
+  parseFairingStart(start);
+  parseFairingMetric(metric);
+  if (membraneWeight && (!(*membraneWeight > 0.0) || !std::isfinite(*membraneWeight)))
+    throw InputError("FairingOptions.membraneWeight " + numberText(*membraneWeight) +
+                     ": expected a weight > 0");
+  solver.validate();
+  if (chosen == FairingMethod::Cgal) {
+    if (membraneWeight)
+      throw InputError(
+          "FairingOptions.membraneWeight: not with FairingOptions.method cgal (CGAL's linear "
+          "fair has no membrane)");
+    if (allowSlivers)
+      throw InputError(
+          "FairingSpec.allowSlivers: not with FairingOptions.method cgal (the smallest-angle "
+          "rule judges flexure's result only)");
+  }
+}
+
+FairingOptions FairingSpec::options() const {
+  validate();
+  FairingOptions o = defaultFairingOptions(parseFairingMetric(metric));
+  const curvature::VertexArea metricArea = o.bending.vertexArea;
+  o.bending = material();
+  if (bending.vertexArea.empty()) o.bending.vertexArea = metricArea;
+  o.membrane = curvature::parseMembraneModel(membrane);
+  o.membraneWeight = membraneWeight.value_or(o.membraneWeight);
+  o.start = parseFairingStart(start);
+  o.angleBarrier = !allowSlivers;
+  o.solver = solver;
+  return o;
+}
+
+}  // namespace flexure::optimize
