@@ -448,36 +448,31 @@ TimeStepper::Advance TimeStepper::advance(double h, double minStep) {
   }
   Advance advance;
   advance.smallestStep = h;
-  advanceInto(h, minStep, advance);
+  advance.completed = coverByHalving(h, 0, [&](double length, int) {
+    const double from = time_;
+    const Outcome outcome = step(length);
+    advance.attemptedIterations += outcome.newtonIterations;
+    advance.factorizations += outcome.factorizations;
+    advance.pcgSolves += outcome.pcgSolves;
+    advance.pcgIterations += outcome.pcgIterations;
+    advance.hessians += outcome.hessians;
+    if (outcome.converged) {
+      ++advance.steps;
+      advance.newtonIterations += outcome.newtonIterations;
+      advance.maxNewtonIterations = std::max(advance.maxNewtonIterations, outcome.newtonIterations);
+      return StepVerdict::Taken;
+    }
+    if (length / 2.0 < minStep) {
+      advance.failure = outcome;
+      advance.failedStep = length;
+      advance.failedTime = from;
+      return StepVerdict::Failed;
+    }
+    ++advance.halvings;
+    advance.smallestStep = std::min(advance.smallestStep, length / 2.0);
+    return StepVerdict::Halve;
+  });
   return advance;
-}
-
-void TimeStepper::advanceInto(double h, double minStep, Advance& advance) {
-  const double from = time_;
-  const Outcome outcome = step(h);
-  advance.attemptedIterations += outcome.newtonIterations;
-  advance.factorizations += outcome.factorizations;
-  advance.pcgSolves += outcome.pcgSolves;
-  advance.pcgIterations += outcome.pcgIterations;
-  advance.hessians += outcome.hessians;
-  if (outcome.converged) {
-    ++advance.steps;
-    advance.newtonIterations += outcome.newtonIterations;
-    advance.maxNewtonIterations = std::max(advance.maxNewtonIterations, outcome.newtonIterations);
-    advance.completed = true;
-    return;
-  }
-  advance.completed = false;
-  if (h / 2.0 < minStep) {
-    advance.failure = outcome;
-    advance.failedStep = h;
-    advance.failedTime = from;
-    return;
-  }
-  ++advance.halvings;
-  advance.smallestStep = std::min(advance.smallestStep, h / 2.0);
-  advanceInto(h / 2.0, minStep, advance);
-  if (advance.completed) advanceInto(h / 2.0, minStep, advance);
 }
 
 TimeStepper::Outcome TimeStepper::explicitStep(double h) {

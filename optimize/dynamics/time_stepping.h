@@ -221,6 +221,26 @@ struct EnergyBalance {
   }
 };
 
+// What an attempt at a step of length h did: taken; declined, to be covered by two steps of h/2;
+// or failed, ending the advance.
+enum class StepVerdict { Taken, Halve, Failed };
+
+// Covers a step of h by halving: attempt(h, level) tries it (level = the halvings above it), and
+// a step it declines is covered by two of h/2, the second only after the first was covered.
+// Whether the whole h was covered. The attempt decides when it may halve (the smallest step).
+template <class Attempt>
+bool coverByHalving(double h, int level, const Attempt& attempt) {
+  switch (attempt(h, level)) {
+    case StepVerdict::Taken:
+      return true;
+    case StepVerdict::Failed:
+      return false;
+    case StepVerdict::Halve:
+      break;
+  }
+  return coverByHalving(h / 2.0, level + 1, attempt) && coverByHalving(h / 2.0, level + 1, attempt);
+}
+
 class TimeStepper {
  public:
   // `problem` (xyz; it outlives the stepper): its held vertices are pinned at their start
@@ -349,7 +369,6 @@ class TimeStepper {
   // Where the step's Newton loop starts (free unknowns).
   Eigen::VectorXd startingPoint(IncrementalPotential& phi, double h) const;
   static std::string stepFailure(const NewtonResult& newton);
-  void advanceInto(double h, double minStep, Advance& advance);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
   // Takes the damping force −C v at the current state into a_n after a release (the released

@@ -85,47 +85,40 @@ bool FracturingDynamics::overBand(const std::vector<double>& strain) const {
   return false;
 }
 
+// A step whose end is over the fracture band is discarded and covered by two halves (down to
+// kFractureSearchLevels halvings and the smallest step), as is one that starts over it.
 TimeStepper::Advance FracturingDynamics::advance(double h, double minStep, long step) {
   TimeStepper::Advance total;
   total.smallestStep = h;
-  advanceInto(h, minStep, 0, step, total);
-  return total;
-}
-
-void FracturingDynamics::advanceInto(double h, double minStep, int level, long& step,
-                                     TimeStepper::Advance& total) {
-  const bool canHalve = fracture_ && level < kFractureSearchLevels && h / 2.0 >= minStep;
-  if (canHalve && overBand(strainNow())) {
+  total.completed = coverByHalving(h, 0, [&](double length, int level) {
+    const bool canHalve = fracture_ && level < kFractureSearchLevels && length / 2.0 >= minStep;
     // Already over the band at the start: a step of h would be discarded, as would each shorter
     // one down to the shortest, whose end differs from this start by O(h / 2^levels).
-    advanceInto(h / 2.0, minStep, level + 1, step, total);
-    if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
-    return;
-  }
-  const TimeStepper::State before = stepper_->state();
-  const TimeStepper::Advance a = stepper_->advance(h, minStep);
-  if (!a.completed) {
-    total.addPart(a);
-    return;
-  }
-  total.addTried(a);
-  total.completed = true;
-  if (!fracture_) {
+    if (canHalve && overBand(strainNow())) return StepVerdict::Halve;
+    const TimeStepper::State before = stepper_->state();
+    const TimeStepper::Advance a = stepper_->advance(length, minStep);
+    if (!a.completed) {
+      total.addPart(a);
+      return StepVerdict::Failed;
+    }
+    total.addTried(a);
+    if (!fracture_) {
+      total.addConverged(a);
+      step += a.steps;
+      return StepVerdict::Taken;
+    }
+    const std::vector<double> strain = strainNow();
+    if (canHalve && overBand(strain)) {
+      stepper_->restore(before);
+      ++total.halvings;
+      return StepVerdict::Halve;
+    }
     total.addConverged(a);
     step += a.steps;
-    return;
-  }
-  const std::vector<double> strain = strainNow();
-  if (canHalve && overBand(strain)) {
-    stepper_->restore(before);
-    ++total.halvings;
-    advanceInto(h / 2.0, minStep, level + 1, step, total);
-    if (total.completed) advanceInto(h / 2.0, minStep, level + 1, step, total);
-    return;
-  }
-  total.addConverged(a);
-  step += a.steps;
-  checkFracture(step, strain);
+    checkFracture(step, strain);
+    return StepVerdict::Taken;
+  });
+  return total;
 }
 
 bool FracturingDynamics::checkFracture(long step) {

@@ -114,7 +114,6 @@ class FracturingDynamics {
   std::vector<modeling::Mesh> fragments() const;
 
  private:
-  void advanceInto(double h, double minStep, int level, long& step, TimeStepper::Advance& advance);
   // The largest principal fibre strain of each face now (#F).
   std::vector<double> strainNow() const;
   // Some event face's strain over ε_f (1 + kFractureOvershoot).
