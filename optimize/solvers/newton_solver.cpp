@@ -64,17 +64,20 @@ class NewtonSolver {
   std::vector<int> eliminationOrder() const {
     return dof_ == DofMode::Height ? hessianOrder(assembly_, rest_) : std::vector<int>();
   }
-  // The order CHOLMOD computes where no order is given. With free ξ, AMD: a static solve factors
-  // a few times, and CHOLMOD's nested dissection (the time step's choice: dynamics factor
-  // hundreds of times) takes longer to find than the factorizations it saves. Measured on the
-  // n = 512 midedge plate (bench/solve_bench.cpp: that size, that energy, the Newton solve;
-  // 1 044 489 unknowns, 4 iterations, 2 factorizations; one run each on a loaded machine):
-  // analysis 2.0 s with AMD, nnz(L) 1.17e8, solve 22.7 s in all; 27.5 s with CHOLMOD's nested
-  // dissection, nnz(L) 1.09e8, 53.0 s in all; METIS 18.2 s, nnz(L) 1.11e8, 44.2 s; the geometric
-  // nested dissection of vertices and ξ (each ξ at its edge) 2.0 s but nnz(L) 2.33e8, 48.1 s
-  // and 3.1 GB.
+  // The order CHOLMOD computes where no order is given, chosen by measurement. A height field
+  // with free ξ (midedge's plate: from the linearized start, about two factorizations) takes
+  // AMD: on the n = 512 plate (bench/solve_bench.cpp, that size, midedge, the Newton solve;
+  // 1 044 489 unknowns, 4 iterations, 2 factorizations; both builds in one run, idle machine)
+  // the solve took 13.5 s (2.6 × the floor; analysis 1.4 s, nnz(L) 1.17e8) against 24.9 s
+  // (4.8 ×; analysis 12.9 s, nnz(L) 1.09e8) with CHOLMOD's nested dissection, and at n = 256
+  // 2.6 s against 5.0. METIS (nnz(L) 1.11e8) took 18 s to find on a loaded machine; the geometric
+  // nested dissection of vertices and ξ (each ξ at its edge), 2 s, but nnz(L) 2.33e8 and 3.1 GB.
+  // xyz (fairing, shells: more factorizations of fewer unknowns) takes the nested dissection:
+  // fairing 50 000 vertices of the bunny (bench/fair_bench.cpp, midedge on Newton; 7 iterations,
+  // 6 factorizations) took 26.3 s and 1.26 GB with it, 30.2 s and 1.49 GB with AMD.
   FillReducingOrder computedOrder() const {
-    return withXi_ ? FillReducingOrder::Amd : FillReducingOrder::NestedDissection;
+    return withXi_ && dof_ == DofMode::Height ? FillReducingOrder::Amd
+                                              : FillReducingOrder::NestedDissection;
   }
 
   MinimizeResult run(Clock::time_point start) {
