@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "modeling/errors.h"
+
 namespace flexure::optimize {
 namespace {
 
@@ -156,142 +158,33 @@ bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& 
   return ok;
 }
 
-// The static rule's Newton factor at y: the Hessian h, or, where it is not positive definite, the
-// Gauss–Newton matrix JᵀJ at y — positive semidefinite by construction, and the curvature
-// Ceres' LM uses — shifted by μI where singular. Measured against shifting the indefinite
-// Hessian by μI: fairing lion-head all-interior (midedge, 49 851 unknowns) 12 iterations, 28 s
-// against 51, 256 s (Ceres' LM: 36, 90 s); against projecting the element Hessians to positive
-// semidefinite, hinge + StVK in xyz lifted by a unit quadratic: converged where projection did
-// not in 400 iterations. h is replaced by what was factored.
-bool NewtonLoop::factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y,
-                                    IndefiniteHessian indefinite, HessianEvaluation& h,
-                                    NewtonResult& result) {
+// The Newton factor at y: the Hessian of `kind` in h, or, where it is not positive definite, the
+// rule's: H + μI (Shifted), or the Gauss–Newton matrix JᵀJ at y — positive semidefinite by
+// construction, and the curvature Ceres' LM uses — or the element Hessians projected to positive
+// semidefinite (Projected), each shifted by μI where singular. Measured against shifting the
+// indefinite Hessian by μI: fairing lion-head all-interior (midedge, 49 851 unknowns) 12
+// iterations, 28 s against 51, 256 s (Ceres' LM: 36, 90 s); against projecting the element
+// Hessians, hinge + StVK in xyz lifted by a unit quadratic: converged where projection did not in
+// 400 iterations. h is replaced by what was factored.
+bool NewtonLoop::factorNewton(Objective& objective, const Eigen::VectorXd& y,
+                              IndefiniteHessian indefinite, bool fallback, HessianEvaluation& h,
+                              NewtonResult& result) {
   const auto t = Clock::now();
   ++result.factorizations;
   const bool exact = factorization_.factor(h.values);
   result.linearSolverSeconds += secondsSince(t);
   chordHessian_.clear();
   if (exact) return haveFactor_ = true;
-  if (indefinite == IndefiniteHessian::Shifted) return factorShifted(h.values, result, false);
+  // Already the fallback's matrix (a step that keeps it), or the rule shifts: H + μI.
+  if (fallback || indefinite == IndefiniteHessian::Shifted)
+    return factorShifted(h.values, result, false);
   ++result.gaussNewtonSteps;
-  if (indefinite == IndefiniteHessian::GaussNewton)
-    h = evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
-  else if (indefinite == IndefiniteHessian::Projected)
-    h = evaluate(objective, y, curvature::SecondDerivatives::Projected, result);
+  h = evaluate(objective, y,
+               indefinite == IndefiniteHessian::Projected
+                   ? curvature::SecondDerivatives::Projected
+                   : curvature::SecondDerivatives::GaussNewton,
+               result);
   return factorShifted(h.values, result);
-}
-
-// Converged at y, whose predicted decrease is below the tolerance: the step δ already solved for
-// is taken too where it does not raise f beyond roundoff (it costs no factorization and brings y
-// closer by the step's contraction), and ∇f is evaluated for the report.
-void NewtonLoop::finishStatic(Objective& objective, Eigen::VectorXd& y, const HessianEvaluation& at,
-                              const Eigen::VectorXd& delta, const std::string& why,
-                              const StaticStopRule& rule, NewtonResult& result) {
-  Eigen::VectorXd trial = y + 1.0 * delta;
-  if (objective.lineSearchValue(trial) <= at.energy + 1e-14 * std::abs(at.energy)) {
-    y = std::move(trial);
-    const HessianEvaluation end =
-        evaluate(objective, y, curvature::SecondDerivatives::None, result);
-    result.finalValue = end.energy;
-    result.gradient = end.gradient;
-  }
-  result.stop = NewtonStop::Converged;
-  result.convergedBy = why + " <= " + number(rule.functionTolerance) +
-                       " E = " + number(rule.functionTolerance * std::abs(at.energy));
-}
-
-NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const StaticStopRule& rule) {
-  NewtonResult result;
-  double previousDecrement = std::numeric_limits<double>::infinity();
-  for (int iteration = 0;; ++iteration) {
-    const HessianEvaluation at = evaluate(objective, y, curvature::SecondDerivatives::None, result);
-    if (iteration == 0) result.initialValue = at.energy;
-    result.finalValue = at.energy;
-    result.gradient = at.gradient;
-    const double gradientMax = at.gradient.size() > 0 ? at.gradient.cwiseAbs().maxCoeff() : 0.0;
-    if (!std::isfinite(at.energy) || !at.gradient.allFinite()) {
-      result.stop = NewtonStop::NonFinite;
-      return result;
-    }
-    if (gradientMax <= rule.gradientTolerance) {
-      result.stop = NewtonStop::Converged;
-      result.convergedBy =
-          "gradient max-norm " + number(gradientMax) + " <= " + number(rule.gradientTolerance);
-      return result;
-    }
-    if (rule.observer && rule.observer({result.iterations, at.energy, gradientMax})) {
-      result.stop = NewtonStop::Stopped;
-      return result;
-    }
-    if (iteration == rule.maxIterations) {
-      result.stop = NewtonStop::MaxIterations;
-      return result;
-    }
-    Eigen::VectorXd delta;
-    double decrement = 0.0;
-    bool chord = false;
-    if (haveFactor_) {
-      delta = solve(-at.gradient, result);
-      decrement = -at.gradient.dot(delta);
-      if (decrement > 0.0 && 0.5 * decrement <= rule.functionTolerance * std::abs(at.energy)) {
-        finishStatic(objective, y, at, delta, "predicted decrease " + number(0.5 * decrement), rule,
-                     result);
-        return result;
-      }
-      chord =
-          decrement > 0.0 && decrement <= kChordContraction * previousDecrement && rule.chordSteps;
-    }
-    if (!chord) {
-      HessianEvaluation h = evaluate(objective, y, curvature::SecondDerivatives::Exact, result);
-      if (!factorNewtonStatic(objective, y, rule.indefinite, h, result)) {
-        result.stop = NewtonStop::NotPositiveDefinite;
-        return result;
-      }
-      delta = solve(-h.gradient, result);
-      decrement = -h.gradient.dot(delta);  // λ², > 0 for a positive definite H
-      if (!std::isfinite(decrement) || decrement <= 0.0) {
-        result.stop = NewtonStop::NotDescent;
-        return result;
-      }
-      if (0.5 * decrement <= rule.functionTolerance * std::abs(at.energy)) {
-        finishStatic(objective, y, at, delta, "Newton decrement " + number(0.5 * decrement), rule,
-                     result);
-        return result;
-      }
-    }
-    // Armijo from the longest feasible α, α halved; a chord step that needs α < 0.1 asks for a
-    // Newton step instead.
-    double alpha = objective.stepBound(y, delta), trialValue = 0.0;
-    Eigen::VectorXd trial;
-    bool decreased = true;
-    for (;; alpha *= 0.5) {
-      trial = y + alpha * delta;
-      trialValue = objective.lineSearchValue(trial);
-      if (trialValue <= at.energy - 1e-4 * alpha * decrement + objective.roundoff(y, at.energy))
-        break;
-      if (alpha < (chord ? 0.1 : 1e-12)) {
-        decreased = false;
-        break;
-      }
-    }
-    if (!decreased && !chord) {
-      result.stop = NewtonStop::LineSearchFailed;
-      return result;
-    }
-    // A chord step that needed damping, or failed, asks for a new factor next time.
-    previousDecrement = chord && alpha < 1.0 ? 0.0 : decrement;
-    if (!decreased) continue;
-    y = std::move(trial);
-    ++result.iterations;
-    ++(chord ? result.chordSteps : result.newtonSteps);
-    if (rule.progress) {
-      std::fprintf(stderr,
-                   "  iteration %3d  %-6s energy %.10e  |gradient|max %.3e  decrement %.3e  "
-                   "step %.3g\n",
-                   result.iterations, chord ? "chord" : "newton", trialValue, gradientMax,
-                   decrement, alpha);
-    }
-  }
 }
 
 // The Newton step δ = −H⁻¹∇f by conjugate gradients on H preconditioned by the kept factor F of
@@ -300,12 +193,12 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
 // spectrum cluster near 1, so a few iterations, each one product with H and one solve with F,
 // replace a factorization). On entry δ = −F⁻¹∇f (the chord step, the first preconditioned
 // residual from δ₀ = 0); on success δ is the step. Accepted when rᵀF⁻¹r ≤ η² ∇fᵀF⁻¹∇f
-// (η = rule.pcgTolerance: the residual in F's norm, the first one being the chord step's
-// decrement). false — δ unusable, H to be factored — after rule.pcgMaxIterations iterations, or
+// (η = policy.pcgTolerance: the residual in F's norm, the first one being the chord step's
+// decrement). false — δ unusable, H to be factored — after policy.pcgMaxIterations iterations, or
 // where pᵀHp ≤ 0 along a search direction p (H not positive definite: the factoring path's
 // indefinite-Hessian rule applies).
 bool NewtonLoop::preconditionedStep(const std::vector<double>& hessian,
-                                    const Eigen::VectorXd& gradient, const StepStopRule& rule,
+                                    const Eigen::VectorXd& gradient, const Policy& policy,
                                     Eigen::VectorXd& delta, NewtonResult& result) {
   const auto t = Clock::now();
   Eigen::VectorXd residual = -gradient, preconditioned = delta, direction = delta;
@@ -313,7 +206,7 @@ bool NewtonLoop::preconditionedStep(const std::vector<double>& hessian,
   const double initial = residual.dot(preconditioned);
   double current = initial;
   bool converged = false;
-  for (int k = 0; k < rule.pcgMaxIterations && std::isfinite(current) && current > 0.0; ++k) {
+  for (int k = 0; k < policy.pcgMaxIterations && std::isfinite(current) && current > 0.0; ++k) {
     ++result.pcgIterations;
     const Eigen::VectorXd product =
         symmetricProduct(assembly_.columnStart(), assembly_.rowIndex(), hessian, direction);
@@ -324,7 +217,7 @@ bool NewtonLoop::preconditionedStep(const std::vector<double>& hessian,
     residual -= alpha * product;
     preconditioned = factorization_.solve(residual);
     const double next = residual.dot(preconditioned);
-    if (next <= rule.pcgTolerance * rule.pcgTolerance * initial) {
+    if (next <= policy.pcgTolerance * policy.pcgTolerance * initial) {
       converged = x.allFinite();
       break;
     }
@@ -338,33 +231,34 @@ bool NewtonLoop::preconditionedStep(const std::vector<double>& hessian,
   return true;
 }
 
-// Armijo on f from y along δ, α halved from α = bound. The first trial evaluates ∇f too, which
-// the next iteration uses when it passes (it usually does); later ones f alone, and ∇f where one
-// passes. A chord step gets two trials: one that fails them asks for a Newton step rather than a
-// short step. When the obstacles bound the step (bound < 1), δ with each vertex's move scaled by
-// its own bound α_v is searched first, from α = 1, when that is still a descent direction — a
-// vertex about to touch an obstacle then no longer holds every other vertex back to its fraction
-// of the step (measured on the drape benchmark: the capped Newton steps of a contact step fell
-// from tens to a few). `shortened`: the step taken was damped or scaled. false: no decrease.
+// Armijo on f from y along δ, α halved from α = bound: f(y + αδ) ≤ f(y) − 10⁻⁴ α λ² + f's
+// roundoff (the comparison cannot judge a decrease below it, and δ descends on a positive
+// definite model). The first trial evaluates ∇f too, which the next iteration uses when it passes
+// (it usually does); later ones f alone, and ∇f where one passes. A chord step gets
+// search.chordTrials trials: one that fails them asks for a Newton step rather than a short step.
+// With search.scaleByVertexBounds, when the obstacles bound the step (bound < 1), δ with each
+// vertex's move scaled by its own bound α_v is searched first, from α = 1, when that is still a
+// descent direction — a vertex about to touch an obstacle then no longer holds every other vertex
+// back to its fraction of the step (measured on the drape benchmark: the capped Newton steps of a
+// contact step fell from tens to a few). `shortened`: the step taken was damped or scaled.
+// false: no decrease.
 bool NewtonLoop::searchStep(Objective& objective, const Eigen::VectorXd& y,
-                            const Eigen::VectorXd& gradient, const Eigen::VectorXd& delta,
-                            double value, double decrement, double bound, bool chord,
+                            const HessianEvaluation& at, const Eigen::VectorXd& delta,
+                            double decrement, double bound, bool chord, const LineSearch& search,
                             Eigen::VectorXd& trial, HessianEvaluation& trialAt, bool& shortened) {
   NewtonResult unused;
-  // f's roundoff: a decrease below it passes (the comparison cannot judge it, and the step is a
-  // descent direction of a positive definite model).
-  const double roundoff = objective.roundoff(y, value);
+  const double roundoff = objective.roundoff(y, at.energy);
   double alpha = bound, slope = decrement;  // slope = −∇fᵀ direction
   Eigen::VectorXd direction = delta;
   bool scaledDirection = false;
-  if (bound < 1.0) {
+  if (search.scaleByVertexBounds && bound < 1.0) {
     const Eigen::VectorXd bounds = objective.vertexStepBounds(y, delta);
     const std::vector<int>& unknowns = objective.assembly().freeUnknowns();
     const long positionCount = 3 * bounds.size();
     Eigen::VectorXd scaled = delta;
     for (int k = 0; k < scaled.size(); ++k)
       if (unknowns[k] < positionCount) scaled[k] *= bounds[unknowns[k] / 3];
-    const double scaledSlope = -gradient.dot(scaled);
+    const double scaledSlope = -at.gradient.dot(scaled);
     if (scaledSlope > 0.0) {
       direction = std::move(scaled);
       slope = scaledSlope;
@@ -372,18 +266,23 @@ bool NewtonLoop::searchStep(Objective& objective, const Eigen::VectorXd& y,
       scaledDirection = true;
     }
   }
-  double trialValue = 0.0;
   for (int trials = 1;; ++trials, alpha *= 0.5) {
     trial = y + alpha * direction;
+    double trialValue = 0.0;
     if (trials == 1) {
-      trialAt = evaluate(objective, trial, curvature::SecondDerivatives::None, unused);
-      trialValue = trialAt.energy;
+      try {
+        trialAt = evaluate(objective, trial, curvature::SecondDerivatives::None, unused);
+        trialValue = trialAt.energy;
+      } catch (const NumericalError&) {  // a degenerate element: as lineSearchValue says
+        trialValue = std::numeric_limits<double>::infinity();
+      }
     } else {
       trialValue = objective.lineSearchValue(trial);
     }
     // +∞ inside an obstacle; NaN never passes.
-    if (trialValue <= value - 1e-4 * alpha * slope + roundoff ||
-        (std::isfinite(trialValue) && 0.5 * alpha * slope <= roundoff)) {
+    if (trialValue <= at.energy - 1e-4 * alpha * slope + roundoff ||
+        (search.acceptBelowRoundoff && std::isfinite(trialValue) &&
+         0.5 * alpha * slope <= roundoff)) {
       if (trials > 1)
         trialAt = evaluate(objective, trial, curvature::SecondDerivatives::None, unused);
       shortened = alpha < 1.0 || scaledDirection;
@@ -396,96 +295,181 @@ bool NewtonLoop::searchStep(Objective& objective, const Eigen::VectorXd& y,
       alpha = 2.0 * bound;
       continue;
     }
-    if (chord ? trials == 2 : alpha < 1e-10) {
+    if (chord ? trials == search.chordTrials : alpha < search.smallestStep) {
       shortened = alpha < 1.0 || scaledDirection;
       return false;
     }
   }
 }
 
-NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const StepStopRule& rule) {
+// The static rule: converged when ‖∇f‖∞ ≤ gradientTolerance at an iterate, or when a step's
+// predicted decrease ½ λ² ≤ functionTolerance · |f| (a chord step's, whether or not it would be
+// taken: no factorization is made only to confirm); then the step already solved for is taken
+// too where it does not raise f beyond roundoff (it costs no factorization and brings y closer by
+// the step's contraction), and ∇f is evaluated for the report. Counts accepted steps.
+class NewtonLoop::StaticStop {
+ public:
+  StaticStop(const StaticStopRule& rule) : rule_(rule) {}
+
+  bool stopsAt(const HessianEvaluation& at, int iteration, NewtonResult& result) const {
+    const double gradientMax = at.gradient.size() > 0 ? at.gradient.cwiseAbs().maxCoeff() : 0.0;
+    if (!std::isfinite(at.energy) || !at.gradient.allFinite()) {
+      result.stop = NewtonStop::NonFinite;
+    } else if (gradientMax <= rule_.gradientTolerance) {
+      result.stop = NewtonStop::Converged;
+      result.convergedBy =
+          "gradient max-norm " + number(gradientMax) + " <= " + number(rule_.gradientTolerance);
+    } else if (rule_.observer && rule_.observer({result.iterations, at.energy, gradientMax})) {
+      result.stop = NewtonStop::Stopped;
+    } else if (iteration == rule_.maxIterations) {
+      result.stop = NewtonStop::MaxIterations;
+    }
+    return result.stop != NewtonStop::Running;
+  }
+  bool converged(const HessianEvaluation& at, const Eigen::VectorXd&, double decrement,
+                 bool) const {
+    return decrement > 0.0 && 0.5 * decrement <= rule_.functionTolerance * std::abs(at.energy);
+  }
+  void finish(NewtonLoop& loop, Objective& objective, Eigen::VectorXd& y,
+              const HessianEvaluation& at, const Eigen::VectorXd& delta, double decrement, double,
+              bool chord, NewtonResult& result) const {
+    Eigen::VectorXd trial = y + 1.0 * delta;
+    if (objective.lineSearchValue(trial) <= at.energy + 1e-14 * std::abs(at.energy)) {
+      y = std::move(trial);
+      const HessianEvaluation end =
+          loop.evaluate(objective, y, curvature::SecondDerivatives::None, result);
+      result.finalValue = end.energy;
+      result.gradient = end.gradient;
+    }
+    result.stop = NewtonStop::Converged;
+    result.convergedBy = std::string(chord ? "predicted decrease " : "Newton decrement ") +
+                         number(0.5 * decrement) + " <= " + number(rule_.functionTolerance) +
+                         " E = " + number(rule_.functionTolerance * std::abs(at.energy));
+  }
+  void accepted(NewtonResult& result) const { ++result.iterations; }
+  void counted(int, NewtonResult&) const {}
+
+ private:
+  const StaticStopRule& rule_;
+};
+
+// A time step's rule: converged when the step moves no unknown more than `step`, or predicts a
+// decrease ½ λ² below f's roundoff (contact's stiff barrier can leave a step above the tolerance
+// whose gain no line search can measure), with F known to describe f near y (`trusted`); the
+// step is then taken whole, or as far as the obstacles allow (near the minimizer f's change is at
+// its roundoff, where a line search cannot judge). At most maxNewtonSteps Newton steps, and 4 ×
+// as many iterations in all; counts iterations made.
+class NewtonLoop::StepStop {
+ public:
+  StepStop(const StepStopRule& rule) : rule_(rule) {}
+
+  bool stopsAt(const HessianEvaluation&, int iteration, NewtonResult& result) const {
+    if (iteration >= 4 * rule_.maxNewtonSteps || result.newtonSteps >= rule_.maxNewtonSteps)
+      result.stop = NewtonStop::MaxIterations;
+    return result.stop != NewtonStop::Running;
+  }
+  bool converged(const HessianEvaluation& at, const Eigen::VectorXd& delta, double decrement,
+                 bool trusted) const {
+    return trusted && (delta.cwiseAbs().maxCoeff() <= rule_.step ||
+                       0.5 * decrement <= 1e-15 * std::abs(at.energy));
+  }
+  void finish(NewtonLoop&, Objective&, Eigen::VectorXd& y, const HessianEvaluation&,
+              const Eigen::VectorXd& delta, double, double bound, bool,
+              NewtonResult& result) const {
+    y += bound * delta;
+    result.stop = NewtonStop::Converged;
+  }
+  void accepted(NewtonResult&) const {}
+  void counted(int iteration, NewtonResult& result) const { result.iterations = iteration + 1; }
+
+ private:
+  const StepStopRule& rule_;
+};
+
+// One iteration body for both rules. Each iteration has f and ∇f at y (carried from the line
+// search that reached y). With a factor F of an earlier Hessian at hand, the chord step
+// δ = −F⁻¹∇f (by PCG with the Hessian F preconditions, after a PCG Newton step) and its decrement
+// λ² = −∇fᵀδ; it is taken while λ² shrinks at least tenfold per iteration (modified Newton:
+// linear convergence at that rate). Otherwise a Newton step: the Hessian at y (of `hessian`)
+// solved by PCG preconditioned by F where the policy allows, else factored with the indefinite
+// rule. A policy that keeps the Gauss–Newton matrix after an indefinite Hessian keeps it for as
+// long as its Newton steps contract tenfold, and the next Newton step tries the exact Hessian
+// again once one does not (near the solution it is often definite again; measured on the drape
+// benchmark, cotan at 2 500 vertices, Gauss–Newton steps alone stalled at |δ| ≈ 1e-8).
+template <class Stop>
+NewtonResult NewtonLoop::iterate(Objective& objective, Eigen::VectorXd& y, const Stop& stop,
+                                 const Policy& policy) {
   NewtonResult result;
-  double previousDecrement = std::numeric_limits<double>::infinity();
   HessianEvaluation at = evaluate(objective, y, curvature::SecondDerivatives::None, result);
-  bool freshFactor = false;  // F was factored at an iterate of this run
-  // The Hessian of E the Newton steps factor: rule.hessian until the exact one is found
-  // indefinite; then its Gauss–Newton part directly (one factorization per Newton step instead of
-  // two) for as long as those Newton steps contract tenfold (previousNewtonDecrement: the last
-  // one's λ²).
-  curvature::SecondDerivatives hessian = rule.hessian;
+  result.initialValue = at.energy;
+  double previousDecrement = std::numeric_limits<double>::infinity();
   double previousNewtonDecrement = std::numeric_limits<double>::infinity();
-  for (int iteration = 1;
-       iteration <= 4 * rule.maxNewtonSteps && result.newtonSteps < rule.maxNewtonSteps;
-       ++iteration) {
-    result.iterations = iteration;
+  bool freshFactor = false;  // F was factored at an iterate of this run
+  curvature::SecondDerivatives hessian = policy.hessian;
+  for (int iteration = 0;; ++iteration) {
+    result.finalValue = at.energy;
+    result.gradient = at.gradient;
+    if (stop.stopsAt(at, iteration, result)) return result;
+    stop.counted(iteration, result);
     Eigen::VectorXd delta;
     double decrement = 0.0;
     bool chord = false;
-    if (rule.chordSteps && haveFactor_) {
-      delta = -factorization_.solve(at.gradient);
+    if (haveFactor_) {
+      delta = solve(-at.gradient, result);
       // The chord steps of a Hessian solved by PCG are its PCG steps: F alone is older.
       const bool solved = chordHessian_.empty() ||
-                          preconditionedStep(chordHessian_, at.gradient, rule, delta, result);
+                          preconditionedStep(chordHessian_, at.gradient, policy, delta, result);
       decrement = -at.gradient.dot(delta);
-      chord = solved && decrement > 0.0 && decrement <= kChordContraction * previousDecrement;
+      chord = solved && policy.chordSteps && decrement > 0.0 &&
+              decrement <= kChordContraction * previousDecrement;
+      const bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
+      if (solved && stop.converged(at, delta, decrement, trusted)) {
+        stop.finish(*this, objective, y, at, delta, decrement, objective.stepBound(y, delta), true,
+                    result);
+        return result;
+      }
     }
-    bool trusted = chord && (freshFactor || std::isfinite(previousDecrement));
     if (!chord) {
       ++result.newtonSteps;
-      const bool gaussNewton = hessian != rule.hessian;  // a fallback carried over
+      const bool fallback = hessian != policy.hessian;  // a Gauss–Newton matrix kept
       HessianEvaluation h = evaluate(objective, y, hessian, result);
-      at.energy = h.energy;
-      at.gradient = std::move(h.gradient);
-      const bool preconditioned = rule.preconditionedSteps && rule.chordSteps && haveFactor_ &&
-                                  preconditionedStep(h.values, at.gradient, rule, delta, result);
-      bool factored = preconditioned || factorization_.factor(h.values);
-      if (!preconditioned) ++result.factorizations;
-      if (!factored && !gaussNewton) {  // indefinite ∇²E (buckling, a compressed membrane)
-        const HessianEvaluation gn =
-            evaluate(objective, y, curvature::SecondDerivatives::GaussNewton, result);
-        factored = factorization_.factor(gn.values);
-        ++result.factorizations;
-        ++result.gaussNewtonSteps;
-        hessian = curvature::SecondDerivatives::GaussNewton;
-      }
-      haveFactor_ = factored;
-      if (!factored) {
+      const bool preconditioned = policy.preconditionedSteps && policy.chordSteps && haveFactor_ &&
+                                  preconditionedStep(h.values, h.gradient, policy, delta, result);
+      const int gaussNewtonBefore = result.gaussNewtonSteps;
+      if (!preconditioned && !factorNewton(objective, y, policy.indefinite, fallback, h, result)) {
         result.stop = NewtonStop::NotPositiveDefinite;
         return result;
       }
+      if (policy.keepGaussNewton && result.gaussNewtonSteps > gaussNewtonBefore)
+        hessian = curvature::SecondDerivatives::GaussNewton;
+      at.energy = h.energy;
+      at.gradient = std::move(h.gradient);
       if (preconditioned) {
         chordHessian_ = std::move(h.values);
       } else {
-        chordHessian_.clear();
         freshFactor = true;
-        delta = -factorization_.solve(at.gradient);
+        delta = solve(-at.gradient, result);
       }
-      trusted = true;
-      decrement = -at.gradient.dot(delta);
-      // The fallback's Newton steps converge only linearly: it stays while they contract
-      // tenfold, and the next Newton step tries rule.hessian again once one does not (near the
-      // solution the exact Hessian is often definite again; measured on the drape benchmark,
-      // cotan at 2 500 vertices, Gauss–Newton steps alone stalled at |δ| ≈ 1e-8).
-      if (gaussNewton && decrement > kChordContraction * previousNewtonDecrement)
-        hessian = rule.hessian;
-      if (hessian != rule.hessian) previousNewtonDecrement = decrement;
-    }
-    const double bound = objective.stepBound(y, delta);
-    // Converged: the step itself is below the tolerance (taken whole, or as far as the obstacles
-    // allow: near the minimizer f's change is at its roundoff, where a line search cannot judge);
-    // or the decrease it predicts, ½ λ², is below f's roundoff (contact's stiff barrier can leave
-    // a step above the tolerance whose gain no line search can measure).
-    if (trusted && (delta.cwiseAbs().maxCoeff() <= rule.step ||
-                    0.5 * decrement <= 1e-15 * std::abs(at.energy))) {
-      y += bound * delta;
-      result.stop = NewtonStop::Converged;
-      break;
+      decrement = -at.gradient.dot(delta);  // λ², > 0 for a positive definite H
+      if (fallback && decrement > kChordContraction * previousNewtonDecrement)
+        hessian = policy.hessian;
+      if (hessian != policy.hessian) previousNewtonDecrement = decrement;
+      if (stop.converged(at, delta, decrement, true)) {
+        stop.finish(*this, objective, y, at, delta, decrement, objective.stepBound(y, delta), false,
+                    result);
+        return result;
+      }
+      if (!std::isfinite(decrement) || decrement <= 0.0) {
+        result.stop = NewtonStop::NotDescent;
+        return result;
+      }
     }
     Eigen::VectorXd trial;
     HessianEvaluation trialAt;
     bool shortened = false;
-    const bool decreased = searchStep(objective, y, at.gradient, delta, at.energy, decrement, bound,
-                                      chord, trial, trialAt, shortened);
+    const bool decreased =
+        searchStep(objective, y, at, delta, decrement, objective.stepBound(y, delta), chord,
+                   policy.search, trial, trialAt, shortened);
     if (!decreased && !chord) {
       result.stop = NewtonStop::LineSearchFailed;
       return result;
@@ -494,13 +478,41 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Ste
     previousDecrement = chord && shortened ? 0.0 : decrement;
     if (!decreased) continue;
     y = std::move(trial);
-    at.energy = trialAt.energy;
-    at.gradient = std::move(trialAt.gradient);
+    if (policy.progress) {
+      std::fprintf(stderr,
+                   "  iteration %3d  %-6s energy %.10e  |gradient|max %.3e  decrement %.3e%s\n",
+                   result.iterations + 1, chord ? "chord" : "newton", trialAt.energy,
+                   at.gradient.cwiseAbs().maxCoeff(), decrement, shortened ? "  damped" : "");
+    }
+    at = std::move(trialAt);
+    stop.accepted(result);
+    if (chord) ++result.chordSteps;
   }
-  if (result.stop != NewtonStop::Converged) result.stop = NewtonStop::MaxIterations;
-  result.finalValue = at.energy;
-  result.gradient = at.gradient;
-  return result;
+}
+
+NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const StaticStopRule& rule) {
+  Policy policy;
+  policy.chordSteps = rule.chordSteps;
+  policy.indefinite = rule.indefinite;
+  policy.progress = rule.progress;
+  policy.search.chordTrials = 5;  // a chord step that needs α < 0.1 asks for a Newton step
+  policy.search.smallestStep = 1e-12;
+  return iterate(objective, y, StaticStop(rule), policy);
+}
+
+NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const StepStopRule& rule) {
+  Policy policy;
+  policy.hessian = rule.hessian;
+  policy.keepGaussNewton = true;
+  policy.chordSteps = rule.chordSteps;
+  policy.preconditionedSteps = rule.preconditionedSteps;
+  policy.pcgTolerance = rule.pcgTolerance;
+  policy.pcgMaxIterations = rule.pcgMaxIterations;
+  policy.search.chordTrials = 2;
+  policy.search.smallestStep = 1e-10;
+  policy.search.scaleByVertexBounds = true;
+  policy.search.acceptBelowRoundoff = true;
+  return iterate(objective, y, StepStop(rule), policy);
 }
 
 }  // namespace flexure::optimize

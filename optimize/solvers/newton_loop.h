@@ -1,14 +1,16 @@
 // The Newton loop for every objective (objective.h): static minimizers (newton_solver.h) and each
-// implicit time step (dynamics/time_stepping.h).
+// implicit time step (dynamics/time_stepping.h), one iteration body (NewtonLoop::iterate) with
+// policies.
 //
-// Every iteration has ∇f at the iterate y and, while a factor F of an earlier Hessian is at hand,
-// the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step (modified
-// Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is assembled
-// and factored with CHOLMOD (analysis once per pattern) for a Newton step. Where the Hessian is
-// not positive definite (away from a minimizer: a fairing start, a compressed membrane about to
-// buckle) that step factors the Gauss–Newton matrix JᵀJ at y instead (positive semidefinite; the
-// static rule adds μI where it is singular). Steps are searched on the objective (Armijo:
-// f(y + αδ) ≤ f(y) − 10⁻⁴ α λ² + roundoff, α halved) from the longest feasible α ≤ 1 (obstacles).
+// Every iteration has f and ∇f at the iterate y and, while a factor F of an earlier Hessian is at
+// hand, the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step
+// (modified Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is
+// assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step. Where the
+// Hessian is not positive definite (away from a minimizer: a fairing start, a compressed membrane
+// about to buckle) the indefinite-Hessian rule factors another matrix (IndefiniteHessian; the
+// Gauss–Newton matrix JᵀJ by default), shifted by μI where singular. Steps are searched on the
+// objective (Armijo: f(y + αδ) ≤ f(y) − 10⁻⁴ α λ² + roundoff, α halved) from the longest feasible
+// α ≤ 1 (obstacles).
 //
 // The stop rule is chosen by its type:
 // - StaticStopRule (minimize): converged when the predicted decrease ½ λ² ≤ functionTolerance · |f|
@@ -17,12 +19,12 @@
 //   predicts a decrease ½ λ² below f's roundoff, with F known to describe f near y (factored in
 //   this solve, or its chord steps here contracted). A factor from an earlier solve is never
 //   trusted alone: it may be stiffer than f is now (a contact since released).
-// Each rule also keeps the search details its solver was measured with, so that results did not
-// change when the two loops became this one: the static rule evaluates ∇f afresh at each accepted
-// point, halves α down to 10⁻¹² (a chord step: 0.1) and shifts JᵀJ by μI where it is singular;
-// the step rule carries ∇f from the line search's first trial, gives a chord step two trials,
-// first searches δ scaled per vertex by its own bound where an obstacle bounds the step, and keeps
-// JᵀJ for its Newton steps while they contract tenfold.
+// Each rule also sets the policies its solver was measured with: the static rule gives a chord
+// step five trials (α down to 1/16) and a Newton step down to α = 10⁻¹², and takes its
+// indefinite-Hessian rule from the caller; the step rule gives a chord step two trials, first
+// searches δ scaled per vertex by its own bound where an obstacle bounds the step, passes steps
+// whose predicted decrease is below roundoff, keeps JᵀJ for its Newton steps while they contract
+// tenfold, and may solve Newton steps by PCG on the kept factor.
 #pragma once
 
 #include <Eigen/Core>
@@ -108,18 +110,44 @@ class NewtonLoop {
   Eigen::VectorXd solve(const Eigen::VectorXd& b, NewtonResult& result);
 
  private:
+  // How a run searches along a step (searchStep).
+  struct LineSearch {
+    int chordTrials = 2;               // trials a chord step gets before a Newton step instead
+    double smallestStep = 1e-10;       // α below which a Newton step's search fails
+    bool scaleByVertexBounds = false;  // first search δ scaled per vertex by its obstacle bound
+    bool acceptBelowRoundoff = false;  // pass a step whose predicted decrease is below roundoff
+  };
+  // The policies of one run besides its stop rule (StaticStop, StepStop in newton_loop.cpp):
+  // the Newton steps' Hessian and what to do where it is indefinite, the linear step (a factor,
+  // chord steps on the kept factor, PCG preconditioned by it) and the line search.
+  struct Policy {
+    curvature::SecondDerivatives hessian = curvature::SecondDerivatives::Exact;
+    IndefiniteHessian indefinite = IndefiniteHessian::GaussNewton;
+    // Keep the Gauss–Newton matrix after an indefinite Hessian while its steps contract tenfold.
+    bool keepGaussNewton = false;
+    bool chordSteps = true;
+    bool preconditionedSteps = false;  // StepStopRule's
+    double pcgTolerance = 0.1;
+    int pcgMaxIterations = 4;
+    LineSearch search;
+    bool progress = false;  // one line per accepted step on stderr
+  };
+  class StaticStop;
+  class StepStop;
+
+  template <class Stop>
+  NewtonResult iterate(Objective& objective, Eigen::VectorXd& y, const Stop& stop,
+                       const Policy& policy);
   HessianEvaluation evaluate(Objective& objective, const Eigen::VectorXd& y,
                              curvature::SecondDerivatives kind, NewtonResult& result);
-  bool factorNewtonStatic(Objective& objective, const Eigen::VectorXd& y,
-                          IndefiniteHessian indefinite, HessianEvaluation& h, NewtonResult& result);
-  void finishStatic(Objective& objective, Eigen::VectorXd& y, const HessianEvaluation& at,
-                    const Eigen::VectorXd& delta, const std::string& why,
-                    const StaticStopRule& rule, NewtonResult& result);
+  bool factorNewton(Objective& objective, const Eigen::VectorXd& y, IndefiniteHessian indefinite,
+                    bool fallback, HessianEvaluation& h, NewtonResult& result);
   bool preconditionedStep(const std::vector<double>& hessian, const Eigen::VectorXd& gradient,
-                          const StepStopRule& rule, Eigen::VectorXd& delta, NewtonResult& result);
-  bool searchStep(Objective& objective, const Eigen::VectorXd& y, const Eigen::VectorXd& gradient,
-                  const Eigen::VectorXd& delta, double value, double decrement, double bound,
-                  bool chord, Eigen::VectorXd& trial, HessianEvaluation& trialAt, bool& shortened);
+                          const Policy& policy, Eigen::VectorXd& delta, NewtonResult& result);
+  bool searchStep(Objective& objective, const Eigen::VectorXd& y, const HessianEvaluation& at,
+                  const Eigen::VectorXd& delta, double decrement, double bound, bool chord,
+                  const LineSearch& search, Eigen::VectorXd& trial, HessianEvaluation& trialAt,
+                  bool& shortened);
 
   const HessianAssembly& assembly_;
   HessianFactorization& factorization_;
