@@ -69,18 +69,17 @@ optimize::ModesSpec modesSpec(const ModesOptions& o) {
     for (size_t j = 0; j < i; ++j)
       if (o.energies[i] == o.energies[j])
         throw InputError("--energy: " + o.energies[i] + " is given twice");
-  optimize::ModesSpec spec;
-  spec.modes.count = o.count;
-  spec.modes.support = optimize::parseSupport(o.support);
-  spec.modes.mass = modeling::parseMassLumping(o.mass, "ModesOptions.mass");
-  spec.modes.density = o.density;
-  spec.modes.bendingStiffness = o.stiffness;
-  spec.modes.length = o.length;
-  spec.modes.dof = optimize::parseDofMode(o.dof, "ModesOptions.dof");
-  if (!o.clamp.empty()) spec.clamp = optimize::parseClamp(o.clamp);
-  spec.membrane = !o.membrane.model.empty();
-  spec.validate();
-  return spec;
+  optimize::ModesWords words;
+  words.count = o.count;
+  words.support = o.support;
+  words.mass = o.mass;
+  words.density = o.density;
+  words.bendingStiffness = o.stiffness;
+  words.length = o.length;
+  words.dof = o.dof;
+  words.clamp = o.clamp;
+  words.membrane = !o.membrane.model.empty();
+  return optimize::modesSpec(words);
 }
 
 // One run per --energy, with its bending options and its clamp (ModesSpec::forEnergy).

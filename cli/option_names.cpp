@@ -8,10 +8,11 @@
 namespace flexure::cli {
 namespace {
 
-// One row per option field that a library message may name, grouped by subsystem.
-const std::vector<modeling::FieldName>& fieldFlags() {
-  static const std::vector<modeling::FieldName> rows = {
-      // minimize, energies, membranes
+// Rows: one per option field that a library message may name, a table per subsystem.
+
+// Minimize, energies, membranes, plasticity and forming.
+std::vector<modeling::FieldName> solveFlags() {
+  return {
       {"ProblemOptions.dof", "--dof"},
       {"ProblemOptions.membrane", "--membrane"},
       {"ProblemOptions.fixedRings", "--fix rings:K"},
@@ -47,7 +48,12 @@ const std::vector<modeling::FieldName>& fieldFlags() {
       {"FormingOptions.maxUpdatesPerStep", "the forming's update limit"},
       {"FormingOptions.tolerance", "the forming's tolerance"},
       {"BoundaryConditions.fixedVertex", "--fix"},
-      // dynamics, modes, spectra, obstacles
+  };
+}
+
+// Time stepping: integrator, damping, pins and their motions, steps.
+std::vector<modeling::FieldName> dynamicsFlags() {
+  return {
       {"DynamicsOptions.integrator", "--integrator"},
       {"DynamicsOptions.beta", "--beta"},
       {"DynamicsOptions.gamma", "--gamma"},
@@ -67,7 +73,12 @@ const std::vector<modeling::FieldName>& fieldFlags() {
       {"TimeSteps.minDt", "--min-dt"},
       {"TimeSteps.duration", "--duration"},
       {"SimulationSpec.checkpointed", "--checkpoint / --resume"},
-      // studies, fairing, meshes, regions
+  };
+}
+
+// Studies, fairing, membranes, modes, spectra, meshes and fracture.
+std::vector<modeling::FieldName> studyFlags() {
+  return {
       {"StudyOptions.energies", "--energies"},
       {"StudyOptions.families", "--families"},
       {"StudyOptions.userMeshes", "--mesh"},
@@ -103,7 +114,12 @@ const std::vector<modeling::FieldName>& fieldFlags() {
       {"GeneratorOptions.aspect", "--aspect"},
       {"FractureOptions.fractureStrain", "--fracture-strain"},
       {"FractureOptions.thickness", "--thickness"},
-      // the comparison figure (flexure compare)
+  };
+}
+
+// The comparison figure and renders.
+std::vector<modeling::FieldName> figureFlags() {
+  return {
       {"ComparisonOptions.rows", "--families/--mesh"},
       {"ComparisonOptions.energies", "--energies"},
       {"ComparisonOptions.size", "--size"},
@@ -129,6 +145,17 @@ const std::vector<modeling::FieldName>& fieldFlags() {
       {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
       {"RenderOptions.crackEdges", "the lips of the cracks drawn in the frames"},
   };
+}
+
+const std::vector<modeling::FieldName>& fieldFlags() {
+  static const std::vector<modeling::FieldName> rows = [] {
+    std::vector<modeling::FieldName> all;
+    for (auto table : {solveFlags, dynamicsFlags, studyFlags, figureFlags}) {
+      std::vector<modeling::FieldName> part = table();
+      all.insert(all.end(), part.begin(), part.end());
+    }
+    return all;
+  }();
   return rows;
 }
 

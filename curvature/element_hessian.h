@@ -11,6 +11,8 @@
 #include <ceres/jet.h>
 #include <Eigen/Core>
 #include <array>
+#include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -23,6 +25,7 @@
 #include "curvature/quadratic_fit.h"
 #include "curvature/second_order_jet.h"
 #include "curvature/triangle_averaged.h"
+#include "modeling/errors.h"
 
 namespace flexure::curvature {
 
@@ -43,6 +46,15 @@ struct ElementHessian {
 // Projected: each exact ∇²E_e projected to positive semidefinite (projected_hessian.h), asked of
 // the assembly; it hands the elements Exact.
 enum class SecondDerivatives { Exact, GaussNewton, None, Projected };
+// The names users give them: "exact", "gauss-newton", "none", "projected". InputError otherwise.
+inline SecondDerivatives parseSecondDerivatives(std::string_view name) {
+  if (name == "exact") return SecondDerivatives::Exact;
+  if (name == "gauss-newton") return SecondDerivatives::GaussNewton;
+  if (name == "none") return SecondDerivatives::None;
+  if (name == "projected") return SecondDerivatives::Projected;
+  throw InputError("second derivatives " + std::string(name) +
+                   ": expected exact, gauss-newton, none or projected");
+}
 
 // Receives the elements' Hessians one at a time.
 class ElementHessianSink {

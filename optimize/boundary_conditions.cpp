@@ -25,6 +25,29 @@ BoundaryNormals parseBoundaryNormals(std::string_view name) {
                    ": expected clamped or free");
 }
 
+BoundaryConditions withHeldValues(BoundaryConditions bc, const Positions& held,
+                                  const std::optional<Eigen::VectorXd>& heldXi) {
+  if (held.rows() != bc.start.rows())
+    throw InputError("held values: " + std::to_string(held.rows()) + " rows for a mesh of " +
+                     std::to_string(bc.start.rows()) + " vertices");
+  const bool holdsXi =
+      std::find(bc.fixedEdge.begin(), bc.fixedEdge.end(), true) != bc.fixedEdge.end();
+  bool moved = false;
+  for (Eigen::Index v = 0; v < held.rows() && !moved; ++v)
+    moved = bc.fixedVertex[v] && bc.start.row(v) != held.row(v);
+  if (holdsXi && moved && !heldXi)
+    throw InputError(
+        "held ξ: the problem holds ξ on its boundary edges (the clamp of its boundary), and the "
+        "held vertices given are not its own; give the ξ that clamp them (e.g. those of a problem "
+        "with their boundary surface), or the old clamp would stay");
+  if (heldXi && heldXi->size() != bc.xi.size())
+    throw InputError("held ξ: " + std::to_string(heldXi->size()) + " values for " +
+                     std::to_string(bc.xi.size()) + " edge unknowns");
+  bc.start = held;
+  if (heldXi) bc.xi = *heldXi;
+  return bc;
+}
+
 std::vector<bool> freeUnknownMask(const std::vector<bool>& heldVertex,
                                   const std::vector<bool>& heldEdge, DofMode dof) {
   const size_t vertexCount = heldVertex.size();

@@ -27,6 +27,13 @@ struct BoundaryConditions {
   Eigen::VectorXd xi;             // #E: values of the held ξ, start of the free ones
 };
 
+// `bc` with its held vertices at `held`'s rows (#V by 3; the free rows stay bc's starts) and, when
+// given, its held ξ at `heldXi` (#E): the same held unknowns at other values. InputError when a
+// size does not match, or when bc holds ξ, no ξ are given and a held vertex moves: the held ξ
+// are the clamp of bc's own held values (midedge's boundary normals) and do not follow others.
+BoundaryConditions withHeldValues(BoundaryConditions bc, const Positions& held,
+                                  const std::optional<Eigen::VectorXd>& heldXi);
+
 // Which unknowns a solve moves, in HessianAssembly's numbering (coordinate c of vertex v is 3v + c,
 // ξ_e is 3 #V + e): the coordinates of the vertices not held (z only in height mode), then the ξ
 // not held (`heldEdge`: #E, or empty when the energy owns no edge unknowns).

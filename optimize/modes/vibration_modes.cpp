@@ -412,6 +412,21 @@ void ModesOptions::validate() const {
   if (!(density > 0.0)) throw InputError("ModesOptions.density: expected a value > 0");
 }
 
+ModesSpec modesSpec(const ModesWords& words) {
+  ModesSpec spec;
+  spec.modes.count = words.count;
+  spec.modes.support = parseSupport(words.support);
+  spec.modes.mass = modeling::parseMassLumping(words.mass, "ModesOptions.mass");
+  spec.modes.density = words.density;
+  spec.modes.bendingStiffness = words.bendingStiffness;
+  spec.modes.length = words.length;
+  spec.modes.dof = parseDofMode(words.dof, "ModesOptions.dof");
+  if (!words.clamp.empty()) spec.clamp = parseClamp(words.clamp);
+  spec.membrane = words.membrane;
+  spec.validate();
+  return spec;
+}
+
 void ModesSpec::validate() const {
   modes.validate();
   if (clamp && modes.support != Support::Clamped)

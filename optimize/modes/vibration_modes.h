@@ -85,6 +85,18 @@ struct ModesSpec {
   ModesOptions forEnergy(const curvature::BendingOptions& bending) const;
 };
 
+// A modes run as a person gives it (the command's flags, Python's keywords): the names of the
+// support, mass lumping, dof and clamp (empty: none given), the numbers as they are.
+struct ModesWords {
+  int count = 12;
+  std::string support = "clamped", mass = "barycentric", dof = "height", clamp;
+  double density = 1.0, bendingStiffness = 1.0, length = 0.0;
+  bool membrane = false;
+};
+// The spec the words say, each name parsed beside its enum, validated (InputError naming the
+// fields).
+ModesSpec modesSpec(const ModesWords& words);
+
 // Height mode moves each vertex along z only: the transverse motion of a plate flat in the xy
 // plane and nothing meaningful on a curved surface, whose z motions are partly tangential. A rest
 // is flat when its z range is at most kFlatRestTolerance times its bounding box's largest side.

@@ -38,18 +38,18 @@ struct ModesArguments : MembraneFields {
 // The arguments mapped to the library's spec of a modes run, validated, and the options for the
 // one energy (optimize::ModesSpec holds the rules; withKeywordNames names the keywords).
 optimize::ModesOptions modesOptions(const ModesArguments& a, const curvature::BendingOptions& b) {
-  optimize::ModesSpec spec;
-  spec.modes.count = a.count;
-  spec.modes.support = optimize::parseSupport(a.support);
-  spec.modes.mass = modeling::parseMassLumping(a.mass, "ModesOptions.mass");
-  spec.modes.density = a.density;
-  spec.modes.bendingStiffness = b.stiffness;
-  spec.modes.length = a.length;
-  spec.modes.dof = optimize::parseDofMode(a.dof, "ModesOptions.dof");
-  if (a.clamp) spec.clamp = optimize::parseClamp(*a.clamp);
-  spec.membrane = a.membrane.has_value();
+  optimize::ModesWords words;
+  words.count = a.count;
+  words.support = a.support;
+  words.mass = a.mass;
+  words.density = a.density;
+  words.bendingStiffness = b.stiffness;
+  words.length = a.length;
+  words.dof = a.dof;
+  words.clamp = a.clamp.value_or("");
+  words.membrane = a.membrane.has_value();
+  optimize::ModesSpec spec = optimize::modesSpec(words);
   if (a.fixed) spec.modes.extraFixed = *a.fixed;
-  spec.validate();
   return spec.forEnergy(b);
 }
 

@@ -154,19 +154,12 @@ std::unique_ptr<BoundProblem> makeProblem(const PositionsRef& restV, const Trian
   return std::make_unique<BoundProblem>(optimize::buildProblem(rest, options), options.bending);
 }
 
-curvature::SecondDerivatives secondDerivatives(const std::string& kind) {
-  if (kind == "exact") return curvature::SecondDerivatives::Exact;
-  if (kind == "gauss-newton") return curvature::SecondDerivatives::GaussNewton;
-  if (kind == "none") return curvature::SecondDerivatives::None;
-  throw InputError("kind " + kind + ": expected exact, gauss-newton or none");
-}
-
 // (E, ∇E (n), the Hessian's upper-triangle values on the pattern, empty for kind "none").
 py::tuple evaluateProblem(BoundProblem& p, const Eigen::VectorXd& y, const std::string& kind) {
   if (y.size() != p.assembly().size())
     throw InputError("x has " + std::to_string(y.size()) + " entries, the problem " +
                      std::to_string(p.assembly().size()) + " free unknowns");
-  const curvature::SecondDerivatives second = secondDerivatives(kind);
+  const curvature::SecondDerivatives second = curvature::parseSecondDerivatives(kind);
   optimize::HessianEvaluation e;
   {
     py::gil_scoped_release release;
@@ -287,15 +280,6 @@ py::tuple formProblem(const PositionsRef& restV, const TrianglesRef& F,
   return py::make_tuple(formed.positions, formed.xi, report);
 }
 
-// Whether `boundary` moves a held vertex of `bc` while `bc` holds ξ: the held ξ are the clamp of
-// bc's own held values, which do not follow other ones.
-bool heldValuesMove(const optimize::BoundaryConditions& bc, const PositionsRef& boundary) {
-  if (std::find(bc.fixedEdge.begin(), bc.fixedEdge.end(), true) == bc.fixedEdge.end()) return false;
-  for (int v = 0; v < bc.start.rows(); ++v)
-    if (bc.fixedVertex[v] && bc.start.row(v) != boundary.row(v)) return true;
-  return false;
-}
-
 // A LinearizedSolver on a problem's terms, rest state and held unknowns: J at rest and
 // J_freeᵀ J_free factored once; every solve takes new boundary values.
 class BoundLinearizedSolver {
@@ -314,22 +298,8 @@ class BoundLinearizedSolver {
   // (V, ξ, energies) for the held vertices at `boundary`'s rows (#V by 3; the free rows are
   // ignored) and the held ξ at `xi` (#E; the problem's when empty).
   py::tuple solve(const PositionsRef& boundary, const std::optional<Eigen::VectorXd>& xi) const {
-    optimize::BoundaryConditions bc = problem_.boundary;
-    if (boundary.rows() != bc.start.rows())
-      throw InputError("boundary_values has " + std::to_string(boundary.rows()) +
-                       " rows, the mesh " + std::to_string(bc.start.rows()) + " vertices");
-    if (!xi && heldValuesMove(bc, boundary))
-      throw InputError(
-          "xi: the problem holds ξ on its boundary edges (the clamp of its boundary), and the "
-          "held vertices of boundary_values are not its own; give the ξ that clamp them (e.g. "
-          "the start_xi of a Problem with their boundary_surface), or the old clamp would stay");
-    bc.start = boundary;
-    if (xi) {
-      if (xi->size() != bc.xi.size())
-        throw InputError("xi has " + std::to_string(xi->size()) + " entries, the problem " +
-                         std::to_string(bc.xi.size()) + " edge unknowns");
-      bc.xi = *xi;
-    }
+    const optimize::BoundaryConditions bc =
+        optimize::withHeldValues(problem_.boundary, boundary, xi);
     optimize::LinearizedSolution s;
     {
       py::gil_scoped_release release;

@@ -78,7 +78,7 @@ def test_linearized_solver_clamp_follows_the_boundary_values():
     first, other = (flexure.Problem(V_rest, F, energy="midedge", boundary_surface=s,
                                     linearized_clamp=True) for s in SURFACES[:2])
     solver = flexure.LinearizedSolver(first)
-    with pytest.raises(ValueError, match="^xi: the problem holds ξ on its boundary edges"):
+    with pytest.raises(ValueError, match="^held ξ: the problem holds ξ on its boundary edges"):
         solver.solve(other.start_positions)
     V, _ = solver.solve(other.start_positions, other.start_xi)
     one_off, _ = flexure.minimize(other, linearized=True)

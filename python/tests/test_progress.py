@@ -50,7 +50,7 @@ def test_minimize_reports_every_iteration(solver):
     assert len(calls) >= report["iterations"]
 
 
-def test_an_exception_in_progress_stops_the_solve_and_propagates(tmp_path):
+def test_an_exception_in_progress_stops_the_solve_and_propagates():
     V, F = flexure.mesh("patch48", 8)
     calls = []
 
@@ -58,15 +58,13 @@ def test_an_exception_in_progress_stops_the_solve_and_propagates(tmp_path):
         calls.append(at)
         raise KeyboardInterrupt
 
-    out = tmp_path / "out.obj"
     with pytest.raises(KeyboardInterrupt):
-        W, _ = flexure.minimize(V, F, energy="hinge", boundary_surface=SURFACE, start="given",
-                                progress=stop)
-        flexure.write_mesh(out, W, F)
-    assert len(calls) == 1 and not out.exists()
+        flexure.minimize(V, F, energy="hinge", boundary_surface=SURFACE, start="given",
+                         progress=stop)
+    assert len(calls) == 1  # stopped at the first iteration, not after the solve
 
 
-def test_ctrl_c_stops_the_solve_within_an_iteration(tmp_path, interruptible):
+def test_ctrl_c_stops_the_solve_within_an_iteration(interruptible):
     # SIGINT as Ctrl-C sends it, during the solve: the solve stops at its next iteration.
     V, F = flexure.mesh("patch48", 8)
     calls = []
@@ -76,12 +74,10 @@ def test_ctrl_c_stops_the_solve_within_an_iteration(tmp_path, interruptible):
         if len(calls) == 2:
             os.kill(os.getpid(), signal.SIGINT)
 
-    out = tmp_path / "out.obj"
     with pytest.raises(KeyboardInterrupt):
-        W, _ = flexure.minimize(V, F, energy="hinge", boundary_surface=SURFACE, start="given",
-                                progress=interrupt)
-        flexure.write_mesh(out, W, F)
-    assert len(calls) == 2 and not out.exists()
+        flexure.minimize(V, F, energy="hinge", boundary_surface=SURFACE, start="given",
+                         progress=interrupt)
+    assert len(calls) == 2  # the interrupt is seen before a third iteration
     # The module is usable afterwards.
     _, report = flexure.minimize(V, F, energy="hinge", boundary_surface=SURFACE)
     assert report["converged"]
@@ -108,7 +104,7 @@ def test_form_stops_on_ctrl_c(interruptible):
                      yield_curvature=0.1, load_steps=2, progress=interrupt)
 
 
-def test_fair_reports_progress_and_stops_on_ctrl_c(tmp_path, interruptible):
+def test_fair_reports_progress_and_stops_on_ctrl_c(interruptible):
     V, F = flexure.mesh("delaunay", 8, seed=3)
     W = bent(V, 9, amplitude=0.02)
     calls, progress = recorder()
@@ -117,14 +113,15 @@ def test_fair_reports_progress_and_stops_on_ctrl_c(tmp_path, interruptible):
     assert all(math.isfinite(c["energy"]) for c in calls)
     assert calls[-1]["energy"] <= calls[0]["energy"]
 
+    interrupts = []
+
     def interrupt(at):
+        interrupts.append(at)
         os.kill(os.getpid(), signal.SIGINT)
 
-    out = tmp_path / "faired.obj"
     with pytest.raises(KeyboardInterrupt):
-        faired, _ = flexure.fair(W, F, region="all-interior", start="input", progress=interrupt)
-        flexure.write_mesh(out, faired, F)
-    assert not out.exists()
+        flexure.fair(W, F, region="all-interior", start="input", progress=interrupt)
+    assert len(interrupts) == 1  # stopped at the iteration the interrupt came in
 
 
 def test_simulation_run_reports_every_step_and_stops_when_asked():
