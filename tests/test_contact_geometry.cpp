@@ -334,6 +334,18 @@ TEST(ContactGeometry, ImpactTimeIsOneForMotionsThatStayApart) {
   EXPECT_EQ(edgeEdgeTime(still), 1.0);
 }
 
+// A point 10⁻⁶ above the triangle sliding 10 along it: the advancement's steps are 10⁻⁷ long,
+// so the step cap ends it early, at a time still safe.
+TEST(ContactGeometry, ImpactTimeStopsAtTheStepCapWithASafeTime) {
+  const std::array<Vector3d, 8> graze = {
+      Vector3d(0.1, 0.1, 1e-6), Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0),
+      Vector3d(10, 0, 0),       Vector3d::Zero(),  Vector3d::Zero(),  Vector3d::Zero()};
+  const double t = pointTriangleTime(graze);
+  EXPECT_GT(t, 0.0);
+  EXPECT_LT(t, 0.01);
+  EXPECT_GE(pointTriangleDistanceAt(graze, t), 1e-7);
+}
+
 TEST(ContactGeometry, ImpactTimeRefusesAGapFractionOutsideTheUnitInterval) {
   const Vector3d z = Vector3d::Zero(), x = Vector3d::UnitX(), y = Vector3d::UnitY(), p(0.2, 0.2, 1);
   EXPECT_THROW(optimize::pointTriangleImpactTime(p, z, x, y, -x, z, z, z, 0.0), InputError);

@@ -11,9 +11,9 @@
 namespace flexure::optimize {
 namespace {
 
-// The cap on the advancement's steps: each step covers at least a tenth of (1 − s) d(0) / l, so
-// it binds only when the motion is longer than about 10⁴ (1 − s) start distances.
-constexpr int kMaxSteps = 1000;
+// The cap on the advancement's steps: each step but the last covers at least a tenth of
+// (1 − s) d(0) / l, so the cap binds only when l > 1000 (1 − s) d(0).
+constexpr int kMaxSteps = 10000;
 // The advancement stops once the distance left above the gap is below this fraction of d(0) − g.
 constexpr double kStopFraction = 0.1;
 
