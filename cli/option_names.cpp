@@ -25,6 +25,8 @@ std::vector<modeling::FieldName> solveFlags() {
       {"ProblemOptions.load.gravity", "--gravity"},
       {"ProblemOptions.load.density", "--density"},
       {"ProblemOptions.obstacles", "--obstacle"},
+      {"ProblemOptions.selfContact", "--self-contact"},
+      {"ProblemOptions.contactOffset", "--contact-offset"},
       {"LoadOptions.mass", "--mass"},
       {"ProblemOptions.fixedEdge", "--pin rings:K"},
       // no flag: fair sets it to the start's shape

@@ -209,6 +209,16 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
                   "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");
   addLoadArguments(*sub, o.load);
+  sub->add_option("--self-contact", o.selfContact,
+                  "on: every vertex-face and edge-edge pair of the shell closer than "
+                  "--contact-offset repels (a log barrier), and no step lets two parts pass "
+                  "through each other (continuous collision detection); off: the shell may pass "
+                  "through itself")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
+  sub->add_option("--contact-offset", o.contactOffset,
+                  "Self-contact: the distance below which two parts of the shell repel (default: "
+                  "a quarter of the mean rest edge length)");
   sub->add_option("--integrator", o.integrator,
                   "newmark (average acceleration: conserves energy) | backward-euler "
                   "(dissipates) | central-difference (explicit)")

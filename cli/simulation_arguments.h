@@ -36,6 +36,8 @@ struct SimulateOptions {
   std::string fingerprint;  // the options that decide the motion, as a checkpoint records them
   double fractureStrain = 0.0, thickness = 0.0;  // ε_f (0: no fracture) and h
   PlasticityArguments plasticity;                // yield values and hardening (no forming)
+  std::string selfContact = "on";                // on | off
+  double contactOffset = 0.0;                    // d̂; 0: the rule's
 };
 
 // How the frame images look (none with --render-style none), and the --video checks.

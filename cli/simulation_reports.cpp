@@ -150,6 +150,25 @@ void printPlasticSummary(const optimize::PlasticityOptions& options,
                plastic.dissipation());
 }
 
+// The self-contact over the run (optimize::TimeStepper::ContactStatistics): its offset, the
+// smallest distance between repelling primitives at a step's end (null: none came within the
+// offset), the pairs within it per step, and the share of the run's time in collision detection.
+nlohmann::json contactReport(const optimize::TimeStepper& stepper, double seconds) {
+  if (stepper.selfContact().empty()) return {{"self_contact", false}};
+  const optimize::TimeStepper::ContactStatistics& c = stepper.contactStatistics();
+  return {
+      {"self_contact", true},
+      {"offset", stepper.selfContact().layer()},
+      {"smallest_distance", std::isfinite(c.smallestDistance) ? nlohmann::json(c.smallestDistance)
+                                                              : nlohmann::json(nullptr)},
+      {"pairs_per_step",
+       {{"mean", c.steps > 0 ? c.pairs / static_cast<double>(c.steps) : 0.0},
+        {"peak", c.peakPairs}}},
+      {"detection_seconds", c.detectionSeconds},
+      {"detection_share", c.detectionSeconds / std::max(seconds, 1e-9)},
+      {"pattern_growths", c.patternGrowths}};
+}
+
 nlohmann::json simulationReport(const SimulateOptions& o, const std::string& energyName,
                                 const optimize::DynamicsOptions& dynamics,
                                 const optimize::FracturingDynamics& fracturing, const Run& run,
@@ -191,6 +210,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
     report["obstacle_layer"] = stepper.barrier().layer();
     report["smallest_obstacle_distance"] = recording.smallestDistance;
   }
+  report["contact"] = contactReport(stepper, run.seconds);
   if (fracturing.fractures()) report["fracture"] = fractureReport(o, fracturing);
   return report;
 }

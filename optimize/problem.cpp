@@ -33,6 +33,12 @@ void ProblemOptions::validate() const {
     throw InputError("ProblemOptions.membraneRest has a coordinate that is not finite");
   if (boundaryPositions.size() > 0 && !boundaryPositions.allFinite())
     throw InputError("ProblemOptions.boundaryPositions has a coordinate that is not finite");
+  if (selfContact && dof != DofMode::Xyz)
+    throw InputError(
+        "ProblemOptions.selfContact moves every coordinate: expected ProblemOptions.dof xyz");
+  if (!(contactOffset >= 0.0) || !std::isfinite(contactOffset))
+    throw InputError("ProblemOptions.contactOffset " + numberText(contactOffset) +
+                     ": expected a length > 0");
   const curvature::EnergyEntry& entry = curvature::energyEntry(bending.discretization);
   if (!fixedEdge.empty() && !entry.restEdgeUnknowns)
     throw InputError("ProblemOptions.fixedEdge holds edge unknowns, which " + entry.name +
@@ -136,6 +142,9 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
   if (options.load.gravity) p.externalForce = p.mass * p.gravity.transpose();
   if (!options.obstacles.empty())
     p.obstacles = makeObstacleBarrier(options.obstacles, p.rest, p.mass, p.gravity);
+  if (options.selfContact)
+    p.selfContact =
+        makeSelfContact(p.stencils, p.rest.positions, p.mass, p.gravity, options.contactOffset);
   return p;
 }
 

@@ -18,6 +18,7 @@
 #include "modeling/stencils.h"
 #include "modeling/vertex_quantities.h"
 #include "optimize/assembly/obstacles.h"
+#include "optimize/assembly/self_contact.h"
 #include "optimize/boundary_conditions.h"
 
 namespace flexure::optimize {
@@ -57,6 +58,12 @@ struct ProblemOptions {
   bool linearizedClamp = false;
   LoadOptions load;
   std::vector<Obstacle> obstacles;  // the barrier of makeObstacleBarrier keeps vertices outside
+  // Self-contact (assembly/self_contact.h): every vertex–face and edge–edge pair of the mesh
+  // repels; xyz only. The time steps honour it; a static solve does not read it.
+  bool selfContact = false;
+  // The self-contact's offset d̂ (> 0): pairs closer than d̂ repel; 0 for the rule's ¼ of the mean
+  // rest edge length.
+  double contactOffset = 0.0;
 
   // InputError naming the field ("ProblemOptions.dof …") for options no mesh can satisfy.
   void validate() const;
@@ -82,6 +89,7 @@ struct Problem {
   Eigen::VectorXd mass;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   ObstacleBarrier obstacles;  // the stated rule's barrier of ProblemOptions.obstacles; empty: none
+  SelfContact selfContact;    // the rule's self-contact when ProblemOptions.selfContact; empty: off
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }
   bool usesEdgeUnknowns() const { return restXi.size() > 0; }

@@ -85,7 +85,8 @@ class Accumulator : public curvature::ElementHessianSink {
 
 HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
                                  const std::vector<bool>& free, int vertexCount,
-                                 curvature::Derivatives derivatives)
+                                 curvature::Derivatives derivatives,
+                                 const std::vector<std::array<int, 2>>& vertexCouplings)
     : terms_(std::move(terms)),
       derivatives_(derivatives),
       vertexCount_(vertexCount),
@@ -116,6 +117,15 @@ HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
         visit(unknowns, local);
       }
     }
+    for (const std::array<int, 2>& pair : vertexCouplings) {
+      unknowns.clear();
+      for (int v : pair)
+        for (int c = 0; c < 3; ++c) unknowns.push_back(3L * v + c);
+      local.clear();
+      for (long u : unknowns)
+        if (newIndex_[u] >= 0) local.push_back(newIndex_[u]);
+      visit(unknowns, local);
+    }
   };
   forEachElement([&](const std::vector<long>& all, const std::vector<int>& freeLocal) {
     for (int q : freeLocal)
@@ -141,6 +151,13 @@ HessianAssembly::HessianAssembly(std::vector<const EnergyTerm*> terms,
     rowIndex_.insert(rowIndex_.end(), begin, std::unique(begin, end));
     columnStart_[q + 1] = static_cast<int>(rowIndex_.size());
   }
+}
+
+int HessianAssembly::entry(int p, int q) const {
+  const auto begin = rowIndex_.begin() + columnStart_[q],
+             end = rowIndex_.begin() + columnStart_[q + 1];
+  const auto at = std::lower_bound(begin, end, p);
+  return at == end || *at != p ? -1 : static_cast<int>(at - rowIndex_.begin());
 }
 
 HessianEvaluation HessianAssembly::evaluate(const Positions& x, const Eigen::VectorXd& xi,

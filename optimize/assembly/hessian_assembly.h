@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -35,15 +36,21 @@ struct HessianEvaluation {
 
 class HessianAssembly {
  public:
-  // `free` has one entry per unknown (3 #V, + #E when a term uses ξ). Builds the pattern.
+  // `free` has one entry per unknown (3 #V, + #E when a term uses ξ). Builds the pattern: the
+  // pairs of free unknowns an element reads, and the 6 × 6 blocks of each vertex pair in
+  // `vertexCouplings` (pairs that no element couples, e.g. the self-contact's, contact/; they
+  // enter the pattern only, evaluate assembles none of their entries).
   HessianAssembly(std::vector<const EnergyTerm*> terms, const std::vector<bool>& free,
-                  int vertexCount, curvature::Derivatives derivatives);
+                  int vertexCount, curvature::Derivatives derivatives,
+                  const std::vector<std::array<int, 2>>& vertexCouplings = {});
 
   int size() const { return static_cast<int>(freeUnknowns_.size()); }
   // freeUnknowns()[k] = the unknown renumbered k.
   const std::vector<int>& freeUnknowns() const { return freeUnknowns_; }
   const std::vector<int>& columnStart() const { return columnStart_; }
   const std::vector<int>& rowIndex() const { return rowIndex_; }
+  // The entry of the upper triangle's (row p ≤ column q) in the pattern's order, −1 when absent.
+  int entry(int p, int q) const;
 
   // E, ∇E and ∇²E at (x, ξ), on the machine's cores. `fixedMove` (all unknowns; read at the fixed
   // ones) fills fixedCoupling. Throws NumericalError naming a degenerate element.

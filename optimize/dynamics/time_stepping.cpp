@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 
 #include "modeling/errors.h"
@@ -116,9 +117,10 @@ struct TimeStepper::Implicit {
   double factorStep = 0.0;
 
   Implicit(const std::vector<const curvature::EnergyTerm*>& terms, const std::vector<bool>& free,
-           int vertexCount, const Positions& rest)
-      : assembly(terms, free, vertexCount, curvature::Derivatives::All),
-        factorization(assembly, hessianOrder(assembly, rest)),
+           int vertexCount, const Positions& orderAt,
+           const std::vector<std::array<int, 2>>& couplings)
+      : assembly(terms, free, vertexCount, curvature::Derivatives::All, couplings),
+        factorization(assembly, hessianOrder(assembly, orderAt)),
         loop(assembly, factorization) {}
 
   // The matrix K (stiffness-proportional damping, on the pattern) times y over the free unknowns.
@@ -246,7 +248,8 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
       options_(options),
       mass_(problem.mass),
       gravity_(problem.gravity),
-      barrier_(problem.obstacles) {
+      barrier_(problem.obstacles),
+      selfContact_(problem.selfContact) {
   const DynamicsOptions& o = options_;
   o.validate();
   if (problem.dof != DofMode::Xyz)
@@ -257,6 +260,10 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
         "ProblemOptions.obstacles: the explicit central-difference scheme cannot keep vertices "
         "outside; use "
         "newmark or backward-euler");
+  if (o.integrator == Integrator::CentralDifference && !selfContact_.empty())
+    throw InputError(
+        "ProblemOptions.selfContact: the explicit central-difference scheme cannot keep the shell "
+        "from passing through itself; use newmark or backward-euler");
   const modeling::RestState& rest = problem.rest;
   const Eigen::VectorXd& restXi = problem.restXi;
   const int vertexCount = problem.stencils.vertexCount();
@@ -269,8 +276,16 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   for (size_t e = 0; e < freeEdge_.size(); ++e) freeEdge_[e] = !problem.boundary.fixedEdge[e];
   if (o.integrator == Integrator::CentralDifference) return;
 
-  const std::vector<bool> free = freeUnknownMask(pinned_, problem.boundary.fixedEdge, DofMode::Xyz);
-  implicit_ = std::make_unique<Implicit>(terms_, free, vertexCount, rest.positions);
+  free_ = freeUnknownMask(pinned_, problem.boundary.fixedEdge, DofMode::Xyz);
+  restPositions_ = rest.positions;
+  restXi_ = restXi;
+  buildImplicit(rest.positions);
+}
+
+void TimeStepper::buildImplicit(const Positions& orderAt) {
+  const DynamicsOptions& o = options_;
+  const int vertexCount = static_cast<int>(restPositions_.rows());
+  implicit_ = std::make_unique<Implicit>(terms_, free_, vertexCount, orderAt, couplings_);
   Implicit& im = *implicit_;
   const std::vector<int>& unknowns = im.assembly.freeUnknowns();
   im.mass = Eigen::VectorXd::Zero(im.assembly.size());
@@ -282,7 +297,7 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   if (o.rayleighStiffness > 0.0) {
     // K̄ = JᵀJ at rest (every residual vanishes there), kept on the vertex unknowns only.
     im.restValues = im.assembly
-                        .evaluate(rest.positions, restXi, HessianProjection::Exact, nullptr,
+                        .evaluate(restPositions_, restXi_, HessianProjection::Exact, nullptr,
                                   curvature::SecondDerivatives::GaussNewton)
                         .values;
     im.keepVertexEntries(im.restValues);
@@ -290,7 +305,7 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   if (o.bendingDamping > 0.0) {
     im.bending =
         std::make_unique<HessianAssembly>(std::vector<const curvature::EnergyTerm*>{terms_.front()},
-                                          free, vertexCount, curvature::Derivatives::All);
+                                          free_, vertexCount, curvature::Derivatives::All);
     const std::vector<int>& start = im.bending->columnStart();
     const std::vector<int>& row = im.bending->rowIndex();
     const std::vector<int>& fullStart = im.assembly.columnStart();
@@ -312,6 +327,7 @@ Positions TimeStepper::accelerationFromForces(const Positions& x, const Eigen::V
   const EnergyGradient e = energyGradient(terms_, x, xi);
   Positions contact = Positions::Zero(x.rows(), 3);
   barrier_.addGradient(x, contact);
+  selfContact_.addGradient(x, contact);
   Positions a = Positions::Zero(x.rows(), 3);
   for (int v = 0; v < x.rows(); ++v) {
     if (pinned_[v]) continue;
@@ -339,6 +355,9 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   movePins(x_, &v_, 0.0);
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
+  selfContact_.exemptClosePairs(x_);
+  selfContact_.requireApart(x_, "the start");
+  contactStatistics_ = ContactStatistics();
   time_ = 0.0;
   if (implicit_) implicit_->loop.forget();
   barrier_.resetStiffness();
@@ -351,7 +370,7 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
 }
 
 TimeStepper::State TimeStepper::state() const {
-  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_};
+  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_, contactStatistics_};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -364,6 +383,7 @@ void TimeStepper::restore(const State& state) {
                      std::to_string(x_.rows()) + " vertices, " + std::to_string(xi_.size()) +
                      " edge unknowns)");
   barrier_.requireOutside(state.x, "the restored state");
+  selfContact_.requireApart(state.x, "the restored state");
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
   time_ = state.time;
   x_ = state.x;
@@ -371,6 +391,7 @@ void TimeStepper::restore(const State& state) {
   a_ = state.a;
   xi_ = state.xi;
   balance_ = state.balance;
+  contactStatistics_ = state.contact;
   forgetFactor();
   energies_ = energiesAt(time_, x_, v_, xi_);
 }
@@ -507,13 +528,15 @@ class TimeStepper::IncrementalPotential : public Objective {
  public:
   IncrementalPotential(const Implicit& im, Configuration fixedPart,
                        const std::vector<const curvature::EnergyTerm*>& terms,
-                       const ObstacleBarrier& barrier, const Eigen::Vector3d& gravity,
-                       const DynamicsOptions& o, double h, const Positions& xHat,
-                       const Positions& vHat, std::vector<double> stiffnessDamping)
+                       const ObstacleBarrier& barrier, const SelfContact& selfContact,
+                       const Eigen::Vector3d& gravity, const DynamicsOptions& o, double h,
+                       const Positions& xHat, const Positions& vHat,
+                       std::vector<double> stiffnessDamping)
       : Objective(im.assembly, std::move(fixedPart)),
         im_(im),
         terms_(terms),
         barrier_(barrier),
+        selfContact_(selfContact),
         rayleighMass_(o.rayleighMass),
         stiffnessDamping_(std::move(stiffnessDamping)) {
     const bool euler = o.integrator == Integrator::BackwardEuler;
@@ -545,6 +568,7 @@ class TimeStepper::IncrementalPotential : public Objective {
     HessianEvaluation e =
         im_.assembly.evaluate(at.positions, at.xi, HessianProjection::Exact, nullptr, kind);
     barrier_.add(im_.assembly, at.positions, e, kind != curvature::SecondDerivatives::Exact);
+    selfContact_.add(im_.assembly, at.positions, e);
     Eigen::VectorXd extraGradient;
     e.energy += inertiaDampingGravity(y, &extraGradient);
     e.gradient += extraGradient;
@@ -560,13 +584,29 @@ class TimeStepper::IncrementalPotential : public Objective {
     const Configuration at = configuration(y);
     double e = 0.0;
     for (const curvature::EnergyTerm* term : terms_) e += term->energy(at.positions, at.xi);
-    return e + inertiaDampingGravity(y, nullptr) + barrier_.energy(at.positions);  // +∞ inside
+    return e + inertiaDampingGravity(y, nullptr) + barrier_.energy(at.positions) +
+           selfContact_.energy(at.positions);  // +∞ inside an obstacle or where a pair touches
   }
 
+  // The obstacles' per-vertex bounds α_v, all scaled by the self-contact's bound on the motion
+  // they leave (each vertex moved by α_v δ_v), so that the scaled step is free of crossings too.
   Eigen::VectorXd vertexStepBounds(const Eigen::VectorXd& y,
                                    const Eigen::VectorXd& delta) override {
-    if (barrier_.empty()) return Eigen::VectorXd();
-    return barrier_.vertexStepBounds(configuration(y).positions, displacement(delta));
+    if (barrier_.empty() && selfContact_.empty()) return Eigen::VectorXd();
+    const Positions x = configuration(y).positions;
+    Positions dx = displacement(delta);
+    Eigen::VectorXd bounds =
+        barrier_.empty() ? Eigen::VectorXd::Ones(x.rows()) : barrier_.vertexStepBounds(x, dx);
+    if (selfContact_.empty()) return bounds;
+    for (Eigen::Index v = 0; v < dx.rows(); ++v) dx.row(v) *= bounds[v];
+    return bounds * selfContact_.stepBound(x, dx);
+  }
+
+  // The obstacles' bound on δ itself and the self-contact's on the same motion.
+  double stepBound(const Eigen::VectorXd& y, const Eigen::VectorXd& delta) override {
+    const Positions x = configuration(y).positions, dx = displacement(delta);
+    const double obstacles = barrier_.empty() ? 1.0 : barrier_.stepBound(x, dx);
+    return std::min(obstacles, selfContact_.stepBound(x, dx));
   }
 
   // 1e-14 of the sum of Φ's parts' magnitudes (E, B and the inertia are ≥ 0; the linear gravity
@@ -611,6 +651,7 @@ class TimeStepper::IncrementalPotential : public Objective {
   const Implicit& im_;
   const std::vector<const curvature::EnergyTerm*>& terms_;
   const ObstacleBarrier& barrier_;
+  const SelfContact& selfContact_;
   const double rayleighMass_;
   const std::vector<double> stiffnessDamping_;
   double massWeight_ = 0.0, dampingWeight_ = 0.0;
@@ -663,8 +704,30 @@ Eigen::VectorXd TimeStepper::startingPoint(IncrementalPotential& phi, double h) 
   return y;
 }
 
+void TimeStepper::prepareContact(const Positions& motion) {
+  selfContact_.liftExemptions(x_);
+  std::vector<std::array<int, 2>> wanted = selfContact_.couplings(x_, motion);
+  std::vector<std::array<int, 2>> merged;
+  std::set_union(couplings_.begin(), couplings_.end(), wanted.begin(), wanted.end(),
+                 std::back_inserter(merged));
+  if (merged.size() == couplings_.size()) return;
+  couplings_ = std::move(merged);
+  buildImplicit(x_);  // ordered where the contacts are, x_ (the rest state separates them)
+  ++contactStatistics_.patternGrowths;
+}
+
+void TimeStepper::countContact() {
+  if (selfContact_.empty()) return;
+  const ContactCensus census = selfContact_.census(x_);
+  ContactStatistics& c = contactStatistics_;
+  ++c.steps;
+  c.pairs += census.pairs;
+  c.peakPairs = std::max(c.peakPairs, census.pairs);
+  c.smallestDistance = std::min(c.smallestDistance, census.smallestDistance);
+  c.detectionSeconds += selfContact_.takeDetectionSeconds();
+}
+
 TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
-  Implicit& im = *implicit_;
   const DynamicsOptions& o = options_;
   const bool euler = o.integrator == Integrator::BackwardEuler;
   const double beta = euler ? 1.0 : o.beta, gamma = euler ? 1.0 : o.gamma;
@@ -682,8 +745,16 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
       return {false, 0, "pinned vertex " + std::to_string(vertex) + " is moved into an obstacle", 0,
               NewtonStop::Infeasible};
   }
-  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, gravity_, o, h, xHat,
-                           vHat, stiffnessDamping());
+  if (!selfContact_.empty()) {
+    // A pin moved through the shell would start every iterate on the far side of a pair.
+    if (selfContact_.stepBound(x_, moved - x_) < 1.0)
+      return {false, 0, "the pins' motion over the step brings the shell into contact with itself",
+              0, NewtonStop::Infeasible};
+    prepareContact(xHat - x_);
+  }
+  Implicit& im = *implicit_;  // after prepareContact, which may rebuild it
+  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, selfContact_, gravity_,
+                           o, h, xHat, vHat, stiffnessDamping());
   if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
     const Eigen::VectorXd y = phi.freeValues(Configuration{*probe->x, *probe->xi});
     const HessianEvaluation at = phi.evaluate(y, curvature::SecondDerivatives::Exact);
@@ -756,7 +827,7 @@ EnergySample TimeStepper::energiesAt(double t, const Positions& x, const Positio
     s.gravity -= mass_[k] * gravity_.dot(x.row(k).transpose());
   }
   for (const curvature::EnergyTerm* term : terms_) s.terms.push_back(term->energy(x, xi));
-  s.contact = barrier_.energy(x);
+  s.contact = barrier_.energy(x) + selfContact_.energy(x);
   return s;
 }
 
@@ -807,6 +878,7 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
   }
   balance_.record(e, dissipation, stiffeningWork, roundoff);
   e.contact += stiffeningWork;
+  countContact();
   energies_ = std::move(e);
   return outcome;
 }

@@ -41,6 +41,7 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/assembly/obstacles.h"
+#include "optimize/assembly/self_contact.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/newton_stop.h"
 
@@ -274,11 +275,21 @@ class TimeStepper {
 
   // Where a run is, to continue it later exactly (a checkpoint): the state, the contact
   // stiffness κ_v and the energy balance.
+  // The self-contact over the steps taken (assembly/self_contact.h; zeros when it is off).
+  struct ContactStatistics {
+    long steps = 0;      // steps counted
+    double pairs = 0.0;  // the pairs within the layer, summed over the steps
+    int peakPairs = 0;   // and their largest count after one step
+    double smallestDistance = std::numeric_limits<double>::infinity();  // over the steps' ends
+    double detectionSeconds = 0.0;  // in the broad phase and the collision filter
+    int patternGrowths = 0;         // Hessian patterns rebuilt with new contact couplings
+  };
   struct State {
     double time = 0.0;
     Positions x, v, a;
     Eigen::VectorXd xi, contactStiffness;
     EnergyBalance balance;
+    ContactStatistics contact;
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest
@@ -345,6 +356,8 @@ class TimeStepper {
   const Eigen::VectorXd& xi() const { return xi_; }
   const Eigen::VectorXd& masses() const { return mass_; }
   const ObstacleBarrier& barrier() const { return barrier_; }
+  const SelfContact& selfContact() const { return selfContact_; }
+  const ContactStatistics& contactStatistics() const { return contactStatistics_; }
   // The energies of the current state (computed with each step).
   const EnergySample& energies() const { return energies_; }
   const EnergyBalance& balance() const { return balance_; }
@@ -361,6 +374,15 @@ class TimeStepper {
                      double dissipation, Outcome outcome);
   struct Implicit;
   class IncrementalPotential;
+  // Builds the implicit scheme's Hessian pattern (the terms' and the contact couplings'), its
+  // fill-reducing order at `orderAt`, the rest stiffness and the bending damping on it.
+  void buildImplicit(const Positions& orderAt);
+  // Before a step moving the free vertices by about `motion` from x_: lifts the exemptions of
+  // pairs now apart and grows the pattern by the couplings of the pairs the motion may bring
+  // within the layer (a rebuild when any is new).
+  void prepareContact(const Positions& motion);
+  // Adds the current state's self-contact census to contactStatistics_.
+  void countContact();
   // One step; with `probe`, only Φ and its derivatives at the probe's point (stepObjective).
   Outcome implicitStep(double h, StepObjective* probe = nullptr);
   // The stiffness-proportional damping β K̄ + c K_B(x_n) of the next step on the pattern (empty:
@@ -385,6 +407,12 @@ class TimeStepper {
   double length_ = 1.0;
   std::vector<bool> freeEdge_;
   ObstacleBarrier barrier_;
+  SelfContact selfContact_;
+  std::vector<std::array<int, 2>> couplings_;  // the contact couplings in the pattern, sorted
+  ContactStatistics contactStatistics_;
+  std::vector<bool> free_;  // the free unknowns (freeUnknownMask)
+  Positions restPositions_;
+  Eigen::VectorXd restXi_;
   std::unique_ptr<Implicit> implicit_;
   double time_ = 0.0;
   Positions x_, v_, a_;

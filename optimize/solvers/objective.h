@@ -49,8 +49,9 @@ class Objective {
   // (outside the obstacles); empty when nothing bounds a step.
   virtual Eigen::VectorXd vertexStepBounds(const Eigen::VectorXd& y,
                                            const Eigen::VectorXd& delta) = 0;
-  // The longest feasible fraction of the whole step: min_v α_v, 1 when nothing bounds it.
-  double stepBound(const Eigen::VectorXd& y, const Eigen::VectorXd& delta);
+  // The longest feasible fraction of the whole step δ (min_v α_v, 1 when nothing bounds it, unless
+  // an objective bounds δ by more than its vertices' bounds, e.g. pairs that must not cross).
+  virtual double stepBound(const Eigen::VectorXd& y, const Eigen::VectorXd& delta);
   // The roundoff of a value near `value` at y, under which the line search cannot judge a
   // decrease.
   virtual double roundoff(const Eigen::VectorXd& y, double value) const = 0;

@@ -27,6 +27,8 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"ProblemOptions.load.gravity", "gravity"},
       {"ProblemOptions.load.density", "density"},
       {"ProblemOptions.obstacles", "obstacles"},
+      {"ProblemOptions.selfContact", "self_contact"},
+      {"ProblemOptions.contactOffset", "contact_offset"},
       {"LoadOptions.mass", "mass"},
       {"BoundaryConditions.fixedVertex rings:2", "fixed_rings=2"},
       {"BoundaryConditions.fixedVertex rings:K", "fixed_rings=K"},

@@ -58,6 +58,8 @@ struct SimulationArguments : MembraneFields {
   double density = 1.0;
   std::string mass = "barycentric";
   std::vector<std::string> obstacles;  // plane:nx,ny,nz,d | sphere:x,y,z,r
+  bool selfContact = true;
+  double contactOffset = 0.0;  // d̂; 0: the rule's
   std::string integrator = "newmark";
   double beta = 0.25, gamma = 0.5;
   double rayleighMass = 0.0, rayleighStiffness = 0.0, bendingDamping = 0.0;
@@ -134,6 +136,8 @@ optimize::ProblemOptions bodyOptions(const SimulationArguments& a) {
   p.load.mass = modeling::parseMassLumping(a.mass, "LoadOptions.mass");
   for (const std::string& spec : a.obstacles)
     p.obstacles.push_back(optimize::parseObstacle("obstacles", spec));
+  p.selfContact = a.selfContact;
+  p.contactOffset = a.contactOffset;
   return p;
 }
 
@@ -408,6 +412,8 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("density", &SimulationArguments::density)
       .def_readwrite("mass", &SimulationArguments::mass)
       .def_readwrite("obstacles", &SimulationArguments::obstacles)
+      .def_readwrite("self_contact", &SimulationArguments::selfContact)
+      .def_readwrite("contact_offset", &SimulationArguments::contactOffset)
       .def_readwrite("integrator", &SimulationArguments::integrator)
       .def_readwrite("beta", &SimulationArguments::beta)
       .def_readwrite("gamma", &SimulationArguments::gamma)
@@ -451,8 +457,22 @@ void bindSimulation(py::module_& m) {
           "pinned", [](const BoundSimulation& s) { return s.problem().boundary.fixedVertex; })
       .def_property_readonly("gravity",
                              [](const BoundSimulation& s) { return s.problem().gravity; })
-      .def_property_readonly("smallest_obstacle_distance", [](const BoundSimulation& s) {
-        return s.stepper().barrier().smallestDistance(s.stepper().positions());
+      .def_property_readonly(
+          "smallest_obstacle_distance",
+          [](const BoundSimulation& s) {
+            return s.stepper().barrier().smallestDistance(s.stepper().positions());
+          })
+      .def_property_readonly("contact", [](const BoundSimulation& s) {
+        const optimize::TimeStepper::ContactStatistics& c = s.stepper().contactStatistics();
+        py::dict d;
+        d["self_contact"] = !s.stepper().selfContact().empty();
+        d["offset"] = s.stepper().selfContact().layer();
+        d["smallest_distance"] = c.smallestDistance;
+        d["mean_pairs"] = c.steps > 0 ? c.pairs / c.steps : 0.0;
+        d["peak_pairs"] = c.peakPairs;
+        d["detection_seconds"] = c.detectionSeconds;
+        d["pattern_growths"] = c.patternGrowths;
+        return d;
       });
 }
 

@@ -137,6 +137,10 @@ class Simulation:
     motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
     library's ValueError naming the keyword (hardening, thickness).
 
+    Self-contact (docs/dynamics.md "Self-contact"): self_contact True (the default) makes every
+    vertex–face and edge–edge pair closer than contact_offset d̂ repel (default ¼ of the mean
+    rest edge length), and no step lets two parts of the shell pass through each other.
+
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
 
@@ -146,7 +150,8 @@ class Simulation:
                  obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
                  bending_damping=0.0, pin_motion=None, pin_groups=None,
                  max_newton_iterations=30, tolerance=1e-10, yield_curvature=None,
-                 yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0):
+                 yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
+                 self_contact=True, contact_offset=None):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -182,6 +187,9 @@ class Simulation:
         if isinstance(obstacles, str):
             raise ValueError("obstacles: expected a list of specs, e.g. [\"plane:0,0,1,-1\"]")
         a.obstacles = [str(o) for o in obstacles]
+        a.self_contact = bool(self_contact)
+        if contact_offset is not None:
+            a.contact_offset = _checks.number(contact_offset, "contact_offset", positive=True)
         a.integrator = str(integrator)
         a.beta = _checks.number(beta, "beta")
         a.gamma = _checks.number(gamma, "gamma")
@@ -351,6 +359,13 @@ class Simulation:
     def term_names(self):
         """The energy terms' names (the bending energy first, then the membrane's)."""
         return list(self._s.term_names)
+
+    def contact(self):
+        """The self-contact over the steps taken, as ``flexure simulate``'s report.json
+        ``contact``: whether it is on, its offset d̂ (L), the smallest distance between two
+        repelling primitives at a step's end, the pairs within d̂ per step (mean and peak), the
+        seconds spent in collision detection, and how often the Hessian pattern grew."""
+        return dict(self._s.contact)
 
     def energies(self):
         """The energies of the current state (k_B units) as ``flexure simulate``'s energies.csv:

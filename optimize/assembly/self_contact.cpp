@@ -1,0 +1,288 @@
+#include "optimize/assembly/self_contact.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "modeling/errors.h"
+#include "optimize/assembly/obstacles.h"
+#include "optimize/contact/broad_phase.h"
+#include "optimize/contact/continuous_collision.h"
+#include "optimize/contact/primitive_distance.h"
+
+namespace flexure::optimize {
+namespace {
+
+using Vector12 = Eigen::Matrix<double, 12, 1>;
+using Matrix12 = Eigen::Matrix<double, 12, 12>;
+
+Eigen::Vector3d row(const Positions& x, int v) {
+  return x.row(v).transpose();
+}
+
+// The nearest positive semidefinite matrix V max(Λ, 0) Vᵀ (Higham 1988).
+Matrix12 projected(const Matrix12& h) {
+  const Eigen::SelfAdjointEigenSolver<Matrix12> eigen(h);
+  if (eigen.eigenvalues().minCoeff() >= 0.0) return h;
+  const Eigen::Matrix<double, 12, 1> clamped = eigen.eigenvalues().cwiseMax(0.0);
+  return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The pairs the broad phase proposes at x over the motion dx (empty: static) within `inflation`.
+std::vector<ContactPair> candidates(const Positions& x, const Positions& dx,
+                                    const modeling::Triangles& faces,
+                                    const modeling::IndexPairs& edges, double inflation) {
+  const CandidatePairs found = contactCandidates(x, dx, faces, edges, inflation);
+  std::vector<ContactPair> pairs;
+  pairs.reserve(found.vertexFace.size() + found.edgeEdge.size());
+  for (const std::array<int, 2>& p : found.vertexFace)
+    pairs.push_back({ContactPair::Kind::VertexFace, p[0], p[1]});
+  for (const std::array<int, 2>& p : found.edgeEdge)
+    pairs.push_back({ContactPair::Kind::EdgeEdge, p[0], p[1]});
+  return pairs;
+}
+
+// Whether the pattern couples every two free vertices of `v` (`index`: each vertex coordinate's
+// free index, −1 when fixed; a vertex is pinned whole).
+bool patternCouples(const HessianAssembly& assembly, const std::vector<int>& index,
+                    const std::array<int, 4>& v) {
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) {
+      const int p = index[3 * v[a]], q = index[3 * v[b]];
+      if (p >= 0 && q >= 0 && assembly.entry(std::min(p, q), std::max(p, q)) < 0) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+SelfContact::SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, Positions rest,
+                         double layer, double stiffness)
+    : faces_(std::move(faces)),
+      edges_(std::move(edges)),
+      rest_(std::move(rest)),
+      layer_(layer),
+      stiffness_(stiffness) {
+  if (!(layer_ > 0.0) || !std::isfinite(layer_))
+    throw InputError("SelfContact: the contact layer d̂ must be > 0, got " + numberText(layer_));
+  if (!(stiffness_ > 0.0) || !std::isfinite(stiffness_))
+    throw InputError("SelfContact: the stiffness κ must be > 0, got " + numberText(stiffness_));
+}
+
+std::uint64_t SelfContact::key(const ContactPair& pair) {
+  return (std::uint64_t(pair.kind == ContactPair::Kind::EdgeEdge) << 62) |
+         (std::uint64_t(pair.first) << 31) | std::uint64_t(pair.second);
+}
+
+std::array<int, 4> SelfContact::vertices(const ContactPair& pair) const {
+  if (pair.kind == ContactPair::Kind::VertexFace)
+    return {pair.first, faces_(pair.second, 0), faces_(pair.second, 1), faces_(pair.second, 2)};
+  return {edges_(pair.first, 0), edges_(pair.first, 1), edges_(pair.second, 0),
+          edges_(pair.second, 1)};
+}
+
+double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x) const {
+  const std::array<int, 4> v = vertices(pair);
+  if (pair.kind == ContactPair::Kind::VertexFace)
+    return pointTriangleDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]));
+  return edgeEdgeDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]));
+}
+
+void SelfContact::exemptClosePairs(const Positions& x) {
+  if (empty()) return;
+  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, layer_)) {
+    const double squared = layer_ * layer_;
+    if (squaredDistance(pair, rest_) < squared && squaredDistance(pair, x) < squared)
+      exempt_.insert(key(pair));
+  }
+}
+
+void SelfContact::liftExemptions(const Positions& x) {
+  if (exempt_.empty()) return;
+  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, layer_))
+    if (exempt_.count(key(pair)) && squaredDistance(pair, x) >= layer_ * layer_)
+      exempt_.erase(key(pair));
+}
+
+std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Positions& x) const {
+  std::vector<std::pair<ContactPair, double>> active;
+  if (empty()) return active;
+  const auto start = std::chrono::steady_clock::now();
+  for (const ContactPair& pair : candidates(x, Positions(), faces_, edges_, layer_)) {
+    if (exempt_.count(key(pair))) continue;
+    const double s = squaredDistance(pair, x);
+    if (s < layer_ * layer_) active.emplace_back(pair, s);
+  }
+  detectionSeconds_ += secondsSince(start);
+  return active;
+}
+
+double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
+                                Vector12* gradient, Matrix12* hessian) const {
+  const std::array<int, 4> v = vertices(pair);
+  const bool wantGradient = gradient != nullptr || hessian != nullptr;
+  const double d = std::sqrt(squaredDistance);
+  double b1 = 0.0, b2 = 0.0;
+  const double b = barrierPotential(d, layer_, &b1, &b2);
+  if (!std::isfinite(b)) return b;
+  // The mollifier m (1 for a vertex–face pair) and its derivatives.
+  double m = 1.0;
+  Vector12 mGradient = Vector12::Zero();
+  Matrix12 mHessian = Matrix12::Zero();
+  Vector12 sGradient;
+  Matrix12 sHessian;
+  if (pair.kind == ContactPair::Kind::VertexFace) {
+    pointTriangleDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
+                                 wantGradient ? &sGradient : nullptr,
+                                 hessian != nullptr ? &sHessian : nullptr);
+  } else {
+    edgeEdgeDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
+                            wantGradient ? &sGradient : nullptr,
+                            hessian != nullptr ? &sHessian : nullptr);
+    const double threshold = edgeEdgeMollifierThreshold(row(rest_, v[0]), row(rest_, v[1]),
+                                                        row(rest_, v[2]), row(rest_, v[3]));
+    m = edgeEdgeMollifier(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]), threshold,
+                          wantGradient ? &mGradient : nullptr,
+                          hessian != nullptr ? &mHessian : nullptr);
+  }
+  if (!wantGradient) return stiffness_ * m * b;
+  const Vector12 dGradient = sGradient / (2.0 * d);
+  if (gradient != nullptr) *gradient = stiffness_ * (b * mGradient + m * b1 * dGradient);
+  if (hessian != nullptr) {
+    const Matrix12 dHessian =
+        sHessian / (2.0 * d) - sGradient * sGradient.transpose() / (4.0 * d * d * d);
+    const Matrix12 bm = b1 * mGradient * dGradient.transpose();
+    *hessian = stiffness_ * (b * mHessian + bm + bm.transpose() +
+                             m * (b2 * dGradient * dGradient.transpose() + b1 * dHessian));
+  }
+  return stiffness_ * m * b;
+}
+
+double SelfContact::energy(const Positions& x) const {
+  double total = 0.0;
+  for (const auto& [pair, s] : activePairs(x)) {
+    if (s <= 0.0) return std::numeric_limits<double>::infinity();
+    total += pairBarrier(pair, s, x, nullptr, nullptr);
+  }
+  return total;
+}
+
+void SelfContact::addGradient(const Positions& x, Positions& gradient) const {
+  for (const auto& [pair, s] : activePairs(x)) {
+    Vector12 g;
+    pairBarrier(pair, s, x, &g, nullptr);
+    const std::array<int, 4> v = vertices(pair);
+    for (int i = 0; i < 4; ++i) gradient.row(v[i]) += g.segment<3>(3 * i).transpose();
+  }
+}
+
+void SelfContact::add(const HessianAssembly& assembly, const Positions& x,
+                      HessianEvaluation& e) const {
+  if (empty()) return;
+  const std::vector<int>& unknowns = assembly.freeUnknowns();
+  std::vector<int> index(3 * x.rows(), -1);  // the free index of each vertex coordinate
+  for (size_t k = 0; k < unknowns.size(); ++k)
+    if (unknowns[k] < static_cast<int>(index.size())) index[unknowns[k]] = static_cast<int>(k);
+  const bool withHessian = !e.values.empty();
+  for (const auto& [pair, s] : activePairs(x)) {
+    if (s <= 0.0) {
+      e.energy = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    Vector12 g;
+    Matrix12 h;
+    e.energy += pairBarrier(pair, s, x, &g, withHessian ? &h : nullptr);
+    const std::array<int, 4> v = vertices(pair);
+    for (int i = 0; i < 12; ++i)
+      if (const int p = index[3 * v[i / 3] + i % 3]; p >= 0) e.gradient[p] += g[i];
+    if (!withHessian) continue;
+    h = projected(h);
+    const bool coupled = patternCouples(assembly, index, v);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        const int p = index[3 * v[i / 3] + i % 3], q = index[3 * v[j / 3] + j % 3];
+        if (p < 0 || q < 0 || p > q || (!coupled && v[i / 3] != v[j / 3])) continue;
+        e.values[assembly.entry(p, q)] += h(i, j);
+      }
+  }
+}
+
+double SelfContact::stepBound(const Positions& x, const Positions& dx) const {
+  if (empty()) return 1.0;
+  const auto start = std::chrono::steady_clock::now();
+  double bound = 1.0;
+  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.0)) {
+    if (exempt_.count(key(pair))) continue;
+    const std::array<int, 4> v = vertices(pair);
+    const double t =
+        pair.kind == ContactPair::Kind::VertexFace
+            ? pointTriangleImpactTime(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
+                                      row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]))
+            : edgeEdgeImpactTime(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
+                                 row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]));
+    bound = std::min(bound, t);
+  }
+  detectionSeconds_ += secondsSince(start);
+  return bound;
+}
+
+std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& x,
+                                                       const Positions& dx) const {
+  std::vector<std::array<int, 2>> pairs;
+  if (empty()) return pairs;
+  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, layer_)) {
+    if (exempt_.count(key(pair))) continue;
+    const std::array<int, 4> v = vertices(pair);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (v[i] != v[j]) pairs.push_back({std::min(v[i], v[j]), std::max(v[i], v[j])});
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+ContactCensus SelfContact::census(const Positions& x) const {
+  ContactCensus c;
+  for (const auto& [pair, s] : activePairs(x)) {
+    ++c.pairs;
+    if (std::sqrt(s) < c.smallestDistance) {
+      c.smallestDistance = std::sqrt(s);
+      c.closest = pair;
+    }
+  }
+  return c;
+}
+
+void SelfContact::requireApart(const Positions& x, const std::string& what) const {
+  for (const auto& [pair, s] : activePairs(x)) {
+    if (s > 0.0) continue;
+    const std::array<int, 4> v = vertices(pair);
+    throw InputError(
+        what + ": the shell touches itself: " +
+        (pair.kind == ContactPair::Kind::VertexFace
+             ? "vertex " + std::to_string(v[0]) + " lies on face " + std::to_string(pair.second)
+             : "edges (" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ") and (" +
+                   std::to_string(v[2]) + ", " + std::to_string(v[3]) + ") cross"));
+  }
+}
+
+SelfContact makeSelfContact(const modeling::Stencils& stencils, const Positions& rest,
+                            const Eigen::VectorXd& mass, const Eigen::Vector3d& gravity,
+                            double layer) {
+  if (layer == 0.0) {
+    double total = 0.0;
+    for (int e = 0; e < stencils.edgeCount(); ++e)
+      total += (rest.row(stencils.edges(e, 0)) - rest.row(stencils.edges(e, 1))).norm();
+    layer = 0.25 * total / std::max(1, stencils.edgeCount());
+  }
+  const double stiffness = mass.mean() * std::max(gravity.norm(), 1.0) / layer;
+  return SelfContact(stencils.faces, stencils.edges, rest, layer, stiffness);
+}
+
+}  // namespace flexure::optimize

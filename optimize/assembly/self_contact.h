@@ -1,0 +1,133 @@
+// Self-contact of a shell: every vertex–face and edge–edge pair of the mesh repels through the
+// log barrier of obstacles.h on its unsigned distance (incremental potential contact, Li et al.
+// 2020, "Incremental Potential Contact", ACM TOG 39(4), §4; its codimensional form for shells,
+// Li, Kaufman & Jiang 2021, "Codimensional Incremental Potential Contact", ACM TOG 40(4)), so
+// that no two parts of the mesh — fragments after a cut included — pass through each other.
+//
+// Pairs: a vertex and a face not containing it, two edges sharing no vertex (contact/
+// broad_phase.h finds the candidates in O(n log n)). A pair k at distance d_k < d̂ contributes
+//   B_k = κ m_k b(d_k),   b(d) = −(d − d̂)² log(d / d̂)  (barrierPotential, obstacles.h),
+// with m_k = 1 for a vertex–face pair and, for an edge–edge pair, IPC's mollifier m(c) of the
+// edges' cross product c = |e_a × e_b|² (contact/primitive_distance.h), which makes B_k C¹ where
+// nearly parallel edges switch between distance types and vanishes with the cross product.
+// The derivatives of d = √s come from those of the squared distance s:
+//   ∇d = ∇s / (2d),   ∇²d = ∇²s / (2d) − ∇s ∇sᵀ / (4 d³),
+// and B_k's Hessian, κ [b m'' + b'(m' ∇dᵀ + ∇d m'ᵀ) + m (b'' ∇d ∇dᵀ + b' ∇²d)] over the pair's
+// 12 coordinates, enters Newton's matrix projected to its nearest positive semidefinite matrix
+// (as IPC does). Its entries enter where the Hessian pattern couples the pair's vertices
+// (couplings() says which the pattern needs); a pair whose vertices it does not couple enters by
+// its diagonal 3 × 3 blocks only — a principal part of a semidefinite matrix, so still
+// semidefinite and still a descent model.
+//
+// Layer and stiffness (the stated rule, as the obstacles'): d̂ = ¼ of the rest mesh's mean edge
+// length unless given, κ = m̄ max(|g|, 1) / d̂ with m̄ the mean lumped vertex mass: a vertex resting
+// on a face holds about its weight at half the layer.
+//
+// Pairs close at rest and at the start are exempt (the seed's fracture-aware rule, Gingold et al.
+// 2004 §5, which insets the repulsion along fresh crack lips): a cut's lips start coincident, and
+// the neighbours of a sliver-rich rest mesh may lie within d̂ of each other; repelling them would
+// push lips apart and strain an unloaded mesh. An exempt pair is one within d̂ both in the rest
+// state and at the start (exemptClosePairs); its exemption is lifted once it is found at d ≥ d̂
+// (liftExemptions, before each time step), and from then on it repels like any other: lips
+// separate freely and may touch again, but once apart they never pass through each other.
+//
+// Feasibility: a step x + α δ is capped by stepBound, additive continuous collision detection
+// (contact/continuous_collision.h) over the pairs whose boxes the motion sweeps, so that no pair
+// that repels ever crosses during a step (IPC's guarantee: the line search never leaves the
+// intersection-free set).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "modeling/stencils.h"
+#include "optimize/assembly/hessian_assembly.h"
+
+namespace flexure::optimize {
+
+// A pair of primitives: a vertex and a face, or two edges (indices into the mesh's edge list).
+struct ContactPair {
+  enum class Kind { VertexFace, EdgeEdge };
+  Kind kind = Kind::VertexFace;
+  int first = -1, second = -1;  // (vertex, face) or (edge, edge)
+};
+
+// What a configuration's contact looks like (report.json's contact statistics).
+struct ContactCensus {
+  int pairs = 0;  // pairs within the layer, exempt ones left out
+  double smallestDistance = std::numeric_limits<double>::infinity();  // over those pairs
+  ContactPair closest;
+};
+
+class SelfContact {
+ public:
+  SelfContact() = default;  // off
+  // `faces` (#F by 3) and `edges` (#E by 2) of the mesh, its rest positions (the mollifiers'
+  // thresholds and the exemptions), the layer d̂ > 0 and the stiffness κ > 0.
+  SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, Positions rest, double layer,
+              double stiffness);
+
+  bool empty() const { return faces_.rows() == 0; }
+  double layer() const { return layer_; }
+  double stiffness() const { return stiffness_; }
+
+  // Exempts the pairs within d̂ both in the rest state and at x (the start of a run or a cut).
+  void exemptClosePairs(const Positions& x);
+  // Lifts the exemption of every exempt pair at d ≥ d̂ at x.
+  void liftExemptions(const Positions& x);
+  int exemptCount() const { return static_cast<int>(exempt_.size()); }
+
+  // Σ_k B_k at x (#V by 3); +∞ when a repelling pair touches (d = 0).
+  double energy(const Positions& x) const;
+  // Adds Σ_k B_k, its gradient and (when e.values is filled) its projected Hessian at x to `e`,
+  // an evaluation over `assembly`'s free unknowns.
+  void add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e) const;
+  // Adds the gradient of Σ_k B_k at x to `gradient` (#V by 3), every vertex.
+  void addGradient(const Positions& x, Positions& gradient) const;
+  // The largest α ≤ 1 such that no repelling pair crosses while x moves to x + α' dx, α' ≤ α
+  // (conservative: each pair keeps at least a tenth of its distance at x).
+  double stepBound(const Positions& x, const Positions& dx) const;
+  // The vertex pairs (i < j) of the repelling pairs that may come within d̂ while x moves to
+  // x + dx (every pair of the two primitives' vertices): what the Hessian pattern should couple.
+  std::vector<std::array<int, 2>> couplings(const Positions& x, const Positions& dx) const;
+  // The repelling pairs within d̂ at x, and the closest of them.
+  ContactCensus census(const Positions& x) const;
+  // InputError naming the first repelling pair of `what` (e.g. "the start") that touches (d = 0).
+  void requireApart(const Positions& x, const std::string& what) const;
+  // The wall-clock seconds spent in the broad phase and the collision filter since the last take.
+  double takeDetectionSeconds() { return std::exchange(detectionSeconds_, 0.0); }
+
+ private:
+  // The repelling pairs within d̂ at x, each with its squared distance.
+  std::vector<std::pair<ContactPair, double>> activePairs(const Positions& x) const;
+  // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
+  double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
+                     Eigen::Matrix<double, 12, 1>* gradient,
+                     Eigen::Matrix<double, 12, 12>* hessian) const;
+  // The four vertices a pair's coordinates belong to (a vertex–face pair: the vertex, then the
+  // face's corners; an edge–edge pair: the first edge's ends, then the second's).
+  std::array<int, 4> vertices(const ContactPair& pair) const;
+  double squaredDistance(const ContactPair& pair, const Positions& x) const;
+  static std::uint64_t key(const ContactPair& pair);
+
+  modeling::Triangles faces_;
+  modeling::IndexPairs edges_;
+  Positions rest_;
+  double layer_ = 0.0, stiffness_ = 0.0;
+  std::unordered_set<std::uint64_t> exempt_;
+  mutable double detectionSeconds_ = 0.0;
+};
+
+// The rule's self-contact for a mesh (its faces and edges from `stencils`): d̂ = `layer`, or ¼ the
+// mean rest edge length when 0; κ = m̄ max(|g|, 1) / d̂ with the lumped masses `mass` (#V).
+SelfContact makeSelfContact(const modeling::Stencils& stencils, const Positions& rest,
+                            const Eigen::VectorXd& mass, const Eigen::Vector3d& gravity,
+                            double layer = 0.0);
+
+}  // namespace flexure::optimize
