@@ -109,6 +109,8 @@ class FracturingDynamics {
   Problem& problem() { return *problem_; }
   const modeling::Mesh& restMesh() const { return rest_; }
   bool fractures() const { return fracture_.has_value(); }
+  // The dynamics options the stepper runs with (the pin groups still held, on the current mesh).
+  const DynamicsOptions& dynamics() const { return dynamics_; }
   const std::vector<CrackEvent>& cracks() const { return cracks_; }
   // The connected pieces of the current rest mesh, each with its current positions.
   std::vector<modeling::Mesh> fragments() const;
