@@ -136,8 +136,9 @@ class Simulation:
     stvk membrane's Green strain), either or both (one radial return per face for the combined
     yield): the rest metric moves. Fracture: fracture_strain ε_f and thickness
     h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
-    motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
-    library's ValueError naming the keyword (hardening, thickness).
+    motion goes on on the cut mesh (not with midedge; with plasticity each piece of a cut face
+    keeps its plastic strain). Bad values raise the library's ValueError naming the keyword
+    (hardening, thickness).
 
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
