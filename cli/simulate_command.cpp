@@ -148,17 +148,20 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
   const fs::path dir(o.outputDir);
   const std::string title = "Energies: " + energyName + " + " + o.membrane.model + ", " +
                             optimize::integratorName(dynamics.integrator);
-  if (!run.failure.empty()) {
+  const std::string balanceFailure = fracturing.stepper().balanceFailure();
+  if (!run.failure.empty() || !balanceFailure.empty()) {
     // The frames computed before the failure are results: written and committed at once (each
-    // file atomically), with the report saying the run is partial.
+    // file atomically), with the report saying the run is partial or its balance's verdict.
     modeling::OutputBatch partial;
     writeOutputs(o, look, context.get(), recording, title, report, fracturing, dir);
     partial.commit();
-    throw NumericalError("the simulation could not proceed " + run.failure + "; the " +
-                         std::to_string(recording.frames.size()) +
-                         " frames to t = " + std::to_string(fracturing.stepper().time()) +
-                         " are in " + dir.string() + "; see " + (dir / "report.json").string() +
-                         " (try a smaller --dt or --min-dt)");
+    const std::string where = "the " + std::to_string(recording.frames.size()) +
+                              " frames to t = " + std::to_string(fracturing.stepper().time()) +
+                              " are in " + dir.string() + "; see " + (dir / "report.json").string();
+    if (!run.failure.empty())
+      throw NumericalError("the simulation could not proceed " + run.failure + "; " + where +
+                           " (try a smaller --dt or --min-dt)");
+    throw NumericalError(balanceFailure + "; " + where + " (try a smaller --dt)");
   }
   writeOutputs(o, look, context.get(), recording, title, report, fracturing, dir);
   if (!global.quiet) {
@@ -252,7 +255,7 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--energy-tolerance", o.energyTolerance,
                   "A step after which the total energy (plus the work done against damping) has "
                   "grown by more than this fraction of the peak kinetic energy is halved; a run "
-                  "whose balance drifts more is warned about")
+                  "whose balance drifts more exits 3")
       ->capture_default_str()
       ->check(positive());
   sub->add_option(

@@ -10,14 +10,10 @@
 namespace flexure::cli {
 namespace {
 
-// The run's energy balance (optimize::EnergyBalance): "balanced" when its largest drift is within
-// the tolerance (or round-off), "gained" or "lost" beyond it, "driven" when moving pins do work
-// (not checked).
-std::string balanceVerdict(const optimize::TimeStepper& stepper, double tolerance) {
-  const optimize::EnergyBalance& b = stepper.balance();
-  if (!stepper.balanceChecked()) return "driven";
-  if (b.balancedWithin(tolerance)) return "balanced";
-  return b.largestDrift > 0.0 ? "gained" : "lost";
+// The run's energy balance (optimize::TimeStepper::balanceVerdict): balanced, gained, lost or
+// driven.
+std::string balanceVerdict(const optimize::TimeStepper& stepper) {
+  return optimize::balanceVerdictName(stepper.balanceVerdict());
 }
 
 nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double tolerance) {
@@ -34,7 +30,7 @@ nlohmann::json energyBalanceReport(const optimize::TimeStepper& stepper, double 
           {"pin_work", b.pinWork},
           {"roundoff", b.roundoff},
           {"tolerance", tolerance},
-          {"verdict", balanceVerdict(stepper, tolerance)}};
+          {"verdict", balanceVerdict(stepper)}};
 }
 
 // The cracks (time, step, the face and strain they started from, the polyline in rest coordinates
@@ -83,7 +79,7 @@ nlohmann::json fractureReport(const SimulateOptions& o,
 
 void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, bool quiet) {
   const optimize::EnergyBalance& b = stepper.balance();
-  const std::string verdict = balanceVerdict(stepper, tolerance);
+  const std::string verdict = balanceVerdict(stepper);
   const bool warn = verdict == "gained" || verdict == "lost";
   if (quiet && !warn) return;
   const char* scale = b.scale() == b.peakKinetic ? "the peak kinetic energy" : "the energy scale";
@@ -212,6 +208,8 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
   }
   report["contact"] = contactReport(stepper, run.seconds);
   if (fracturing.fractures()) report["fracture"] = fractureReport(o, fracturing);
+  const std::string balanceFailure = stepper.balanceFailure();
+  if (run.failure.empty() && !balanceFailure.empty()) report["failure"] = balanceFailure;
   return report;
 }
 

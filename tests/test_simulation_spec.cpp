@@ -47,6 +47,9 @@ TEST(SimulationSpec, AGoodSpecPasses) {
   cracking.fracture->fractureStrain = 0.01;
   cracking.dynamics.pinGroups.push_back({{}, {}, 0.5});  // let go at the last step
   EXPECT_EQ(inputErrorOf([&] { cracking.validate(); }), "(no InputError)");
+  SimulationSpec both = cracking;  // a cut carries the plastic strains (plastic_dynamics.h)
+  both.plasticity = plastic.plasticity;
+  EXPECT_EQ(inputErrorOf([&] { both.validate(); }), "(no InputError)");
 }
 
 struct BadCase {
@@ -86,12 +89,6 @@ TEST(SimulationSpec, EachBadSpecIsRefusedNamingItsFields) {
          s.body.membrane->model = curvature::MembraneModel::Conformal;
        },
        {"PlasticityOptions.yieldStrain", "ProblemOptions.membrane stvk"}},
-      {"plasticity with fracture",
-       [&](SimulationSpec& s) {
-         plastic(s);
-         cracking(s);
-       },
-       {"PlasticityOptions.yieldCurvature: not with FractureOptions.fractureStrain"}},
       {"plasticity with checkpoints",
        [&](SimulationSpec& s) {
          plastic(s);

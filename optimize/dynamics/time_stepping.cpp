@@ -835,6 +835,40 @@ bool TimeStepper::balanceChecked() const {
   return !options_.pinsMove();
 }
 
+const char* balanceVerdictName(BalanceVerdict verdict) {
+  switch (verdict) {
+    case BalanceVerdict::Balanced:
+      return "balanced";
+    case BalanceVerdict::Gained:
+      return "gained";
+    case BalanceVerdict::Lost:
+      return "lost";
+    case BalanceVerdict::Driven:
+      return "driven";
+  }
+  return "balanced";
+}
+
+BalanceVerdict TimeStepper::balanceVerdict() const {
+  if (!balanceChecked()) return BalanceVerdict::Driven;
+  if (balance_.balancedWithin(options_.energyTolerance)) return BalanceVerdict::Balanced;
+  return balance_.largestDrift > 0.0 ? BalanceVerdict::Gained : BalanceVerdict::Lost;
+}
+
+std::string TimeStepper::balanceFailure() const {
+  const BalanceVerdict verdict = balanceVerdict();
+  if (verdict != BalanceVerdict::Gained && verdict != BalanceVerdict::Lost) return {};
+  const char* scale =
+      balance_.scale() == balance_.peakKinetic ? "the peak kinetic energy" : "the energy scale";
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "energy balance: %s %.3g %% of %s (the largest drift, at t = %.6g, step %ld), "
+                "beyond the %.3g %% tolerance",
+                balanceVerdictName(verdict), 100.0 * balance_.relativeDrift(), scale,
+                balance_.driftTime, balance_.driftStep, 100.0 * options_.energyTolerance);
+  return text;
+}
+
 TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& v, Positions a,
                                              Eigen::VectorXd xi, double dissipation,
                                              Outcome outcome) {

@@ -222,6 +222,13 @@ struct EnergyBalance {
   }
 };
 
+// The verdict on a run's energy balance: Balanced when its largest drift is within the tolerance
+// (EnergyBalance::balancedWithin: or round-off), Gained or Lost (the drift's sign) beyond it — a
+// numerical failure: the motion was not followed closely enough, the run is one to repeat with
+// smaller steps — and Driven when moving pins do work (not checked).
+enum class BalanceVerdict { Balanced, Gained, Lost, Driven };
+const char* balanceVerdictName(BalanceVerdict verdict);  // balanced | gained | lost | driven
+
 // What an attempt at a step of length h did: taken; declined, to be covered by two steps of h/2;
 // or failed, ending the advance.
 enum class StepVerdict { Taken, Halve, Failed };
@@ -363,6 +370,11 @@ class TimeStepper {
   const EnergyBalance& balance() const { return balance_; }
   // Whether the balance's growth is checked (no moving pins).
   bool balanceChecked() const;
+  // The balance so far against DynamicsOptions::energyTolerance.
+  BalanceVerdict balanceVerdict() const;
+  // For a Gained or Lost verdict, what failed: "energy balance: gained 7.3 % of the peak kinetic
+  // energy (the largest drift, at t = 0.42, step 84), beyond the 5 % tolerance"; empty otherwise.
+  std::string balanceFailure() const;
 
  private:
   EnergySample energiesAt(double t, const Positions& x, const Positions& v,

@@ -154,6 +154,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   clock = Clock::now();
   auto stepper = std::make_unique<TimeStepper>(*problem, dynamics);
   seconds.stepper = secondsSince(clock);
+  if (onCut_) onCut_(*problem, shell->cut);
   clock = Clock::now();
   const modeling::Positions pinStart = carried(sources, pinStart_);
   stepper->start(pinStart, shell->velocities, Eigen::VectorXd());

@@ -22,10 +22,12 @@
 // dropped on a plane and shattering: S = 0.23, the balance −12 % of the peak kinetic energy).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "modeling/crack_cut.h"
 #include "modeling/mesh.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracture.h"
@@ -89,6 +91,14 @@ class FracturingDynamics {
   static constexpr int kFractureSearchLevels = 10;  // 1/1024 of the step, seed 002's resolution
   static constexpr double kFractureOvershoot = 0.02;
 
+  // Called at each cut with the cut mesh's problem, its stepper built and not yet started, and the
+  // cut (its faceOrigin: the face of the old mesh each new face lies in), before the energies the
+  // balance compares across the cut are taken: a state carried per face (the plastic strains,
+  // PlasticDynamics::carryAcrossCut) moves the cut problem's rest state there, so that the energy
+  // the cut releases is measured with it. Empty: none.
+  using CutListener = std::function<void(Problem& cut, const modeling::CrackCut& crack)>;
+  void onCut(CutListener listener) { onCut_ = std::move(listener); }
+
   // The fracture check after an accepted step: at most one cut. True when the shell was cut (the
   // stepper, problem and rest mesh are then the cut ones). A crack along edges already separated
   // (no face split, no vertex added or duplicated) is not a cut.
@@ -109,6 +119,8 @@ class FracturingDynamics {
   Problem& problem() { return *problem_; }
   const modeling::Mesh& restMesh() const { return rest_; }
   bool fractures() const { return fracture_.has_value(); }
+  // The dynamics options the stepper runs with (the pin groups still held, on the current mesh).
+  const DynamicsOptions& dynamics() const { return dynamics_; }
   const std::vector<CrackEvent>& cracks() const { return cracks_; }
   // The connected pieces of the current rest mesh, each with its current positions.
   std::vector<modeling::Mesh> fragments() const;
@@ -132,6 +144,7 @@ class FracturingDynamics {
   std::vector<CrackEvent> cracks_;
   std::vector<Eigen::Vector3d> openTips_;  // rest points where cracks stop inside the shell
   std::vector<bool> eventFaces_;           // of rest_ and openTips_ (fractureEventFaces)
+  CutListener onCut_;
 };
 
 }  // namespace flexure::optimize

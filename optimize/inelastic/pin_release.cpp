@@ -1,6 +1,6 @@
 #include "optimize/inelastic/pin_release.h"
 
-#include "modeling/errors.h"
+#include "modeling/crack_cut.h"
 
 namespace flexure::optimize {
 namespace {
@@ -13,10 +13,15 @@ void releasePins(FracturingDynamics& dynamics, PlasticDynamics* plastic, double 
 
 TimeStepper::Advance advanceReleasingPins(FracturingDynamics& dynamics, PlasticDynamics* plastic,
                                           double h, double minStep, long step) {
+  // The plastic state carried to each cut mesh while this call steps (and no longer after it).
+  struct CarryAcrossCuts {
+    FracturingDynamics& dynamics;
+    ~CarryAcrossCuts() { dynamics.onCut(nullptr); }
+  } carry{dynamics};
   if (plastic != nullptr && dynamics.fractures())
-    throw InputError(
-        "advanceReleasingPins: plasticity with fracture: a cut replaces the problem and the "
-        "stepper the plastic update holds, and the plastic strains do not carry across it");
+    dynamics.onCut([plastic](Problem& cut, const modeling::CrackCut& crack) {
+      plastic->carryAcrossCut(cut, crack.faceOrigin);
+    });
   TimeStepper::Advance total;
   total.completed = true;
   total.smallestStep = h;
@@ -28,6 +33,7 @@ TimeStepper::Advance advanceReleasingPins(FracturingDynamics& dynamics, PlasticD
     const double part = reached ? release - dynamics.stepper().time() : left;
     if (part > slack) {
       total.addPart(dynamics.advance(part, minStep, step + total.steps));
+      if (plastic != nullptr) plastic->follow(dynamics.stepper());  // a cut's, or the same
       if (!total.completed) return total;
       if (plastic != nullptr) plastic->afterStep();
       left -= part;

@@ -9,6 +9,18 @@
 //   K + Σ E_terms + E_gravity + B + D_damping + D − S = E(0)
 // along the motion. The step itself is computed with the plastic strains of its start, P_n: the
 // update lags the motion by one step (an operator split, first order in h).
+//
+// Across a crack (fracturing.h; seed 002 runs plasticity and fracture together: the diving board,
+// the bowl) the plastic state is a property of the material, so each face of the cut mesh keeps
+// the plastic strains of the face it was cut from (P_b and P_m are tensors in the face's rest
+// plane: a piece of a split face, in the same plane, takes its parent's tensor in its own rest
+// frame; a face the cut left whole keeps its rows bit for bit), and whether it yielded. The
+// elastic rest state S̄₀ and the zero membrane rest strain are the cut mesh's own. So a hinge the
+// cut adds inside a split face (between two of its pieces) takes the rest angle its faces' tensors
+// read, θ̄ = θ̄⁰ + ½ (c_e^f · P_f + c_e^g · P_g) with θ̄⁰ = 0 there: the parent's plastic curvature
+// continued across it; an edge on the crack is a boundary and has no hinge. The dissipation D
+// carries over, as does the balance's P (the cut keeps the stepper's balance).
+
 #pragma once
 
 #include <string>
@@ -30,6 +42,13 @@ class PlasticDynamics {
   // `stepper`, e.g. a new one after the pins were released: the update runs on its start.
   PlasticDynamics(Problem& problem, TimeStepper& stepper, const PlasticityOptions& options,
                   PlasticState state);
+
+  // Continues on `cut` (it outlives this object), the problem of the mesh a crack cut from this
+  // one's, faceOrigin[f'] the face of this one's mesh that its face f' lies in
+  // (modeling::CrackCut::faceOrigin): the plastic state carried per face as the header says, the
+  // cut problem's rest curvature and rest metric set to it. The stepper is then to be followed
+  // (follow) to the one built for `cut`.
+  void carryAcrossCut(Problem& cut, const std::vector<int>& faceOrigin);
 
   // Continues with `stepper` instead (one that took over the state of the last, e.g. after pins
   // were released: FracturingDynamics::releasePins); the plastic state carries over.
@@ -63,7 +82,7 @@ class PlasticDynamics {
   Eigen::VectorXd vertexPlasticMeasure() const;
 
  private:
-  Problem& problem_;
+  Problem* problem_;
   TimeStepper* stepper_;
   PlasticityOptions options_;
   PlasticState state_;

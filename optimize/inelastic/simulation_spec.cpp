@@ -36,10 +36,6 @@ void validatePlasticity(const SimulationSpec& s) {
     throw InputError(
         "PlasticityOptions.yieldStrain: membrane plasticity moves the rest metric of "
         "ProblemOptions.membrane stvk");
-  if (s.fracture)
-    throw InputError(yieldField(p) +
-                     ": not with FractureOptions.fractureStrain (a cut rebuilds the shell, and "
-                     "the plastic strains do not carry across it)");
   if (s.checkpointed)
     throw InputError(yieldField(p) +
                      ": not with SimulationSpec.checkpointed (a checkpoint does not keep the "

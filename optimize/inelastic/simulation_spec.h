@@ -47,8 +47,9 @@ struct SimulationSpec {
 
   // Every rule of a simulation before its mesh is read (InputError naming the fields): the body
   // (a membrane, xyz), the dynamics, the inelastic models' values, plasticity that the energy and
-  // membrane can carry and not with fracture, fracture not with an energy that owns edge
-  // unknowns, neither with checkpoints, releases within the duration and not with checkpoints.
+  // membrane can carry (with fracture too: a cut carries it, plastic_dynamics.h), fracture not
+  // with an energy that owns edge unknowns, neither with checkpoints, releases within the
+  // duration and not with checkpoints.
   void validate() const;
 };
 

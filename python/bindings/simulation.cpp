@@ -74,6 +74,7 @@ struct SimulationArguments : MembraneFields {
   std::vector<PinGroupArguments> pinGroups;
   int maxNewtonIterations = 30;
   double tolerance = 1e-10;
+  double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   optimize::PlasticityOptions plasticity;             // no yield value: elastic
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
@@ -120,6 +121,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
+  d.energyTolerance = a.energyTolerance;
   return d;
 }
 
@@ -303,6 +305,10 @@ class BoundSimulation {
     d["plastic_dissipation"] = b.plastic;
     d["contact_stiffening"] = b.stiffening;
     d["checked"] = stepper().balanceChecked();
+    d["tolerance"] = dynamics_->dynamics().energyTolerance;
+    d["verdict"] = optimize::balanceVerdictName(stepper().balanceVerdict());
+    const std::string failure = stepper().balanceFailure();
+    d["failure"] = failure.empty() ? py::object(py::none()) : py::object(py::str(failure));
     return d;
   }
 
@@ -428,6 +434,7 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("pin_groups", &SimulationArguments::pinGroups)
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
       .def_readwrite("tolerance", &SimulationArguments::tolerance)
+      .def_readwrite("energy_tolerance", &SimulationArguments::energyTolerance)
       .def_readwrite("plasticity", &SimulationArguments::plasticity)
       .def_readwrite("fracture", &SimulationArguments::fracture);
 

@@ -126,7 +126,9 @@ class Simulation:
     pin_motion's, or None: held still) or a triple (set, motion or None, release time T > 0: the
     group is let go at T, its vertices free from then on with their velocity, the plastic state
     kept), disjoint (``flexure simulate --pin SET@MOTION@release:T``, repeated);
-    max_newton_iterations, tolerance: per step.
+    max_newton_iterations, tolerance: per step; energy_tolerance: a step over which the energy
+    balance grows by more than this fraction of the peak kinetic energy is halved, and a run
+    whose balance drifts more fails (``run`` raises NumericalError; ``balance()["verdict"]``).
 
     Plasticity (seed 002, docs/energies.md "Plasticity"): yield_curvature κ_y (1/L) and hardening γ
     ≥ 0; after each step the elements outside the yield surface return to it and their rest
@@ -134,8 +136,9 @@ class Simulation:
     stvk membrane's Green strain), either or both (one radial return per face for the combined
     yield): the rest metric moves. Fracture: fracture_strain ε_f and thickness
     h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
-    motion goes on on the cut mesh (not with midedge, nor with plasticity). Bad values raise the
-    library's ValueError naming the keyword (hardening, thickness).
+    motion goes on on the cut mesh (not with midedge; with plasticity each piece of a cut face
+    keeps its plastic strain). Bad values raise the library's ValueError naming the keyword
+    (hardening, thickness).
 
     Self-contact (docs/dynamics.md "Self-contact"): self_contact True (the default) makes every
     vertex–face and edge–edge pair closer than contact_offset d̂ repel (default ¼ of the mean
@@ -151,7 +154,7 @@ class Simulation:
                  bending_damping=0.0, pin_motion=None, pin_groups=None,
                  max_newton_iterations=30, tolerance=1e-10, yield_curvature=None,
                  yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
-                 self_contact=True, contact_offset=None):
+                 energy_tolerance=0.05, self_contact=True, contact_offset=None):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -201,6 +204,7 @@ class Simulation:
         a.max_newton_iterations = _checks.number(max_newton_iterations, "max_newton_iterations",
                                                  positive=True, integer=True)
         a.tolerance = _checks.number(tolerance, "tolerance", positive=True)
+        a.energy_tolerance = _checks.number(energy_tolerance, "energy_tolerance")
         _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness)
         self._s = _flexure.Simulation(V_rest, F, a, V_start, velocities)
 
@@ -233,7 +237,12 @@ class Simulation:
 
         progress: None or a callable, called after every step with a dict (step, time, energy:
         the total of ``energies()``); an exception it raises stops the run there. Ctrl-C stops
-        the run after the step under way (KeyboardInterrupt)."""
+        the run after the step under way (KeyboardInterrupt).
+
+        A run whose energy balance ends beyond energy_tolerance (verdict "gained" or "lost", as
+        ``flexure simulate`` exits 3 for it) raises flexure.NumericalError naming the drift, its
+        ``.report`` a dict with the steps' dicts ("steps") and the balance ("balance"); the state
+        is that at the end of the run."""
         steps = _flexure.step_count(_checks.number(dt, "dt"),
                                     _checks.number(duration, "duration", positive=True))
         progress = _checks.progress(progress)
@@ -242,6 +251,11 @@ class Simulation:
             reports.append(self.step(dt, min_dt))
             if progress is not None:
                 progress({"step": k + 1, "time": self.time, "energy": self.energies()["total"]})
+        balance = self.balance()
+        if balance["failure"] is not None:
+            error = _flexure.NumericalError(balance["failure"])
+            error.report = {"steps": reports, "balance": balance}
+            raise error
         return reports
 
     @property
@@ -380,6 +394,7 @@ class Simulation:
         the contact stiffness added, plus the plastic dissipation ``plastic_dissipation``) from
         its start value, signed, its size relative to the peak
         kinetic energy, when (time, step), and whether it is checked (not while pins move). A
-        step over which it grows by more than 5 % of the peak kinetic energy is refused (halved
-        by ``advance``)."""
+        step over which it grows by more than energy_tolerance (5 %) of the peak kinetic energy is
+        refused (halved by ``advance``). verdict: "balanced", "gained" or "lost" beyond the
+        tolerance (then failure names the drift, else None), "driven" while pins move."""
         return dict(self._s.balance())
