@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "modeling/errors.h"
+#include "modeling/self_intersections.h"
 #include "optimize/assembly/obstacles.h"
 #include "optimize/contact/broad_phase.h"
 #include "optimize/contact/continuous_collision.h"
@@ -86,6 +87,22 @@ std::array<int, 4> SelfContact::vertices(const ContactPair& pair) const {
           edges_(pair.second, 1)};
 }
 
+double SelfContact::boxGap(const ContactPair& pair, const Positions& x) const {
+  const std::array<int, 4> v = vertices(pair);
+  const int split = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
+  Eigen::Array3d lowA = x.row(v[0]).transpose(), highA = lowA;
+  Eigen::Array3d lowB = x.row(v[split]).transpose(), highB = lowB;
+  for (int i = 1; i < 4; ++i) {
+    const Eigen::Array3d p = x.row(v[i]).transpose();
+    if (i < split) {
+      lowA = lowA.min(p), highA = highA.max(p);
+    } else if (i > split) {
+      lowB = lowB.min(p), highB = highB.max(p);
+    }
+  }
+  return (lowA - highB).max(lowB - highA).maxCoeff();
+}
+
 double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x) const {
   const std::array<int, 4> v = vertices(pair);
   if (pair.kind == ContactPair::Kind::VertexFace)
@@ -95,6 +112,7 @@ double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x)
 
 void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
+  keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
   for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, layer_)) {
     const double squared = layer_ * layer_;
     if (squaredDistance(pair, rest_) < squared && squaredDistance(pair, x) < squared)
@@ -103,18 +121,39 @@ void SelfContact::exemptClosePairs(const Positions& x) {
 }
 
 void SelfContact::liftExemptions(const Positions& x) {
-  if (exempt_.empty()) return;
-  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, layer_))
-    if (exempt_.count(key(pair)) && squaredDistance(pair, x) >= layer_ * layer_)
-      exempt_.erase(key(pair));
+  const std::uint64_t mask = (std::uint64_t(1) << 31) - 1;
+  for (auto k = exempt_.begin(); k != exempt_.end();) {
+    const ContactPair pair{(*k >> 62) ? ContactPair::Kind::EdgeEdge : ContactPair::Kind::VertexFace,
+                           static_cast<int>((*k >> 31) & mask), static_cast<int>(*k & mask)};
+    k = squaredDistance(pair, x) >= layer_ * layer_ ? exempt_.erase(k) : std::next(k);
+  }
+  keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
+}
+
+const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
+                                                         const Positions& dx) const {
+  const double margin = 0.5 * layer_;
+  const auto inside = [&](const Positions& y) {
+    return keptAt_.rows() == y.rows() && (y - keptAt_).cwiseAbs().maxCoeff() <= margin;
+  };
+  if (inside(x) && (dx.size() == 0 || inside(x + dx))) return kept_;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<ContactPair>& found = dx.size() == 0 ? kept_ : moving_;
+  found.clear();
+  for (const ContactPair& pair :
+       candidates(x, dx, faces_, edges_, dx.size() == 0 ? layer_ + 2.0 * margin : 0.0))
+    if (!exempt_.count(key(pair))) found.push_back(pair);
+  if (dx.size() == 0) keptAt_ = x;
+  detectionSeconds_ += secondsSince(start);
+  return found;
 }
 
 std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Positions& x) const {
   std::vector<std::pair<ContactPair, double>> active;
   if (empty()) return active;
   const auto start = std::chrono::steady_clock::now();
-  for (const ContactPair& pair : candidates(x, Positions(), faces_, edges_, layer_)) {
-    if (exempt_.count(key(pair))) continue;
+  for (const ContactPair& pair : nearbyPairs(x, Positions())) {
+    if (boxGap(pair, x) >= layer_) continue;  // a lower bound on the distance
     const double s = squaredDistance(pair, x);
     if (s < layer_ * layer_) active.emplace_back(pair, s);
   }
@@ -181,8 +220,8 @@ void SelfContact::addGradient(const Positions& x, Positions& gradient) const {
   }
 }
 
-void SelfContact::add(const HessianAssembly& assembly, const Positions& x,
-                      HessianEvaluation& e) const {
+void SelfContact::add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
+                      bool semidefinite) const {
   if (empty()) return;
   const std::vector<int>& unknowns = assembly.freeUnknowns();
   std::vector<int> index(3 * x.rows(), -1);  // the free index of each vertex coordinate
@@ -201,7 +240,7 @@ void SelfContact::add(const HessianAssembly& assembly, const Positions& x,
     for (int i = 0; i < 12; ++i)
       if (const int p = index[3 * v[i / 3] + i % 3]; p >= 0) e.gradient[p] += g[i];
     if (!withHessian) continue;
-    h = projected(h);
+    if (semidefinite) h = projected(h);
     const bool coupled = patternCouples(assembly, index, v);
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) {
@@ -216,8 +255,7 @@ double SelfContact::stepBound(const Positions& x, const Positions& dx) const {
   if (empty()) return 1.0;
   const auto start = std::chrono::steady_clock::now();
   double bound = 1.0;
-  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.0)) {
-    if (exempt_.count(key(pair))) continue;
+  for (const ContactPair& pair : nearbyPairs(x, dx)) {
     const std::array<int, 4> v = vertices(pair);
     const double t =
         pair.kind == ContactPair::Kind::VertexFace
@@ -260,6 +298,13 @@ ContactCensus SelfContact::census(const Positions& x) const {
 }
 
 void SelfContact::requireApart(const Positions& x, const std::string& what) const {
+  if (empty()) return;
+  const std::vector<std::array<int, 2>> crossing =
+      modeling::intersectingFacePairs(modeling::Mesh{x, faces_});
+  if (!crossing.empty())
+    throw InputError(what + ": the shell passes through itself: faces " +
+                     std::to_string(crossing[0][0]) + " and " + std::to_string(crossing[0][1]) +
+                     " intersect (" + std::to_string(crossing.size()) + " pairs in all)");
   for (const auto& [pair, s] : activePairs(x)) {
     if (s > 0.0) continue;
     const std::array<int, 4> v = vertices(pair);

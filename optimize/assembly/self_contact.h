@@ -85,9 +85,11 @@ class SelfContact {
 
   // Σ_k B_k at x (#V by 3); +∞ when a repelling pair touches (d = 0).
   double energy(const Positions& x) const;
-  // Adds Σ_k B_k, its gradient and (when e.values is filled) its projected Hessian at x to `e`,
-  // an evaluation over `assembly`'s free unknowns.
-  void add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e) const;
+  // Adds Σ_k B_k, its gradient and (when e.values is filled) its Hessian at x to `e`, an
+  // evaluation over `assembly`'s free unknowns: each pair's projected to its nearest positive
+  // semidefinite matrix (`semidefinite`, what Newton takes), or exact.
+  void add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
+           bool semidefinite = true) const;
   // Adds the gradient of Σ_k B_k at x to `gradient` (#V by 3), every vertex.
   void addGradient(const Positions& x, Positions& gradient) const;
   // The largest α ≤ 1 such that no repelling pair crosses while x moves to x + α' dx, α' ≤ α
@@ -98,7 +100,8 @@ class SelfContact {
   std::vector<std::array<int, 2>> couplings(const Positions& x, const Positions& dx) const;
   // The repelling pairs within d̂ at x, and the closest of them.
   ContactCensus census(const Positions& x) const;
-  // InputError naming the first repelling pair of `what` (e.g. "the start") that touches (d = 0).
+  // InputError naming a pair of faces of `what` (e.g. "the start") that intersect (exact,
+  // modeling/self_intersections.h), or the first repelling pair that touches (d = 0).
   void requireApart(const Positions& x, const std::string& what) const;
   // The wall-clock seconds spent in the broad phase and the collision filter since the last take.
   double takeDetectionSeconds() { return std::exchange(detectionSeconds_, 0.0); }
@@ -106,6 +109,13 @@ class SelfContact {
  private:
   // The repelling pairs within d̂ at x, each with its squared distance.
   std::vector<std::pair<ContactPair, double>> activePairs(const Positions& x) const;
+  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or cross while x
+  // moves to x + dx (dx empty: static), from the kept candidates when both ends of every
+  // vertex's motion lie within the margin r = d̂/2 of where they were found (in each coordinate),
+  // else from a new broad phase (kept when static). Kept candidates were found within d̂ + 2r, so
+  // they hold every pair within d̂ of any x so placed, and every pair that touches while a vertex
+  // moves inside that box.
+  const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                      Eigen::Matrix<double, 12, 1>* gradient,
@@ -114,6 +124,9 @@ class SelfContact {
   // face's corners; an edge–edge pair: the first edge's ends, then the second's).
   std::array<int, 4> vertices(const ContactPair& pair) const;
   double squaredDistance(const ContactPair& pair, const Positions& x) const;
+  // The largest gap along a coordinate axis between the two primitives' bounding boxes at x (≤ 0
+  // when they overlap): a lower bound on their distance.
+  double boxGap(const ContactPair& pair, const Positions& x) const;
   static std::uint64_t key(const ContactPair& pair);
 
   modeling::Triangles faces_;
@@ -122,6 +135,9 @@ class SelfContact {
   double layer_ = 0.0, stiffness_ = 0.0;
   std::unordered_set<std::uint64_t> exempt_;
   mutable double detectionSeconds_ = 0.0;
+  // The kept candidates and where they were found (nearbyPairs); a motion's candidates.
+  mutable Positions keptAt_;
+  mutable std::vector<ContactPair> kept_, moving_;
 };
 
 // The rule's self-contact for a mesh (its faces and edges from `stencils`): d̂ = `layer`, or ¼ the

@@ -843,6 +843,8 @@ const char* balanceVerdictName(BalanceVerdict verdict) {
       return "gained";
     case BalanceVerdict::Lost:
       return "lost";
+    case BalanceVerdict::Dissipated:
+      return "dissipated";
     case BalanceVerdict::Driven:
       return "driven";
   }
@@ -852,7 +854,10 @@ const char* balanceVerdictName(BalanceVerdict verdict) {
 BalanceVerdict TimeStepper::balanceVerdict() const {
   if (!balanceChecked()) return BalanceVerdict::Driven;
   if (balance_.balancedWithin(options_.energyTolerance)) return BalanceVerdict::Balanced;
-  return balance_.largestDrift > 0.0 ? BalanceVerdict::Gained : BalanceVerdict::Lost;
+  if (balance_.largestDrift > 0.0) return BalanceVerdict::Gained;
+  const bool dissipative = options_.integrator == Integrator::BackwardEuler ||
+                           (options_.integrator == Integrator::Newmark && options_.gamma > 0.5);
+  return dissipative ? BalanceVerdict::Dissipated : BalanceVerdict::Lost;
 }
 
 std::string TimeStepper::balanceFailure() const {
@@ -907,8 +912,9 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
     // than half the tolerance (damping's work D pays for the rest).
     const double budget = 0.5 * options_.energyTolerance * balance_.scale(e) + balance_.dissipated +
                           dissipation - balance_.stiffening;
+    const double before = barrier_.energy(x_);
     barrier_.adapt(x_, v_, mass_, std::max(0.0, budget));
-    stiffeningWork = barrier_.energy(x_) - e.contact;
+    stiffeningWork = barrier_.energy(x_) - before;
   }
   balance_.record(e, dissipation, stiffeningWork, roundoff);
   e.contact += stiffeningWork;

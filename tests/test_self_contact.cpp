@@ -1,0 +1,293 @@
+// Self-contact (optimize/assembly/self_contact.h): the barrier's gradient and Hessian against
+// finite differences (vertex–face and edge–edge pairs, nearly parallel edges under the mollifier);
+// a strip folded onto itself by rotating pins, whose every frame passes CGAL's exact
+// self-intersection test with self-contact on and fails it with it off; two stacked sheets that
+// come to rest with a gap between d̂/10 and d̂; two sheets flying into each other in free space,
+// keeping their total momentum; and a start that passes through itself, refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include "modeling/errors.h"
+#include "modeling/self_intersections.h"
+#include "optimize/assembly/hessian_assembly.h"
+#include "optimize/assembly/self_contact.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "support/plate.h"
+
+namespace flexure {
+namespace {
+
+using curvature::Discretization;
+using modeling::Mesh;
+using modeling::Positions;
+using optimize::SelfContact;
+using optimize::TimeStepper;
+
+// Two copies of a patch48 square of n cells a side ([-½, ½]², z = 0): the second shifted by
+// `offset`.
+Mesh twoSheets(int n, const Eigen::Vector3d& offset) {
+  const Mesh sheet = testing::generatedPlate(modeling::MeshFamily::Patch48, n);
+  const int v = sheet.vertexCount(), f = sheet.faceCount();
+  Mesh both;
+  both.positions.resize(2 * v, 3);
+  both.triangles.resize(2 * f, 3);
+  both.positions.topRows(v) = sheet.positions;
+  both.positions.bottomRows(v) = sheet.positions.rowwise() + offset.transpose();
+  both.triangles.topRows(f) = sheet.triangles;
+  both.triangles.bottomRows(f) = sheet.triangles.array() + v;
+  return both;
+}
+
+// The dense Hessian of an evaluation on `assembly`'s pattern (upper triangle stored).
+Eigen::MatrixXd denseHessian(const optimize::HessianAssembly& assembly,
+                             const std::vector<double>& values) {
+  const int n = assembly.size();
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int p = assembly.columnStart()[j]; p < assembly.columnStart()[j + 1]; ++p)
+      h(assembly.rowIndex()[p], j) = h(j, assembly.rowIndex()[p]) = values[p];
+  return h;
+}
+
+// The assembled gradient and exact Hessian at x against central differences of the energy and
+// of the gradient (every coordinate free, the pattern holding every pair's couplings).
+void expectDerivativesMatch(const SelfContact& contact, const Positions& x) {
+  const int vertexCount = static_cast<int>(x.rows());
+  const optimize::HessianAssembly assembly({}, std::vector<bool>(3 * vertexCount, true),
+                                           vertexCount, curvature::Derivatives::All,
+                                           contact.couplings(x, Positions()));
+  optimize::HessianEvaluation e =
+      assembly.evaluate(x, Eigen::VectorXd(), optimize::HessianProjection::Exact);
+  contact.add(assembly, x, e, false);
+  ASSERT_TRUE(std::isfinite(e.energy));
+  ASSERT_GT(e.energy, 0.0);
+  EXPECT_NEAR(e.energy, contact.energy(x), 1e-12 * e.energy);
+  const Eigen::MatrixXd hessian = denseHessian(assembly, e.values);
+  const double step = 1e-7;
+  double gradientScale = e.gradient.cwiseAbs().maxCoeff();
+  double hessianScale = hessian.cwiseAbs().maxCoeff();
+  for (int k = 0; k < 3 * vertexCount; ++k) {
+    Positions plus = x, minus = x;
+    plus.data()[k] += step;
+    minus.data()[k] -= step;
+    const double numeric = (contact.energy(plus) - contact.energy(minus)) / (2 * step);
+    EXPECT_NEAR(e.gradient[k], numeric, 1e-5 * gradientScale) << "coordinate " << k;
+    Positions gPlus = Positions::Zero(vertexCount, 3), gMinus = gPlus;
+    contact.addGradient(plus, gPlus);
+    contact.addGradient(minus, gMinus);
+    for (int i = 0; i < 3 * vertexCount; ++i)
+      EXPECT_NEAR(hessian(i, k), (gPlus.data()[i] - gMinus.data()[i]) / (2 * step),
+                  1e-5 * hessianScale)
+          << "entry " << i << ", " << k;
+  }
+}
+
+TEST(SelfContact, StackedSheetsBarrierDerivativesMatchFiniteDifferences) {
+  const Mesh rest = twoSheets(3, {0.05, 0.03, 1.0});  // apart at rest: nothing exempt
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  const double layer = 0.05;
+  const SelfContact contact(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+  Positions x = rest.positions;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> jitter(-0.2 * layer, 0.2 * layer);
+  for (int v = 16; v < 32; ++v) x(v, 2) = 0.5 * layer + jitter(random);
+  const optimize::ContactCensus census = contact.census(x);
+  EXPECT_GT(census.pairs, 10);
+  EXPECT_LT(census.smallestDistance, layer);
+  expectDerivativesMatch(contact, x);
+}
+
+// Two triangles whose nearest features are two edges 1e-3 rad from parallel (their mollifier
+// c/ε ≈ 1e-3: well inside its band) half a layer apart, overlapping along their length (the
+// nearest points an end of one and the other's interior, away from any tie between types).
+TEST(SelfContact, NearlyParallelEdgesMollifiedDerivativesMatchFiniteDifferences) {
+  Mesh rest;
+  rest.positions.resize(6, 3);
+  rest.positions << 0, 0, 0, 1, 0, 0, 0.5, -0.8, 0,  //
+      0, 0.02, 1, 1, 0.02, 1, 0.5, 0.8, 1;
+  rest.triangles.resize(2, 3);
+  rest.triangles << 0, 1, 2, 3, 5, 4;
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  const double layer = 0.1;
+  const SelfContact contact(stencils.faces, stencils.edges, rest.positions, layer, 1.0);
+  Positions x = rest.positions;
+  const double angle = 1e-3;
+  x.row(3) << 0.3, 0.02, 0.5 * layer;  // overlapping the other edge along x by 0.7
+  x.row(4) << 1.3, 0.02 + angle, 0.5 * layer;
+  x.row(5) << 0.8, 0.8, 0.5 * layer + 0.3;
+  expectDerivativesMatch(contact, x);
+}
+
+// A soft flat sheet folded in half by its pin row rotating half a turn in 1 s about a line 0.025
+// above it, onto a floor; then let go, the flap falls onto the lower half for 0.2 s.
+struct Fold {
+  static constexpr double kPi = 3.14159265358979;
+  Mesh mesh = testing::generatedPlate(modeling::MeshFamily::Patch48, 8);
+  optimize::ProblemOptions options = testing::plateProblem(Discretization::Hinge, 1e3);
+  std::vector<bool> pinned;
+
+  explicit Fold(bool selfContact) {
+    options.bending.stiffness = 2e-4;
+    options.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+    options.obstacles = {optimize::parseObstacle("obstacle", "plane:0,0,1,-0.02")};
+    options.selfContact = selfContact;
+    for (int v = 0; v < mesh.vertexCount(); ++v) pinned.push_back(mesh.positions(v, 0) > 0.45);
+  }
+  optimize::DynamicsOptions dynamics(bool folding) const {
+    optimize::DynamicsOptions d;
+    if (folding) d.pinMotion = optimize::PinMotion::rotation({0, -1, 0}, {0, 0, 0.025}, kPi);
+    d.rayleighMass = 2.0;
+    return d;
+  }
+  optimize::Problem problem(bool folding) {
+    options.fixedVertex = folding ? pinned : std::vector<bool>(mesh.vertexCount(), false);
+    return optimize::buildProblem(mesh, options);
+  }
+};
+
+// The most intersecting face pairs over the frames (each tenth of a second) of the fold, and the
+// self-contact's smallest distance over the steps.
+int mostCrossingPairs(bool selfContact, double* smallest) {
+  Fold fold(selfContact);
+  const optimize::Problem folding = fold.problem(true), released = fold.problem(false);
+  TimeStepper pins(folding, fold.dynamics(true)), free(released, fold.dynamics(false));
+  pins.start(fold.mesh.positions, Positions::Zero(fold.mesh.vertexCount(), 3), Eigen::VectorXd());
+  int most = 0;
+  for (int frame = 1; frame <= 12; ++frame) {
+    if (frame == 11) free.continueAfterRelease(pins, fold.mesh.positions, fold.pinned);
+    TimeStepper& stepper = frame <= 10 ? pins : free;
+    const TimeStepper::Advance advance = stepper.advance(0.1, 0.1 / 64);
+    EXPECT_TRUE(advance.completed) << "frame " << frame << ": " << advance.failure.failure;
+    if (!advance.completed) break;
+    const int crossing = static_cast<int>(
+        modeling::intersectingFacePairs(Mesh{stepper.positions(), fold.mesh.triangles}).size());
+    most = std::max(most, crossing);
+    *smallest = std::min(*smallest, stepper.contactStatistics().smallestDistance);
+  }
+  return most;
+}
+
+TEST(SelfContact, FoldedStripNeverPassesThroughItself) {
+  double smallest = std::numeric_limits<double>::infinity(), unused = smallest;
+  const int with = mostCrossingPairs(true, &smallest);
+  const int without = mostCrossingPairs(false, &unused);
+  std::printf(
+      "folded strip: %d crossing face pairs at worst with self-contact, %d without; "
+      "smallest distance %.3e\n",
+      with, without, smallest);
+  EXPECT_EQ(with, 0);
+  EXPECT_GT(without, 0);  // the scene does test something
+  EXPECT_GT(smallest, 0.0);
+  EXPECT_TRUE(std::isfinite(smallest));  // the flap did come within the offset
+}
+
+// Two sheets stacked 3 d̂ apart over a floor, under gravity with mass damping: the top one comes
+// to rest on the bottom one with the gap between them in (d̂/10, d̂), no frame crossing.
+TEST(SelfContact, StackedSheetsComeToRestWithTheGapInsideTheOffset) {
+  const Mesh both = twoSheets(4, {0.03, 0.02, 0.15});
+  optimize::ProblemOptions o = testing::plateProblem(Discretization::Hinge, 1e3);
+  o.load.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  o.obstacles = {optimize::parseObstacle("obstacle", "plane:0,0,1,-0.05")};
+  o.selfContact = true;
+  o.contactOffset = 0.05;
+  const optimize::Problem problem = optimize::buildProblem(both, o);
+  optimize::DynamicsOptions d;
+  d.integrator = optimize::Integrator::BackwardEuler;
+  d.rayleighMass = 10.0;
+  TimeStepper stepper(problem, d);
+  stepper.start(both.positions, Positions::Zero(both.vertexCount(), 3), Eigen::VectorXd());
+  double peak = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    const TimeStepper::Outcome outcome = stepper.step(0.005);
+    ASSERT_TRUE(outcome.converged) << "step " << k << ": " << outcome.failure;
+    peak = std::max(peak, stepper.energies().kinetic);
+    if (k % 20 == 0)
+      ASSERT_TRUE(
+          modeling::intersectingFacePairs(Mesh{stepper.positions(), both.triangles}).empty())
+          << "step " << k;
+  }
+  const optimize::ContactCensus census = stepper.selfContact().census(stepper.positions());
+  std::printf("stacked sheets: gap %.3e (offset %.3e), %d pairs, kinetic %.2e of the peak\n",
+              census.smallestDistance, o.contactOffset, census.pairs,
+              stepper.energies().kinetic / peak);
+  EXPECT_LT(stepper.energies().kinetic, 1e-3 * peak);  // settling
+  EXPECT_GT(census.smallestDistance, 0.1 * o.contactOffset);
+  EXPECT_LT(census.smallestDistance, o.contactOffset);
+}
+
+// Two sheets in free space, the upper moving down at 1, the lower up at ½ (no gravity, no
+// damping, Newmark): they meet, repel and part, the total momentum Σ m v kept to 1e-8 of Σ m |v|.
+TEST(SelfContact, SheetsCollidingInFreeSpaceKeepTheirMomentum) {
+  const Mesh both = twoSheets(3, {0.04, 0.01, 0.1});
+  optimize::ProblemOptions o = testing::plateProblem(Discretization::Hinge, 1e3);
+  o.selfContact = true;
+  o.contactOffset = 0.03;
+  const optimize::Problem problem = optimize::buildProblem(both, o);
+  TimeStepper stepper(problem, optimize::DynamicsOptions());
+  const int half = both.vertexCount() / 2;
+  Positions v = Positions::Zero(both.vertexCount(), 3);
+  v.topRows(half).col(2).setConstant(0.5);
+  v.bottomRows(half).col(2).setConstant(-1.0);
+  stepper.start(both.positions, v, Eigen::VectorXd());
+  const Eigen::VectorXd& m = stepper.masses();
+  const auto momentum = [&] { return Eigen::Vector3d(stepper.velocities().transpose() * m); };
+  const Eigen::Vector3d before = momentum();
+  const double scale = (v.rowwise().norm().transpose().array() * m.transpose().array()).sum();
+  ASSERT_TRUE(stepper.advance(0.2, 0.2 / 1024).completed);
+  const Eigen::Vector3d after = momentum();
+  // The upper sheet's (the later rows') vertical speed relative to the lower's: −1.5 at the start.
+  const double relativeSpeed = stepper.velocities().bottomRows(half).col(2).mean() -
+                               stepper.velocities().topRows(half).col(2).mean();
+  std::printf("colliding sheets: momentum change %.2e of Σ m|v|, relative speed -1.5 -> %.3f\n",
+              (after - before).norm() / scale, relativeSpeed);
+  EXPECT_LT((after - before).norm(), 1e-8 * scale);
+  EXPECT_GT(relativeSpeed, 0.0);  // they bounced: the upper now moves up relative to the lower
+  EXPECT_GT(stepper.contactStatistics().peakPairs, 0);
+  EXPECT_TRUE(modeling::intersectingFacePairs(Mesh{stepper.positions(), both.triangles}).empty());
+}
+
+// A start in which one sheet passes through the other is refused, naming a pair of faces.
+TEST(SelfContact, AStartThatPassesThroughItselfIsRefused) {
+  Mesh both = twoSheets(2, {0.0, 0.0, 0.0});
+  for (int v = both.vertexCount() / 2; v < both.vertexCount(); ++v)  // tilted through the first
+    both.positions(v, 2) = 0.5 * both.positions(v, 0) + 0.01;
+  optimize::ProblemOptions o = testing::plateProblem(Discretization::Hinge, 1e3);
+  o.selfContact = true;
+  const modeling::Mesh apart = twoSheets(2, {0.0, 0.0, 1.0});
+  const optimize::Problem problem = optimize::buildProblem(apart, o);
+  TimeStepper stepper(problem, optimize::DynamicsOptions());
+  try {
+    stepper.start(both.positions, Positions::Zero(both.vertexCount(), 3), Eigen::VectorXd());
+    FAIL() << "a start that passes through itself was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the start: the shell passes through itself: faces"),
+              std::string::npos)
+        << e.what();
+  }
+  // With self-contact off the same start runs.
+  o.selfContact = false;
+  const optimize::Problem off = optimize::buildProblem(apart, o);
+  TimeStepper free(off, optimize::DynamicsOptions());
+  free.start(both.positions, Positions::Zero(both.vertexCount(), 3), Eigen::VectorXd());
+}
+
+TEST(SelfContact, OffsetsThatAreNotPositiveAreRefused) {
+  optimize::ProblemOptions o = testing::plateProblem(Discretization::Hinge, 1e3);
+  o.selfContact = true;
+  for (const double offset : {-0.1, std::nan("")}) {
+    o.contactOffset = offset;
+    EXPECT_THROW(o.validate(), InputError) << offset;
+  }
+  o.contactOffset = 0.0;  // the rule's
+  o.validate();
+  o.dof = optimize::DofMode::Height;
+  o.membrane.reset();
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+}  // namespace
+}  // namespace flexure
