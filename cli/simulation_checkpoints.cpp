@@ -58,6 +58,7 @@ void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
       {"a", matrixJson(st.a)},
       {"xi", matrixJson(st.xi)},
       {"contact_stiffness", matrixJson(st.contactStiffness)},
+      {"contact_couplings", st.contactCouplings},
       {"balance",
        {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
         b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
@@ -98,6 +99,11 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
     st.xi = matrixFrom(c.at("xi"), c.at("xi").size(), 1);
     st.contactStiffness =
         matrixFrom(c.at("contact_stiffness"), c.at("contact_stiffness").size(), 1);
+    st.contactCouplings = c.at("contact_couplings").get<std::vector<std::array<int, 2>>>();
+    for (const std::array<int, 2>& pair : st.contactCouplings)
+      if (pair[0] < 0 || pair[0] >= pair[1] || pair[1] >= n)
+        throw InputError("a contact coupling (" + std::to_string(pair[0]) + ", " +
+                         std::to_string(pair[1]) + ") that is not two vertices i < j");
     const std::vector<double> b = c.at("balance").get<std::vector<double>>();
     if (b.size() != 10) throw InputError("expected 10 balance numbers");
     st.balance = {

@@ -115,7 +115,8 @@ TEST(TimeStepping, ReleasedFromTheFirstModeItOscillatesWithItsPeriod) {
 }
 
 // Undamped Newmark (β = ¼, γ = ½) from a bent state, 1 000 steps: the total energy stays within
-// 1 % of its start; backward Euler's falls at every step, and its balance's verdict is lost.
+// 1 % of its start; backward Euler's falls at every step, and its balance's verdict is
+// dissipated (the scheme's own damping, not a failure).
 TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
   const Shell shell(8, Discretization::Hinge);
   const optimize::VibrationMode mode = shell.firstMode();
@@ -145,8 +146,8 @@ TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
     std::printf("%s: worst relative energy change %.2e, final %.3e of the start\n",
                 optimize::integratorName(integrator), worst, previous / initial);
     // The verdict on the run (TimeStepper::balanceVerdict): Newmark's is balanced; backward
-    // Euler's numerical dissipation, which no damping accounts for, ends it lost beyond the 5 %
-    // tolerance — a numerical failure, named.
+    // Euler's numerical dissipation, which no damping accounts for, ends it dissipated beyond the
+    // 5 % tolerance — what the scheme does, no failure.
     const std::string failure = stepper.balanceFailure();
     if (integrator == Integrator::Newmark) {
       EXPECT_LT(worst, 0.01);
@@ -154,10 +155,8 @@ TEST(TimeStepping, NewmarkConservesEnergyAndBackwardEulerDissipates) {
       EXPECT_EQ(failure, "");
     } else {
       EXPECT_LT(previous, 0.5 * initial);
-      EXPECT_EQ(stepper.balanceVerdict(), optimize::BalanceVerdict::Lost);
-      EXPECT_EQ(failure.rfind("energy balance: lost ", 0), 0u) << failure;
-      EXPECT_NE(failure.find("% of the peak kinetic energy"), std::string::npos) << failure;
-      EXPECT_NE(failure.find("beyond the 5 % tolerance"), std::string::npos) << failure;
+      EXPECT_EQ(stepper.balanceVerdict(), optimize::BalanceVerdict::Dissipated);
+      EXPECT_EQ(failure, "");
     }
   }
 }

@@ -279,13 +279,13 @@ TimeStepper::TimeStepper(const Problem& problem, const DynamicsOptions& options)
   free_ = freeUnknownMask(pinned_, problem.boundary.fixedEdge, DofMode::Xyz);
   restPositions_ = rest.positions;
   restXi_ = restXi;
-  buildImplicit(rest.positions);
+  buildImplicit();
 }
 
-void TimeStepper::buildImplicit(const Positions& orderAt) {
+void TimeStepper::buildImplicit() {
   const DynamicsOptions& o = options_;
   const int vertexCount = static_cast<int>(restPositions_.rows());
-  implicit_ = std::make_unique<Implicit>(terms_, free_, vertexCount, orderAt, couplings_);
+  implicit_ = std::make_unique<Implicit>(terms_, free_, vertexCount, restPositions_, couplings_);
   Implicit& im = *implicit_;
   const std::vector<int>& unknowns = im.assembly.freeUnknowns();
   im.mass = Eigen::VectorXd::Zero(im.assembly.size());
@@ -370,7 +370,7 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
 }
 
 TimeStepper::State TimeStepper::state() const {
-  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_, contactStatistics_};
+  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_, contactStatistics_, couplings_};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -392,6 +392,10 @@ void TimeStepper::restore(const State& state) {
   xi_ = state.xi;
   balance_ = state.balance;
   contactStatistics_ = state.contact;
+  if (implicit_ && state.contactCouplings != couplings_) {
+    couplings_ = state.contactCouplings;
+    buildImplicit();
+  }
   forgetFactor();
   energies_ = energiesAt(time_, x_, v_, xi_);
 }
@@ -712,7 +716,7 @@ void TimeStepper::prepareContact(const Positions& motion) {
                  std::back_inserter(merged));
   if (merged.size() == couplings_.size()) return;
   couplings_ = std::move(merged);
-  buildImplicit(x_);  // ordered where the contacts are, x_ (the rest state separates them)
+  buildImplicit();
   ++contactStatistics_.patternGrowths;
 }
 

@@ -30,6 +30,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -301,6 +302,8 @@ class TimeStepper {
     Eigen::VectorXd xi, contactStiffness;
     EnergyBalance balance;
     ContactStatistics contact;
+    // The contact couplings of the Hessian pattern (vertex pairs i < j, sorted).
+    std::vector<std::array<int, 2>> contactCouplings;
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest
@@ -391,8 +394,9 @@ class TimeStepper {
   struct Implicit;
   class IncrementalPotential;
   // Builds the implicit scheme's Hessian pattern (the terms' and the contact couplings'), its
-  // fill-reducing order at `orderAt`, the rest stiffness and the bending damping on it.
-  void buildImplicit(const Positions& orderAt);
+  // fill-reducing order (at rest, so that it depends on the pattern alone: a run continued from a
+  // state follows the same steps), the rest stiffness and the bending damping on it.
+  void buildImplicit();
   // Before a step moving the free vertices by about `motion` from x_: lifts the exemptions of
   // pairs now apart and grows the pattern by the couplings of the pairs the motion may bring
   // within the layer (a rebuild when any is new).

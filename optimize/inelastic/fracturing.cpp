@@ -171,6 +171,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
                   before.contactStiffness[sources[i].b]});
   }
   after.balance = before.balance;
+  after.contact = before.contact;  // the run's self-contact statistics go on
   stepper->restore(after);
   const double released = totalBefore - stepper->energies().total();
   after.balance.initial -= released;
