@@ -167,8 +167,9 @@ json orderingCosts(const std::vector<const curvature::EnergyTerm*>& terms,
 // The scene's body: StVK (Y = 1e3) + `energy`, gravity; on the sphere (drape) or hanging from
 // two corners.
 optimize::ProblemOptions sceneBody(const modeling::Mesh& mesh, const std::string& energy,
-                                   bool drape) {
+                                   bool drape, bool selfContact = false) {
   optimize::ProblemOptions body;
+  body.selfContact = selfContact;
   body.bending.discretization = curvature::parseDiscretization(energy);
   curvature::MembraneOptions membrane;
   membrane.young = 1e3;
@@ -195,8 +196,8 @@ json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, dou
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
                bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
-               double tolerance, json* costs) {
-  const optimize::ProblemOptions body = sceneBody(mesh, energy, drape);
+               double tolerance, json* costs, bool selfContact = false) {
+  const optimize::ProblemOptions body = sceneBody(mesh, energy, drape, selfContact);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
@@ -252,7 +253,13 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
                                           stepper.masses(), dt);
   if (costs != nullptr) *costs = floor;
   const double perStep = 1.0 / (steps - 1);
+  const optimize::TimeStepper::ContactStatistics& contact = stepper.contactStatistics();
   return {{"energy", energy},
+          {"self_contact", selfContact},
+          {"detection_seconds_per_step", contact.detectionSeconds * perStep},
+          {"contact_pairs_mean", contact.steps > 0 ? contact.pairs / contact.steps : 0.0},
+          {"contact_pairs_peak", contact.peakPairs},
+          {"contact_pattern_growths", contact.patternGrowths},
           {"scene", drape ? "drape" : "hang"},
           {"hessian", gaussNewton ? "gauss-newton" : "exact"},
           {"vertices", mesh.vertexCount()},
@@ -544,7 +551,7 @@ struct BenchOptions {
   double dt = 1.0 / 200.0, duration = 0.0;
   std::string scene = "drape", sizes = "49,99", pcgModes = "both";
   std::string energies = "hinge,cotan,midedge", hessians = "exact";
-  bool orderings = false, inelastic = false;
+  bool orderings = false, inelastic = false, selfContact = false;
   bool chordSteps = true, predict = true;
   bool trace = false;
   double tolerance = 0.0;
@@ -570,6 +577,9 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
   app.add_flag("--inelastic", o.inelastic,
                "Elastic vs plastic vs fracture runs of the drape, nothing yielding (issue #29), "
                "and the parts of the rebuild after a cut");
+  app.add_flag("--self-contact", o.selfContact,
+               "The drape with self-contact off and on, alternated --repeat times (best kept): "
+               "steps/s, their ratio, collision detection seconds per step, pairs");
   app.add_flag("--orderings", o.orderings,
                "Only the step Hessian's fill-reducing orders: analysis, nnz(L), factor, solve");
   app.add_option("--duration", o.duration,
@@ -663,6 +673,44 @@ json runElastic(const BenchOptions& o, const std::vector<bool>& modes) {
 
 }  // namespace
 
+// --self-contact: per size and energy the drape without and with self-contact (PCG off, the
+// default stepper), alternated `repeat` times, the best of each kept; a table of steps/s, their
+// ratio (the target: on/off time ≤ 1.5), the broad phase + CCD seconds per step and the pairs.
+json measureSelfContact(const BenchOptions& o) {
+  json records = json::array();
+  std::fprintf(stderr,
+               "\n| vertices | energy | off steps/s | on steps/s | on time / off time | "
+               "detection s/step | detection share | pairs mean, peak | pattern growths |\n"
+               "|---|---|---|---|---|---|---|---|---|\n");
+  for (const int size : o.cells) {
+    const modeling::Mesh mesh =
+        modeling::generateMesh({modeling::MeshFamily::Patch48, size, 1, {}});
+    std::stringstream list(o.energies);
+    for (std::string energy; std::getline(list, energy, ',');) {
+      json best[2];
+      for (int run = 0; run < o.repeat; ++run)
+        for (int on = 0; on < 2; ++on) {
+          json record = runEnergy(mesh, energy, o.steps, o.dt, false, true, o.chordSteps, false,
+                                  o.predict, o.trace, o.tolerance, nullptr, on == 1);
+          if (best[on].is_null() || record.contains("error") ||
+              (!best[on].contains("error") &&
+               record["steps_per_second"] > best[on]["steps_per_second"]))
+            best[on] = record;
+        }
+      for (const json& record : best) records.push_back(record);
+      if (best[0].contains("error") || best[1].contains("error")) continue;
+      const double off = best[0]["steps_per_second"], on = best[1]["steps_per_second"];
+      const double detection = best[1]["detection_seconds_per_step"];
+      std::fprintf(stderr, "| %d | %s | %.2f | %.2f | %.2f | %.4f | %.0f %% | %.1f, %d | %d |\n",
+                   mesh.vertexCount(), energy.c_str(), off, on, off / on, detection,
+                   100.0 * detection * on, best[1]["contact_pairs_mean"].get<double>(),
+                   best[1]["contact_pairs_peak"].get<int>(),
+                   best[1]["contact_pattern_growths"].get<int>());
+    }
+  }
+  return records;
+}
+
 int main(int argc, char** argv) {
   flexure::optimize::reuseFreedMemory();
   BenchOptions o;
@@ -673,6 +721,11 @@ int main(int argc, char** argv) {
     const bool clean = measureInelastic(o.cells, energies, o.steps, o.dt, o.repeat, records);
     std::cout << json({{"dt", o.dt}, {"scene", "drape"}, {"records", records}}).dump(2) << "\n";
     return clean ? 0 : 1;
+  }
+  if (o.selfContact) {
+    const json records = measureSelfContact(o);
+    std::cout << json({{"dt", o.dt}, {"scene", "drape"}, {"records", records}}).dump(2) << "\n";
+    return 0;
   }
   // PCG (after) first: the last record of an energy is the default stepper's, which
   // bench/python_bench.py compares with Python's Simulation.

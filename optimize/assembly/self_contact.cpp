@@ -87,20 +87,21 @@ std::array<int, 4> SelfContact::vertices(const ContactPair& pair) const {
           edges_(pair.second, 1)};
 }
 
-double SelfContact::boxGap(const ContactPair& pair, const Positions& x) const {
+double SelfContact::boxGap(const ContactPair& pair, const Positions& x,
+                           const Positions* dx) const {
   const std::array<int, 4> v = vertices(pair);
   const int split = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
-  Eigen::Array3d lowA = x.row(v[0]).transpose(), highA = lowA;
-  Eigen::Array3d lowB = x.row(v[split]).transpose(), highB = lowB;
-  for (int i = 1; i < 4; ++i) {
-    const Eigen::Array3d p = x.row(v[i]).transpose();
-    if (i < split) {
-      lowA = lowA.min(p), highA = highA.max(p);
-    } else if (i > split) {
-      lowB = lowB.min(p), highB = highB.max(p);
-    }
+  Eigen::Array3d low[2], high[2];  // the first primitive's box, the second's
+  for (int i = 0; i < 4; ++i) {
+    const int side = i < split ? 0 : 1;
+    Eigen::Array3d p = x.row(v[i]).transpose(), q = p;
+    if (dx != nullptr) q += dx->row(v[i]).transpose().array();
+    const Eigen::Array3d lowest = p.min(q), highest = p.max(q);
+    const bool first = i == 0 || i == split;
+    low[side] = first ? lowest : Eigen::Array3d(low[side].min(lowest));
+    high[side] = first ? highest : Eigen::Array3d(high[side].max(highest));
   }
-  return (lowA - highB).max(lowB - highA).maxCoeff();
+  return (low[0] - high[1]).max(low[1] - high[0]).maxCoeff();
 }
 
 double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x) const {
@@ -113,7 +114,7 @@ double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x)
 void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
   keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
-  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, layer_)) {
+  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, 0.5 * layer_)) {
     const double squared = layer_ * layer_;
     if (squaredDistance(pair, rest_) < squared && squaredDistance(pair, x) < squared)
       exempt_.insert(key(pair));
@@ -130,22 +131,33 @@ void SelfContact::liftExemptions(const Positions& x) {
   keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
 }
 
+// Motions longer than this many d̂ (in a coordinate) get a broad phase of their own swept boxes:
+// kept candidates covering them would hold the pairs within several d̂ of every vertex.
+constexpr double kLongestKeptMotion = 2.0;
+
 const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
                                                          const Positions& dx) const {
-  const double margin = 0.5 * layer_;
   const auto inside = [&](const Positions& y) {
-    return keptAt_.rows() == y.rows() && (y - keptAt_).cwiseAbs().maxCoeff() <= margin;
+    return keptAt_.rows() == y.rows() && (y - keptAt_).cwiseAbs().maxCoeff() <= keptMargin_;
   };
   if (inside(x) && (dx.size() == 0 || inside(x + dx))) return kept_;
   const auto start = std::chrono::steady_clock::now();
-  std::vector<ContactPair>& found = dx.size() == 0 ? kept_ : moving_;
-  found.clear();
+  const double motion = dx.size() == 0 ? 0.0 : dx.cwiseAbs().maxCoeff();
+  if (motion > kLongestKeptMotion * layer_) {  // the motion's own swept boxes, not kept
+    moving_.clear();
+    for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.0))
+      if (!exempt_.count(key(pair))) moving_.push_back(pair);
+    detectionSeconds_ += secondsSince(start);
+    return moving_;
+  }
+  keptMargin_ = std::max(0.5 * layer_, motion);
+  kept_.clear();
   for (const ContactPair& pair :
-       candidates(x, dx, faces_, edges_, dx.size() == 0 ? layer_ + 2.0 * margin : 0.0))
-    if (!exempt_.count(key(pair))) found.push_back(pair);
-  if (dx.size() == 0) keptAt_ = x;
+       candidates(x, Positions(), faces_, edges_, 0.5 * layer_ + keptMargin_))
+    if (!exempt_.count(key(pair))) kept_.push_back(pair);
+  keptAt_ = x;
   detectionSeconds_ += secondsSince(start);
-  return found;
+  return kept_;
 }
 
 std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Positions& x) const {
@@ -256,6 +268,7 @@ double SelfContact::stepBound(const Positions& x, const Positions& dx) const {
   const auto start = std::chrono::steady_clock::now();
   double bound = 1.0;
   for (const ContactPair& pair : nearbyPairs(x, dx)) {
+    if (boxGap(pair, x, &dx) > 0.0) continue;  // the swept boxes are apart: no contact
     const std::array<int, 4> v = vertices(pair);
     const double t =
         pair.kind == ContactPair::Kind::VertexFace
@@ -273,7 +286,7 @@ std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& x,
                                                        const Positions& dx) const {
   std::vector<std::array<int, 2>> pairs;
   if (empty()) return pairs;
-  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, layer_)) {
+  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.5 * layer_)) {
     if (exempt_.count(key(pair))) continue;
     const std::array<int, 4> v = vertices(pair);
     for (int i = 0; i < 4; ++i)

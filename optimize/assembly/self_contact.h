@@ -109,12 +109,15 @@ class SelfContact {
  private:
   // The repelling pairs within d̂ at x, each with its squared distance.
   std::vector<std::pair<ContactPair, double>> activePairs(const Positions& x) const;
-  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or cross while x
-  // moves to x + dx (dx empty: static), from the kept candidates when both ends of every
-  // vertex's motion lie within the margin r = d̂/2 of where they were found (in each coordinate),
-  // else from a new broad phase (kept when static). Kept candidates were found within d̂ + 2r, so
-  // they hold every pair within d̂ of any x so placed, and every pair that touches while a vertex
-  // moves inside that box.
+  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or touch while x
+  // moves to x + dx (dx empty: static): the kept candidates when both ends of every vertex's
+  // motion lie within their margin r of where they were found (in each coordinate), else the
+  // pairs within d̂ + 2r of x by a new broad phase, kept, with r = max(d̂/2, the motion's largest
+  // coordinate) (its boxes inflated by (d̂ + 2r)/2: two boxes so inflated overlap whenever their
+  // primitives are within d̂ + 2r along every axis). So they hold every pair within d̂ of any x so
+  // placed, and every pair that touches while the vertices move inside that margin, and a Newton
+  // loop's shrinking steps reuse them. A motion longer than 2 d̂ gets the pairs whose swept boxes
+  // overlap instead, not kept.
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
@@ -124,9 +127,11 @@ class SelfContact {
   // face's corners; an edge–edge pair: the first edge's ends, then the second's).
   std::array<int, 4> vertices(const ContactPair& pair) const;
   double squaredDistance(const ContactPair& pair, const Positions& x) const;
-  // The largest gap along a coordinate axis between the two primitives' bounding boxes at x (≤ 0
-  // when they overlap): a lower bound on their distance.
-  double boxGap(const ContactPair& pair, const Positions& x) const;
+  // The largest gap along a coordinate axis between the two primitives' bounding boxes at x, or
+  // over the motion from x to x + *dx (≤ 0 when they overlap): a lower bound on their distance
+  // (during the motion).
+  double boxGap(const ContactPair& pair, const Positions& x,
+                const Positions* dx = nullptr) const;
   static std::uint64_t key(const ContactPair& pair);
 
   modeling::Triangles faces_;
@@ -137,6 +142,7 @@ class SelfContact {
   mutable double detectionSeconds_ = 0.0;
   // The kept candidates and where they were found (nearbyPairs); a motion's candidates.
   mutable Positions keptAt_;
+  mutable double keptMargin_ = 0.0;
   mutable std::vector<ContactPair> kept_, moving_;
 };
 
