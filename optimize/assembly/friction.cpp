@@ -1,5 +1,6 @@
 #include "optimize/assembly/friction.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 namespace flexure::optimize {
