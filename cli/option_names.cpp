@@ -64,6 +64,7 @@ std::vector<modeling::FieldName> dynamicsFlags() {
       {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
+      {"DynamicsOptions.friction", "--friction"},
       {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
       {"PinMotion.kind", "--pin-motion"},
       {"PinMotion.axis", "axis ax,ay,az"},

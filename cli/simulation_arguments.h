@@ -38,6 +38,7 @@ struct SimulateOptions {
   PlasticityArguments plasticity;                // yield values and hardening (no forming)
   std::string selfContact = "on";                // on | off
   double contactOffset = 0.0;                    // d̂; 0: the rule's
+  double friction = 0.0;                         // μ on the obstacles; 0: frictionless
 };
 
 // How the frame images look (none with --render-style none), and the --video checks.

@@ -200,6 +200,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"damping", o.damping},
       {"frames", recording.frames.size()},
       {"obstacles", o.load.obstacles},
+      {"friction", dynamics.friction},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}},
       {"energy_balance", energyBalanceReport(stepper, dynamics.energyTolerance)}};
   if (recording.contact) {

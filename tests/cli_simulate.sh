@@ -255,6 +255,20 @@ absent drape/frame-00019.obj
 run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
   --energy-tolerance 0 -o bad; stderr_has "--energy-tolerance"; absent bad
 
+# --friction μ: a sheet falling on a floor under gravity tilted along x, undamped (report.json
+# carries μ, the work against friction counted as dissipated); μ < 0 or not finite refused before
+# any work (exit 2, naming the flag, nothing written).
+run 0 simulate --rest plate.obj --energy hinge --membrane stvk --gravity 3,0,-9.81 \
+  --obstacle plane:0,0,1,-0.01 --friction 0.4 --integrator backward-euler --dt 0.01 \
+  --duration 0.2 --render-style none -o rubbed
+report_check rubbed "d['completed'] and d['friction'] == 0.4 \
+  and d['energy_balance']['dissipated'] > 0 and d['energy_balance']['verdict'] != 'gained'" \
+  "a run with friction"
+for mu in -0.1 nan inf; do
+  run 2 simulate --rest plate.obj --energy hinge --membrane stvk --obstacle plane:0,0,1,-0.01 \
+    --friction $mu --dt 0.01 --duration 0.1 -o bad; stderr_has "--friction"; absent bad
+done
+
 # --checkpoint N writes DIR/checkpoint.json every N steps; --resume DIR continues from it. A run
 # stopped after step 25 (its last checkpoint at step 20, the contact under way) and resumed to
 # 0.45 s gives the frames and energies of the run that went through, bit for bit (the factor kept

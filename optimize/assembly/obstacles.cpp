@@ -174,38 +174,48 @@ void ObstacleBarrier::addGradient(const Positions& x, Positions& gradient) const
     }
 }
 
-void ObstacleBarrier::add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
-                          bool semidefinite) const {
-  if (obstacles_.empty()) return;
-  // The free index of each vertex coordinate (−1 when fixed).
+std::vector<int> vertexUnknownIndex(const HessianAssembly& assembly, Eigen::Index vertexCount) {
   const std::vector<int>& unknowns = assembly.freeUnknowns();
-  std::vector<int> index(3 * x.rows(), -1);
+  std::vector<int> index(3 * vertexCount, -1);
   for (size_t k = 0; k < unknowns.size(); ++k)
     if (unknowns[k] < static_cast<int>(index.size())) index[unknowns[k]] = static_cast<int>(k);
+  return index;
+}
+
+void addVertexBlock(const HessianAssembly& assembly, const std::vector<int>& index, Eigen::Index v,
+                    const Eigen::Vector3d& gradient, const Eigen::Matrix3d& hessian,
+                    HessianEvaluation& e) {
   const std::vector<int>& start = assembly.columnStart();
   const std::vector<int>& row = assembly.rowIndex();
   const bool withHessian = !e.values.empty();
+  for (int a = 0; a < 3; ++a) {
+    const int p = index[3 * v + a];
+    if (p < 0) continue;
+    e.gradient[p] += gradient[a];
+    if (!withHessian) continue;
+    for (int b = 0; b < 3; ++b) {
+      const int q = index[3 * v + b];
+      if (q < p) continue;  // the upper triangle: row p ≤ column q
+      const auto begin = row.begin() + start[q], end = row.begin() + start[q + 1];
+      const auto at = std::lower_bound(begin, end, p);
+      if (at == end || *at != p)
+        throw std::logic_error("obstacles: a vertex block is missing from the Hessian pattern");
+      e.values[at - row.begin()] += hessian(a, b);
+    }
+  }
+}
+
+void ObstacleBarrier::add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
+                          bool semidefinite) const {
+  if (obstacles_.empty()) return;
+  const std::vector<int> index = vertexUnknownIndex(assembly, x.rows());
   for (const Obstacle& o : obstacles_)
     for (Eigen::Index v = 0; v < x.rows(); ++v) {
       if (o.signedDistance(x.row(v).transpose()) >= layer_) continue;
       Eigen::Vector3d g;
       Eigen::Matrix3d h;
       e.energy += vertexBarrier(o, v, x, g, &h, semidefinite);
-      for (int a = 0; a < 3; ++a) {
-        const int p = index[3 * v + a];
-        if (p < 0) continue;
-        e.gradient[p] += g[a];
-        if (!withHessian) continue;
-        for (int b = 0; b < 3; ++b) {
-          const int q = index[3 * v + b];
-          if (q < p) continue;  // the upper triangle: row p ≤ column q
-          const auto begin = row.begin() + start[q], end = row.begin() + start[q + 1];
-          const auto at = std::lower_bound(begin, end, p);
-          if (at == end || *at != p)
-            throw std::logic_error("obstacle barrier: a vertex block is missing from the pattern");
-          e.values[at - row.begin()] += h(a, b);
-        }
-      }
+      addVertexBlock(assembly, index, v, g, h, e);
     }
 }
 

@@ -134,6 +134,14 @@ class ObstacleBarrier {
   Eigen::VectorXd ruleStiffness_;  // κ̄_v, as constructed
 };
 
+// The free index of each vertex coordinate 3v + c of `assembly` (3 #V entries; −1 when fixed).
+std::vector<int> vertexUnknownIndex(const HessianAssembly& assembly, Eigen::Index vertexCount);
+// Adds vertex v's gradient (3) and, when e.values is filled, its 3 × 3 Hessian block to `e`, on
+// the entries of its free coordinates (`index`: vertexUnknownIndex).
+void addVertexBlock(const HessianAssembly& assembly, const std::vector<int>& index, Eigen::Index v,
+                    const Eigen::Vector3d& gradient, const Eigen::Matrix3d& hessian,
+                    HessianEvaluation& e);
+
 // The barrier of the stated rule for `obstacles` on a mesh with rest state `rest`: d̂ = ¼ the mean
 // rest edge length, κ_v = m_v max(|g|, 1) / d̂ with the lumped masses `mass` (#V).
 ObstacleBarrier makeObstacleBarrier(std::vector<Obstacle> obstacles,

@@ -16,6 +16,13 @@
 #include "optimize/solvers/newton_loop.h"
 
 namespace flexure::optimize {
+namespace {
+
+// ε_v of the obstacles' friction per unit of the rest diagonal L: the slip speed, 1e-3 L per
+// second, below which it is mollified (DynamicsOptions::friction, friction.h).
+constexpr double frictionSlipSpeed = 1e-3;
+
+}  // namespace
 
 const char* integratorName(Integrator integrator) {
   switch (integrator) {
@@ -234,6 +241,9 @@ void DynamicsOptions::validate() const {
   if (bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
   if (!(energyTolerance > 0.0))
     throw InputError("DynamicsOptions.energyTolerance: expected a fraction > 0");
+  if (!(friction >= 0.0) || !std::isfinite(friction))
+    throw InputError("DynamicsOptions.friction " + numberText(friction) +
+                     ": expected a finite friction coefficient μ ≥ 0");
   if (integrator == Integrator::CentralDifference &&
       (rayleighMass != 0.0 || rayleighStiffness != 0.0 || bendingDamping != 0.0))
     throw InputError(
@@ -524,7 +534,7 @@ TimeStepper::StepObjective TimeStepper::stepObjective(double h, const Positions&
 // The implicit step's objective (objective.h), over the free unknowns y (the ξ entries of `hat`
 // and of the masses are 0):
 //
-//   Φ(y) = E + B + ½ dᵀ M d / (β h²) + γ dᵀ C d / (2 β h) + (C v̂)ᵀ d − (M g)ᵀ y,  d = y − x̂,
+//   Φ(y) = E + B + D + ½ dᵀ M d / (β h²) + γ dᵀ C d / (2 β h) + (C v̂)ᵀ d − (M g)ᵀ y,  d = y − x̂,
 //
 // (time_stepping.h; (C v̂)ᵀ x differs from (C v̂)ᵀ d by a constant) with C = α M + K_s, K_s the
 // stiffness-proportional damping β K̄ + c K_B(x_n) of this step on the pattern (empty: none).
@@ -533,14 +543,15 @@ class TimeStepper::IncrementalPotential : public Objective {
   IncrementalPotential(const Implicit& im, Configuration fixedPart,
                        const std::vector<const curvature::EnergyTerm*>& terms,
                        const ObstacleBarrier& barrier, const SelfContact& selfContact,
-                       const Eigen::Vector3d& gravity, const DynamicsOptions& o, double h,
-                       const Positions& xHat, const Positions& vHat,
-                       std::vector<double> stiffnessDamping)
+                       const ObstacleFriction& friction, const Eigen::Vector3d& gravity,
+                       const DynamicsOptions& o, double h, const Positions& xHat,
+                       const Positions& vHat, std::vector<double> stiffnessDamping)
       : Objective(im.assembly, std::move(fixedPart)),
         im_(im),
         terms_(terms),
         barrier_(barrier),
         selfContact_(selfContact),
+        friction_(friction),
         rayleighMass_(o.rayleighMass),
         stiffnessDamping_(std::move(stiffnessDamping)) {
     const bool euler = o.integrator == Integrator::BackwardEuler;
@@ -573,6 +584,7 @@ class TimeStepper::IncrementalPotential : public Objective {
         im_.assembly.evaluate(at.positions, at.xi, HessianProjection::Exact, nullptr, kind);
     barrier_.add(im_.assembly, at.positions, e, kind != curvature::SecondDerivatives::Exact);
     selfContact_.add(im_.assembly, at.positions, e);
+    if (!friction_.empty()) friction_.add(im_.assembly, at.positions, e);
     Eigen::VectorXd extraGradient;
     e.energy += inertiaDampingGravity(y, &extraGradient);
     e.gradient += extraGradient;
@@ -588,8 +600,9 @@ class TimeStepper::IncrementalPotential : public Objective {
     const Configuration at = configuration(y);
     double e = 0.0;
     for (const curvature::EnergyTerm* term : terms_) e += term->energy(at.positions, at.xi);
-    return e + inertiaDampingGravity(y, nullptr) + barrier_.energy(at.positions) +
-           selfContact_.energy(at.positions);  // +∞ inside an obstacle or where a pair touches
+    const double phi = e + inertiaDampingGravity(y, nullptr) + barrier_.energy(at.positions) +
+                       selfContact_.energy(at.positions);  // +∞ inside an obstacle or a touch
+    return friction_.empty() ? phi : phi + friction_.energy(at.positions);
   }
 
   // The obstacles' per-vertex bounds α_v, all scaled by the self-contact's bound on the motion
@@ -656,6 +669,7 @@ class TimeStepper::IncrementalPotential : public Objective {
   const std::vector<const curvature::EnergyTerm*>& terms_;
   const ObstacleBarrier& barrier_;
   const SelfContact& selfContact_;
+  const ObstacleFriction& friction_;
   const double rayleighMass_;
   const std::vector<double> stiffnessDamping_;
   double massWeight_ = 0.0, dampingWeight_ = 0.0;
@@ -757,8 +771,10 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     prepareContact(xHat - x_);
   }
   Implicit& im = *implicit_;  // after prepareContact, which may rebuild it
-  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, selfContact_, gravity_,
-                           o, h, xHat, vHat, stiffnessDamping());
+  const ObstacleFriction friction(barrier_, x_, pinned_, o.friction,
+                                  frictionSlipSpeed * length_ * h);
+  IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, selfContact_, friction,
+                           gravity_, o, h, xHat, vHat, stiffnessDamping());
   if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
     const Eigen::VectorXd y = phi.freeValues(Configuration{*probe->x, *probe->xi});
     const HessianEvaluation at = phi.evaluate(y, curvature::SecondDerivatives::Exact);
@@ -802,8 +818,9 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   for (int v = 0; v < a.rows(); ++v)
     if (pinned_[v]) a.row(v).setZero();
   Positions v = vHat + gamma * h * a;
-  const double dissipation =
+  double dissipation =
       phi.dampingWork(end.positions - x_, (1.0 - gamma) * v_ + gamma * v, x_.size());
+  if (!friction.empty()) dissipation += friction.work(end.positions);
   return commitStep(time_ + h, end.positions, v, std::move(a), std::move(end.xi), dissipation,
                     outcome);
 }

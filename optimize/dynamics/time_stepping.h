@@ -17,9 +17,10 @@
 // minimizer over (x, ξ) of the incremental potential
 //
 //   Φ = (x − x̂)ᵀ M (x − x̂) / (2 β h²) + γ (x − x̂)ᵀ C (x − x̂) / (2 β h) + (C v̂)ᵀ x + E − (M g)ᵀ x
-//       + B(x),
+//       + B(x) + D(x),
 //
-// (B the obstacles' barrier, obstacles.h; its force −∇B joins ∇E in the equation of motion)
+// (B the obstacles' barrier, obstacles.h, D their lagged friction, friction.h; their forces −∇B,
+// −∇D join ∇E in the equation of motion)
 //
 // whose gradient is the equation above; the Newton loop (solvers/newton_loop.h, its step stop
 // rule) on its exact Hessian M/(βh²) + γC/(βh) + ∇²E (pattern and CHOLMOD analysis once per run). β
@@ -41,6 +42,7 @@
 #include "curvature/energy_term.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
+#include "optimize/assembly/friction.h"
 #include "optimize/assembly/obstacles.h"
 #include "optimize/assembly/self_contact.h"
 #include "optimize/problem.h"
@@ -148,10 +150,16 @@ struct DynamicsOptions {
   // steps a second and 1.8 % at 200; at 100 they pass 5 % from t = 0.6 on and 50 % when it blows
   // up at t = 0.8.
   double energyTolerance = 0.05;
+  // μ of the lagged smoothed Coulomb friction on the obstacles (assembly/friction.h): the
+  // potential D joins Φ, its contacts, normal forces and tangent planes taken at each step's
+  // start, on the slip length ε = ε_v h with the slip speed ε_v = 1e-3 L per second (L the rest
+  // mesh's bounding-box diagonal). 0: frictionless.
+  double friction = 0.0;
 
   // InputError naming the field for options no problem can satisfy (β outside (0, ½] for
   // Newmark, γ outside [½, 1], negative damping, damping with the explicit scheme, an energy
-  // tolerance that is not > 0, a PinGroup.releaseTime that is not > 0 (finite, or +∞: never)).
+  // tolerance that is not > 0, a PinGroup.releaseTime that is not > 0 (finite, or +∞: never), a
+  // friction coefficient that is negative or not finite).
   void validate() const;
   // InputError naming DynamicsOptions.pinGroups for a group without #V entries or a vertex in two.
   void validatePinGroups(int vertexCount) const;
@@ -173,7 +181,8 @@ struct EnergySample {
 
 // The energy balance of a run. With E = EnergySample::total(), D the work done against damping
 // so far (per step Δxᵀ C ((1 − γ) v_n + γ v_{n+1}), the damping force of Newmark's equation
-// integrated by its own rule; backward Euler γ = 1) and S the energy added by raising the
+// integrated by its own rule; backward Euler γ = 1) and against the obstacles' friction (per step
+// ∇D(x_{n+1})·Δx, friction.h) and S the energy added by raising the
 // contact stiffness inside the barrier layer (obstacles.h: B(x; κ_new) − B(x; κ_old) at each
 // adaptation) and P the energy plastic updates released (plastic_dynamics.h; 0 without), the
 // balanced total

@@ -75,6 +75,7 @@ struct SimulationArguments : MembraneFields {
   int maxNewtonIterations = 30;
   double tolerance = 1e-10;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
+  double friction = 0.0;                              // μ on the obstacles
   optimize::PlasticityOptions plasticity;             // no yield value: elastic
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
@@ -122,6 +123,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.tolerance = a.tolerance;
   d.energyTolerance = a.energyTolerance;
+  d.friction = a.friction;
   return d;
 }
 
@@ -435,6 +437,7 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
       .def_readwrite("tolerance", &SimulationArguments::tolerance)
       .def_readwrite("energy_tolerance", &SimulationArguments::energyTolerance)
+      .def_readwrite("friction", &SimulationArguments::friction)
       .def_readwrite("plasticity", &SimulationArguments::plasticity)
       .def_readwrite("fracture", &SimulationArguments::fracture);
 

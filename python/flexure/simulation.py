@@ -144,6 +144,10 @@ class Simulation:
     vertex–face and edge–edge pair closer than contact_offset d̂ repel (default ¼ of the mean
     rest edge length), and no step lets two parts of the shell pass through each other.
 
+    Friction (docs/commands/simulate.md "Friction"): friction μ ≥ 0 (default 0, frictionless) is
+    the Coulomb coefficient between the vertices and the obstacles, smoothed and lagged per step
+    as in incremental potential contact; its work counts as dissipated in ``balance()``.
+
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
     """
 
@@ -154,7 +158,7 @@ class Simulation:
                  bending_damping=0.0, pin_motion=None, pin_groups=None,
                  max_newton_iterations=30, tolerance=1e-10, yield_curvature=None,
                  yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
-                 energy_tolerance=0.05, self_contact=True, contact_offset=None):
+                 energy_tolerance=0.05, self_contact=True, contact_offset=None, friction=0.0):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -205,6 +209,7 @@ class Simulation:
                                                  positive=True, integer=True)
         a.tolerance = _checks.number(tolerance, "tolerance", positive=True)
         a.energy_tolerance = _checks.number(energy_tolerance, "energy_tolerance")
+        a.friction = _checks.number(friction, "friction")
         _set_inelastic(a, yield_curvature, yield_strain, hardening, fracture_strain, thickness)
         self._s = _flexure.Simulation(V_rest, F, a, V_start, velocities)
 

@@ -148,6 +148,21 @@ def test_obstacle_is_respected(plate):
     assert s.energies()["contact"] >= 0
 
 
+def test_friction_is_counted_as_dissipated(plate):
+    # A sheet landing on a floor under gravity tilted along x: friction holds it back and its work
+    # is part of the balance's dissipated work (no damping).
+    V, F = plate
+    runs = {}
+    for mu in (0.0, 0.8):
+        s = flexure.Simulation(V, F, energy="hinge", gravity=[3.0, 0, -9.81], friction=mu,
+                               obstacles=["plane:0,0,1,-0.01"], integrator="backward-euler")
+        for _ in range(10):
+            s.step(0.01)
+        runs[mu] = (s.positions[:, 0].mean(), s.balance()["dissipated"])
+    assert runs[0.8][0] < runs[0.0][0]
+    assert runs[0.0][1] == 0.0 and runs[0.8][1] > 0.0
+
+
 @pytest.mark.parametrize("arguments, name", [
     ({"pinned": np.ones(3, dtype=bool)}, "pinned"),
     ({"integrator": "rk4"}, "integrator"),
@@ -162,6 +177,8 @@ def test_obstacle_is_respected(plate):
     ({"pinned": 2, "pin_motion": {"spin": 1}}, "pin_motion"),
     ({"pin_motion": {"translate": [0, 0, 1]}}, "pin_motion"),
     ({"pinned": 2, "pin_motion": {"rotate": ([0, 0, 0], [0, 0, 0], 1)}}, "pin_motion"),
+    ({"friction": -0.1}, "friction"),
+    ({"friction": float("nan")}, "friction"),
 ])
 def test_bad_arguments_name_themselves(plate, arguments, name):
     V, F = plate

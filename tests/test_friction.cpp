@@ -1,0 +1,286 @@
+// Friction on the obstacles (optimize/assembly/friction.h, IPC's lagged smoothed Coulomb
+// friction): the mollifier and the assembled gradient and Hessian of one lagged state against
+// finite differences; a stiff sheet on a plane tilted by θ stays for tan θ < μ and slides with
+// the acceleration g (sin θ − μ cos θ) for tan θ > μ; μ = 0 and friction without contacts leave a
+// run bit for bit unchanged; bad coefficients refused.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "modeling/errors.h"
+#include "optimize/assembly/friction.h"
+#include "optimize/assembly/hessian_assembly.h"
+#include "optimize/assembly/obstacles.h"
+#include "optimize/dynamics/time_stepping.h"
+#include "support/plate.h"
+
+namespace flexure {
+namespace {
+
+using curvature::Discretization;
+using modeling::Positions;
+using optimize::DynamicsOptions;
+using optimize::Obstacle;
+using optimize::ObstacleBarrier;
+using optimize::ObstacleFriction;
+
+constexpr double pi = 3.14159265358979323846;
+constexpr double g = 9.81;
+
+TEST(Friction, MollifierIsC1WithItsDerivative) {
+  const double slip = 0.2;
+  double f1 = -1.0;
+  EXPECT_DOUBLE_EQ(optimize::frictionMollifier(0.0, slip, &f1), slip / 3.0);
+  EXPECT_EQ(f1, 0.0);  // no friction force at rest
+  for (const double s : {0.05, 0.3, 0.7, 0.99, 1.5}) {
+    const double y = s * slip, eps = 1e-6 * slip;
+    optimize::frictionMollifier(y, slip, &f1);
+    const double fd =
+        (optimize::frictionMollifier(y + eps, slip) - optimize::frictionMollifier(y - eps, slip)) /
+        (2 * eps);
+    EXPECT_NEAR(f1, fd, 1e-8) << "y / ε = " << s;
+    EXPECT_GE(f1, 0.0);
+    EXPECT_LE(f1, 1.0);
+  }
+  // f₀ and f₁ continuous at ε (f₀(ε) = ε, f₁(ε) = 1).
+  double below = 0.0;
+  EXPECT_NEAR(optimize::frictionMollifier(slip * (1 - 1e-12), slip, &below), slip, 1e-12);
+  EXPECT_NEAR(below, 1.0, 1e-10);
+}
+
+// D of one lagged state (a jittered sheet within the layer of a tilted plane and a sphere, moved
+// by tangential and normal displacements both below and beyond ε): its assembled gradient against
+// central differences of D, its Hessian against those of the gradient, each contact's block
+// positive semidefinite, and the work ∇D·(x − x_n) ≥ 0.
+TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 4, Discretization::Hinge, 1e3);
+  const int vertexCount = plate.mesh.vertexCount();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  Positions start = plate.rest.positions;
+  for (int v = 0; v < vertexCount; ++v)
+    for (int c = 0; c < 3; ++c) start(v, c) += jitter(random);
+  const double layer = 0.3, slip = 0.03;
+  const std::vector<Obstacle> obstacles = {
+      optimize::parseObstacle("--obstacle", "plane:0.2,0.1,1,-0.25"),
+      optimize::parseObstacle("--obstacle", "sphere:0.2,0,0.6,0.5")};
+  Eigen::VectorXd stiffness(vertexCount);
+  for (int v = 0; v < vertexCount; ++v) stiffness[v] = 1.0 + 0.1 * v;
+  const ObstacleBarrier barrier(obstacles, layer, stiffness);
+  ASSERT_GT(barrier.smallestDistance(start), 0.0);
+  std::vector<bool> held(vertexCount, false);
+  held[0] = true;  // a pinned vertex has no contact
+  const ObstacleFriction friction(barrier, start, held, 0.4, slip);
+  ASSERT_GT(friction.contactCount(), 10);
+
+  Positions x = start;
+  std::uniform_real_distribution<double> move(-2.0 * slip, 2.0 * slip);
+  for (int v = 0; v < vertexCount; ++v)
+    for (int c = 0; c < 3; ++c) x(v, c) += v % 3 == 0 ? 0.0 : move(random);  // some at y = 0
+
+  const std::vector<bool> free(3 * vertexCount, true);
+  const optimize::HessianAssembly assembly(plate.terms(), free, vertexCount,
+                                           curvature::Derivatives::All);
+  optimize::HessianEvaluation e;
+  e.gradient = Eigen::VectorXd::Zero(assembly.size());
+  e.values.assign(assembly.rowIndex().size(), 0.0);
+  friction.add(assembly, x, e);
+  EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
+  ASSERT_GT(e.energy, 0.0);
+
+  const double eps = 1e-7;
+  int active = 0;
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(assembly.size(), assembly.size());
+  for (int k = 0; k < assembly.size(); ++k) {
+    const int u = assembly.freeUnknowns()[k];
+    Positions plus = x, minus = x;
+    plus.data()[u] += eps;
+    minus.data()[u] -= eps;
+    const double fd = (friction.energy(plus) - friction.energy(minus)) / (2 * eps);
+    EXPECT_NEAR(e.gradient[k], fd, 1e-6 * (1.0 + std::abs(fd))) << "unknown " << u;
+    active += e.gradient[k] != 0.0;
+    Positions gPlus = Positions::Zero(vertexCount, 3), gMinus = gPlus;
+    friction.addGradient(plus, gPlus);
+    friction.addGradient(minus, gMinus);
+    for (int p = assembly.columnStart()[k]; p < assembly.columnStart()[k + 1]; ++p) {
+      const int r = assembly.rowIndex()[p];
+      const int row = assembly.freeUnknowns()[r];
+      const double fdh = (gPlus.data()[row] - gMinus.data()[row]) / (2 * eps);
+      EXPECT_NEAR(e.values[p], fdh, 1e-5 * (1.0 + std::abs(fdh))) << row << ", " << u;
+      dense(r, k) = dense(k, r) = e.values[p];
+    }
+  }
+  EXPECT_GT(active, 10);
+  EXPECT_EQ(e.gradient.segment(0, 3).norm(), 0.0);  // the held vertex 0
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
+  EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-10 * eigen.eigenvalues().maxCoeff());
+  EXPECT_GT(friction.work(x), 0.0);
+  EXPECT_EQ(friction.work(start), 0.0);
+  // No coefficient, no contacts.
+  EXPECT_TRUE(ObstacleFriction(barrier, start, held, 0.0, slip).empty());
+}
+
+// A stiff sheet (patch48 n = 3, hinge, StVK E = 1e5) on the plane through the origin tilted by θ
+// about y (normal (−sin θ, 0, cos θ)), gravity −z: lying parallel to it at 0.6 d̂, it settles
+// under mass damping with backward Euler (μ = 2: it cannot slide), then moves undamped from rest
+// with the coefficient μ for `duration` seconds. Returns the mean displacement down the slope
+// (−(cos θ, 0, sin θ)) after each step of h, and the stepper's balance at the end.
+struct Slide {
+  std::vector<double> time, downhill;
+  optimize::EnergyBalance balance;
+  optimize::BalanceVerdict verdict = optimize::BalanceVerdict::Balanced;
+  double length = 0.0, mass = 0.0;
+};
+
+Slide slideOnSlope(double theta, double mu, double duration, double h) {
+  const std::string plane =
+      "plane:" + std::to_string(-std::sin(theta)) + ",0," + std::to_string(std::cos(theta)) + ",0";
+  const testing::Plate plate(modeling::MeshFamily::Patch48, 3, Discretization::Hinge, 1e5,
+                             [&](optimize::ProblemOptions& p, const modeling::Stencils&) {
+                               p.load.gravity = Eigen::Vector3d(0.0, 0.0, -g);
+                               p.obstacles = {optimize::parseObstacle("obstacle", plane)};
+                             });
+  const int vertexCount = plate.mesh.vertexCount();
+  const Eigen::Vector3d normal(-std::sin(theta), 0.0, std::cos(theta));
+  const Eigen::Vector3d down = -Eigen::Vector3d(std::cos(theta), 0.0, std::sin(theta));
+  DynamicsOptions settling;
+  settling.integrator = optimize::Integrator::BackwardEuler;
+  settling.rayleighMass = 20.0;
+  settling.friction = 2.0;
+  optimize::TimeStepper settle(plate.problem, settling);
+  const Eigen::Matrix3d tilt =
+      Eigen::AngleAxisd(-theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::RowVector3d centre = plate.rest.positions.colwise().mean();
+  Positions x(vertexCount, 3);
+  for (int v = 0; v < vertexCount; ++v)
+    x.row(v) = (tilt * (plate.rest.positions.row(v) - centre).transpose() +
+                0.6 * settle.barrier().layer() * normal)
+                   .transpose();
+  const Positions rest = Positions::Zero(vertexCount, 3);
+  settle.start(x, rest, Eigen::VectorXd());
+  for (int k = 0; k < 100; ++k) {
+    const auto outcome = settle.step(0.005);
+    EXPECT_TRUE(outcome.converged) << "settling step " << k << ": " << outcome.failure;
+  }
+
+  DynamicsOptions sliding;
+  sliding.integrator = optimize::Integrator::BackwardEuler;
+  sliding.friction = mu;
+  optimize::TimeStepper stepper(plate.problem, sliding);
+  const Positions settled = settle.positions();
+  stepper.start(settled, rest, settle.xi());
+  Slide slide;
+  slide.length =
+      (plate.rest.positions.colwise().maxCoeff() - plate.rest.positions.colwise().minCoeff())
+          .norm();
+  slide.mass = stepper.masses().sum();
+  const int steps = static_cast<int>(std::lround(duration / h));
+  for (int k = 0; k < steps; ++k) {
+    const auto outcome = stepper.step(h);
+    EXPECT_TRUE(outcome.converged) << "step " << k << ": " << outcome.failure;
+    EXPECT_GT(stepper.barrier().smallestDistance(stepper.positions()), 0.0);
+    slide.time.push_back(stepper.time());
+    slide.downhill.push_back(
+        (stepper.positions() - settled).colwise().mean().dot(down.transpose()));
+  }
+  slide.balance = stepper.balance();
+  slide.verdict = stepper.balanceVerdict();
+  return slide;
+}
+
+// tan 20° = 0.36 < μ = 0.5: the sheet stays (it creeps below the slip speed ε_v = 1e-3 L/s).
+TEST(Friction, SheetStaysOnASlopeBelowTheFrictionAngle) {
+  const Slide slide = slideOnSlope(20.0 * pi / 180.0, 0.5, 0.5, 0.005);
+  const double largest = std::abs(slide.downhill.back());
+  std::printf("stick: mean displacement down the slope after 0.5 s %.3e (L = %.3g)\n", largest,
+              slide.length);
+  EXPECT_LT(largest, 1e-3 * slide.length);
+  EXPECT_LT(largest, 1e-3 * slide.length * 0.5);  // slower than the slip speed ε_v = 1e-3 L/s
+  EXPECT_NE(slide.verdict, optimize::BalanceVerdict::Gained);
+}
+
+// tan 30° = 0.58 > μ = 0.3: the sheet slides with a = g (sin θ − μ cos θ) (the fit of the mean
+// displacement to c + b t + ½ a t² over t ≥ 0.05 s: backward Euler adds ½ a h t to the motion
+// under a constant force), and the work against friction is μ g cos θ M × the distance slid.
+TEST(Friction, SheetSlidesDownASlopeBeyondTheFrictionAngle) {
+  const double theta = 30.0 * pi / 180.0, mu = 0.3, h = 0.005;
+  const Slide slide = slideOnSlope(theta, mu, 0.5, h);
+  const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+  Eigen::MatrixXd basis(0, 3);
+  Eigen::VectorXd values(0);
+  for (size_t k = 0; k < slide.time.size(); ++k) {
+    const double t = slide.time[k];
+    if (t < 0.05) continue;
+    basis.conservativeResize(basis.rows() + 1, 3);
+    values.conservativeResize(values.size() + 1);
+    basis.row(basis.rows() - 1) << 1.0, t, 0.5 * t * t;
+    values[values.size() - 1] = slide.downhill[k];
+  }
+  const Eigen::Vector3d fit = basis.colPivHouseholderQr().solve(values);
+  const double distance = slide.downhill.back();
+  const double work = mu * g * std::cos(theta) * slide.mass * distance;
+  std::printf(
+      "slide: a = %.6g (expected %.6g), slid %.4g, friction and damping work %.6g (μ g cos θ M "
+      "s = %.6g), balance drift %.3g %%\n",
+      fit[2], expected, distance, slide.balance.dissipated, work,
+      100.0 * slide.balance.relativeDrift());
+  EXPECT_NEAR(fit[2], expected, 0.02 * expected);
+  EXPECT_NEAR(slide.balance.dissipated, work, 0.02 * work);
+  EXPECT_NE(slide.verdict, optimize::BalanceVerdict::Gained);
+}
+
+// Friction while no vertex is within the layer (a sheet falling towards a plane it does not
+// reach) leaves the frictionless run bit for bit; μ = 0 counts no work against friction.
+TEST(Friction, NoCoefficientOrNoContactLeavesTheRunUnchanged) {
+  const testing::Plate plate(
+      modeling::MeshFamily::Patch48, 3, Discretization::Hinge, 1e4,
+      [](optimize::ProblemOptions& p, const modeling::Stencils&) {
+        p.load.gravity = Eigen::Vector3d(0.0, 0.0, -g);
+        p.obstacles = {optimize::parseObstacle("obstacle", "plane:0,0,1,-1")};
+      });
+  const int vertexCount = plate.mesh.vertexCount();
+  const auto run = [&](double mu, double drop) {
+    DynamicsOptions o;
+    o.friction = mu;
+    optimize::TimeStepper stepper(plate.problem, o);
+    Positions x = plate.rest.positions;
+    x.col(2).array() -= drop;
+    stepper.start(x, Positions::Zero(vertexCount, 3), Eigen::VectorXd());
+    for (int k = 0; k < 40; ++k) EXPECT_TRUE(stepper.step(0.01).converged);
+    return stepper.state();
+  };
+  // Landing undamped without friction: nothing is counted as dissipated.
+  EXPECT_EQ(run(0.0, 0.95).balance.dissipated, 0.0);
+  const optimize::TimeStepper::State frictionless = run(0.0, 0.0);
+  const optimize::TimeStepper::State high = run(0.8, 0.0);  // falls 0.2 of the 1 in 0.4 s
+  EXPECT_EQ(frictionless.x, high.x);
+  EXPECT_EQ(frictionless.v, high.v);
+  EXPECT_EQ(frictionless.balance.last, high.balance.last);
+}
+
+TEST(Friction, BadCoefficientsAreRefused) {
+  for (const double mu :
+       {-0.1, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    DynamicsOptions o;
+    o.friction = mu;
+    try {
+      o.validate();
+      ADD_FAILURE() << "μ = " << mu << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("DynamicsOptions.friction"), std::string::npos)
+          << e.what();
+    }
+  }
+  DynamicsOptions o;
+  o.friction = 0.7;
+  EXPECT_NO_THROW(o.validate());
+}
+
+}  // namespace
+}  // namespace flexure
