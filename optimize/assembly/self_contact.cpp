@@ -87,8 +87,7 @@ std::array<int, 4> SelfContact::vertices(const ContactPair& pair) const {
           edges_(pair.second, 1)};
 }
 
-double SelfContact::boxGap(const ContactPair& pair, const Positions& x,
-                           const Positions* dx) const {
+double SelfContact::boxGap(const ContactPair& pair, const Positions& x, const Positions* dx) const {
   const std::array<int, 4> v = vertices(pair);
   const int split = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
   Eigen::Array3d low[2], high[2];  // the first primitive's box, the second's

@@ -130,8 +130,7 @@ class SelfContact {
   // The largest gap along a coordinate axis between the two primitives' bounding boxes at x, or
   // over the motion from x to x + *dx (≤ 0 when they overlap): a lower bound on their distance
   // (during the motion).
-  double boxGap(const ContactPair& pair, const Positions& x,
-                const Positions* dx = nullptr) const;
+  double boxGap(const ContactPair& pair, const Positions& x, const Positions* dx = nullptr) const;
   static std::uint64_t key(const ContactPair& pair);
 
   modeling::Triangles faces_;
