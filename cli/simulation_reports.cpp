@@ -10,6 +10,30 @@
 namespace flexure::cli {
 namespace {
 
+// Each mesh obstacle: its spec, its size, the file of its rest mesh and its motion.
+nlohmann::json meshObstacleReport(const std::vector<optimize::MeshObstacle>& obstacles) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t k = 0; k < obstacles.size(); ++k) {
+    const optimize::PinMotion& m = obstacles[k].motion;
+    nlohmann::json motion = {{"kind", m.kind == optimize::PinMotion::Kind::Rotate      ? "rotate"
+                                      : m.kind == optimize::PinMotion::Kind::Translate ? "translate"
+                                                                                       : "none"}};
+    if (m.kind == optimize::PinMotion::Kind::Translate)
+      motion["velocity"] = {m.velocity.x(), m.velocity.y(), m.velocity.z()};
+    if (m.kind == optimize::PinMotion::Kind::Rotate) {
+      motion["axis"] = {m.axis.x(), m.axis.y(), m.axis.z()};
+      motion["point"] = {m.point.x(), m.point.y(), m.point.z()};
+      motion["omega"] = m.omega;
+    }
+    list.push_back({{"label", obstacles[k].label},
+                    {"mesh", "obstacle-" + std::to_string(k) + ".obj"},
+                    {"vertices", obstacles[k].mesh.vertexCount()},
+                    {"faces", obstacles[k].mesh.faceCount()},
+                    {"motion", motion}});
+  }
+  return list;
+}
+
 // The run's energy balance (optimize::TimeStepper::balanceVerdict): balanced, gained, lost or
 // driven.
 std::string balanceVerdict(const optimize::TimeStepper& stepper) {
@@ -207,6 +231,8 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
     report["smallest_obstacle_distance"] = recording.smallestDistance;
   }
   report["contact"] = contactReport(stepper, run.seconds);
+  if (!stepper.selfContact().meshObstacles().empty())
+    report["mesh_obstacles"] = meshObstacleReport(stepper.selfContact().meshObstacles());
   if (fracturing.fractures()) report["fracture"] = fractureReport(o, fracturing);
   const std::string balanceFailure = stepper.balanceFailure();
   if (run.failure.empty() && !balanceFailure.empty()) report["failure"] = balanceFailure;

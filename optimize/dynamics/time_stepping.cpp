@@ -37,62 +37,6 @@ Integrator parseIntegrator(std::string_view name) {
                    ": expected newmark, backward-euler or central-difference");
 }
 
-PinMotion PinMotion::rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
-                              double omega) {
-  if (!axis.allFinite() || !(axis.norm() > 0.0))
-    throw InputError("PinMotion.axis: the axis is zero or not finite");
-  if (!point.allFinite()) throw InputError("PinMotion.point: the point is not finite");
-  if (!std::isfinite(omega)) throw InputError("PinMotion.omega: the angular speed is not finite");
-  PinMotion m;
-  m.kind = Kind::Rotate;
-  m.axis = axis.normalized();
-  m.point = point;
-  m.omega = omega;
-  return m;
-}
-
-PinMotion PinMotion::translation(const Eigen::Vector3d& velocity) {
-  if (!velocity.allFinite()) throw InputError("PinMotion.velocity: the velocity is not finite");
-  PinMotion m;
-  m.kind = Kind::Translate;
-  m.velocity = velocity;
-  return m;
-}
-
-PinMotion::Kind parsePinMotionKind(std::string_view name) {
-  if (name == "none") return PinMotion::Kind::None;
-  if (name == "rotate") return PinMotion::Kind::Rotate;
-  if (name == "translate") return PinMotion::Kind::Translate;
-  throw InputError("PinMotion.kind " + std::string(name) + ": expected none, rotate or translate");
-}
-
-Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
-  switch (kind) {
-    case Kind::None:
-      return start;
-    case Kind::Translate:
-      return start + t * velocity;
-    case Kind::Rotate: {
-      const Eigen::Vector3d y = start - point;
-      const double phi = omega * t, c = std::cos(phi), s = std::sin(phi);
-      return point + c * y + s * axis.cross(y) + (1.0 - c) * axis.dot(y) * axis;
-    }
-  }
-  return start;
-}
-
-Eigen::Vector3d PinMotion::velocityAt(const Eigen::Vector3d& start, double t) const {
-  switch (kind) {
-    case Kind::None:
-      return Eigen::Vector3d::Zero();
-    case Kind::Translate:
-      return velocity;
-    case Kind::Rotate:
-      return omega * axis.cross(position(start, t) - point);
-  }
-  return Eigen::Vector3d::Zero();
-}
-
 double EnergySample::total() const {
   double sum = kinetic + gravity + contact;
   for (double e : terms) sum += e;
@@ -355,6 +299,7 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   movePins(x_, &v_, 0.0);
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
+  selfContact_.setObstacleTime(0.0);
   selfContact_.exemptClosePairs(x_);
   selfContact_.requireApart(x_, "the start");
   contactStatistics_ = ContactStatistics();
@@ -383,6 +328,7 @@ void TimeStepper::restore(const State& state) {
                      std::to_string(x_.rows()) + " vertices, " + std::to_string(xi_.size()) +
                      " edge unknowns)");
   barrier_.requireOutside(state.x, "the restored state");
+  selfContact_.setObstacleTime(state.time);
   selfContact_.requireApart(state.x, "the restored state");
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
   time_ = state.time;
@@ -457,11 +403,14 @@ void TimeStepper::forgetFactor() {
 }
 
 TimeStepper::Outcome TimeStepper::step(double h) {
+  Outcome outcome;
   try {
-    return implicit_ ? implicitStep(h) : explicitStep(h);
+    outcome = implicit_ ? implicitStep(h) : explicitStep(h);
   } catch (const NumericalError& e) {
-    return {false, 0, e.what(), 0, NewtonStop::NonFinite};
+    outcome = {false, 0, e.what(), 0, NewtonStop::NonFinite};
   }
+  selfContact_.setObstacleTime(time_);  // where the current state has them, the step taken or not
+  return outcome;
 }
 
 TimeStepper::Advance TimeStepper::advance(double h, double minStep) {
@@ -750,10 +699,21 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
               NewtonStop::Infeasible};
   }
   if (!selfContact_.empty()) {
-    // A pin moved through the shell would start every iterate on the far side of a pair.
-    if (selfContact_.stepBound(x_, moved - x_) < 1.0)
-      return {false, 0, "the pins' motion over the step brings the shell into contact with itself",
+    // The pins' and the mesh obstacles' motion over the step with the free vertices held at x_n:
+    // one that reaches the shell would start every iterate on the far side of a pair. Every
+    // iterate then sees the obstacles where they are at t + h.
+    selfContact_.setObstacleTime(time_);
+    ContactPair limiting;
+    const double bound = selfContact_.stepBound(x_, moved - x_, time_ + h, &limiting);
+    selfContact_.setObstacleTime(time_ + h);
+    if (bound < 1.0) {
+      char when[120];
+      std::snprintf(when, sizeof when, " over the step from t = %.6g to %.6g", time_, time_ + h);
+      return {false, 0,
+              "the motion of the pins and mesh obstacles" + std::string(when) + " brings " +
+                  selfContact_.describe(limiting) + " into contact",
               0, NewtonStop::Infeasible};
+    }
     prepareContact(xHat - x_);
   }
   Implicit& im = *implicit_;  // after prepareContact, which may rebuild it
@@ -836,7 +796,7 @@ EnergySample TimeStepper::energiesAt(double t, const Positions& x, const Positio
 }
 
 bool TimeStepper::balanceChecked() const {
-  return !options_.pinsMove();
+  return !options_.pinsMove() && !selfContact_.obstaclesMove();
 }
 
 const char* balanceVerdictName(BalanceVerdict verdict) {

@@ -42,6 +42,7 @@
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "optimize/assembly/obstacles.h"
+#include "optimize/assembly/pin_motion.h"
 #include "optimize/assembly/self_contact.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/newton_stop.h"
@@ -54,31 +55,6 @@ enum class Integrator { Newmark, BackwardEuler, CentralDifference };
 const char* integratorName(Integrator integrator);  // newmark | backward-euler | central-difference
 // The integrator of that name; InputError naming DynamicsOptions.integrator otherwise.
 Integrator parseIntegrator(std::string_view name);
-
-// A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
-//   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
-//              (Rodrigues; a the unit axis, p a point on it, ω the angular speed in rad/s,
-//              counter-clockwise about a by the right-hand rule),
-//   translate: x₀ + u t (u the velocity),
-// with velocity ω a × (x − p) or u. None: the pinned vertices stay where they start.
-struct PinMotion {
-  enum class Kind { None, Rotate, Translate };
-  Kind kind = Kind::None;
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero();
-  double omega = 0.0;
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-
-  Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
-  Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
-
-  // A rotation about `axis` (any length > 0; normalized here) through `point` at `omega`, and a
-  // translation. InputError naming the field for a zero or non-finite axis, point, ω or velocity.
-  static PinMotion rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
-                            double omega);
-  static PinMotion translation(const Eigen::Vector3d& velocity);
-};
-// "none" | "rotate" | "translate"; InputError naming PinMotion.kind otherwise.
-PinMotion::Kind parsePinMotionKind(std::string_view name);
 
 // A group of pinned vertices with its own motion, held until its release time: from then on its
 // vertices are free and go on with the velocity the motion gave them (releasePinGroups,
@@ -375,7 +351,7 @@ class TimeStepper {
   // The energies of the current state (computed with each step).
   const EnergySample& energies() const { return energies_; }
   const EnergyBalance& balance() const { return balance_; }
-  // Whether the balance's growth is checked (no moving pins).
+  // Whether the balance's growth is checked (no moving pins or mesh obstacles: they do work).
   bool balanceChecked() const;
   // The balance so far against DynamicsOptions::energyTolerance.
   BalanceVerdict balanceVerdict() const;
