@@ -172,12 +172,14 @@ void printPlasticSummary(const optimize::PlasticityOptions& options,
 
 // The self-contact over the run (optimize::TimeStepper::ContactStatistics): its offset, the
 // smallest distance between repelling primitives at a step's end (null: none came within the
-// offset), the pairs within it per step, and the share of the run's time in collision detection.
+// offset), the pairs within it per step, and the share of the run's time in collision detection;
+// with mesh obstacles their pairs with the shell count too (self_contact: whether the shell's own
+// pairs do).
 nlohmann::json contactReport(const optimize::TimeStepper& stepper, double seconds) {
   if (stepper.selfContact().empty()) return {{"self_contact", false}};
   const optimize::TimeStepper::ContactStatistics& c = stepper.contactStatistics();
   return {
-      {"self_contact", true},
+      {"self_contact", stepper.selfContact().shellPairs()},
       {"offset", stepper.selfContact().layer()},
       {"smallest_distance", std::isfinite(c.smallestDistance) ? nlohmann::json(c.smallestDistance)
                                                               : nlohmann::json(nullptr)},

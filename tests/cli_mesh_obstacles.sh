@@ -51,7 +51,7 @@ z = [float(l.split()[3]) for l in open(frames[-1]) if l.startswith("v ")]
 assert max(z) < 0.05, max(z)  # come down onto the top
 PY
 
-# A ball of radius 0.12 driven down through a sheet pinned at its boundary at 1 m/s.
+# A ball of radius 0.06 driven down through a sheet pinned at its boundary at 1 m/s.
 run 0 mesh --family sphere --n 8 -o unit.obj --quiet
 python3 -c "
 out = []
@@ -72,7 +72,7 @@ assert m["motion"] == {"kind": "translate", "velocity": [0.0, 0.0, -1.0]}, m
 assert r["energy_balance"]["verdict"] == "driven", r["energy_balance"]
 last = sorted(glob.glob("pushed/frame-*.obj"))[-1]
 z = [float(l.split()[3]) for l in open(last) if l.startswith("v ")]
-assert min(z) < -0.1, min(z)
+assert min(z) < -0.09, min(z)
 PY
 [ -f pushed/frames/frame-00006.png ] || fail "pushed: no frame images"
 

@@ -1,5 +1,6 @@
 #include "optimize/assembly/pin_motion.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <string>
 

@@ -84,6 +84,7 @@ SelfContact::SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, 
 void SelfContact::addObstacles(std::vector<MeshObstacle> obstacles, bool shellPairs) {
   validateMeshObstacles(obstacles);
   shellPairs_ = shellPairs;
+  obstacleStiffness_ = stiffness_;
   for (MeshObstacle& obstacle : obstacles) {
     const int v0 = vertexStart_.back(), f0 = faceStart_.back(), e0 = edgeStart_.back();
     const modeling::IndexPairs edges = triangleEdges(obstacle.mesh.triangles);
@@ -110,6 +111,13 @@ void SelfContact::setObstacleTime(double t) {
       obstaclePositions_.middleRows(vertexStart_[k] - shellVertices_,
                                     obstacles_[k].mesh.vertexCount()) =
           obstacles_[k].positionsAt(t);
+}
+
+void SelfContact::setObstacleStiffness(double stiffness) {
+  if (!(stiffness >= stiffness_) || !std::isfinite(stiffness))
+    throw InputError("SelfContact: the mesh obstacles' stiffness must be at least κ = " +
+                     numberText(stiffness_) + ", got " + numberText(stiffness));
+  obstacleStiffness_ = stiffness;
 }
 
 bool SelfContact::obstaclesMove() const {
@@ -303,17 +311,19 @@ double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance,
                           wantGradient ? &mGradient : nullptr,
                           hessian != nullptr ? &mHessian : nullptr);
   }
-  if (!wantGradient) return stiffness_ * m * b;
+  const std::array<bool, 2> shell = onShell(pair);
+  const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  if (!wantGradient) return kappa * m * b;
   const Vector12 dGradient = sGradient / (2.0 * d);
-  if (gradient != nullptr) *gradient = stiffness_ * (b * mGradient + m * b1 * dGradient);
+  if (gradient != nullptr) *gradient = kappa * (b * mGradient + m * b1 * dGradient);
   if (hessian != nullptr) {
     const Matrix12 dHessian =
         sHessian / (2.0 * d) - sGradient * sGradient.transpose() / (4.0 * d * d * d);
     const Matrix12 bm = b1 * mGradient * dGradient.transpose();
-    *hessian = stiffness_ * (b * mHessian + bm + bm.transpose() +
-                             m * (b2 * dGradient * dGradient.transpose() + b1 * dHessian));
+    *hessian = kappa * (b * mHessian + bm + bm.transpose() +
+                        m * (b2 * dGradient * dGradient.transpose() + b1 * dHessian));
   }
-  return stiffness_ * m * b;
+  return kappa * m * b;
 }
 
 double SelfContact::energy(const Positions& shell) const {

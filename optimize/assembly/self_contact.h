@@ -91,6 +91,11 @@ class SelfContact {
   // The obstacles' vertices (#W by 3, in order) where setObstacleTime last put them.
   const Positions& obstaclePositions() const { return obstaclePositions_; }
   bool obstaclesMove() const;
+  // κ_o, the stiffness of the pairs with a mesh obstacle (≥ κ; κ unless raised): a moving obstacle
+  // must make the shell give way at its speed, which may take a stiffer barrier than the
+  // weight-based κ (TimeStepper raises it, as IPC adapts κ, Li et al. 2020 §4.3).
+  double obstacleStiffness() const { return obstacleStiffness_; }
+  void setObstacleStiffness(double stiffness);
   // Whether pairs of two shell primitives repel (self-contact on).
   bool shellPairs() const { return shellPairs_; }
 
@@ -175,6 +180,7 @@ class SelfContact {
   std::unordered_set<std::uint64_t> exempt_;
   int shellVertices_ = 0, shellFaces_ = 0, shellEdges_ = 0;
   bool shellPairs_ = true;
+  double obstacleStiffness_ = 0.0;
   std::vector<MeshObstacle> obstacles_;
   // Where obstacle k's vertices, faces and edges start in the collision mesh (K + 1 entries each).
   std::vector<int> vertexStart_, faceStart_, edgeStart_;

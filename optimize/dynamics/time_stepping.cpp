@@ -315,7 +315,13 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
 }
 
 TimeStepper::State TimeStepper::state() const {
-  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_, contactStatistics_, couplings_};
+  const double obstacleStiffness =
+      selfContact_.meshObstacles().empty() ? 0.0 : selfContact_.obstacleStiffness();
+  return {time_,      x_,
+          v_,         a_,
+          xi_,        barrier_.stiffness(),
+          balance_,   contactStatistics_,
+          couplings_, obstacleStiffness};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -329,6 +335,8 @@ void TimeStepper::restore(const State& state) {
                      " edge unknowns)");
   barrier_.requireOutside(state.x, "the restored state");
   selfContact_.setObstacleTime(state.time);
+  if (state.obstacleStiffness > 0.0 && !selfContact_.meshObstacles().empty())
+    selfContact_.setObstacleStiffness(state.obstacleStiffness);
   selfContact_.requireApart(state.x, "the restored state");
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
   time_ = state.time;
@@ -699,21 +707,15 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
               NewtonStop::Infeasible};
   }
   if (!selfContact_.empty()) {
-    // The pins' and the mesh obstacles' motion over the step with the free vertices held at x_n:
-    // one that reaches the shell would start every iterate on the far side of a pair. Every
-    // iterate then sees the obstacles where they are at t + h.
+    // A pin moved through the shell (or a mesh obstacle, where it is at t) would start every
+    // iterate on the far side of a pair.
     selfContact_.setObstacleTime(time_);
     ContactPair limiting;
-    const double bound = selfContact_.stepBound(x_, moved - x_, time_ + h, &limiting);
-    selfContact_.setObstacleTime(time_ + h);
-    if (bound < 1.0) {
-      char when[120];
-      std::snprintf(when, sizeof when, " over the step from t = %.6g to %.6g", time_, time_ + h);
+    if (selfContact_.stepBound(x_, moved - x_, time_, &limiting) < 1.0)
       return {false, 0,
-              "the motion of the pins and mesh obstacles" + std::string(when) + " brings " +
+              "the pins' motion over the step from " + stepSpan(h) + " brings " +
                   selfContact_.describe(limiting) + " into contact",
               0, NewtonStop::Infeasible};
-    }
     prepareContact(xHat - x_);
   }
   Implicit& im = *implicit_;  // after prepareContact, which may rebuild it
@@ -744,15 +746,10 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;
   rule.preconditionedSteps = o.preconditionedSteps;
+  Outcome outcome = moveObstacles(phi, y, h, rule);
+  if (!outcome.converged) return outcome;
   const NewtonResult newton = im.loop.run(phi, y, rule);
-  Outcome outcome;
-  outcome.converged = newton.stop == NewtonStop::Converged;
-  outcome.newtonIterations = newton.iterations;
-  outcome.factorizations = newton.factorizations;
-  outcome.pcgSolves = newton.pcgSolves;
-  outcome.pcgIterations = newton.pcgIterations;
-  outcome.hessians = newton.newtonSteps + newton.gaussNewtonSteps;
-  outcome.stop = newton.stop;
+  addNewtonCounts(newton, outcome);
   if (!outcome.converged) {
     outcome.failure = stepFailure(newton);
     return outcome;
@@ -766,6 +763,60 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
       phi.dampingWork(end.positions - x_, (1.0 - gamma) * v_ + gamma * v, x_.size());
   return commitStep(time_ + h, end.positions, v, std::move(a), std::move(end.xi), dissipation,
                     outcome);
+}
+
+void TimeStepper::addNewtonCounts(const NewtonResult& newton, Outcome& outcome) {
+  outcome.converged = newton.stop == NewtonStop::Converged;
+  outcome.newtonIterations += newton.iterations;
+  outcome.factorizations += newton.factorizations;
+  outcome.pcgSolves += newton.pcgSolves;
+  outcome.pcgIterations += newton.pcgIterations;
+  outcome.hessians += newton.newtonSteps + newton.gaussNewtonSteps;
+  outcome.stop = newton.stop;
+}
+
+std::string TimeStepper::stepSpan(double h) const {
+  char text[120];
+  std::snprintf(text, sizeof text, "t = %.6g to %.6g", time_, time_ + h);
+  return text;
+}
+
+TimeStepper::Outcome TimeStepper::moveObstacles(IncrementalPotential& phi, Eigen::VectorXd& y,
+                                                double h, const StepStopRule& rule) {
+  constexpr int kMaxStages = 24;
+  constexpr double kLeastAdvance = 1e-3;  // of the step
+  Outcome outcome;
+  outcome.converged = true;
+  outcome.stop = NewtonStop::Converged;
+  if (!selfContact_.obstaclesMove()) return outcome;
+  const Positions still = Positions::Zero(x_.rows(), 3);
+  double reached = 0.0;  // the fraction of the step the obstacles have gone
+  for (int stage = 0;; ++stage) {
+    ContactPair limiting;
+    const double bound =
+        selfContact_.stepBound(phi.configuration(y).positions, still, time_ + h, &limiting);
+    if (bound >= 1.0) break;
+    if (bound < 0.5) selfContact_.setObstacleStiffness(2.0 * selfContact_.obstacleStiffness());
+    const double next = reached + bound * (1.0 - reached);
+    if (next - reached < kLeastAdvance || stage == kMaxStages) {
+      char part[80];
+      std::snprintf(part, sizeof part, " (after %.3g of the step, %d stages)", reached, stage);
+      return {false, outcome.newtonIterations,
+              "the mesh obstacles' motion over the step from " + stepSpan(h) + " drives " +
+                  selfContact_.describe(limiting) + " into contact: the shell does not give way" +
+                  part,
+              outcome.factorizations, NewtonStop::Infeasible};
+    }
+    reached = next;
+    selfContact_.setObstacleTime(time_ + reached * h);
+    addNewtonCounts(implicit_->loop.run(phi, y, rule), outcome);
+    if (!outcome.converged) {
+      outcome.failure = "with the mesh obstacles part of the way: " + outcome.failure;
+      return outcome;
+    }
+  }
+  selfContact_.setObstacleTime(time_ + h);
+  return outcome;
 }
 
 std::string TimeStepper::stepFailure(const NewtonResult& newton) {

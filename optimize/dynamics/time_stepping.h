@@ -50,6 +50,7 @@
 namespace flexure::optimize {
 
 struct NewtonResult;
+struct StepStopRule;
 
 enum class Integrator { Newmark, BackwardEuler, CentralDifference };
 const char* integratorName(Integrator integrator);  // newmark | backward-euler | central-difference
@@ -280,6 +281,7 @@ class TimeStepper {
     ContactStatistics contact;
     // The contact couplings of the Hessian pattern (vertex pairs i < j, sorted).
     std::vector<std::array<int, 2>> contactCouplings;
+    double obstacleStiffness = 0.0;  // SelfContact::obstacleStiffness (0: no mesh obstacles)
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest
@@ -387,6 +389,22 @@ class TimeStepper {
   // Where the step's Newton loop starts (free unknowns).
   Eigen::VectorXd startingPoint(IncrementalPotential& phi, double h) const;
   static std::string stepFailure(const NewtonResult& newton);
+  // Adds a Newton loop's counts to `outcome`, which ends as the loop did.
+  static void addNewtonCounts(const NewtonResult& newton, Outcome& outcome);
+  // "t = 0.1 to 0.105" for a step of h from the current time.
+  std::string stepSpan(double h) const;
+  // Moves the mesh obstacles from where they are at t to where they are at t + h, from the
+  // iterate y (free of crossings with them at t), in stages: each moves them as far as continuous
+  // collision detection lets them go with the shell held where the last stage left it (every
+  // pair keeping a tenth of its distance), then solves the step's Φ from y with them there, so
+  // that the shell gives way before the next; a stage that can go less than half the remaining
+  // way doubles the obstacles' barrier stiffness κ_o first (never lowered: SelfContact::
+  // obstacleStiffness). The stages only give the step a start free of
+  // crossings with the obstacles at t + h, where they end (the step is Φ's minimizer with them
+  // there). Fails, naming a pair, when a stage moves them less than 1e-3 of the step (pinned
+  // vertices in the way, or a step too long for the shell to follow) or after 24 stages.
+  Outcome moveObstacles(IncrementalPotential& phi, Eigen::VectorXd& y, double h,
+                        const StepStopRule& rule);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
   // Takes the damping force −C v at the current state into a_n after a release (the released

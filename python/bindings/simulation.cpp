@@ -502,7 +502,8 @@ void bindSimulation(py::module_& m) {
       .def_property_readonly("contact", [](const BoundSimulation& s) {
         const optimize::TimeStepper::ContactStatistics& c = s.stepper().contactStatistics();
         py::dict d;
-        d["self_contact"] = !s.stepper().selfContact().empty();
+        d["self_contact"] =
+            !s.stepper().selfContact().empty() && s.stepper().selfContact().shellPairs();
         d["offset"] = s.stepper().selfContact().layer();
         d["smallest_distance"] = c.smallestDistance;
         d["mean_pairs"] = c.steps > 0 ? c.pairs / c.steps : 0.0;
