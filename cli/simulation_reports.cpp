@@ -109,7 +109,7 @@ void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, 
   const char* scale = b.scale() == b.peakKinetic ? "the peak kinetic energy" : "the energy scale";
   char tail[160] = "";
   if (verdict == "driven")
-    std::snprintf(tail, sizeof tail, "; not checked: the moving pins do work");
+    std::snprintf(tail, sizeof tail, "; not checked: the moving pins or mesh obstacles do work");
   else if (b.relativeDrift() > tolerance && !warn)
     std::snprintf(tail, sizeof tail, "; round-off: below 1e-12 M (L/dt)^2 = %.3g", b.roundoff);
   else if (warn)

@@ -174,6 +174,13 @@ std::string SelfContact::vertexText(int v) const {
   return "vertex " + std::to_string(v - vertexStart_[k]) + " of " + meshObstacleName(obstacles_, k);
 }
 
+std::vector<int> SelfContact::shellVerticesOf(const ContactPair& pair) const {
+  std::vector<int> shell;
+  for (int v : vertices(pair))
+    if (v < shellVertices_) shell.push_back(v);
+  return shell;
+}
+
 std::string SelfContact::describe(const ContactPair& pair) const {
   const std::array<int, 4> v = vertices(pair);
   if (pair.kind == ContactPair::Kind::VertexFace) {

@@ -124,6 +124,8 @@ class SelfContact {
   // The same bound while x moves to x + dx and the obstacles from where they are to where they
   // are at time t, and the pair that sets it (when < 1).
   double stepBound(const Positions& x, const Positions& dx, double t, ContactPair* limiting) const;
+  // The shell's vertices among a pair's four (none for a pair of two obstacle primitives).
+  std::vector<int> shellVerticesOf(const ContactPair& pair) const;
   // A pair in words: "shell vertex 3 and face 7 of box.obj", "shell edge (1, 2) and …".
   std::string describe(const ContactPair& pair) const;
   // The vertex pairs (i < j) of the repelling pairs that may come within d̂ while x moves to

@@ -751,7 +751,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   const NewtonResult newton = im.loop.run(phi, y, rule);
   addNewtonCounts(newton, outcome);
   if (!outcome.converged) {
-    outcome.failure = stepFailure(newton);
+    outcome.failure = stepFailure(newton) + closestPairText(phi.configuration(y).positions);
     return outcome;
   }
   Configuration end = phi.configuration(y);
@@ -775,6 +775,15 @@ void TimeStepper::addNewtonCounts(const NewtonResult& newton, Outcome& outcome) 
   outcome.stop = newton.stop;
 }
 
+std::string TimeStepper::closestPairText(const Positions& x) const {
+  if (selfContact_.meshObstacles().empty()) return {};
+  const ContactCensus census = selfContact_.census(x);
+  if (census.pairs == 0) return {};
+  char distance[40];
+  std::snprintf(distance, sizeof distance, " at %.3g", census.smallestDistance);
+  return "; the closest pair: " + selfContact_.describe(census.closest) + distance;
+}
+
 std::string TimeStepper::stepSpan(double h) const {
   char text[120];
   std::snprintf(text, sizeof text, "t = %.6g to %.6g", time_, time_ + h);
@@ -796,9 +805,12 @@ TimeStepper::Outcome TimeStepper::moveObstacles(IncrementalPotential& phi, Eigen
     const double bound =
         selfContact_.stepBound(phi.configuration(y).positions, still, time_ + h, &limiting);
     if (bound >= 1.0) break;
-    if (bound < 0.5) selfContact_.setObstacleStiffness(2.0 * selfContact_.obstacleStiffness());
+    const std::vector<int> shell = selfContact_.shellVerticesOf(limiting);
+    const bool held = std::all_of(shell.begin(), shell.end(), [&](int v) { return pinned_[v]; });
+    if (bound < 0.5 && !held)
+      selfContact_.setObstacleStiffness(2.0 * selfContact_.obstacleStiffness());
     const double next = reached + bound * (1.0 - reached);
-    if (next - reached < kLeastAdvance || stage == kMaxStages) {
+    if (held || next - reached < kLeastAdvance || stage == kMaxStages) {
       char part[80];
       std::snprintf(part, sizeof part, " (after %.3g of the step, %d stages)", reached, stage);
       return {false, outcome.newtonIterations,

@@ -391,6 +391,8 @@ class TimeStepper {
   static std::string stepFailure(const NewtonResult& newton);
   // Adds a Newton loop's counts to `outcome`, which ends as the loop did.
   static void addNewtonCounts(const NewtonResult& newton, Outcome& outcome);
+  // With mesh obstacles, "; the closest pair: … at d" of the contact pairs at x (empty: none).
+  std::string closestPairText(const Positions& x) const;
   // "t = 0.1 to 0.105" for a step of h from the current time.
   std::string stepSpan(double h) const;
   // Moves the mesh obstacles from where they are at t to where they are at t + h, from the
@@ -401,8 +403,9 @@ class TimeStepper {
   // way doubles the obstacles' barrier stiffness κ_o first (never lowered: SelfContact::
   // obstacleStiffness). The stages only give the step a start free of
   // crossings with the obstacles at t + h, where they end (the step is Φ's minimizer with them
-  // there). Fails, naming a pair, when a stage moves them less than 1e-3 of the step (pinned
-  // vertices in the way, or a step too long for the shell to follow) or after 24 stages.
+  // there). Fails, naming a pair, when the pair that stops a stage has only pinned shell vertices
+  // (they cannot give way), when a stage moves them less than 1e-3 of the step (a step too long
+  // for the shell to follow) or after 24 stages.
   Outcome moveObstacles(IncrementalPotential& phi, Eigen::VectorXd& y, double h,
                         const StepStopRule& rule);
   Outcome explicitStep(double h);
