@@ -278,6 +278,10 @@ void runMinimizeCommand(const MinimizeCommandOptions& o, const GlobalOptions& gl
     throw InputError(
         "the fixed vertices need values: give --boundary quadratic:a,b,c or --init FILE");
   std::vector<optimize::Obstacle> obstacles = obstacleList(o.load);
+  if (const std::vector<std::string> meshes = meshObstacleSpecs(o.load); !meshes.empty())
+    throw InputError(
+        "--obstacle " + meshes.front() +
+        ": mesh obstacles are for flexure simulate; minimize takes planes and spheres");
 
   const modeling::Mesh restMesh = modeling::readMesh(o.restFile);
   modeling::Stencils stencils = modeling::compileStencils(restMesh);

@@ -25,6 +25,7 @@ std::vector<modeling::FieldName> solveFlags() {
       {"ProblemOptions.load.gravity", "--gravity"},
       {"ProblemOptions.load.density", "--density"},
       {"ProblemOptions.obstacles", "--obstacle"},
+      {"ProblemOptions.meshObstacles", "--obstacle mesh:FILE"},
       {"ProblemOptions.selfContact", "--self-contact"},
       {"ProblemOptions.contactOffset", "--contact-offset"},
       {"LoadOptions.mass", "--mass"},

@@ -46,10 +46,11 @@ bool advance(optimize::FracturingDynamics& dynamics, optimize::PlasticDynamics* 
   run.halvings += a.halvings;
   run.smallestStep = std::min(run.smallestStep, a.smallestStep);
   if (a.completed) return true;
-  char text[160];
-  std::snprintf(text, sizeof text, "at t = %.6g: a step of %.3g s failed (%s) and --min-dt %.3g",
-                a.failedTime, a.failedStep, a.failure.failure.c_str(), minDt);
-  run.failure = std::string(text) + " stops the halving";
+  char time[80], step[40];
+  std::snprintf(time, sizeof time, "at t = %.6g: a step of %.3g s failed (", a.failedTime,
+                a.failedStep);
+  std::snprintf(step, sizeof step, ") and --min-dt %.3g", minDt);
+  run.failure = time + a.failure.failure + step + " stops the halving";
   return false;
 }
 

@@ -76,6 +76,7 @@ optimize::ProblemOptions bodyOptions(const SimulateOptions& o) {
   p.boundaryNormals = optimize::BoundaryNormals::Free;
   p.load = loadOptions(o.load);
   p.obstacles = obstacleList(o.load);
+  p.meshObstacles = meshObstacleList(o.load);
   p.selfContact = o.selfContact == "on";
   p.contactOffset = o.contactOffset;
   return p;

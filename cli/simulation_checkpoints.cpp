@@ -59,6 +59,7 @@ void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
       {"xi", matrixJson(st.xi)},
       {"contact_stiffness", matrixJson(st.contactStiffness)},
       {"contact_couplings", st.contactCouplings},
+      {"mesh_obstacle_stiffness", st.obstacleStiffness},
       {"balance",
        {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
         b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
@@ -100,6 +101,7 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
     st.contactStiffness =
         matrixFrom(c.at("contact_stiffness"), c.at("contact_stiffness").size(), 1);
     st.contactCouplings = c.at("contact_couplings").get<std::vector<std::array<int, 2>>>();
+    st.obstacleStiffness = c.value("mesh_obstacle_stiffness", 0.0);
     for (const std::array<int, 2>& pair : st.contactCouplings)
       if (pair[0] < 0 || pair[0] >= pair[1] || pair[1] >= n)
         throw InputError("a contact coupling (" + std::to_string(pair[0]) + ", " +

@@ -71,14 +71,17 @@ void addObstacles(const std::vector<optimize::Obstacle>& obstacles, render::Rend
 // this one did not write go), and the video.
 void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
                       render::OffscreenContext& context, const Recording& recording,
-                      const std::vector<optimize::Obstacle>& obstacles, bool cracks,
+                      const std::vector<optimize::Obstacle>& obstacles,
+                      const std::vector<optimize::MeshObstacle>& meshObstacles, bool cracks,
                       const std::filesystem::path& dir) {
   const auto& frames = recording.frames;
   look.exaggeration = o.exaggerate;
   addObstacles(obstacles, look);
-  Eigen::Index pointCount = 0;
+  Eigen::Index pointCount = 0, obstaclePoints = 0;
   for (const modeling::Positions& rest : recording.frameRest) pointCount += rest.rows();
-  look.framingPoints.resize(pointCount, 3);
+  for (const optimize::MeshObstacle& obstacle : meshObstacles)
+    obstaclePoints += obstacle.mesh.vertexCount();
+  look.framingPoints.resize(pointCount + obstaclePoints * Eigen::Index(frames.size()), 3);
   double largestDisplacement = 0.0;
   Eigen::Index first = 0;
   for (size_t f = 0; f < frames.size(); ++f) {
@@ -86,6 +89,11 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
     const modeling::Positions& rest = recording.frameRest[f];
     look.framingPoints.middleRows(first, rest.rows()) = rest + o.exaggerate * (x - rest);
     first += rest.rows();
+    for (const optimize::MeshObstacle& obstacle : meshObstacles) {
+      look.framingPoints.middleRows(first, obstacle.mesh.vertexCount()) =
+          obstacle.positionsAt(recording.frameTimes[f]);
+      first += obstacle.mesh.vertexCount();
+    }
     largestDisplacement = std::max(largestDisplacement, (x - rest).rowwise().norm().maxCoeff());
   }
   if (look.style == render::RenderStyle::Plastic) {
@@ -111,6 +119,10 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
     else
       std::snprintf(caption, sizeof caption, "t = %.3f s", recording.frameTimes[f]);
     look.caption = caption;
+    look.obstacleMeshes.clear();
+    for (const optimize::MeshObstacle& obstacle : meshObstacles)
+      look.obstacleMeshes.push_back(
+          {obstacle.positionsAt(recording.frameTimes[f]), obstacle.mesh.triangles});
     look.referencePositions = recording.frameRest[f];
     if (cracks) look.crackEdges = render::crackLipEdges(recording.frameRest[f], mesh.triangles);
     if (look.style == render::RenderStyle::Plastic) {
@@ -131,7 +143,8 @@ bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
-  return (name.rfind("frame-", 0) == 0 && (obj || png)) || (name.rfind("fragment-", 0) == 0 && obj);
+  return (name.rfind("frame-", 0) == 0 && (obj || png)) ||
+         ((name.rfind("fragment-", 0) == 0 || name.rfind("obstacle-", 0) == 0) && obj);
 }
 
 void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOptions>& look,
@@ -153,10 +166,17 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
       written.push_back(name);
     }
   }
+  const std::vector<optimize::MeshObstacle>& meshObstacles =
+      dynamics.problem().selfContact.meshObstacles();
+  for (size_t k = 0; k < meshObstacles.size(); ++k) {  // each at rest (time 0)
+    const std::string name = "obstacle-" + std::to_string(k) + ".obj";
+    modeling::writeMesh((dir / name).string(), meshObstacles[k].mesh);
+    written.push_back(name);
+  }
   removeStaleFrames(dir, written);
   if (look)
     writeFrameImages(o, *look, *context, recording, dynamics.problem().obstacles.obstacles(),
-                     dynamics.fractures(), dir);
+                     meshObstacles, dynamics.fractures(), dir);
   else
     removeStaleFrames(dir / "frames", {});
   modeling::writeFileAtomically((dir / "energies.csv").string(), recording.csv.str());

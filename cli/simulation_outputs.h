@@ -16,7 +16,7 @@
 namespace flexure::cli {
 
 // Whether `name` is a file a simulation writes in its output directory: energies.csv,
-// energies.png, report.json, frame-*.obj, frame-*.png, fragment-*.obj.
+// energies.png, report.json, frame-*.obj, frame-*.png, fragment-*.obj, obstacle-*.obj.
 bool isSimulationFile(const std::string& name);
 
 // The frame meshes, their images (with `look`), energies.csv, energies.png and report.json in

@@ -10,6 +10,30 @@
 namespace flexure::cli {
 namespace {
 
+// Each mesh obstacle: its spec, its size, the file of its rest mesh and its motion.
+nlohmann::json meshObstacleReport(const std::vector<optimize::MeshObstacle>& obstacles) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t k = 0; k < obstacles.size(); ++k) {
+    const optimize::PinMotion& m = obstacles[k].motion;
+    nlohmann::json motion = {{"kind", m.kind == optimize::PinMotion::Kind::Rotate      ? "rotate"
+                                      : m.kind == optimize::PinMotion::Kind::Translate ? "translate"
+                                                                                       : "none"}};
+    if (m.kind == optimize::PinMotion::Kind::Translate)
+      motion["velocity"] = {m.velocity.x(), m.velocity.y(), m.velocity.z()};
+    if (m.kind == optimize::PinMotion::Kind::Rotate) {
+      motion["axis"] = {m.axis.x(), m.axis.y(), m.axis.z()};
+      motion["point"] = {m.point.x(), m.point.y(), m.point.z()};
+      motion["omega"] = m.omega;
+    }
+    list.push_back({{"label", obstacles[k].label},
+                    {"mesh", "obstacle-" + std::to_string(k) + ".obj"},
+                    {"vertices", obstacles[k].mesh.vertexCount()},
+                    {"faces", obstacles[k].mesh.faceCount()},
+                    {"motion", motion}});
+  }
+  return list;
+}
+
 // The run's energy balance (optimize::TimeStepper::balanceVerdict): balanced, gained, lost or
 // driven.
 std::string balanceVerdict(const optimize::TimeStepper& stepper) {
@@ -85,7 +109,7 @@ void printEnergyBalance(const optimize::TimeStepper& stepper, double tolerance, 
   const char* scale = b.scale() == b.peakKinetic ? "the peak kinetic energy" : "the energy scale";
   char tail[160] = "";
   if (verdict == "driven")
-    std::snprintf(tail, sizeof tail, "; not checked: the moving pins do work");
+    std::snprintf(tail, sizeof tail, "; not checked: the moving pins or mesh obstacles do work");
   else if (b.relativeDrift() > tolerance && !warn)
     std::snprintf(tail, sizeof tail, "; round-off: below 1e-12 M (L/dt)^2 = %.3g", b.roundoff);
   else if (warn)
@@ -148,12 +172,14 @@ void printPlasticSummary(const optimize::PlasticityOptions& options,
 
 // The self-contact over the run (optimize::TimeStepper::ContactStatistics): its offset, the
 // smallest distance between repelling primitives at a step's end (null: none came within the
-// offset), the pairs within it per step, and the share of the run's time in collision detection.
+// offset), the pairs within it per step, and the share of the run's time in collision detection;
+// with mesh obstacles their pairs with the shell count too (self_contact: whether the shell's own
+// pairs do).
 nlohmann::json contactReport(const optimize::TimeStepper& stepper, double seconds) {
   if (stepper.selfContact().empty()) return {{"self_contact", false}};
   const optimize::TimeStepper::ContactStatistics& c = stepper.contactStatistics();
   return {
-      {"self_contact", true},
+      {"self_contact", stepper.selfContact().shellPairs()},
       {"offset", stepper.selfContact().layer()},
       {"smallest_distance", std::isfinite(c.smallestDistance) ? nlohmann::json(c.smallestDistance)
                                                               : nlohmann::json(nullptr)},
@@ -208,6 +234,8 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
     report["smallest_obstacle_distance"] = recording.smallestDistance;
   }
   report["contact"] = contactReport(stepper, run.seconds);
+  if (!stepper.selfContact().meshObstacles().empty())
+    report["mesh_obstacles"] = meshObstacleReport(stepper.selfContact().meshObstacles());
   if (fracturing.fractures()) report["fracture"] = fractureReport(o, fracturing);
   const std::string balanceFailure = stepper.balanceFailure();
   if (run.failure.empty() && !balanceFailure.empty()) report["failure"] = balanceFailure;

@@ -36,6 +36,11 @@ void ProblemOptions::validate() const {
   if (selfContact && dof != DofMode::Xyz)
     throw InputError(
         "ProblemOptions.selfContact moves every coordinate: expected ProblemOptions.dof xyz");
+  if (!meshObstacles.empty() && dof != DofMode::Xyz)
+    throw InputError(
+        "ProblemOptions.meshObstacles move the shell in every coordinate: expected "
+        "ProblemOptions.dof xyz");
+  validateMeshObstacles(meshObstacles);
   if (!(contactOffset >= 0.0) || !std::isfinite(contactOffset))
     throw InputError("ProblemOptions.contactOffset " + numberText(contactOffset) +
                      ": expected a length > 0");
@@ -142,9 +147,10 @@ Problem buildProblem(modeling::Stencils stencils, modeling::RestState rest,
   if (options.load.gravity) p.externalForce = p.mass * p.gravity.transpose();
   if (!options.obstacles.empty())
     p.obstacles = makeObstacleBarrier(options.obstacles, p.rest, p.mass, p.gravity);
-  if (options.selfContact)
+  if (options.selfContact || !options.meshObstacles.empty())
     p.selfContact =
-        makeSelfContact(p.stencils, p.rest.positions, p.mass, p.gravity, options.contactOffset);
+        makeSelfContact(p.stencils, p.rest.positions, p.mass, p.gravity, options.contactOffset,
+                        options.meshObstacles, options.selfContact);
   return p;
 }
 

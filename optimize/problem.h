@@ -64,6 +64,10 @@ struct ProblemOptions {
   // The self-contact's offset d̂ (> 0): pairs closer than d̂ repel; 0 for the rule's ¼ of the mean
   // rest edge length.
   double contactOffset = 0.0;
+  // Rigid mesh obstacles, static or moving (assembly/mesh_obstacles.h): they repel the shell
+  // through the self-contact's barrier and offset, with self-contact on or off; xyz only, and
+  // honoured by the time steps alone.
+  std::vector<MeshObstacle> meshObstacles;
 
   // InputError naming the field ("ProblemOptions.dof …") for options no mesh can satisfy.
   void validate() const;
@@ -89,7 +93,9 @@ struct Problem {
   Eigen::VectorXd mass;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   ObstacleBarrier obstacles;  // the stated rule's barrier of ProblemOptions.obstacles; empty: none
-  SelfContact selfContact;    // the rule's self-contact when ProblemOptions.selfContact; empty: off
+  // The rule's self-contact when ProblemOptions.selfContact, with ProblemOptions.meshObstacles;
+  // empty: neither.
+  SelfContact selfContact;
 
   const curvature::EnergyTerm& bending() const { return *terms.front(); }
   bool usesEdgeUnknowns() const { return restXi.size() > 0; }

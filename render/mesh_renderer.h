@@ -133,6 +133,7 @@ struct RenderOptions {
   // Obstacles drawn shaded in obstacleColour, framed with the mesh (every style).
   std::vector<SphereObstacle> spheres;
   std::vector<PlaneObstacle> planes;
+  std::vector<modeling::Mesh> obstacleMeshes;  // drawn where their positions are
   Rgb obstacleColour{0.86, 0.62, 0.36};
   // Faces drawn in markedColour, lit, over every style (e.g. the faces at a mesh's problems,
   // modeling/mesh_check.h); indices into the mesh's faces.

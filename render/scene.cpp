@@ -80,6 +80,13 @@ Scene buildScene(const modeling::Mesh& mesh, const RenderOptions& o) {
   scene.obstacles.positions.resize(0, 3);
   scene.obstacles.triangles.resize(0, 3);
   for (const SphereObstacle& sphere : o.spheres) appendSphere(sphere, scene.obstacles);
+  for (const modeling::Mesh& obstacle : o.obstacleMeshes) {
+    const int first = scene.obstacles.vertexCount(), faces = scene.obstacles.faceCount();
+    scene.obstacles.positions.conservativeResize(first + obstacle.vertexCount(), 3);
+    scene.obstacles.positions.bottomRows(obstacle.vertexCount()) = obstacle.positions;
+    scene.obstacles.triangles.conservativeResize(faces + obstacle.faceCount(), 3);
+    scene.obstacles.triangles.bottomRows(obstacle.faceCount()) = obstacle.triangles.array() + first;
+  }
   if (!o.planes.empty()) {
     const Eigen::Vector3d lo = base.colwise().minCoeff().transpose();
     const Eigen::Vector3d hi = base.colwise().maxCoeff().transpose();

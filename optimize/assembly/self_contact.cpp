@@ -68,11 +68,136 @@ SelfContact::SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, 
       edges_(std::move(edges)),
       rest_(std::move(rest)),
       layer_(layer),
-      stiffness_(stiffness) {
+      stiffness_(stiffness),
+      shellVertices_(static_cast<int>(rest_.rows())),
+      shellFaces_(static_cast<int>(faces_.rows())),
+      shellEdges_(static_cast<int>(edges_.rows())),
+      vertexStart_{shellVertices_},
+      faceStart_{shellFaces_},
+      edgeStart_{shellEdges_} {
   if (!(layer_ > 0.0) || !std::isfinite(layer_))
     throw InputError("SelfContact: the contact layer d̂ must be > 0, got " + numberText(layer_));
   if (!(stiffness_ > 0.0) || !std::isfinite(stiffness_))
     throw InputError("SelfContact: the stiffness κ must be > 0, got " + numberText(stiffness_));
+}
+
+void SelfContact::addObstacles(std::vector<MeshObstacle> obstacles, bool shellPairs) {
+  validateMeshObstacles(obstacles);
+  shellPairs_ = shellPairs;
+  obstacleStiffness_ = stiffness_;
+  for (MeshObstacle& obstacle : obstacles) {
+    const int v0 = vertexStart_.back(), f0 = faceStart_.back(), e0 = edgeStart_.back();
+    const modeling::IndexPairs edges = triangleEdges(obstacle.mesh.triangles);
+    const int w = obstacle.mesh.vertexCount(), f = obstacle.mesh.faceCount();
+    const int e = static_cast<int>(edges.rows());
+    rest_.conservativeResize(v0 + w, 3);
+    rest_.bottomRows(w) = obstacle.mesh.positions;
+    faces_.conservativeResize(f0 + f, 3);
+    faces_.bottomRows(f) = obstacle.mesh.triangles.array() + v0;
+    edges_.conservativeResize(e0 + e, 2);
+    edges_.bottomRows(e) = edges.array() + v0;
+    vertexStart_.push_back(v0 + w);
+    faceStart_.push_back(f0 + f);
+    edgeStart_.push_back(e0 + e);
+    obstacles_.push_back(std::move(obstacle));
+  }
+  obstaclePositions_ = rest_.bottomRows(rest_.rows() - shellVertices_);
+  keptAt_.resize(0, 3);
+}
+
+void SelfContact::setObstacleTime(double t) {
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    if (obstacles_[k].moves())
+      obstaclePositions_.middleRows(vertexStart_[k] - shellVertices_,
+                                    obstacles_[k].mesh.vertexCount()) =
+          obstacles_[k].positionsAt(t);
+}
+
+void SelfContact::setObstacleStiffness(double stiffness) {
+  if (!(stiffness >= stiffness_) || !std::isfinite(stiffness))
+    throw InputError("SelfContact: the mesh obstacles' stiffness must be at least κ = " +
+                     numberText(stiffness_) + ", got " + numberText(stiffness));
+  obstacleStiffness_ = stiffness;
+}
+
+bool SelfContact::obstaclesMove() const {
+  return std::any_of(obstacles_.begin(), obstacles_.end(),
+                     [](const MeshObstacle& o) { return o.moves(); });
+}
+
+Positions SelfContact::stacked(const Positions& x) const {
+  if (obstacles_.empty()) return x;
+  Positions all(x.rows() + obstaclePositions_.rows(), 3);
+  all << x, obstaclePositions_;
+  return all;
+}
+
+Positions SelfContact::stackedMotion(const Positions& dx, const Positions& obstacleMotion) const {
+  if (obstacles_.empty() || dx.size() == 0) return dx;
+  Positions all(dx.rows() + obstaclePositions_.rows(), 3);
+  if (obstacleMotion.size() == 0)
+    all << dx, Positions::Zero(obstaclePositions_.rows(), 3);
+  else
+    all << dx, obstacleMotion;
+  return all;
+}
+
+std::array<bool, 2> SelfContact::onShell(const ContactPair& pair) const {
+  if (pair.kind == ContactPair::Kind::VertexFace)
+    return {pair.first < shellVertices_, pair.second < shellFaces_};
+  return {pair.first < shellEdges_, pair.second < shellEdges_};
+}
+
+bool SelfContact::counts(const ContactPair& pair) const {
+  const std::array<bool, 2> shell = onShell(pair);
+  return shell[0] && shell[1] ? shellPairs_ : shell[0] || shell[1];
+}
+
+std::vector<ContactPair> SelfContact::countedCandidates(const Positions& x, const Positions& dx,
+                                                        double inflation) const {
+  std::vector<ContactPair> pairs = candidates(x, dx, faces_, edges_, inflation);
+  if (obstacles_.empty()) return pairs;
+  pairs.erase(
+      std::remove_if(pairs.begin(), pairs.end(), [&](const ContactPair& p) { return !counts(p); }),
+      pairs.end());
+  return pairs;
+}
+
+int SelfContact::ownerOf(const std::vector<int>& starts, int index) const {
+  return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), index) - starts.begin()) -
+         1;
+}
+
+std::string SelfContact::vertexText(int v) const {
+  const int k = ownerOf(vertexStart_, v);
+  if (k < 0) return "shell vertex " + std::to_string(v);
+  return "vertex " + std::to_string(v - vertexStart_[k]) + " of " + meshObstacleName(obstacles_, k);
+}
+
+std::vector<int> SelfContact::shellVerticesOf(const ContactPair& pair) const {
+  std::vector<int> shell;
+  for (int v : vertices(pair))
+    if (v < shellVertices_) shell.push_back(v);
+  return shell;
+}
+
+std::string SelfContact::describe(const ContactPair& pair) const {
+  const std::array<int, 4> v = vertices(pair);
+  if (pair.kind == ContactPair::Kind::VertexFace) {
+    const int k = ownerOf(faceStart_, pair.second);
+    const std::string face = k < 0 ? "shell face " + std::to_string(pair.second)
+                                   : "face " + std::to_string(pair.second - faceStart_[k]) +
+                                         " of " + meshObstacleName(obstacles_, k);
+    return vertexText(v[0]) + " and " + face;
+  }
+  const auto edge = [&](int a, int b) {
+    const int k = ownerOf(vertexStart_, a);
+    const int offset = k < 0 ? 0 : vertexStart_[k];
+    return (k < 0 ? std::string("shell edge (") : std::string("edge (")) +
+           std::to_string(a - offset) + ", " + std::to_string(b - offset) + ")" +
+           (k < 0 ? std::string() : " of " + meshObstacleName(obstacles_, k));
+  };
+  return edge(v[0], v[1]) + " and " + edge(v[2], v[3]);
 }
 
 std::uint64_t SelfContact::key(const ContactPair& pair) {
@@ -113,14 +238,18 @@ double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x)
 void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
   keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
-  for (const ContactPair& pair : candidates(rest_, Positions(), faces_, edges_, 0.5 * layer_)) {
+  const Positions at = stacked(x);
+  for (const ContactPair& pair : countedCandidates(rest_, Positions(), 0.5 * layer_)) {
     const double squared = layer_ * layer_;
-    if (squaredDistance(pair, rest_) < squared && squaredDistance(pair, x) < squared)
+    const std::array<bool, 2> shell = onShell(pair);  // a shell–obstacle pair is never exempt
+    if (shell[0] && shell[1] && squaredDistance(pair, rest_) < squared &&
+        squaredDistance(pair, at) < squared)
       exempt_.insert(key(pair));
   }
 }
 
-void SelfContact::liftExemptions(const Positions& x) {
+void SelfContact::liftExemptions(const Positions& shell) {
+  const Positions x = stacked(shell);
   const std::uint64_t mask = (std::uint64_t(1) << 31) - 1;
   for (auto k = exempt_.begin(); k != exempt_.end();) {
     const ContactPair pair{(*k >> 62) ? ContactPair::Kind::EdgeEdge : ContactPair::Kind::VertexFace,
@@ -144,15 +273,14 @@ const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
   const double motion = dx.size() == 0 ? 0.0 : dx.cwiseAbs().maxCoeff();
   if (motion > kLongestKeptMotion * layer_) {  // the motion's own swept boxes, not kept
     moving_.clear();
-    for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.0))
+    for (const ContactPair& pair : countedCandidates(x, dx, 0.0))
       if (!exempt_.count(key(pair))) moving_.push_back(pair);
     detectionSeconds_ += secondsSince(start);
     return moving_;
   }
   keptMargin_ = std::max(0.5 * layer_, motion);
   kept_.clear();
-  for (const ContactPair& pair :
-       candidates(x, Positions(), faces_, edges_, 0.5 * layer_ + keptMargin_))
+  for (const ContactPair& pair : countedCandidates(x, Positions(), 0.5 * layer_ + keptMargin_))
     if (!exempt_.count(key(pair))) kept_.push_back(pair);
   keptAt_ = x;
   detectionSeconds_ += secondsSince(start);
@@ -200,20 +328,23 @@ double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance,
                           wantGradient ? &mGradient : nullptr,
                           hessian != nullptr ? &mHessian : nullptr);
   }
-  if (!wantGradient) return stiffness_ * m * b;
+  const std::array<bool, 2> shell = onShell(pair);
+  const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  if (!wantGradient) return kappa * m * b;
   const Vector12 dGradient = sGradient / (2.0 * d);
-  if (gradient != nullptr) *gradient = stiffness_ * (b * mGradient + m * b1 * dGradient);
+  if (gradient != nullptr) *gradient = kappa * (b * mGradient + m * b1 * dGradient);
   if (hessian != nullptr) {
     const Matrix12 dHessian =
         sHessian / (2.0 * d) - sGradient * sGradient.transpose() / (4.0 * d * d * d);
     const Matrix12 bm = b1 * mGradient * dGradient.transpose();
-    *hessian = stiffness_ * (b * mHessian + bm + bm.transpose() +
-                             m * (b2 * dGradient * dGradient.transpose() + b1 * dHessian));
+    *hessian = kappa * (b * mHessian + bm + bm.transpose() +
+                        m * (b2 * dGradient * dGradient.transpose() + b1 * dHessian));
   }
-  return stiffness_ * m * b;
+  return kappa * m * b;
 }
 
-double SelfContact::energy(const Positions& x) const {
+double SelfContact::energy(const Positions& shell) const {
+  const Positions x = stacked(shell);
   double total = 0.0;
   for (const auto& [pair, s] : activePairs(x)) {
     if (s <= 0.0) return std::numeric_limits<double>::infinity();
@@ -222,22 +353,26 @@ double SelfContact::energy(const Positions& x) const {
   return total;
 }
 
-void SelfContact::addGradient(const Positions& x, Positions& gradient) const {
+void SelfContact::addGradient(const Positions& shell, Positions& gradient) const {
+  const Positions x = stacked(shell);
   for (const auto& [pair, s] : activePairs(x)) {
     Vector12 g;
     pairBarrier(pair, s, x, &g, nullptr);
     const std::array<int, 4> v = vertices(pair);
-    for (int i = 0; i < 4; ++i) gradient.row(v[i]) += g.segment<3>(3 * i).transpose();
+    for (int i = 0; i < 4; ++i)
+      if (v[i] < shellVertices_) gradient.row(v[i]) += g.segment<3>(3 * i).transpose();
   }
 }
 
-void SelfContact::add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,
+void SelfContact::add(const HessianAssembly& assembly, const Positions& shell, HessianEvaluation& e,
                       bool semidefinite) const {
   if (empty()) return;
+  const Positions x = stacked(shell);
   const std::vector<int>& unknowns = assembly.freeUnknowns();
-  std::vector<int> index(3 * x.rows(), -1);  // the free index of each vertex coordinate
+  // The free index of each vertex coordinate (−1: pinned, or an obstacle's).
+  std::vector<int> index(3 * x.rows(), -1);
   for (size_t k = 0; k < unknowns.size(); ++k)
-    if (unknowns[k] < static_cast<int>(index.size())) index[unknowns[k]] = static_cast<int>(k);
+    if (unknowns[k] < 3 * shellVertices_) index[unknowns[k]] = static_cast<int>(k);
   const bool withHessian = !e.values.empty();
   for (const auto& [pair, s] : activePairs(x)) {
     if (s <= 0.0) {
@@ -264,6 +399,21 @@ void SelfContact::add(const HessianAssembly& assembly, const Positions& x, Hessi
 
 double SelfContact::stepBound(const Positions& x, const Positions& dx) const {
   if (empty()) return 1.0;
+  return boundOver(stacked(x), stackedMotion(dx, Positions()), nullptr);
+}
+
+double SelfContact::stepBound(const Positions& x, const Positions& dx, double t,
+                              ContactPair* limiting) const {
+  if (empty()) return 1.0;
+  Positions obstacleMotion = -obstaclePositions_;
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    obstacleMotion.middleRows(vertexStart_[k] - shellVertices_, obstacles_[k].mesh.vertexCount()) +=
+        obstacles_[k].positionsAt(t);
+  return boundOver(stacked(x), stackedMotion(dx, obstacleMotion), limiting);
+}
+
+double SelfContact::boundOver(const Positions& x, const Positions& dx,
+                              ContactPair* limiting) const {
   const auto start = std::chrono::steady_clock::now();
   double bound = 1.0;
   for (const ContactPair& pair : nearbyPairs(x, dx)) {
@@ -275,31 +425,34 @@ double SelfContact::stepBound(const Positions& x, const Positions& dx) const {
                                       row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]))
             : edgeEdgeImpactTime(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
                                  row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]));
+    if (t < bound && limiting != nullptr) *limiting = pair;
     bound = std::min(bound, t);
   }
   detectionSeconds_ += secondsSince(start);
   return bound;
 }
 
-std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& x,
+std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& shell,
                                                        const Positions& dx) const {
   std::vector<std::array<int, 2>> pairs;
   if (empty()) return pairs;
-  for (const ContactPair& pair : candidates(x, dx, faces_, edges_, 0.5 * layer_)) {
+  for (const ContactPair& pair :
+       countedCandidates(stacked(shell), stackedMotion(dx, Positions()), 0.5 * layer_)) {
     if (exempt_.count(key(pair))) continue;
     const std::array<int, 4> v = vertices(pair);
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)
-        if (v[i] != v[j]) pairs.push_back({std::min(v[i], v[j]), std::max(v[i], v[j])});
+        if (v[i] != v[j] && v[i] < shellVertices_ && v[j] < shellVertices_)
+          pairs.push_back({std::min(v[i], v[j]), std::max(v[i], v[j])});
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
 }
 
-ContactCensus SelfContact::census(const Positions& x) const {
+ContactCensus SelfContact::census(const Positions& shell) const {
   ContactCensus c;
-  for (const auto& [pair, s] : activePairs(x)) {
+  for (const auto& [pair, s] : activePairs(stacked(shell))) {
     ++c.pairs;
     if (std::sqrt(s) < c.smallestDistance) {
       c.smallestDistance = std::sqrt(s);
@@ -309,29 +462,37 @@ ContactCensus SelfContact::census(const Positions& x) const {
   return c;
 }
 
-void SelfContact::requireApart(const Positions& x, const std::string& what) const {
+void SelfContact::requireApart(const Positions& shell, const std::string& what) const {
   if (empty()) return;
-  const std::vector<std::array<int, 2>> crossing =
-      modeling::intersectingFacePairs(modeling::Mesh{x, faces_});
-  if (!crossing.empty())
-    throw InputError(what + ": the shell passes through itself: faces " +
-                     std::to_string(crossing[0][0]) + " and " + std::to_string(crossing[0][1]) +
-                     " intersect (" + std::to_string(crossing.size()) + " pairs in all)");
-  for (const auto& [pair, s] : activePairs(x)) {
-    if (s > 0.0) continue;
-    const std::array<int, 4> v = vertices(pair);
-    throw InputError(
-        what + ": the shell touches itself: " +
-        (pair.kind == ContactPair::Kind::VertexFace
-             ? "vertex " + std::to_string(v[0]) + " lies on face " + std::to_string(pair.second)
-             : "edges (" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ") and (" +
-                   std::to_string(v[2]) + ", " + std::to_string(v[3]) + ") cross"));
+  const modeling::Mesh shellMesh{shell, faces_.topRows(shellFaces_)};
+  if (shellPairs_) {
+    const std::vector<std::array<int, 2>> crossing = modeling::intersectingFacePairs(shellMesh);
+    if (!crossing.empty())
+      throw InputError(what + ": the shell passes through itself: faces " +
+                       std::to_string(crossing[0][0]) + " and " + std::to_string(crossing[0][1]) +
+                       " intersect (" + std::to_string(crossing.size()) + " pairs in all)");
   }
+  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+    const int first = vertexStart_[k] - shellVertices_;
+    const modeling::Mesh obstacle{
+        obstaclePositions_.middleRows(first, obstacles_[k].mesh.vertexCount()),
+        obstacles_[k].mesh.triangles};
+    const std::vector<std::array<int, 2>> crossing =
+        modeling::intersectingFacePairs(shellMesh, obstacle);
+    if (!crossing.empty())
+      throw InputError(what + ": " + meshObstacleName(obstacles_, static_cast<int>(k)) +
+                       " intersects the shell: shell face " + std::to_string(crossing[0][0]) +
+                       " and its face " + std::to_string(crossing[0][1]) + " (" +
+                       std::to_string(crossing.size()) + " pairs in all)");
+  }
+  for (const auto& [pair, s] : activePairs(stacked(shell)))
+    if (s <= 0.0) throw InputError(what + ": " + describe(pair) + " touch");
 }
 
 SelfContact makeSelfContact(const modeling::Stencils& stencils, const Positions& rest,
                             const Eigen::VectorXd& mass, const Eigen::Vector3d& gravity,
-                            double layer) {
+                            double layer, const std::vector<MeshObstacle>& obstacles,
+                            bool shellPairs) {
   if (layer == 0.0) {
     double total = 0.0;
     for (int e = 0; e < stencils.edgeCount(); ++e)
@@ -339,7 +500,9 @@ SelfContact makeSelfContact(const modeling::Stencils& stencils, const Positions&
     layer = 0.25 * total / std::max(1, stencils.edgeCount());
   }
   const double stiffness = mass.mean() * std::max(gravity.norm(), 1.0) / layer;
-  return SelfContact(stencils.faces, stencils.edges, rest, layer, stiffness);
+  SelfContact contact(stencils.faces, stencils.edges, rest, layer, stiffness);
+  if (!obstacles.empty() || !shellPairs) contact.addObstacles(obstacles, shellPairs);
+  return contact;
 }
 
 }  // namespace flexure::optimize

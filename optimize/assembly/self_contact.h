@@ -31,6 +31,14 @@
 // (liftExemptions, before each time step), and from then on it repels like any other: lips
 // separate freely and may touch again, but once apart they never pass through each other.
 //
+// Mesh obstacles (mesh_obstacles.h) join the collision mesh: its vertices are the shell's [0, V),
+// then each obstacle's; its faces and edges the shell's, then each obstacle's with offset indices.
+// A pair between an obstacle primitive and a shell primitive repels like any other (never exempt:
+// an obstacle has no rest state relative to the shell); pairs of two obstacle primitives are left
+// out, and pairs of two shell primitives count only with self-contact on. The obstacles'
+// positions are set per time (setObstacleTime) and are never unknowns: every public function
+// takes and returns the shell's rows (#V) alone.
+//
 // Feasibility: a step x + α δ is capped by stepBound, additive continuous collision detection
 // (contact/continuous_collision.h) over the pairs whose boxes the motion sweeps, so that no pair
 // that repels ever crosses during a step (IPC's guarantee: the line search never leaves the
@@ -48,6 +56,7 @@
 
 #include "modeling/stencils.h"
 #include "optimize/assembly/hessian_assembly.h"
+#include "optimize/assembly/mesh_obstacles.h"
 
 namespace flexure::optimize {
 
@@ -73,6 +82,23 @@ class SelfContact {
   SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, Positions rest, double layer,
               double stiffness);
 
+  // Appends `obstacles` to the collision mesh, placed at time 0; shell–shell pairs count only when
+  // `shellPairs` (self-contact on).
+  void addObstacles(std::vector<MeshObstacle> obstacles, bool shellPairs);
+  // Places the mesh obstacles where they are at time t.
+  void setObstacleTime(double t);
+  const std::vector<MeshObstacle>& meshObstacles() const { return obstacles_; }
+  // The obstacles' vertices (#W by 3, in order) where setObstacleTime last put them.
+  const Positions& obstaclePositions() const { return obstaclePositions_; }
+  bool obstaclesMove() const;
+  // κ_o, the stiffness of the pairs with a mesh obstacle (≥ κ; κ unless raised): a moving obstacle
+  // must make the shell give way at its speed, which may take a stiffer barrier than the
+  // weight-based κ (TimeStepper raises it, as IPC adapts κ, Li et al. 2020 §4.3).
+  double obstacleStiffness() const { return obstacleStiffness_; }
+  void setObstacleStiffness(double stiffness);
+  // Whether pairs of two shell primitives repel (self-contact on).
+  bool shellPairs() const { return shellPairs_; }
+
   bool empty() const { return faces_.rows() == 0; }
   double layer() const { return layer_; }
   double stiffness() const { return stiffness_; }
@@ -95,6 +121,13 @@ class SelfContact {
   // The largest α ≤ 1 such that no repelling pair crosses while x moves to x + α' dx, α' ≤ α
   // (conservative: each pair keeps at least a tenth of its distance at x).
   double stepBound(const Positions& x, const Positions& dx) const;
+  // The same bound while x moves to x + dx and the obstacles from where they are to where they
+  // are at time t, and the pair that sets it (when < 1).
+  double stepBound(const Positions& x, const Positions& dx, double t, ContactPair* limiting) const;
+  // The shell's vertices among a pair's four (none for a pair of two obstacle primitives).
+  std::vector<int> shellVerticesOf(const ContactPair& pair) const;
+  // A pair in words: "shell vertex 3 and face 7 of box.obj", "shell edge (1, 2) and …".
+  std::string describe(const ContactPair& pair) const;
   // The vertex pairs (i < j) of the repelling pairs that may come within d̂ while x moves to
   // x + dx (every pair of the two primitives' vertices): what the Hessian pattern should couple.
   std::vector<std::array<int, 2>> couplings(const Positions& x, const Positions& dx) const;
@@ -132,12 +165,32 @@ class SelfContact {
   // (during the motion).
   double boxGap(const ContactPair& pair, const Positions& x, const Positions* dx = nullptr) const;
   static std::uint64_t key(const ContactPair& pair);
+  // The collision mesh's positions: x (#V) and the obstacles' rows; a motion dx and the obstacles'
+  // (zero when empty).
+  Positions stacked(const Positions& x) const;
+  Positions stackedMotion(const Positions& dx, const Positions& obstacleMotion) const;
+  // Whether a pair's primitives are the shell's (each of the two), and whether the pair counts.
+  std::array<bool, 2> onShell(const ContactPair& pair) const;
+  bool counts(const ContactPair& pair) const;
+  std::vector<ContactPair> countedCandidates(const Positions& x, const Positions& dx,
+                                             double inflation) const;
+  double boundOver(const Positions& x, const Positions& dx, ContactPair* limiting) const;
+  // Which obstacle the collision mesh's vertex / face / edge belongs to (−1: the shell's).
+  int ownerOf(const std::vector<int>& starts, int index) const;
+  std::string vertexText(int v) const;
 
   modeling::Triangles faces_;
   modeling::IndexPairs edges_;
   Positions rest_;
   double layer_ = 0.0, stiffness_ = 0.0;
   std::unordered_set<std::uint64_t> exempt_;
+  int shellVertices_ = 0, shellFaces_ = 0, shellEdges_ = 0;
+  bool shellPairs_ = true;
+  double obstacleStiffness_ = 0.0;
+  std::vector<MeshObstacle> obstacles_;
+  // Where obstacle k's vertices, faces and edges start in the collision mesh (K + 1 entries each).
+  std::vector<int> vertexStart_, faceStart_, edgeStart_;
+  Positions obstaclePositions_ = Positions(0, 3);
   mutable double detectionSeconds_ = 0.0;
   // The kept candidates and where they were found (nearbyPairs); a motion's candidates.
   mutable Positions keptAt_;
@@ -146,9 +199,11 @@ class SelfContact {
 };
 
 // The rule's self-contact for a mesh (its faces and edges from `stencils`): d̂ = `layer`, or ¼ the
-// mean rest edge length when 0; κ = m̄ max(|g|, 1) / d̂ with the lumped masses `mass` (#V).
+// mean rest edge length when 0; κ = m̄ max(|g|, 1) / d̂ with the lumped masses `mass` (#V); the
+// mesh obstacles `obstacles` appended, shell–shell pairs counted when `shellPairs`.
 SelfContact makeSelfContact(const modeling::Stencils& stencils, const Positions& rest,
                             const Eigen::VectorXd& mass, const Eigen::Vector3d& gravity,
-                            double layer = 0.0);
+                            double layer = 0.0, const std::vector<MeshObstacle>& obstacles = {},
+                            bool shellPairs = true);
 
 }  // namespace flexure::optimize

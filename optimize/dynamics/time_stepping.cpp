@@ -44,62 +44,6 @@ Integrator parseIntegrator(std::string_view name) {
                    ": expected newmark, backward-euler or central-difference");
 }
 
-PinMotion PinMotion::rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
-                              double omega) {
-  if (!axis.allFinite() || !(axis.norm() > 0.0))
-    throw InputError("PinMotion.axis: the axis is zero or not finite");
-  if (!point.allFinite()) throw InputError("PinMotion.point: the point is not finite");
-  if (!std::isfinite(omega)) throw InputError("PinMotion.omega: the angular speed is not finite");
-  PinMotion m;
-  m.kind = Kind::Rotate;
-  m.axis = axis.normalized();
-  m.point = point;
-  m.omega = omega;
-  return m;
-}
-
-PinMotion PinMotion::translation(const Eigen::Vector3d& velocity) {
-  if (!velocity.allFinite()) throw InputError("PinMotion.velocity: the velocity is not finite");
-  PinMotion m;
-  m.kind = Kind::Translate;
-  m.velocity = velocity;
-  return m;
-}
-
-PinMotion::Kind parsePinMotionKind(std::string_view name) {
-  if (name == "none") return PinMotion::Kind::None;
-  if (name == "rotate") return PinMotion::Kind::Rotate;
-  if (name == "translate") return PinMotion::Kind::Translate;
-  throw InputError("PinMotion.kind " + std::string(name) + ": expected none, rotate or translate");
-}
-
-Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
-  switch (kind) {
-    case Kind::None:
-      return start;
-    case Kind::Translate:
-      return start + t * velocity;
-    case Kind::Rotate: {
-      const Eigen::Vector3d y = start - point;
-      const double phi = omega * t, c = std::cos(phi), s = std::sin(phi);
-      return point + c * y + s * axis.cross(y) + (1.0 - c) * axis.dot(y) * axis;
-    }
-  }
-  return start;
-}
-
-Eigen::Vector3d PinMotion::velocityAt(const Eigen::Vector3d& start, double t) const {
-  switch (kind) {
-    case Kind::None:
-      return Eigen::Vector3d::Zero();
-    case Kind::Translate:
-      return velocity;
-    case Kind::Rotate:
-      return omega * axis.cross(position(start, t) - point);
-  }
-  return Eigen::Vector3d::Zero();
-}
-
 double EnergySample::total() const {
   double sum = kinetic + gravity + contact;
   for (double e : terms) sum += e;
@@ -365,6 +309,7 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   movePins(x_, &v_, 0.0);
   xi_ = xi.size() > 0 ? xi : xi_;
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
+  selfContact_.setObstacleTime(0.0);
   selfContact_.exemptClosePairs(x_);
   selfContact_.requireApart(x_, "the start");
   contactStatistics_ = ContactStatistics();
@@ -380,7 +325,13 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
 }
 
 TimeStepper::State TimeStepper::state() const {
-  return {time_, x_, v_, a_, xi_, barrier_.stiffness(), balance_, contactStatistics_, couplings_};
+  const double obstacleStiffness =
+      selfContact_.meshObstacles().empty() ? 0.0 : selfContact_.obstacleStiffness();
+  return {time_,      x_,
+          v_,         a_,
+          xi_,        barrier_.stiffness(),
+          balance_,   contactStatistics_,
+          couplings_, obstacleStiffness};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -393,6 +344,9 @@ void TimeStepper::restore(const State& state) {
                      std::to_string(x_.rows()) + " vertices, " + std::to_string(xi_.size()) +
                      " edge unknowns)");
   barrier_.requireOutside(state.x, "the restored state");
+  selfContact_.setObstacleTime(state.time);
+  if (state.obstacleStiffness > 0.0 && !selfContact_.meshObstacles().empty())
+    selfContact_.setObstacleStiffness(state.obstacleStiffness);
   selfContact_.requireApart(state.x, "the restored state");
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
   time_ = state.time;
@@ -467,11 +421,14 @@ void TimeStepper::forgetFactor() {
 }
 
 TimeStepper::Outcome TimeStepper::step(double h) {
+  Outcome outcome;
   try {
-    return implicit_ ? implicitStep(h) : explicitStep(h);
+    outcome = implicit_ ? implicitStep(h) : explicitStep(h);
   } catch (const NumericalError& e) {
-    return {false, 0, e.what(), 0, NewtonStop::NonFinite};
+    outcome = {false, 0, e.what(), 0, NewtonStop::NonFinite};
   }
+  selfContact_.setObstacleTime(time_);  // where the current state has them, the step taken or not
+  return outcome;
 }
 
 TimeStepper::Advance TimeStepper::advance(double h, double minStep) {
@@ -764,9 +721,14 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
               NewtonStop::Infeasible};
   }
   if (!selfContact_.empty()) {
-    // A pin moved through the shell would start every iterate on the far side of a pair.
-    if (selfContact_.stepBound(x_, moved - x_) < 1.0)
-      return {false, 0, "the pins' motion over the step brings the shell into contact with itself",
+    // A pin moved through the shell (or a mesh obstacle, where it is at t) would start every
+    // iterate on the far side of a pair.
+    selfContact_.setObstacleTime(time_);
+    ContactPair limiting;
+    if (selfContact_.stepBound(x_, moved - x_, time_, &limiting) < 1.0)
+      return {false, 0,
+              "the pins' motion over the step from " + stepSpan(h) + " brings " +
+                  selfContact_.describe(limiting) + " into contact",
               0, NewtonStop::Infeasible};
     prepareContact(xHat - x_);
   }
@@ -800,17 +762,12 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;
   rule.preconditionedSteps = o.preconditionedSteps;
+  Outcome outcome = moveObstacles(phi, y, h, rule);
+  if (!outcome.converged) return outcome;
   const NewtonResult newton = im.loop.run(phi, y, rule);
-  Outcome outcome;
-  outcome.converged = newton.stop == NewtonStop::Converged;
-  outcome.newtonIterations = newton.iterations;
-  outcome.factorizations = newton.factorizations;
-  outcome.pcgSolves = newton.pcgSolves;
-  outcome.pcgIterations = newton.pcgIterations;
-  outcome.hessians = newton.newtonSteps + newton.gaussNewtonSteps;
-  outcome.stop = newton.stop;
+  addNewtonCounts(newton, outcome);
   if (!outcome.converged) {
-    outcome.failure = stepFailure(newton);
+    outcome.failure = stepFailure(newton) + closestPairText(phi.configuration(y).positions);
     return outcome;
   }
   Configuration end = phi.configuration(y);
@@ -823,6 +780,72 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   if (!friction.empty()) dissipation += friction.work(end.positions);
   return commitStep(time_ + h, end.positions, v, std::move(a), std::move(end.xi), dissipation,
                     outcome);
+}
+
+void TimeStepper::addNewtonCounts(const NewtonResult& newton, Outcome& outcome) {
+  outcome.converged = newton.stop == NewtonStop::Converged;
+  outcome.newtonIterations += newton.iterations;
+  outcome.factorizations += newton.factorizations;
+  outcome.pcgSolves += newton.pcgSolves;
+  outcome.pcgIterations += newton.pcgIterations;
+  outcome.hessians += newton.newtonSteps + newton.gaussNewtonSteps;
+  outcome.stop = newton.stop;
+}
+
+std::string TimeStepper::closestPairText(const Positions& x) const {
+  if (selfContact_.meshObstacles().empty()) return {};
+  const ContactCensus census = selfContact_.census(x);
+  if (census.pairs == 0) return {};
+  char distance[40];
+  std::snprintf(distance, sizeof distance, " at %.3g", census.smallestDistance);
+  return "; the closest pair: " + selfContact_.describe(census.closest) + distance;
+}
+
+std::string TimeStepper::stepSpan(double h) const {
+  char text[120];
+  std::snprintf(text, sizeof text, "t = %.6g to %.6g", time_, time_ + h);
+  return text;
+}
+
+TimeStepper::Outcome TimeStepper::moveObstacles(IncrementalPotential& phi, Eigen::VectorXd& y,
+                                                double h, const StepStopRule& rule) {
+  constexpr int kMaxStages = 24;
+  constexpr double kLeastAdvance = 1e-3;  // of the step
+  Outcome outcome;
+  outcome.converged = true;
+  outcome.stop = NewtonStop::Converged;
+  if (!selfContact_.obstaclesMove()) return outcome;
+  const Positions still = Positions::Zero(x_.rows(), 3);
+  double reached = 0.0;  // the fraction of the step the obstacles have gone
+  for (int stage = 0;; ++stage) {
+    ContactPair limiting;
+    const double bound =
+        selfContact_.stepBound(phi.configuration(y).positions, still, time_ + h, &limiting);
+    if (bound >= 1.0) break;
+    const std::vector<int> shell = selfContact_.shellVerticesOf(limiting);
+    const bool held = std::all_of(shell.begin(), shell.end(), [&](int v) { return pinned_[v]; });
+    if (bound < 0.5 && !held)
+      selfContact_.setObstacleStiffness(2.0 * selfContact_.obstacleStiffness());
+    const double next = reached + bound * (1.0 - reached);
+    if (held || next - reached < kLeastAdvance || stage == kMaxStages) {
+      char part[80];
+      std::snprintf(part, sizeof part, " (after %.3g of the step, %d stages)", reached, stage);
+      return {false, outcome.newtonIterations,
+              "the mesh obstacles' motion over the step from " + stepSpan(h) + " drives " +
+                  selfContact_.describe(limiting) + " into contact: the shell does not give way" +
+                  part,
+              outcome.factorizations, NewtonStop::Infeasible};
+    }
+    reached = next;
+    selfContact_.setObstacleTime(time_ + reached * h);
+    addNewtonCounts(implicit_->loop.run(phi, y, rule), outcome);
+    if (!outcome.converged) {
+      outcome.failure = "with the mesh obstacles part of the way: " + outcome.failure;
+      return outcome;
+    }
+  }
+  selfContact_.setObstacleTime(time_ + h);
+  return outcome;
 }
 
 std::string TimeStepper::stepFailure(const NewtonResult& newton) {
@@ -853,7 +876,7 @@ EnergySample TimeStepper::energiesAt(double t, const Positions& x, const Positio
 }
 
 bool TimeStepper::balanceChecked() const {
-  return !options_.pinsMove();
+  return !options_.pinsMove() && !selfContact_.obstaclesMove();
 }
 
 const char* balanceVerdictName(BalanceVerdict verdict) {

@@ -44,6 +44,7 @@
 #include "modeling/stencils.h"
 #include "optimize/assembly/friction.h"
 #include "optimize/assembly/obstacles.h"
+#include "optimize/assembly/pin_motion.h"
 #include "optimize/assembly/self_contact.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/newton_stop.h"
@@ -51,36 +52,12 @@
 namespace flexure::optimize {
 
 struct NewtonResult;
+struct StepStopRule;
 
 enum class Integrator { Newmark, BackwardEuler, CentralDifference };
 const char* integratorName(Integrator integrator);  // newmark | backward-euler | central-difference
 // The integrator of that name; InputError naming DynamicsOptions.integrator otherwise.
 Integrator parseIntegrator(std::string_view name);
-
-// A prescribed rigid motion of the pinned vertices in time: a pinned vertex at x₀ at time 0 is at
-//   rotate:    p + R(ω t)(x₀ − p), R(φ) y = y cos φ + (a × y) sin φ + a (a·y)(1 − cos φ)
-//              (Rodrigues; a the unit axis, p a point on it, ω the angular speed in rad/s,
-//              counter-clockwise about a by the right-hand rule),
-//   translate: x₀ + u t (u the velocity),
-// with velocity ω a × (x − p) or u. None: the pinned vertices stay where they start.
-struct PinMotion {
-  enum class Kind { None, Rotate, Translate };
-  Kind kind = Kind::None;
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero();
-  double omega = 0.0;
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-
-  Eigen::Vector3d position(const Eigen::Vector3d& start, double t) const;
-  Eigen::Vector3d velocityAt(const Eigen::Vector3d& start, double t) const;
-
-  // A rotation about `axis` (any length > 0; normalized here) through `point` at `omega`, and a
-  // translation. InputError naming the field for a zero or non-finite axis, point, ω or velocity.
-  static PinMotion rotation(const Eigen::Vector3d& axis, const Eigen::Vector3d& point,
-                            double omega);
-  static PinMotion translation(const Eigen::Vector3d& velocity);
-};
-// "none" | "rotate" | "translate"; InputError naming PinMotion.kind otherwise.
-PinMotion::Kind parsePinMotionKind(std::string_view name);
 
 // A group of pinned vertices with its own motion, held until its release time: from then on its
 // vertices are free and go on with the velocity the motion gave them (releasePinGroups,
@@ -313,6 +290,7 @@ class TimeStepper {
     ContactStatistics contact;
     // The contact couplings of the Hessian pattern (vertex pairs i < j, sorted).
     std::vector<std::array<int, 2>> contactCouplings;
+    double obstacleStiffness = 0.0;  // SelfContact::obstacleStiffness (0: no mesh obstacles)
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest
@@ -384,7 +362,7 @@ class TimeStepper {
   // The energies of the current state (computed with each step).
   const EnergySample& energies() const { return energies_; }
   const EnergyBalance& balance() const { return balance_; }
-  // Whether the balance's growth is checked (no moving pins).
+  // Whether the balance's growth is checked (no moving pins or mesh obstacles: they do work).
   bool balanceChecked() const;
   // The balance so far against DynamicsOptions::energyTolerance.
   BalanceVerdict balanceVerdict() const;
@@ -420,6 +398,25 @@ class TimeStepper {
   // Where the step's Newton loop starts (free unknowns).
   Eigen::VectorXd startingPoint(IncrementalPotential& phi, double h) const;
   static std::string stepFailure(const NewtonResult& newton);
+  // Adds a Newton loop's counts to `outcome`, which ends as the loop did.
+  static void addNewtonCounts(const NewtonResult& newton, Outcome& outcome);
+  // With mesh obstacles, "; the closest pair: … at d" of the contact pairs at x (empty: none).
+  std::string closestPairText(const Positions& x) const;
+  // "t = 0.1 to 0.105" for a step of h from the current time.
+  std::string stepSpan(double h) const;
+  // Moves the mesh obstacles from where they are at t to where they are at t + h, from the
+  // iterate y (free of crossings with them at t), in stages: each moves them as far as continuous
+  // collision detection lets them go with the shell held where the last stage left it (every
+  // pair keeping a tenth of its distance), then solves the step's Φ from y with them there, so
+  // that the shell gives way before the next; a stage that can go less than half the remaining
+  // way doubles the obstacles' barrier stiffness κ_o first (never lowered: SelfContact::
+  // obstacleStiffness). The stages only give the step a start free of
+  // crossings with the obstacles at t + h, where they end (the step is Φ's minimizer with them
+  // there). Fails, naming a pair, when the pair that stops a stage has only pinned shell vertices
+  // (they cannot give way), when a stage moves them less than 1e-3 of the step (a step too long
+  // for the shell to follow) or after 24 stages.
+  Outcome moveObstacles(IncrementalPotential& phi, Eigen::VectorXd& y, double h,
+                        const StepStopRule& rule);
   Outcome explicitStep(double h);
   Positions accelerationFromForces(const Positions& x, const Eigen::VectorXd& xi) const;
   // Takes the damping force −C v at the current state into a_n after a release (the released

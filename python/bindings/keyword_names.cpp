@@ -27,6 +27,7 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"ProblemOptions.load.gravity", "gravity"},
       {"ProblemOptions.load.density", "density"},
       {"ProblemOptions.obstacles", "obstacles"},
+      {"ProblemOptions.meshObstacles", "mesh_obstacles"},
       {"ProblemOptions.selfContact", "self_contact"},
       {"ProblemOptions.contactOffset", "contact_offset"},
       {"LoadOptions.mass", "mass"},

@@ -36,6 +36,17 @@ namespace {
 // A pinned group with its own motion, as the Python arguments name it: its vertices (a #V mask, or
 // a spec of optimize::parseFixedSet) and a rigid motion (optimize::PinMotion) as in
 // SimulationArguments.
+// A mesh obstacle as the Python arguments give it: its vertices at time 0 and triangles, and a
+// rigid motion (optimize::PinMotion) as in SimulationArguments.
+struct MeshObstacleArguments {
+  modeling::Positions positions = modeling::Positions(0, 3);
+  modeling::Triangles faces = modeling::Triangles(0, 3);
+  std::string motion = "none";  // none | rotate | translate
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), point = Eigen::Vector3d::Zero(),
+                  velocity = Eigen::Vector3d::Zero();
+  double omega = 0.0;
+};
+
 struct PinGroupArguments {
   std::optional<std::vector<bool>> mask;
   std::string spec = "none";
@@ -58,6 +69,7 @@ struct SimulationArguments : MembraneFields {
   double density = 1.0;
   std::string mass = "barycentric";
   std::vector<std::string> obstacles;  // plane:nx,ny,nz,d | sphere:x,y,z,r
+  std::vector<MeshObstacleArguments> meshObstacles;
   bool selfContact = true;
   double contactOffset = 0.0;  // d̂; 0: the rule's
   std::string integrator = "newmark";
@@ -140,6 +152,13 @@ optimize::ProblemOptions bodyOptions(const SimulationArguments& a) {
   p.load.mass = modeling::parseMassLumping(a.mass, "LoadOptions.mass");
   for (const std::string& spec : a.obstacles)
     p.obstacles.push_back(optimize::parseObstacle("obstacles", spec));
+  for (size_t k = 0; k < a.meshObstacles.size(); ++k) {
+    const MeshObstacleArguments& m = a.meshObstacles[k];
+    const std::string name = "mesh_obstacles[" + std::to_string(k) + "]";
+    p.meshObstacles.push_back(
+        {modeling::Mesh{m.positions, m.faces},
+         pinMotion(m.motion, m.axis, m.point, m.omega, m.velocity, name + " motion"), name});
+  }
   p.selfContact = a.selfContact;
   p.contactOffset = a.contactOffset;
   return p;
@@ -398,6 +417,16 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("fracture_strain", &optimize::FractureOptions::fractureStrain)
       .def_readwrite("thickness", &optimize::FractureOptions::thickness);
 
+  py::class_<MeshObstacleArguments>(m, "MeshObstacleArguments")
+      .def(py::init<>())
+      .def_readwrite("positions", &MeshObstacleArguments::positions)
+      .def_readwrite("faces", &MeshObstacleArguments::faces)
+      .def_readwrite("motion", &MeshObstacleArguments::motion)
+      .def_readwrite("axis", &MeshObstacleArguments::axis)
+      .def_readwrite("point", &MeshObstacleArguments::point)
+      .def_readwrite("omega", &MeshObstacleArguments::omega)
+      .def_readwrite("velocity", &MeshObstacleArguments::velocity);
+
   py::class_<PinGroupArguments>(m, "PinGroupArguments")
       .def(py::init<>())
       .def_readwrite("mask", &PinGroupArguments::mask)
@@ -420,6 +449,7 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("density", &SimulationArguments::density)
       .def_readwrite("mass", &SimulationArguments::mass)
       .def_readwrite("obstacles", &SimulationArguments::obstacles)
+      .def_readwrite("mesh_obstacles", &SimulationArguments::meshObstacles)
       .def_readwrite("self_contact", &SimulationArguments::selfContact)
       .def_readwrite("contact_offset", &SimulationArguments::contactOffset)
       .def_readwrite("integrator", &SimulationArguments::integrator)
@@ -475,7 +505,8 @@ void bindSimulation(py::module_& m) {
       .def_property_readonly("contact", [](const BoundSimulation& s) {
         const optimize::TimeStepper::ContactStatistics& c = s.stepper().contactStatistics();
         py::dict d;
-        d["self_contact"] = !s.stepper().selfContact().empty();
+        d["self_contact"] =
+            !s.stepper().selfContact().empty() && s.stepper().selfContact().shellPairs();
         d["offset"] = s.stepper().selfContact().layer();
         d["smallest_distance"] = c.smallestDistance;
         d["mean_pairs"] = c.steps > 0 ? c.pairs / c.steps : 0.0;

@@ -49,6 +49,26 @@ def _set_pin_motion(a, pin_motion, pinned):
     a.pin_motion = _set_motion(a, pin_motion, "pin_motion")
 
 
+def _mesh_obstacles(obstacles):
+    """The mesh obstacles: each a triple (V #W×3, F #T×3, motion as pin_motion's or None)."""
+    if isinstance(obstacles, (str, dict)) or not hasattr(obstacles, "__len__"):
+        raise ValueError("mesh_obstacles: expected a list of triples (V, F, motion or None)")
+    out = []
+    for k, obstacle in enumerate(obstacles):
+        name = f"mesh_obstacles[{k}]"
+        if not isinstance(obstacle, tuple) or len(obstacle) != 3:
+            raise ValueError(f"{name}: expected a triple (V, F, motion or None)")
+        V, F, motion = obstacle
+        g = _flexure.MeshObstacleArguments()
+        V = _checks.positions(V, f"{name} V")
+        g.positions = V
+        g.faces = _checks.faces(F, V.shape[0], f"{name} F")
+        if motion is not None:
+            g.motion = _set_motion(g, motion, f"{name} motion")
+        out.append(g)
+    return out
+
+
 def _set_pinned(target, pinned, n, name):
     """target's vertices (a spec or a mask) from an int K (rings), a spec or a #V mask."""
     if isinstance(pinned, str):
@@ -143,6 +163,9 @@ class Simulation:
     Self-contact (docs/dynamics.md "Self-contact"): self_contact True (the default) makes every
     vertex–face and edge–edge pair closer than contact_offset d̂ repel (default ¼ of the mean
     rest edge length), and no step lets two parts of the shell pass through each other.
+    mesh_obstacles: rigid triangle meshes, a list of triples (V #W×3, F #T×3, motion as
+    pin_motion's or None: static), that the shell may not pass through (the same barrier and
+    offset, with self_contact on or off; ``flexure simulate --obstacle mesh:FILE@MOTION``).
 
     Friction (docs/commands/simulate.md "Friction"): friction μ ≥ 0 (default 0, frictionless) is
     the Coulomb coefficient between the vertices and the obstacles, smoothed and lagged per step
@@ -158,7 +181,8 @@ class Simulation:
                  bending_damping=0.0, pin_motion=None, pin_groups=None,
                  max_newton_iterations=30, tolerance=1e-10, yield_curvature=None,
                  yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
-                 energy_tolerance=0.05, self_contact=True, contact_offset=None, friction=0.0):
+                 energy_tolerance=0.05, self_contact=True, contact_offset=None, friction=0.0,
+                 mesh_obstacles=()):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
@@ -194,6 +218,7 @@ class Simulation:
         if isinstance(obstacles, str):
             raise ValueError("obstacles: expected a list of specs, e.g. [\"plane:0,0,1,-1\"]")
         a.obstacles = [str(o) for o in obstacles]
+        a.mesh_obstacles = _mesh_obstacles(mesh_obstacles)
         a.self_contact = bool(self_contact)
         if contact_offset is not None:
             a.contact_offset = _checks.number(contact_offset, "contact_offset", positive=True)
