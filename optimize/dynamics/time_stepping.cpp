@@ -347,7 +347,6 @@ void TimeStepper::restore(const State& state) {
   selfContact_.setObstacleTime(state.time);
   if (state.obstacleStiffness > 0.0 && !selfContact_.meshObstacles().empty())
     selfContact_.setObstacleStiffness(state.obstacleStiffness);
-  selfContact_.requireApart(state.x, "the restored state");
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
   time_ = state.time;
   x_ = state.x;
