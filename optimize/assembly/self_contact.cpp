@@ -237,6 +237,7 @@ double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x)
 
 void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
+  exempt_.clear();
   keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
   const Positions at = stacked(x);
   for (const ContactPair& pair : countedCandidates(rest_, Positions(), 0.5 * layer_)) {

@@ -103,7 +103,8 @@ class SelfContact {
   double layer() const { return layer_; }
   double stiffness() const { return stiffness_; }
 
-  // Exempts the pairs within d̂ both in the rest state and at x (the start of a run or a cut).
+  // Exempts the pairs within d̂ both in the rest state and at x (the start of a run, a cut), and
+  // only those.
   void exemptClosePairs(const Positions& x);
   // Lifts the exemption of every exempt pair at d ≥ d̂ at x.
   void liftExemptions(const Positions& x);

@@ -355,6 +355,7 @@ void TimeStepper::restore(const State& state) {
   xi_ = state.xi;
   balance_ = state.balance;
   contactStatistics_ = state.contact;
+  selfContact_.exemptClosePairs(x_);  // a cut's fresh lips; older ones already apart repel
   if (implicit_ && state.contactCouplings != couplings_) {
     couplings_ = state.contactCouplings;
     buildImplicit();

@@ -297,7 +297,8 @@ class TimeStepper {
   // positions): InputError when its sizes do not fit the problem. The kept factor of the step's
   // Hessian is dropped, as forgetFactor() does. A state is one a run reached (a cut's, a
   // checkpoint's): the shell's self-contact is not checked again (a cut's lips, exempt while they
-  // open, may have crossed each other).
+  // open, may have crossed each other); the exempt pairs are those close at rest and in the state
+  // (SelfContact::exemptClosePairs).
   void restore(const State& state);
   // Continues `from`, a stepper of the same problem before its pin groups' vertices `released`
   // (#V) were let go (releasePinGroups; this stepper built without them): its state, with
