@@ -13,7 +13,8 @@ run 0 mesh --help; stdout_has "--family"
 # --boundary takes polynomials too.
 run 0 simulate --help
 grep -q -- "--pin TEXT=none .*vertices:FILE | box:X0,X1,Y0,Y1,Z0,Z1$" out.txt || fail "simulate --pin help"
-grep -q -- "--obstacle TEXT .*plane:nx,ny,nz,d .* | sphere:x,y,z,r$" out.txt || fail "simulate --obstacle help"
+grep -q -- "--obstacle TEXT .*plane:nx,ny,nz,d .* | sphere:x,y,z,r | mesh:FILE\[@MOTION\]" out.txt \
+  || fail "simulate --obstacle help"
 for command in minimize modes; do
   run 0 $command --help; stdout_has "box:X0,X1,Y0,Y1,Z0,Z1"
 done
