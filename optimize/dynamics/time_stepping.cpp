@@ -302,6 +302,11 @@ void TimeStepper::movePins(Positions& x, Positions* v, double t) const {
 }
 
 void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
+  const Eigen::Index n = static_cast<Eigen::Index>(pinned_.size());
+  if (x.rows() != n || v.rows() != n)
+    throw InputError("the start " + std::string(x.rows() != n ? "positions" : "velocities") +
+                     " have " + std::to_string((x.rows() != n ? x : v).rows()) +
+                     " rows, the mesh " + std::to_string(n) + " vertices");
   barrier_.requireOutside(x, "the start");
   x_ = x;
   v_ = v;

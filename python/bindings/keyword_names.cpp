@@ -21,7 +21,8 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"ProblemOptions.fixedEdge", "pinned rings:K"},
       {"ProblemOptions.boundarySurface", "boundary_surface"},
       {"ConfigurationEnergyOptions.boundarySurface", "boundary_surface"},
-      {"ProblemOptions.boundaryPositions", "boundary_positions"},
+      // minimize's boundary_positions; a Simulation's start V_start
+      {"ProblemOptions.boundaryPositions", "boundary_positions (V_start)"},
       {"ProblemOptions.boundaryNormals", "boundary_normals"},
       {"ProblemOptions.linearizedClamp", "linearized_clamp"},
       {"ProblemOptions.load.gravity", "gravity"},

@@ -254,12 +254,6 @@ class BoundSimulation {
     optimize::DynamicsOptions& dynamics = spec.dynamics;
     optimize::ProblemOptions& p = spec.body;
     const modeling::Mesh rest = checkedMesh(restV, F, "V_rest, F");
-    if (start && start->rows() != rest.positions.rows())
-      throw InputError("V_start has " + std::to_string(start->rows()) + " rows, the mesh " +
-                       std::to_string(rest.positions.rows()) + " vertices");
-    if (velocity && velocity->rows() != rest.positions.rows())
-      throw InputError("velocities has " + std::to_string(velocity->rows()) + " rows, the mesh " +
-                       std::to_string(rest.positions.rows()) + " vertices");
     py::gil_scoped_release release;
     modeling::Stencils stencils = modeling::compileStencils(rest);
     modeling::RestState restState = modeling::precomputeRestState(stencils, rest.positions);
