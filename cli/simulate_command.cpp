@@ -223,10 +223,11 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--contact-offset", o.contactOffset,
                   "Self-contact: the distance below which two parts of the shell repel (default: "
                   "a quarter of the mean rest edge length)");
-  sub->add_option("--friction", o.friction,
-                  "Coulomb friction coefficient mu >= 0 between the vertices and the obstacles "
-                  "(smoothed and lagged per step as in incremental potential contact; 0: "
-                  "frictionless)")
+  sub->add_option(
+         "--friction", o.friction,
+         "Coulomb friction coefficient mu >= 0 at every contact: the obstacles and the "
+         "shell's own (smoothed and lagged per step as in incremental potential contact; 0: "
+         "frictionless)")
       ->capture_default_str();
   sub->add_option("--integrator", o.integrator,
                   "newmark (average acceleration: conserves energy) | backward-euler "

@@ -1,8 +1,10 @@
-// Friction on the obstacles (optimize/assembly/friction.h, IPC's lagged smoothed Coulomb
-// friction): the mollifier and the assembled gradient and Hessian of one lagged state against
-// finite differences; a stiff sheet on a plane tilted by θ stays for tan θ < μ and slides with
-// the acceleration g (sin θ − μ cos θ) for tan θ > μ; μ = 0 and friction without contacts leave a
-// run bit for bit unchanged; bad coefficients refused.
+// Friction at the contacts (optimize/assembly/friction.h, IPC's lagged smoothed Coulomb
+// friction): the mollifier; the assembled gradient and Hessian of one lagged state against finite
+// differences, at the analytic obstacles and at the collision mesh's pairs (shell against shell,
+// against a moving mesh obstacle); a stiff sheet on a slope tilted by θ — the analytic plane, a
+// mesh obstacle, a held sheet of the same mesh — stays for tan θ < μ and slides with the
+// acceleration g (sin θ − μ cos θ) for tan θ > μ; μ = 0 and friction without contacts leave a run
+// bit for bit unchanged; bad coefficients refused.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -17,7 +19,9 @@
 #include "optimize/assembly/friction.h"
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/obstacles.h"
+#include "optimize/assembly/self_contact.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "support/assembled_derivatives.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -26,9 +30,10 @@ namespace {
 using curvature::Discretization;
 using modeling::Positions;
 using optimize::DynamicsOptions;
+using optimize::Friction;
 using optimize::Obstacle;
 using optimize::ObstacleBarrier;
-using optimize::ObstacleFriction;
+using optimize::obstacleFrictionContacts;
 
 constexpr double pi = 3.14159265358979323846;
 constexpr double g = 9.81;
@@ -76,7 +81,7 @@ TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
   ASSERT_GT(barrier.smallestDistance(start), 0.0);
   std::vector<bool> held(vertexCount, false);
   held[0] = true;  // a pinned vertex has no contact
-  const ObstacleFriction friction(barrier, start, held, 0.4, slip);
+  const Friction friction(obstacleFrictionContacts(barrier, start, held), start, 0.4, slip);
   ASSERT_GT(friction.contactCount(), 10);
 
   Positions x = start;
@@ -94,28 +99,8 @@ TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
   EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
   ASSERT_GT(e.energy, 0.0);
 
-  const double eps = 1e-7;
-  int active = 0;
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(assembly.size(), assembly.size());
-  for (int k = 0; k < assembly.size(); ++k) {
-    const int u = assembly.freeUnknowns()[k];
-    Positions plus = x, minus = x;
-    plus.data()[u] += eps;
-    minus.data()[u] -= eps;
-    const double fd = (friction.energy(plus) - friction.energy(minus)) / (2 * eps);
-    EXPECT_NEAR(e.gradient[k], fd, 1e-6 * (1.0 + std::abs(fd))) << "unknown " << u;
-    active += e.gradient[k] != 0.0;
-    Positions gPlus = Positions::Zero(vertexCount, 3), gMinus = gPlus;
-    friction.addGradient(plus, gPlus);
-    friction.addGradient(minus, gMinus);
-    for (int p = assembly.columnStart()[k]; p < assembly.columnStart()[k + 1]; ++p) {
-      const int r = assembly.rowIndex()[p];
-      const int row = assembly.freeUnknowns()[r];
-      const double fdh = (gPlus.data()[row] - gMinus.data()[row]) / (2 * eps);
-      EXPECT_NEAR(e.values[p], fdh, 1e-5 * (1.0 + std::abs(fdh))) << row << ", " << u;
-      dense(r, k) = dense(k, r) = e.values[p];
-    }
-  }
+  const int active = testing::expectAssembledDerivativesMatch(assembly, e, x, friction);
+  const Eigen::MatrixXd dense = testing::denseHessian(assembly, e.values);
   EXPECT_GT(active, 10);
   EXPECT_EQ(e.gradient.segment(0, 3).norm(), 0.0);  // the held vertex 0
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
@@ -123,45 +108,152 @@ TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
   EXPECT_GT(friction.work(x), 0.0);
   EXPECT_EQ(friction.work(start), 0.0);
   // No coefficient, no contacts.
-  EXPECT_TRUE(ObstacleFriction(barrier, start, held, 0.0, slip).empty());
+  EXPECT_TRUE(Friction(obstacleFrictionContacts(barrier, start, held), start, 0.0, slip).empty());
 }
+
+// Friction at the collision mesh's pairs (SelfContact::frictionContacts): a sheet lying within the
+// layer above another, and a box mesh obstacle moving sideways under the lower one. Every
+// contact's weights sum to 0 (a common translation of its vertices moves neither closest point
+// relative to the other) unless an obstacle vertex is among them; the assembled gradient and
+// Hessian match central differences and the Hessian is positive semidefinite.
+TEST(Friction, PairContactsDerivativesMatchFiniteDifferences) {
+  const modeling::Mesh sheet = testing::generatedPlate(modeling::MeshFamily::Patch48, 3);
+  const int v = sheet.vertexCount(), f = sheet.faceCount();
+  modeling::Mesh both;  // apart at rest: nothing exempt
+  both.positions.resize(2 * v, 3);
+  both.positions << sheet.positions, sheet.positions.rowwise() + Eigen::RowVector3d(0.05, 0.03, 1);
+  both.triangles.resize(2 * f, 3);
+  both.triangles << sheet.triangles, sheet.triangles.array() + v;
+  const modeling::Stencils stencils = modeling::compileStencils(both);
+  const double layer = 0.05, slip = 0.01;
+  optimize::SelfContact contact(stencils.faces, stencils.edges, both.positions, layer, 2.0);
+  modeling::Mesh box;
+  box.positions.resize(4, 3);
+  box.positions << -1, -1, -0.03, 1, -1, -0.03, 1, 1, -0.03, -1, 1, -0.03;
+  box.triangles.resize(2, 3);
+  box.triangles << 0, 1, 2, 0, 2, 3;
+  contact.addObstacles({{box, optimize::PinMotion::translation({0.3, 0.1, 0}), "slab"}}, true);
+  contact.setObstacleTime(0.0);
+
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> jitter(-0.2 * layer, 0.2 * layer);
+  Positions start = both.positions;
+  for (int k = v; k < 2 * v; ++k) start(k, 2) = 0.5 * layer + jitter(random);
+  const std::vector<optimize::FrictionContact> contacts = contact.frictionContacts(start, 0.1);
+  int shellPairs = 0, obstaclePairs = 0;
+  for (const optimize::FrictionContact& c : contacts) {
+    EXPECT_GT(c.normalForce, 0.0);
+    EXPECT_NEAR((c.basis.transpose() * c.basis - Eigen::Matrix2d::Identity()).norm(), 0.0, 1e-14);
+    const bool onShell =
+        (c.vertices[0] >= 0) + (c.vertices[1] >= 0) + (c.vertices[2] >= 0) + (c.vertices[3] >= 0) ==
+        4;
+    if (onShell) EXPECT_NEAR(c.weights.sum(), 0.0, 1e-12);
+    shellPairs += onShell;
+    obstaclePairs += !onShell && c.offset.norm() > 0.0;
+  }
+  EXPECT_GT(shellPairs, 10);
+  EXPECT_GT(obstaclePairs, 4);
+  const Friction friction(contacts, start, 0.4, slip);
+
+  Positions x = start;
+  std::uniform_real_distribution<double> move(-2.0 * slip, 2.0 * slip);
+  for (int k = 0; k < 2 * v; ++k)
+    for (int c = 0; c < 3; ++c) x(k, c) += k % 3 == 0 ? 0.0 : move(random);
+  const std::vector<bool> free(3 * 2 * v, true);
+  const optimize::HessianAssembly assembly({}, free, 2 * v, curvature::Derivatives::All,
+                                           contact.couplings(start, x - start));
+  optimize::HessianEvaluation e;
+  e.gradient = Eigen::VectorXd::Zero(assembly.size());
+  e.values.assign(assembly.rowIndex().size(), 0.0);
+  friction.add(assembly, x, e);
+  EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
+  ASSERT_GT(e.energy, 0.0);
+  EXPECT_GT(testing::expectAssembledDerivativesMatch(assembly, e, x, friction), 20);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(
+      testing::denseHessian(assembly, e.values));
+  EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-10 * eigen.eigenvalues().maxCoeff());
+  EXPECT_EQ(friction.work(start), 0.0);
+}
+
+// What the sheet slides on: the analytic plane, a mesh obstacle (one large triangle in the same
+// plane, whose edges the sheet never nears: its contacts are vertex–face pairs), or a second,
+// larger sheet of the same mesh held in that plane (shell against shell: vertex–face and
+// edge–edge pairs).
+enum class Slope { Plane, MeshObstacle, HeldSheet };
 
 // A stiff sheet (patch48 n = 3, hinge, StVK E = 1e5) on the plane through the origin tilted by θ
 // about y (normal (−sin θ, 0, cos θ)), gravity −z: lying parallel to it at 0.6 d̂, it settles
 // under mass damping with backward Euler (μ = 2: it cannot slide), then moves undamped from rest
-// with the coefficient μ for `duration` seconds. Returns the mean displacement down the slope
-// (−(cos θ, 0, sin θ)) after each step of h, and the stepper's balance at the end.
+// with the coefficient μ for `duration` seconds. Returns the mean displacement of its vertices
+// down the slope (−(cos θ, 0, sin θ)) after each step of h, and the stepper's balance at the end.
 struct Slide {
   std::vector<double> time, downhill;
   optimize::EnergyBalance balance;
   optimize::BalanceVerdict verdict = optimize::BalanceVerdict::Balanced;
-  double length = 0.0, mass = 0.0;
+  double length = 0.0;  // L, the rest mesh's bounding-box diagonal (the slip speed's unit)
+  double mass = 0.0;    // the sliding sheet's
 };
 
-Slide slideOnSlope(double theta, double mu, double duration, double h) {
-  const std::string plane =
-      "plane:" + std::to_string(-std::sin(theta)) + ",0," + std::to_string(std::cos(theta)) + ",0";
-  const testing::Plate plate(modeling::MeshFamily::Patch48, 3, Discretization::Hinge, 1e5,
-                             [&](optimize::ProblemOptions& p, const modeling::Stencils&) {
-                               p.load.gravity = Eigen::Vector3d(0.0, 0.0, -g);
-                               p.obstacles = {optimize::parseObstacle("obstacle", plane)};
-                             });
-  const int vertexCount = plate.mesh.vertexCount();
+// The sheet (rows [0, #sheet)) and, for a held sheet, the 3 × larger patch48 n = 9 (the same edge
+// length) after it, 1 above it at rest (apart: nothing exempt).
+modeling::Mesh slidingMesh(Slope slope) {
+  const modeling::Mesh sheet = testing::generatedPlate(modeling::MeshFamily::Patch48, 3);
+  if (slope != Slope::HeldSheet) return sheet;
+  const modeling::Mesh ground = testing::generatedPlate(modeling::MeshFamily::Patch48, 9);
+  const int v = sheet.vertexCount();
+  modeling::Mesh both;
+  both.positions.resize(v + ground.vertexCount(), 3);
+  both.positions << sheet.positions,
+      (3.0 * ground.positions).rowwise() - Eigen::RowVector3d(0, 0, 1);
+  both.triangles.resize(sheet.faceCount() + ground.faceCount(), 3);
+  both.triangles << sheet.triangles, ground.triangles.array() + v;
+  return both;
+}
+
+Slide slideOnSlope(double theta, double mu, double duration, double h, Slope slope = Slope::Plane) {
   const Eigen::Vector3d normal(-std::sin(theta), 0.0, std::cos(theta));
   const Eigen::Vector3d down = -Eigen::Vector3d(std::cos(theta), 0.0, std::sin(theta));
+  const Eigen::Matrix3d tilt =
+      Eigen::AngleAxisd(-theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const modeling::Mesh mesh = slidingMesh(slope);
+  const int sheetVertices = testing::generatedPlate(modeling::MeshFamily::Patch48, 3).vertexCount();
+  const int vertexCount = mesh.vertexCount();
+  optimize::ProblemOptions options = testing::plateProblem(Discretization::Hinge, 1e5);
+  options.load.gravity = Eigen::Vector3d(0.0, 0.0, -g);
+  options.selfContact = slope == Slope::HeldSheet;
+  if (slope == Slope::Plane)
+    options.obstacles = {optimize::parseObstacle(
+        "obstacle",
+        "plane:" + std::to_string(normal.x()) + ",0," + std::to_string(normal.z()) + ",0")};
+  if (slope == Slope::MeshObstacle) {
+    modeling::Mesh triangle;
+    triangle.positions.resize(3, 3);
+    triangle.positions << -4, -4, 0, -4, 4, 0, 2, 0, 0;
+    triangle.positions = (triangle.positions * tilt.transpose()).eval();
+    triangle.triangles.resize(1, 3);
+    triangle.triangles << 0, 1, 2;
+    options.meshObstacles = {{triangle, optimize::PinMotion(), "slope"}};
+  }
+  const Eigen::RowVector3d centre = mesh.positions.topRows(sheetVertices).colwise().mean();
+  Positions x = (mesh.positions.rowwise() - centre) * tilt.transpose();
+  if (slope == Slope::HeldSheet) {
+    x.bottomRows(vertexCount - sheetVertices) =
+        3.0 * testing::generatedPlate(modeling::MeshFamily::Patch48, 9).positions *
+        tilt.transpose();
+    options.fixedVertex.assign(vertexCount, true);
+    std::fill(options.fixedVertex.begin(), options.fixedVertex.begin() + sheetVertices, false);
+  }
+  if (slope == Slope::HeldSheet) options.boundaryPositions = x;  // the held sheet's place
+  const optimize::Problem problem = optimize::buildProblem(mesh, options);
+
   DynamicsOptions settling;
   settling.integrator = optimize::Integrator::BackwardEuler;
   settling.rayleighMass = 20.0;
   settling.friction = 2.0;
-  optimize::TimeStepper settle(plate.problem, settling);
-  const Eigen::Matrix3d tilt =
-      Eigen::AngleAxisd(-theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  const Eigen::RowVector3d centre = plate.rest.positions.colwise().mean();
-  Positions x(vertexCount, 3);
-  for (int v = 0; v < vertexCount; ++v)
-    x.row(v) = (tilt * (plate.rest.positions.row(v) - centre).transpose() +
-                0.6 * settle.barrier().layer() * normal)
-                   .transpose();
+  optimize::TimeStepper settle(problem, settling);
+  const double layer =
+      slope == Slope::Plane ? settle.barrier().layer() : settle.selfContact().layer();
+  x.topRows(sheetVertices).rowwise() += 0.6 * layer * normal.transpose();
   const Positions rest = Positions::Zero(vertexCount, 3);
   settle.start(x, rest, Eigen::VectorXd());
   for (int k = 0; k < 100; ++k) {
@@ -172,35 +264,52 @@ Slide slideOnSlope(double theta, double mu, double duration, double h) {
   DynamicsOptions sliding;
   sliding.integrator = optimize::Integrator::BackwardEuler;
   sliding.friction = mu;
-  optimize::TimeStepper stepper(plate.problem, sliding);
+  optimize::TimeStepper stepper(problem, sliding);
   const Positions settled = settle.positions();
   stepper.start(settled, rest, settle.xi());
   Slide slide;
-  slide.length =
-      (plate.rest.positions.colwise().maxCoeff() - plate.rest.positions.colwise().minCoeff())
-          .norm();
-  slide.mass = stepper.masses().sum();
+  slide.length = (mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff()).norm();
+  slide.mass = stepper.masses().head(sheetVertices).sum();
   const int steps = static_cast<int>(std::lround(duration / h));
   for (int k = 0; k < steps; ++k) {
     const auto outcome = stepper.step(h);
     EXPECT_TRUE(outcome.converged) << "step " << k << ": " << outcome.failure;
-    EXPECT_GT(stepper.barrier().smallestDistance(stepper.positions()), 0.0);
+    const double closest = slope == Slope::Plane
+                               ? stepper.barrier().smallestDistance(stepper.positions())
+                               : stepper.selfContact().census(stepper.positions()).smallestDistance;
+    EXPECT_GT(closest, 0.0);
     slide.time.push_back(stepper.time());
-    slide.downhill.push_back(
-        (stepper.positions() - settled).colwise().mean().dot(down.transpose()));
+    slide.downhill.push_back((stepper.positions() - settled)
+                                 .topRows(sheetVertices)
+                                 .colwise()
+                                 .mean()
+                                 .dot(down.transpose()));
   }
   slide.balance = stepper.balance();
   slide.verdict = stepper.balanceVerdict();
   return slide;
 }
 
+class FrictionOnSlope : public ::testing::TestWithParam<Slope> {};
+
+std::string slopeName(const ::testing::TestParamInfo<Slope>& info) {
+  switch (info.param) {
+    case Slope::Plane:
+      return "Plane";
+    case Slope::MeshObstacle:
+      return "MeshObstacle";
+    case Slope::HeldSheet:
+      return "HeldSheet";
+  }
+  return "";
+}
+
 // tan 20° = 0.36 < μ = 0.5: the sheet stays (it creeps below the slip speed ε_v = 1e-3 L/s).
-TEST(Friction, SheetStaysOnASlopeBelowTheFrictionAngle) {
-  const Slide slide = slideOnSlope(20.0 * pi / 180.0, 0.5, 0.5, 0.005);
+TEST_P(FrictionOnSlope, SheetStaysBelowTheFrictionAngle) {
+  const Slide slide = slideOnSlope(20.0 * pi / 180.0, 0.5, 0.5, 0.005, GetParam());
   const double largest = std::abs(slide.downhill.back());
   std::printf("stick: mean displacement down the slope after 0.5 s %.3e (L = %.3g)\n", largest,
               slide.length);
-  EXPECT_LT(largest, 1e-3 * slide.length);
   EXPECT_LT(largest, 1e-3 * slide.length * 0.5);  // slower than the slip speed ε_v = 1e-3 L/s
   EXPECT_NE(slide.verdict, optimize::BalanceVerdict::Gained);
 }
@@ -208,9 +317,9 @@ TEST(Friction, SheetStaysOnASlopeBelowTheFrictionAngle) {
 // tan 30° = 0.58 > μ = 0.3: the sheet slides with a = g (sin θ − μ cos θ) (the fit of the mean
 // displacement to c + b t + ½ a t² over t ≥ 0.05 s: backward Euler adds ½ a h t to the motion
 // under a constant force), and the work against friction is μ g cos θ M × the distance slid.
-TEST(Friction, SheetSlidesDownASlopeBeyondTheFrictionAngle) {
+TEST_P(FrictionOnSlope, SheetSlidesBeyondTheFrictionAngle) {
   const double theta = 30.0 * pi / 180.0, mu = 0.3, h = 0.005;
-  const Slide slide = slideOnSlope(theta, mu, 0.5, h);
+  const Slide slide = slideOnSlope(theta, mu, 0.5, h, GetParam());
   const double expected = g * (std::sin(theta) - mu * std::cos(theta));
   Eigen::MatrixXd basis(0, 3);
   Eigen::VectorXd values(0);
@@ -231,9 +340,17 @@ TEST(Friction, SheetSlidesDownASlopeBeyondTheFrictionAngle) {
       fit[2], expected, distance, slide.balance.dissipated, work,
       100.0 * slide.balance.relativeDrift());
   EXPECT_NEAR(fit[2], expected, 0.02 * expected);
-  EXPECT_NEAR(slide.balance.dissipated, work, 0.02 * work);
+  // On a held sheet each sliding vertex has several contacts (the faces around the ground vertex
+  // beneath it, edge–edge pairs), not all normal to the slope: their friction also takes energy
+  // from the sheet's jitter across the ground's edges, measured 7 % above μ g cos θ M s.
+  const double share = GetParam() == Slope::HeldSheet ? 0.1 : 0.02;
+  EXPECT_NEAR(slide.balance.dissipated, work, share * work);
   EXPECT_NE(slide.verdict, optimize::BalanceVerdict::Gained);
 }
+
+INSTANTIATE_TEST_SUITE_P(Surfaces, FrictionOnSlope,
+                         ::testing::Values(Slope::Plane, Slope::MeshObstacle, Slope::HeldSheet),
+                         slopeName);
 
 // Friction while no vertex is within the layer (a sheet falling towards a plane it does not
 // reach) leaves the frictionless run bit for bit; μ = 0 counts no work against friction.

@@ -28,6 +28,7 @@
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/boundary_conditions.h"
 #include "optimize/linear/least_squares.h"
+#include "support/assembled_derivatives.h"
 #include "support/energy_fixtures.h"
 #include "support/small_meshes.h"
 
@@ -166,18 +167,6 @@ Eigen::VectorXd unknownsOf(const Positions& x, const Eigen::VectorXd& xi, bool w
   return u;
 }
 
-// The full symmetric matrix from the assembly's upper triangle.
-Eigen::MatrixXd denseHessian(const HessianAssembly& a, const std::vector<double>& values) {
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(a.size(), a.size());
-  for (int q = 0; q < a.size(); ++q) {
-    for (int k = a.columnStart()[q]; k < a.columnStart()[q + 1]; ++k) {
-      h(a.rowIndex()[k], q) = values[k];
-      h(q, a.rowIndex()[k]) = values[k];
-    }
-  }
-  return h;
-}
-
 // Which unknowns are free: all (xyz), or z and ξ (height).
 std::vector<bool> freeSet(int vertexCount, Eigen::Index unknowns, Derivatives derivatives) {
   std::vector<bool> free(unknowns, true);
@@ -223,7 +212,7 @@ Comparison compare(const Mesh& restMesh, const Energy& energy, Derivatives deriv
   const std::vector<bool> free = freeSet(static_cast<int>(x.rows()), u.size(), derivatives);
   const HessianAssembly assembly(terms, free, static_cast<int>(x.rows()), derivatives);
   const optimize::HessianEvaluation h = assembly.evaluate(x, xi, HessianProjection::Exact);
-  const Eigen::MatrixXd hessian = denseHessian(assembly, h.values);
+  const Eigen::MatrixXd hessian = testing::denseHessian(assembly, h.values);
 
   const auto gradientAt = [&](const Eigen::VectorXd& at) {
     const Positions px = Eigen::Map<const Positions>(at.data(), x.rows(), 3);
@@ -361,7 +350,7 @@ TEST(Hessians, AtRestTheHessianIsJTJ) {
     EXPECT_LT(h.energy, 1e-20);
     const Eigen::MatrixXd j = optimize::residualJacobian(terms, x, xi).toDense();
     const Eigen::MatrixXd jtj = j.transpose() * j;
-    const Eigen::MatrixXd hessian = denseHessian(assembly, h.values);
+    const Eigen::MatrixXd hessian = testing::denseHessian(assembly, h.values);
     ASSERT_EQ(hessian.rows(), jtj.rows());
     EXPECT_LE((hessian - jtj).cwiseAbs().maxCoeff(), 1e-12 * jtj.cwiseAbs().maxCoeff());
   }
@@ -389,9 +378,9 @@ TEST(Hessians, FixedCouplingIsTheOffDiagonalBlock) {
     const HessianAssembly part(terms, free, n, Derivatives::All);
     Eigen::VectorXd move = Eigen::VectorXd::Random(u.size());
     const Eigen::MatrixXd h =
-        denseHessian(full, full.evaluate(x, xi, HessianProjection::Exact).values);
+        testing::denseHessian(full, full.evaluate(x, xi, HessianProjection::Exact).values);
     const optimize::HessianEvaluation p = part.evaluate(x, xi, HessianProjection::Exact, &move);
-    const Eigen::MatrixXd hp = denseHessian(part, p.values);
+    const Eigen::MatrixXd hp = testing::denseHessian(part, p.values);
     Eigen::VectorXd fixedMove = move;
     for (Eigen::Index k = 0; k < u.size(); ++k)
       if (free[k]) fixedMove[k] = 0.0;
@@ -421,9 +410,9 @@ TEST(Hessians, ProjectionIsPositiveSemidefinite) {
   const HessianAssembly a(setup.terms(), free, static_cast<int>(x.rows()), Derivatives::All);
   const Eigen::VectorXd noXi;
   const Eigen::MatrixXd exact =
-      denseHessian(a, a.evaluate(x, noXi, HessianProjection::Exact).values);
+      testing::denseHessian(a, a.evaluate(x, noXi, HessianProjection::Exact).values);
   const Eigen::MatrixXd projected =
-      denseHessian(a, a.evaluate(x, noXi, HessianProjection::PositiveSemidefinite).values);
+      testing::denseHessian(a, a.evaluate(x, noXi, HessianProjection::PositiveSemidefinite).values);
   const double scale = exact.cwiseAbs().maxCoeff();
   EXPECT_LT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(exact).eigenvalues().minCoeff(),
             -1e-6 * scale);

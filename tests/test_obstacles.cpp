@@ -14,6 +14,7 @@
 #include "optimize/assembly/obstacles.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/solvers/minimize.h"
+#include "support/assembled_derivatives.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -78,26 +79,9 @@ TEST(Obstacles, AssembledGradientAndHessianMatchFiniteDifferences) {
   EXPECT_NEAR(e.energy, barrier.energy(x), 1e-14 * std::abs(e.energy));
   ASSERT_GT(e.energy, 0.0);
 
-  const double eps = 1e-6;
-  int active = 0;
-  for (int k = 0; k < assembly.size(); ++k) {
-    const int u = assembly.freeUnknowns()[k];
-    Positions plus = x, minus = x;
-    plus.data()[u] += eps;
-    minus.data()[u] -= eps;
-    const double fd = (barrier.energy(plus) - barrier.energy(minus)) / (2 * eps);
-    EXPECT_NEAR(e.gradient[k], fd, 1e-6 * (1.0 + std::abs(fd))) << "unknown " << u;
-    active += e.gradient[k] != 0.0;
-    // Column k of the Hessian from the gradient's differences.
-    Positions gPlus = Positions::Zero(vertexCount, 3), gMinus = gPlus;
-    barrier.addGradient(plus, gPlus);
-    barrier.addGradient(minus, gMinus);
-    for (int p = assembly.columnStart()[k]; p < assembly.columnStart()[k + 1]; ++p) {
-      const int row = assembly.freeUnknowns()[assembly.rowIndex()[p]];
-      const double fdh = (gPlus.data()[row] - gMinus.data()[row]) / (2 * eps);
-      EXPECT_NEAR(e.values[p], fdh, 1e-5 * (1.0 + std::abs(fdh))) << row << ", " << u;
-    }
-  }
+  testing::DerivativeTolerance tolerance;
+  tolerance.step = 1e-6;
+  const int active = testing::expectAssembledDerivativesMatch(assembly, e, x, barrier, tolerance);
   EXPECT_GT(active, 10);
 }
 

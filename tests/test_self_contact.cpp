@@ -16,6 +16,7 @@
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/self_contact.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "support/assembled_derivatives.h"
 #include "support/plate.h"
 
 namespace flexure {
@@ -42,17 +43,6 @@ Mesh twoSheets(int n, const Eigen::Vector3d& offset) {
   return both;
 }
 
-// The dense Hessian of an evaluation on `assembly`'s pattern (upper triangle stored).
-Eigen::MatrixXd denseHessian(const optimize::HessianAssembly& assembly,
-                             const std::vector<double>& values) {
-  const int n = assembly.size();
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int p = assembly.columnStart()[j]; p < assembly.columnStart()[j + 1]; ++p)
-      h(assembly.rowIndex()[p], j) = h(j, assembly.rowIndex()[p]) = values[p];
-  return h;
-}
-
 // The assembled gradient and exact Hessian at x against central differences of the energy and
 // of the gradient (every coordinate free, the pattern holding every pair's couplings).
 void expectDerivativesMatch(const SelfContact& contact, const Positions& x) {
@@ -66,7 +56,7 @@ void expectDerivativesMatch(const SelfContact& contact, const Positions& x) {
   ASSERT_TRUE(std::isfinite(e.energy));
   ASSERT_GT(e.energy, 0.0);
   EXPECT_NEAR(e.energy, contact.energy(x), 1e-12 * e.energy);
-  const Eigen::MatrixXd hessian = denseHessian(assembly, e.values);
+  const Eigen::MatrixXd hessian = testing::denseHessian(assembly, e.values);
   const double step = 1e-7;
   double gradientScale = e.gradient.cwiseAbs().maxCoeff();
   double hessianScale = hessian.cwiseAbs().maxCoeff();

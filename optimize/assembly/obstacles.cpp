@@ -1,6 +1,7 @@
 #include "optimize/assembly/obstacles.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -203,6 +204,34 @@ void addVertexBlock(const HessianAssembly& assembly, const std::vector<int>& ind
       e.values[at - row.begin()] += hessian(a, b);
     }
   }
+}
+
+void addFourVertexBlock(const HessianAssembly& assembly, const std::vector<int>& index,
+                        const std::array<int, 4>& v, const Eigen::Matrix<double, 12, 1>& gradient,
+                        const Eigen::Matrix<double, 12, 12>& hessian, HessianEvaluation& e) {
+  // The free index of coordinate i of the term (−1: none).
+  std::array<int, 12> free{};
+  for (int i = 0; i < 12; ++i) {
+    const int vertex = v[i / 3];
+    const std::size_t at = 3 * static_cast<std::size_t>(vertex) + i % 3;
+    free[i] = vertex >= 0 && at < index.size() ? index[at] : -1;
+  }
+  for (int i = 0; i < 12; ++i)
+    if (free[i] >= 0) e.gradient[free[i]] += gradient[i];
+  if (e.values.empty()) return;
+  bool coupled = true;
+  for (int a = 0; a < 4 && coupled; ++a)
+    for (int b = a + 1; b < 4; ++b) {
+      const int p = free[3 * a], q = free[3 * b];
+      if (p >= 0 && q >= 0 && v[a] != v[b] && assembly.entry(std::min(p, q), std::max(p, q)) < 0)
+        coupled = false;
+    }
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      const int p = free[i], q = free[j];
+      if (p < 0 || q < 0 || p > q || (!coupled && v[i / 3] != v[j / 3])) continue;
+      e.values[assembly.entry(p, q)] += hessian(i, j);
+    }
 }
 
 void ObstacleBarrier::add(const HessianAssembly& assembly, const Positions& x, HessianEvaluation& e,

@@ -49,6 +49,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -141,6 +142,14 @@ std::vector<int> vertexUnknownIndex(const HessianAssembly& assembly, Eigen::Inde
 void addVertexBlock(const HessianAssembly& assembly, const std::vector<int>& index, Eigen::Index v,
                     const Eigen::Vector3d& gradient, const Eigen::Matrix3d& hessian,
                     HessianEvaluation& e);
+// Adds the gradient (12) and, when e.values is filled, the Hessian (12 × 12) of a term on four
+// vertices `v` (coordinates 3i .. 3i + 2 are v[i]'s; −1, or a vertex whose coordinates `index`
+// holds as −1, is no unknown and skipped) to `e`: the blocks between two of its vertices where
+// the pattern couples them all, else only each vertex's diagonal block (a principal part: a
+// semidefinite Hessian stays semidefinite, still a descent model).
+void addFourVertexBlock(const HessianAssembly& assembly, const std::vector<int>& index,
+                        const std::array<int, 4>& v, const Eigen::Matrix<double, 12, 1>& gradient,
+                        const Eigen::Matrix<double, 12, 12>& hessian, HessianEvaluation& e);
 
 // The barrier of the stated rule for `obstacles` on a mesh with rest state `rest`: d̂ = ¼ the mean
 // rest edge length, κ_v = m_v max(|g|, 1) / d̂ with the lumped masses `mass` (#V).

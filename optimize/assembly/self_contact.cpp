@@ -50,15 +50,6 @@ std::vector<ContactPair> candidates(const Positions& x, const Positions& dx,
 
 // Whether the pattern couples every two free vertices of `v` (`index`: each vertex coordinate's
 // free index, −1 when fixed; a vertex is pinned whole).
-bool patternCouples(const HessianAssembly& assembly, const std::vector<int>& index,
-                    const std::array<int, 4>& v) {
-  for (int a = 0; a < 4; ++a)
-    for (int b = a + 1; b < 4; ++b) {
-      const int p = index[3 * v[a]], q = index[3 * v[b]];
-      if (p >= 0 && q >= 0 && assembly.entry(std::min(p, q), std::max(p, q)) < 0) return false;
-    }
-  return true;
-}
 
 }  // namespace
 
@@ -301,6 +292,17 @@ std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Posit
   return active;
 }
 
+double SelfContact::pairStiffness(const ContactPair& pair, const Positions& x) const {
+  const std::array<bool, 2> shell = onShell(pair);
+  const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  if (pair.kind == ContactPair::Kind::VertexFace) return kappa;
+  const std::array<int, 4> v = vertices(pair);
+  const double threshold = edgeEdgeMollifierThreshold(row(rest_, v[0]), row(rest_, v[1]),
+                                                      row(rest_, v[2]), row(rest_, v[3]));
+  return kappa *
+         edgeEdgeMollifier(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]), threshold);
+}
+
 double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                                 Vector12* gradient, Matrix12* hessian) const {
   const std::array<int, 4> v = vertices(pair);
@@ -344,6 +346,49 @@ double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance,
   return kappa * m * b;
 }
 
+std::vector<FrictionContact> SelfContact::frictionContacts(const Positions& shell,
+                                                           double end) const {
+  std::vector<FrictionContact> contacts;
+  if (empty()) return contacts;
+  const Positions x = stacked(shell);
+  Positions obstacleMotion = -obstaclePositions_;
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    obstacleMotion.middleRows(vertexStart_[k] - shellVertices_, obstacles_[k].mesh.vertexCount()) +=
+        obstacles_[k].positionsAt(end);
+  for (const auto& [pair, s] : activePairs(x)) {
+    const std::array<int, 4> v = vertices(pair);
+    Vector12 sGradient;
+    if (pair.kind == ContactPair::Kind::VertexFace)
+      pointTriangleDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
+                                   &sGradient);
+    else
+      edgeEdgeDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]), &sGradient);
+    const double d = std::sqrt(s);
+    const int firstVertices = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int i = 0; i < firstVertices; ++i) n += sGradient.segment<3>(3 * i) / (2.0 * d);
+    if (!(d > 0.0)) continue;
+    // λ = −κ m b'(d): the barrier's force along the distance, the mollifier held fixed.
+    double b1 = 0.0;
+    barrierPotential(d, layer_, &b1);
+    FrictionContact c;
+    c.normalForce = -pairStiffness(pair, x) * b1;
+    if (!(c.normalForce > 0.0)) continue;
+    c.basis = tangentBasis(n.normalized());
+    for (int i = 0; i < 4; ++i) {
+      const double w = sGradient.segment<3>(3 * i).dot(n) / (2.0 * d);
+      if (v[i] < shellVertices_) {
+        c.vertices[i] = v[i];
+        c.weights[i] = w;
+      } else {
+        c.offset += w * obstacleMotion.row(v[i] - shellVertices_).transpose();
+      }
+    }
+    contacts.push_back(c);
+  }
+  return contacts;
+}
+
 double SelfContact::energy(const Positions& shell) const {
   const Positions x = stacked(shell);
   double total = 0.0;
@@ -369,11 +414,8 @@ void SelfContact::add(const HessianAssembly& assembly, const Positions& shell, H
                       bool semidefinite) const {
   if (empty()) return;
   const Positions x = stacked(shell);
-  const std::vector<int>& unknowns = assembly.freeUnknowns();
   // The free index of each vertex coordinate (−1: pinned, or an obstacle's).
-  std::vector<int> index(3 * x.rows(), -1);
-  for (size_t k = 0; k < unknowns.size(); ++k)
-    if (unknowns[k] < 3 * shellVertices_) index[unknowns[k]] = static_cast<int>(k);
+  const std::vector<int> index = vertexUnknownIndex(assembly, shellVertices_);
   const bool withHessian = !e.values.empty();
   for (const auto& [pair, s] : activePairs(x)) {
     if (s <= 0.0) {
@@ -383,18 +425,8 @@ void SelfContact::add(const HessianAssembly& assembly, const Positions& shell, H
     Vector12 g;
     Matrix12 h;
     e.energy += pairBarrier(pair, s, x, &g, withHessian ? &h : nullptr);
-    const std::array<int, 4> v = vertices(pair);
-    for (int i = 0; i < 12; ++i)
-      if (const int p = index[3 * v[i / 3] + i % 3]; p >= 0) e.gradient[p] += g[i];
-    if (!withHessian) continue;
-    if (semidefinite) h = projected(h);
-    const bool coupled = patternCouples(assembly, index, v);
-    for (int i = 0; i < 12; ++i)
-      for (int j = 0; j < 12; ++j) {
-        const int p = index[3 * v[i / 3] + i % 3], q = index[3 * v[j / 3] + j % 3];
-        if (p < 0 || q < 0 || p > q || (!coupled && v[i / 3] != v[j / 3])) continue;
-        e.values[assembly.entry(p, q)] += h(i, j);
-      }
+    if (withHessian && semidefinite) h = projected(h);
+    addFourVertexBlock(assembly, index, vertices(pair), g, h, e);
   }
 }
 

@@ -55,6 +55,7 @@
 #include <vector>
 
 #include "modeling/stencils.h"
+#include "optimize/assembly/friction.h"
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/mesh_obstacles.h"
 
@@ -134,6 +135,13 @@ class SelfContact {
   std::vector<std::array<int, 2>> couplings(const Positions& x, const Positions& dx) const;
   // The repelling pairs within d̂ at x, and the closest of them.
   ContactCensus census(const Positions& x) const;
+  // The lagged friction contacts (friction.h) of the repelling pairs within d̂ at x (#V by 3), the
+  // obstacles where setObstacleTime put them and moving to where they are at time `end`: per pair
+  // its normal force λ = −κ m b'(d), the closest points' direction n = ∇_{first primitive} s /
+  // (2d) (∇s of a primitive's vertex is 2 w (c_a − c_b), w its closest point's coordinate, by the
+  // envelope theorem) and the weights w_i = ∇_i s · n / (2d), negative on the second primitive;
+  // the obstacle vertices' motion enters r₀.
+  std::vector<FrictionContact> frictionContacts(const Positions& x, double end) const;
   // InputError naming a pair of faces of `what` (e.g. "the start") that intersect (exact,
   // modeling/self_intersections.h), or the first repelling pair that touches (d = 0).
   void requireApart(const Positions& x, const std::string& what) const;
@@ -153,6 +161,8 @@ class SelfContact {
   // loop's shrinking steps reuse them. A motion longer than 2 d̂ gets the pairs whose swept boxes
   // overlap instead, not kept.
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
+  // κ m_k of a pair at x: its stiffness (κ, or κ_o with an obstacle) times its mollifier.
+  double pairStiffness(const ContactPair& pair, const Positions& x) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                      Eigen::Matrix<double, 12, 1>* gradient,

@@ -505,7 +505,7 @@ class TimeStepper::IncrementalPotential : public Objective {
   IncrementalPotential(const Implicit& im, Configuration fixedPart,
                        const std::vector<const curvature::EnergyTerm*>& terms,
                        const ObstacleBarrier& barrier, const SelfContact& selfContact,
-                       const ObstacleFriction& friction, const Eigen::Vector3d& gravity,
+                       const Friction& friction, const Eigen::Vector3d& gravity,
                        const DynamicsOptions& o, double h, const Positions& xHat,
                        const Positions& vHat, std::vector<double> stiffnessDamping)
       : Objective(im.assembly, std::move(fixedPart)),
@@ -631,7 +631,7 @@ class TimeStepper::IncrementalPotential : public Objective {
   const std::vector<const curvature::EnergyTerm*>& terms_;
   const ObstacleBarrier& barrier_;
   const SelfContact& selfContact_;
-  const ObstacleFriction& friction_;
+  const Friction& friction_;
   const double rayleighMass_;
   const std::vector<double> stiffnessDamping_;
   double massWeight_ = 0.0, dampingWeight_ = 0.0;
@@ -738,8 +738,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
     prepareContact(xHat - x_);
   }
   Implicit& im = *implicit_;  // after prepareContact, which may rebuild it
-  const ObstacleFriction friction(barrier_, x_, pinned_, o.friction,
-                                  frictionSlipSpeed * length_ * h);
+  const Friction friction = stepFriction(h);
   IncrementalPotential phi(im, Configuration{moved, xi_}, terms_, barrier_, selfContact_, friction,
                            gravity_, o, h, xHat, vHat, stiffnessDamping());
   if (probe != nullptr) {  // Φ at the probe's (x, ξ), the state unchanged
@@ -795,6 +794,17 @@ void TimeStepper::addNewtonCounts(const NewtonResult& newton, Outcome& outcome) 
   outcome.pcgIterations += newton.pcgIterations;
   outcome.hessians += newton.newtonSteps + newton.gaussNewtonSteps;
   outcome.stop = newton.stop;
+}
+
+Friction TimeStepper::stepFriction(double h) const {
+  const double mu = options_.friction, slip = frictionSlipSpeed * length_ * h;
+  if (!(mu > 0.0)) return {};
+  std::vector<FrictionContact> contacts = obstacleFrictionContacts(barrier_, x_, pinned_);
+  if (!selfContact_.empty()) {
+    std::vector<FrictionContact> pairs = selfContact_.frictionContacts(x_, time_ + h);
+    contacts.insert(contacts.end(), pairs.begin(), pairs.end());
+  }
+  return Friction(std::move(contacts), x_, mu, slip);
 }
 
 std::string TimeStepper::closestPairText(const Positions& x) const {

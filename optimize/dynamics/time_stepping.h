@@ -127,10 +127,11 @@ struct DynamicsOptions {
   // steps a second and 1.8 % at 200; at 100 they pass 5 % from t = 0.6 on and 50 % when it blows
   // up at t = 0.8.
   double energyTolerance = 0.05;
-  // μ of the lagged smoothed Coulomb friction on the obstacles (assembly/friction.h): the
-  // potential D joins Φ, its contacts, normal forces and tangent planes taken at each step's
-  // start, on the slip length ε = ε_v h with the slip speed ε_v = 1e-3 L per second (L the rest
-  // mesh's bounding-box diagonal). 0: frictionless.
+  // μ of the lagged smoothed Coulomb friction at every contact — the obstacles, the mesh
+  // obstacles and the shell's own (assembly/friction.h): the potential D joins Φ, its contacts,
+  // normal forces and tangent planes taken at each step's start, on the slip length ε = ε_v h with
+  // the slip speed ε_v = 1e-3 L per second (L the rest mesh's bounding-box diagonal). 0:
+  // frictionless.
   double friction = 0.0;
 
   // InputError naming the field for options no problem can satisfy (β outside (0, ½] for
@@ -405,6 +406,10 @@ class TimeStepper {
   static void addNewtonCounts(const NewtonResult& newton, Outcome& outcome);
   // With mesh obstacles, "; the closest pair: … at d" of the contact pairs at x (empty: none).
   std::string closestPairText(const Positions& x) const;
+  // The lagged friction of a step of h from the current state (DynamicsOptions::friction): the
+  // free vertices' contacts with the analytic obstacles and the collision mesh's pairs within the
+  // layer (shell against shell and against the mesh obstacles, these moving until time_ + h).
+  Friction stepFriction(double h) const;
   // "t = 0.1 to 0.105" for a step of h from the current time.
   std::string stepSpan(double h) const;
   // Moves the mesh obstacles from where they are at t to where they are at t + h, from the

@@ -87,7 +87,7 @@ struct SimulationArguments : MembraneFields {
   int maxNewtonIterations = 30;
   double tolerance = 1e-10;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
-  double friction = 0.0;                              // μ on the obstacles
+  double friction = 0.0;                              // μ at every contact
   optimize::PlasticityOptions plasticity;             // no yield value: elastic
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };

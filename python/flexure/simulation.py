@@ -168,7 +168,8 @@ class Simulation:
     offset, with self_contact on or off; ``flexure simulate --obstacle mesh:FILE@MOTION``).
 
     Friction (docs/commands/simulate.md "Friction"): friction μ ≥ 0 (default 0, frictionless) is
-    the Coulomb coefficient between the vertices and the obstacles, smoothed and lagged per step
+    the Coulomb coefficient at every contact (the obstacles, the mesh obstacles and the shell's
+    own), smoothed and lagged per step
     as in incremental potential contact; its work counts as dissipated in ``balance()``.
 
     Not thread-safe: one thread at a time per Simulation (the GIL is released during steps).
