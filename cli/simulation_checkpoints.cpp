@@ -28,6 +28,30 @@ Eigen::MatrixXd matrixFrom(const nlohmann::json& j, Eigen::Index rows, Eigen::In
   return Eigen::Map<const Eigen::MatrixXd>(values.data(), rows, cols);
 }
 
+// The inset pairs as [kind (0: vertex–face, 1: edge–edge), first, second, ℓ] rows.
+nlohmann::json insetsJson(const std::vector<optimize::InsetPair>& insets) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const optimize::InsetPair& p : insets)
+    rows.push_back({p.pair.kind == optimize::ContactPair::Kind::EdgeEdge ? 1 : 0, p.pair.first,
+                    p.pair.second, p.layer});
+  return rows;
+}
+
+std::vector<optimize::InsetPair> insetsFrom(const nlohmann::json& rows) {
+  std::vector<optimize::InsetPair> insets;
+  for (const nlohmann::json& row : rows) {
+    if (!row.is_array() || row.size() != 4) throw InputError("an inset pair that is not 4 numbers");
+    optimize::InsetPair p;
+    p.pair.kind = row.at(0).get<int>() == 1 ? optimize::ContactPair::Kind::EdgeEdge
+                                            : optimize::ContactPair::Kind::VertexFace;
+    p.pair.first = row.at(1).get<int>();
+    p.pair.second = row.at(2).get<int>();
+    p.layer = row.at(3).get<double>();
+    insets.push_back(p);
+  }
+  return insets;
+}
+
 }  // namespace
 
 std::string meshChecksum(const modeling::Mesh& mesh) {
@@ -60,6 +84,7 @@ void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
       {"contact_stiffness", matrixJson(st.contactStiffness)},
       {"contact_couplings", st.contactCouplings},
       {"mesh_obstacle_stiffness", st.obstacleStiffness},
+      {"contact_insets", insetsJson(*st.contactInsets)},
       {"balance",
        {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
         b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
@@ -102,6 +127,7 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
         matrixFrom(c.at("contact_stiffness"), c.at("contact_stiffness").size(), 1);
     st.contactCouplings = c.at("contact_couplings").get<std::vector<std::array<int, 2>>>();
     st.obstacleStiffness = c.value("mesh_obstacle_stiffness", 0.0);
+    if (c.contains("contact_insets")) st.contactInsets = insetsFrom(c.at("contact_insets"));
     for (const std::array<int, 2>& pair : st.contactCouplings)
       if (pair[0] < 0 || pair[0] >= pair[1] || pair[1] >= n)
         throw InputError("a contact coupling (" + std::to_string(pair[0]) + ", " +

@@ -196,6 +196,12 @@ std::uint64_t SelfContact::key(const ContactPair& pair) {
          (std::uint64_t(pair.first) << 31) | std::uint64_t(pair.second);
 }
 
+ContactPair SelfContact::pairOf(std::uint64_t key) {
+  const std::uint64_t mask = (std::uint64_t(1) << 31) - 1;
+  return {(key >> 62) ? ContactPair::Kind::EdgeEdge : ContactPair::Kind::VertexFace,
+          static_cast<int>((key >> 31) & mask), static_cast<int>(key & mask)};
+}
+
 std::array<int, 4> SelfContact::vertices(const ContactPair& pair) const {
   if (pair.kind == ContactPair::Kind::VertexFace)
     return {pair.first, faces_(pair.second, 0), faces_(pair.second, 1), faces_(pair.second, 2)};
@@ -226,6 +232,44 @@ double SelfContact::squaredDistance(const ContactPair& pair, const Positions& x)
   return edgeEdgeDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]));
 }
 
+double SelfContact::pairLayer(const ContactPair& pair) const {
+  if (exempt_.empty()) return layer_;
+  const auto k = exempt_.find(key(pair));
+  return k == exempt_.end() ? layer_ : k->second;
+}
+
+bool SelfContact::ignored(const ContactPair& pair) const {
+  if (exempt_.empty()) return false;
+  const auto k = exempt_.find(key(pair));
+  return k != exempt_.end() && k->second == 0.0;
+}
+
+std::vector<InsetPair> SelfContact::insets() const {
+  std::vector<std::pair<std::uint64_t, double>> sorted(exempt_.begin(), exempt_.end());
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<InsetPair> out;
+  for (const auto& [id, layer] : sorted) out.push_back({pairOf(id), layer});
+  return out;
+}
+
+void SelfContact::setInsets(const std::vector<InsetPair>& insets) {
+  exempt_.clear();
+  keptAt_.resize(0, 3);  // the kept candidates left other pairs out
+  for (const InsetPair& inset : insets) {
+    const ContactPair& p = inset.pair;
+    const bool vertexFace = p.kind == ContactPair::Kind::VertexFace;
+    const bool fits = p.first >= 0 && p.second >= 0 &&
+                      (vertexFace ? p.first < shellVertices_ && p.second < shellFaces_
+                                  : p.first < shellEdges_ && p.second < shellEdges_) &&
+                      inset.layer >= 0.0 && inset.layer < layer_;
+    if (!fits)
+      throw InputError("SelfContact: an inset pair (" + std::to_string(p.first) + ", " +
+                       std::to_string(p.second) + ") with layer " + numberText(inset.layer) +
+                       " that is not two primitives of the shell within the layer");
+    exempt_.emplace(key(p), inset.layer);
+  }
+}
+
 void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
   exempt_.clear();
@@ -236,17 +280,24 @@ void SelfContact::exemptClosePairs(const Positions& x) {
     const std::array<bool, 2> shell = onShell(pair);  // a shell–obstacle pair is never exempt
     if (shell[0] && shell[1] && squaredDistance(pair, rest_) < squared &&
         squaredDistance(pair, at) < squared)
-      exempt_.insert(key(pair));
+      exempt_.emplace(key(pair), 0.0);
   }
 }
 
+// An exempt pair's inset layer starts once it is this many d̂ apart: closer, CCD would hold the
+// lips' every motion to tiny steps.
+constexpr double kSmallestInset = 1e-3;
+
 void SelfContact::liftExemptions(const Positions& shell) {
   const Positions x = stacked(shell);
-  const std::uint64_t mask = (std::uint64_t(1) << 31) - 1;
   for (auto k = exempt_.begin(); k != exempt_.end();) {
-    const ContactPair pair{(*k >> 62) ? ContactPair::Kind::EdgeEdge : ContactPair::Kind::VertexFace,
-                           static_cast<int>((*k >> 31) & mask), static_cast<int>(*k & mask)};
-    k = squaredDistance(pair, x) >= layer_ * layer_ ? exempt_.erase(k) : std::next(k);
+    const double d = std::sqrt(squaredDistance(pairOf(k->first), x));
+    if (d >= layer_) {
+      k = exempt_.erase(k);
+      continue;
+    }
+    if (d >= kSmallestInset * layer_) k->second = std::max(k->second, 0.5 * d);
+    ++k;
   }
   keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
 }
@@ -266,14 +317,14 @@ const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
   if (motion > kLongestKeptMotion * layer_) {  // the motion's own swept boxes, not kept
     moving_.clear();
     for (const ContactPair& pair : countedCandidates(x, dx, 0.0))
-      if (!exempt_.count(key(pair))) moving_.push_back(pair);
+      if (!ignored(pair)) moving_.push_back(pair);
     detectionSeconds_ += secondsSince(start);
     return moving_;
   }
   keptMargin_ = std::max(0.5 * layer_, motion);
   kept_.clear();
   for (const ContactPair& pair : countedCandidates(x, Positions(), 0.5 * layer_ + keptMargin_))
-    if (!exempt_.count(key(pair))) kept_.push_back(pair);
+    if (!ignored(pair)) kept_.push_back(pair);
   keptAt_ = x;
   detectionSeconds_ += secondsSince(start);
   return kept_;
@@ -286,15 +337,21 @@ std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Posit
   for (const ContactPair& pair : nearbyPairs(x, Positions())) {
     if (boxGap(pair, x) >= layer_) continue;  // a lower bound on the distance
     const double s = squaredDistance(pair, x);
-    if (s < layer_ * layer_) active.emplace_back(pair, s);
+    const double layer = pairLayer(pair);
+    if (s < layer * layer) active.emplace_back(pair, s);
   }
   detectionSeconds_ += secondsSince(start);
   return active;
 }
 
-double SelfContact::pairStiffness(const ContactPair& pair, const Positions& x) const {
+double SelfContact::unmollifiedStiffness(const ContactPair& pair) const {
   const std::array<bool, 2> shell = onShell(pair);
   const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  return kappa * layer_ / pairLayer(pair);
+}
+
+double SelfContact::pairStiffness(const ContactPair& pair, const Positions& x) const {
+  const double kappa = unmollifiedStiffness(pair);
   if (pair.kind == ContactPair::Kind::VertexFace) return kappa;
   const std::array<int, 4> v = vertices(pair);
   const double threshold = edgeEdgeMollifierThreshold(row(rest_, v[0]), row(rest_, v[1]),
@@ -309,7 +366,7 @@ double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance,
   const bool wantGradient = gradient != nullptr || hessian != nullptr;
   const double d = std::sqrt(squaredDistance);
   double b1 = 0.0, b2 = 0.0;
-  const double b = barrierPotential(d, layer_, &b1, &b2);
+  const double b = barrierPotential(d, pairLayer(pair), &b1, &b2);
   if (!std::isfinite(b)) return b;
   // The mollifier m (1 for a vertex–face pair) and its derivatives.
   double m = 1.0;
@@ -331,8 +388,7 @@ double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance,
                           wantGradient ? &mGradient : nullptr,
                           hessian != nullptr ? &mHessian : nullptr);
   }
-  const std::array<bool, 2> shell = onShell(pair);
-  const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  const double kappa = unmollifiedStiffness(pair);
   if (!wantGradient) return kappa * m * b;
   const Vector12 dGradient = sGradient / (2.0 * d);
   if (gradient != nullptr) *gradient = kappa * (b * mGradient + m * b1 * dGradient);
@@ -370,7 +426,7 @@ std::vector<FrictionContact> SelfContact::frictionContacts(const Positions& shel
     if (!(d > 0.0)) continue;
     // λ = −κ m b'(d): the barrier's force along the distance, the mollifier held fixed.
     double b1 = 0.0;
-    barrierPotential(d, layer_, &b1);
+    barrierPotential(d, pairLayer(pair), &b1);
     FrictionContact c;
     c.normalForce = -pairStiffness(pair, x) * b1;
     if (!(c.normalForce > 0.0)) continue;
@@ -471,7 +527,7 @@ std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& shell,
   if (empty()) return pairs;
   for (const ContactPair& pair :
        countedCandidates(stacked(shell), stackedMotion(dx, Positions()), 0.5 * layer_)) {
-    if (exempt_.count(key(pair))) continue;
+    if (ignored(pair)) continue;
     const std::array<int, 4> v = vertices(pair);
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)

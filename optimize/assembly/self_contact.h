@@ -23,13 +23,18 @@
 // length unless given, κ = m̄ max(|g|, 1) / d̂ with m̄ the mean lumped vertex mass: a vertex resting
 // on a face holds about its weight at half the layer.
 //
-// Pairs close at rest and at the start are exempt (the seed's fracture-aware rule, Gingold et al.
+// Pairs close at rest and at the start are inset (the seed's fracture-aware rule, Gingold et al.
 // 2004 §5, which insets the repulsion along fresh crack lips): a cut's lips start coincident, and
-// the neighbours of a sliver-rich rest mesh may lie within d̂ of each other; repelling them would
-// push lips apart and strain an unloaded mesh. An exempt pair is one within d̂ both in the rest
-// state and at the start (exemptClosePairs); its exemption is lifted once it is found at d ≥ d̂
-// (liftExemptions, before each time step), and from then on it repels like any other: lips
-// separate freely and may touch again, but once apart they never pass through each other.
+// the neighbours of a sliver-rich rest mesh may lie within d̂ of each other; repelling them at d̂
+// would push lips apart and strain an unloaded mesh. Such a pair (within d̂ both in the rest state
+// and at the start, exemptClosePairs) repels on its own inset layer ℓ_k < d̂ instead: ℓ_k = 0 (no
+// repulsion) while it is closer than d̂/1000 — lips still together —, then half the largest distance
+// it has been found at (liftExemptions, before each time step: ℓ_k ← max(ℓ_k, d/2), which leaves
+// B_k = 0 where it is), until it is found at d ≥ d̂ and repels on d̂ like any other pair. So
+// abutting lips stay where they are, separate freely and may touch again, but once apart they
+// never pass through each other (its inset pairs join the collision filter as well). An inset
+// pair's stiffness is κ d̂/ℓ_k: the barrier's force at d = c ℓ_k, ∝ κ ℓ_k, is then an ordinary
+// pair's at c d̂.
 //
 // Mesh obstacles (mesh_obstacles.h) join the collision mesh: its vertices are the shell's [0, V),
 // then each obstacle's; its faces and edges the shell's, then each obstacle's with offset indices.
@@ -50,7 +55,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -66,6 +71,12 @@ struct ContactPair {
   enum class Kind { VertexFace, EdgeEdge };
   Kind kind = Kind::VertexFace;
   int first = -1, second = -1;  // (vertex, face) or (edge, edge)
+};
+
+// An inset pair and its layer ℓ_k (below: 0 while its lips are together).
+struct InsetPair {
+  ContactPair pair;
+  double layer = 0.0;
 };
 
 // What a configuration's contact looks like (report.json's contact statistics).
@@ -104,12 +115,17 @@ class SelfContact {
   double layer() const { return layer_; }
   double stiffness() const { return stiffness_; }
 
-  // Exempts the pairs within d̂ both in the rest state and at x (the start of a run, a cut), and
-  // only those.
+  // Insets the pairs within d̂ both in the rest state and at x (the start of a run, a cut), and
+  // only those, with ℓ_k = 0.
   void exemptClosePairs(const Positions& x);
-  // Lifts the exemption of every exempt pair at d ≥ d̂ at x.
+  // Raises each inset pair's ℓ_k to half its distance d at x when d ≥ d̂/1000, and lifts the inset
+  // of every pair at d ≥ d̂.
   void liftExemptions(const Positions& x);
   int exemptCount() const { return static_cast<int>(exempt_.size()); }
+  // The inset pairs, in a fixed order, and a replacement for them (a state a run reached: its
+  // insets carry their history). InputError for a pair whose primitives are not the shell's.
+  std::vector<InsetPair> insets() const;
+  void setInsets(const std::vector<InsetPair>& insets);
 
   // Σ_k B_k at x (#V by 3); +∞ when a repelling pair touches (d = 0).
   double energy(const Positions& x) const;
@@ -161,8 +177,14 @@ class SelfContact {
   // loop's shrinking steps reuse them. A motion longer than 2 d̂ gets the pairs whose swept boxes
   // overlap instead, not kept.
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
-  // κ m_k of a pair at x: its stiffness (κ, or κ_o with an obstacle) times its mollifier.
+  // A pair's stiffness: κ, or κ_o with an obstacle, times d̂/ℓ_k when inset (the force of a pair
+  // at a given fraction of its layer is then the same as an ordinary pair's).
+  double unmollifiedStiffness(const ContactPair& pair) const;
+  // κ m_k of a pair at x: its stiffness times its mollifier.
   double pairStiffness(const ContactPair& pair, const Positions& x) const;
+  // A pair's layer: ℓ_k when inset, else d̂; and whether it is ignored (inset with ℓ_k = 0).
+  double pairLayer(const ContactPair& pair) const;
+  bool ignored(const ContactPair& pair) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                      Eigen::Matrix<double, 12, 1>* gradient,
@@ -176,6 +198,7 @@ class SelfContact {
   // (during the motion).
   double boxGap(const ContactPair& pair, const Positions& x, const Positions* dx = nullptr) const;
   static std::uint64_t key(const ContactPair& pair);
+  static ContactPair pairOf(std::uint64_t key);  // key's inverse
   // The collision mesh's positions: x (#V) and the obstacles' rows; a motion dx and the obstacles'
   // (zero when empty).
   Positions stacked(const Positions& x) const;
@@ -194,7 +217,7 @@ class SelfContact {
   modeling::IndexPairs edges_;
   Positions rest_;
   double layer_ = 0.0, stiffness_ = 0.0;
-  std::unordered_set<std::uint64_t> exempt_;
+  std::unordered_map<std::uint64_t, double> exempt_;  // inset pairs (key) and their ℓ_k
   int shellVertices_ = 0, shellFaces_ = 0, shellEdges_ = 0;
   bool shellPairs_ = true;
   double obstacleStiffness_ = 0.0;

@@ -332,11 +332,17 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
 TimeStepper::State TimeStepper::state() const {
   const double obstacleStiffness =
       selfContact_.meshObstacles().empty() ? 0.0 : selfContact_.obstacleStiffness();
-  return {time_,      x_,
-          v_,         a_,
-          xi_,        barrier_.stiffness(),
-          balance_,   contactStatistics_,
-          couplings_, obstacleStiffness};
+  return {time_,
+          x_,
+          v_,
+          a_,
+          xi_,
+          barrier_.stiffness(),
+          balance_,
+          contactStatistics_,
+          couplings_,
+          obstacleStiffness,
+          selfContact_.insets()};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -360,7 +366,10 @@ void TimeStepper::restore(const State& state) {
   xi_ = state.xi;
   balance_ = state.balance;
   contactStatistics_ = state.contact;
-  selfContact_.exemptClosePairs(x_);  // a cut's fresh lips; older ones already apart repel
+  if (state.contactInsets)
+    selfContact_.setInsets(*state.contactInsets);
+  else
+    selfContact_.exemptClosePairs(x_);  // a cut's fresh lips, and older ones still within d̂
   if (implicit_ && state.contactCouplings != couplings_) {
     couplings_ = state.contactCouplings;
     buildImplicit();

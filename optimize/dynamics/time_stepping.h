@@ -35,6 +35,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -292,13 +293,16 @@ class TimeStepper {
     // The contact couplings of the Hessian pattern (vertex pairs i < j, sorted).
     std::vector<std::array<int, 2>> contactCouplings;
     double obstacleStiffness = 0.0;  // SelfContact::obstacleStiffness (0: no mesh obstacles)
+    // The self-contact's inset pairs (SelfContact::insets); none: inset anew where the state is
+    // (a cut's state, whose mesh has other pairs).
+    std::optional<std::vector<InsetPair>> contactInsets;
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest
   // positions): InputError when its sizes do not fit the problem. The kept factor of the step's
   // Hessian is dropped, as forgetFactor() does. A state is one a run reached (a cut's, a
-  // checkpoint's): the shell's self-contact is not checked again (a cut's lips, exempt while they
-  // open, may have crossed each other); the exempt pairs are those close at rest and in the state
+  // checkpoint's): the shell's self-contact is not checked again (a cut's lips start together);
+  // the inset pairs are the state's, or when it has none those close at rest and in the state
   // (SelfContact::exemptClosePairs).
   void restore(const State& state);
   // Continues `from`, a stepper of the same problem before its pin groups' vertices `released`

@@ -438,4 +438,47 @@ std::vector<Mesh> meshFragments(const Mesh& mesh) {
   return fragments;
 }
 
+namespace {
+
+// Moves each vertex of `twins` (free ones: `held` empty or false) by `gap` towards the mean of its
+// faces' centroids in `x` (the same faces in every configuration).
+int moveIntoFans(const std::vector<int>& twins, const modeling::Triangles& faces,
+                 const std::vector<std::vector<int>>& fans, const std::vector<bool>& held,
+                 double gap, modeling::Positions& x) {
+  int moved = 0;
+  std::vector<Eigen::RowVector3d> to;
+  for (const int v : twins) {
+    Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+    for (const int f : fans[v])
+      centre += (x.row(faces(f, 0)) + x.row(faces(f, 1)) + x.row(faces(f, 2))) / 3.0;
+    const Eigen::RowVector3d inward = centre / std::max<double>(1.0, fans[v].size()) - x.row(v);
+    const bool moves = !fans[v].empty() && (held.empty() || !held[v]) && inward.norm() > 0.0;
+    to.push_back(moves ? Eigen::RowVector3d(x.row(v) + gap * inward.normalized()) : x.row(v));
+    moved += moves;
+  }
+  for (std::size_t k = 0; k < twins.size(); ++k) x.row(twins[k]) = to[k];
+  return moved;
+}
+
+}  // namespace
+
+int openLips(FracturedShell& shell, double gap) {
+  modeling::Positions& rest = shell.rest.positions;
+  const modeling::Triangles& faces = shell.rest.triangles;
+  std::vector<std::vector<int>> fans(rest.rows());
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) fans[faces(f, k)].push_back(static_cast<int>(f));
+  // The vertices at each rest position (exact: a fresh cut's twins are copies).
+  std::map<std::array<double, 3>, std::vector<int>> at;
+  for (Eigen::Index v = 0; v < rest.rows(); ++v)
+    at[{rest(v, 0), rest(v, 1), rest(v, 2)}].push_back(static_cast<int>(v));
+  int moved = 0;
+  for (const auto& [position, twins] : at) {
+    if (twins.size() < 2) continue;
+    moved += moveIntoFans(twins, faces, fans, shell.heldVertex, gap, shell.positions);
+    moveIntoFans(twins, faces, fans, shell.heldVertex, gap, rest);
+  }
+  return moved;
+}
+
 }  // namespace flexure::optimize

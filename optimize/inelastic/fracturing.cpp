@@ -141,6 +141,10 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
                  shell->cut.verticesDuplicated == 0))
     return false;
   const std::vector<modeling::VertexSource>& sources = shell->cut.sources;
+  // With self-contact, the lips open by a hundredth of its layer d̂ (openLips): apart, they
+  // repel on their inset layers and cannot pass through each other.
+  const SelfContact& contact = stepper_->selfContact();
+  if (!contact.empty() && contact.shellPairs()) openLips(*shell, 1e-2 * contact.layer());
   seconds.cut = secondsSince(clock);
 
   ProblemOptions options = options_;
@@ -172,6 +176,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   }
   after.balance = before.balance;
   after.contact = before.contact;  // the run's self-contact statistics go on
+  after.contactInsets.reset();     // the cut mesh's pairs, inset where they are
   stepper->restore(after);
   const double released = totalBefore - stepper->energies().total();
   after.balance.initial -= released;
