@@ -302,6 +302,12 @@ void TimeStepper::movePins(Positions& x, Positions* v, double t) const {
 }
 
 void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi) {
+  startBeforeRestore(x, v, xi);
+  selfContact_.requireApart(x_, "the start");
+}
+
+void TimeStepper::startBeforeRestore(const Positions& x, const Positions& v,
+                                     const Eigen::VectorXd& xi) {
   const Eigen::Index n = static_cast<Eigen::Index>(pinned_.size());
   if (x.rows() != n || v.rows() != n)
     throw InputError("the start " + std::string(x.rows() != n ? "positions" : "velocities") +
@@ -316,7 +322,6 @@ void TimeStepper::start(const Positions& x, const Positions& v, const Eigen::Vec
   if (xi_.size() > 0) xi_ = minimizeEdgeUnknowns(terms_, x_, xi_, freeEdge_);
   selfContact_.setObstacleTime(0.0);
   selfContact_.exemptClosePairs(x_);
-  selfContact_.requireApart(x_, "the start");
   contactStatistics_ = ContactStatistics();
   time_ = 0.0;
   if (implicit_) implicit_->loop.forget();

@@ -257,6 +257,11 @@ class TimeStepper {
   // empty: minimized for x). The acceleration comes from the forces. InputError when a vertex is
   // inside or on an obstacle.
   void start(const Positions& x, const Positions& v, const Eigen::VectorXd& xi);
+  // As start(), without the test that the shell does not pass through itself or a mesh obstacle:
+  // the start that places the pins' rest positions before restore() continues from a state a run
+  // reached. After a cut that start is the run's start carried onto the cut mesh, whose lips meet
+  // only up to rounding (coplanar faces that overlap by an ulp on a flat sheet).
+  void startBeforeRestore(const Positions& x, const Positions& v, const Eigen::VectorXd& xi);
 
   struct Outcome {
     bool converged = false;

@@ -161,7 +161,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   if (onCut_) onCut_(*problem, shell->cut);
   clock = Clock::now();
   const modeling::Positions pinStart = carried(sources, pinStart_);
-  stepper->start(pinStart, shell->velocities, Eigen::VectorXd());
+  stepper->startBeforeRestore(pinStart, shell->velocities, Eigen::VectorXd());
 
   TimeStepper::State after = stepper->state();
   after.time = before.time;
@@ -174,6 +174,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
         std::max({after.contactStiffness[k], before.contactStiffness[sources[i].a],
                   before.contactStiffness[sources[i].b]});
   }
+  after.obstacleStiffness = std::max(after.obstacleStiffness, before.obstacleStiffness);
   after.balance = before.balance;
   after.contact = before.contact;  // the run's self-contact statistics go on
   after.contactInsets.reset();     // the cut mesh's pairs, inset where they are
