@@ -6,6 +6,7 @@
 // keeping their total momentum; and a start that passes through itself, refused.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -16,6 +17,8 @@
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/self_contact.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/fracture.h"
+#include "optimize/inelastic/fracturing.h"
 #include "support/assembled_derivatives.h"
 #include "support/plate.h"
 
@@ -277,6 +280,116 @@ TEST(SelfContact, OffsetsThatAreNotPositiveAreRefused) {
   o.dof = optimize::DofMode::Height;
   o.membrane.reset();
   EXPECT_THROW(o.validate(), InputError);
+}
+
+// The inset rule: two sheets 0.1 d̂ apart at rest and at the start are inset pairs (ℓ = 0, no
+// repulsion); lifted, each pair's ℓ becomes half its distance (no energy where it is), they repel
+// when pressed closer than that, and pairs found d̂ apart repel on d̂ again. The insets survive a
+// round trip through insets()/setInsets().
+TEST(SelfContact, PairsCloseAtRestRepelOnTheirInsetLayers) {
+  const double layer = 0.05;
+  const Mesh rest = twoSheets(2, {0.0, 0.0, 0.1 * layer});
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  SelfContact contact(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+  contact.exemptClosePairs(rest.positions);
+  ASSERT_GT(contact.exemptCount(), 10);
+  EXPECT_EQ(contact.energy(rest.positions), 0.0);  // inset at ℓ = 0: nothing repels
+  EXPECT_EQ(contact.census(rest.positions).pairs, 0);
+  contact.liftExemptions(rest.positions);
+  const std::vector<optimize::InsetPair> insets = contact.insets();
+  ASSERT_EQ(static_cast<int>(insets.size()), contact.exemptCount());
+  for (const optimize::InsetPair& p : insets) EXPECT_GT(p.layer, 0.0);
+  EXPECT_EQ(contact.energy(rest.positions), 0.0);  // every pair at d = 2 ℓ_k
+  const int upper = rest.vertexCount() / 2;
+  Positions pressed = rest.positions;
+  pressed.bottomRows(upper).col(2).array() -= 0.08 * layer;  // 0.02 d̂ apart: inside ℓ = 0.05 d̂
+  const double pressedEnergy = contact.energy(pressed);
+  EXPECT_GT(pressedEnergy, 0.0);
+  EXPECT_TRUE(std::isfinite(pressedEnergy));
+  // The force of an inset pair at a given fraction of its layer is an ordinary pair's: the
+  // barrier of the same sheets pressed to 0.4 d̂ on the full layer d̂, scaled by ℓ/d̂.
+  SelfContact apart(stencils.faces, stencils.edges, twoSheets(2, {0.0, 0.0, 1.0}).positions, layer,
+                    2.0);
+  Positions scaled = rest.positions;
+  scaled.bottomRows(upper).col(2).array() = 0.4 * layer;
+  EXPECT_NEAR(pressedEnergy, apart.energy(scaled) * 0.05, 1e-9 * pressedEnergy);
+  // Round trip, and a pair found d̂ apart repels on d̂.
+  SelfContact copy(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+  copy.setInsets(insets);
+  EXPECT_EQ(copy.energy(pressed), pressedEnergy);
+  Positions far = rest.positions;
+  far.bottomRows(upper).col(2).array() = 1.2 * layer;
+  copy.liftExemptions(far);
+  EXPECT_EQ(copy.exemptCount(), 0);
+  EXPECT_GT(copy.energy(pressed), pressedEnergy);  // the full layer repels more at 0.02 d̂
+  EXPECT_THROW(copy.setInsets({{{optimize::ContactPair::Kind::VertexFace, 0, 999}, 0.0}}),
+               InputError);
+}
+
+// A cut's fresh lips open by the gap at rest and in place: each twin moves into its own faces'
+// side, held vertices stay, and a rigid motion's edge lengths stay those of the rest mesh.
+TEST(SelfContact, OpenLipsMovesTwinsIntoTheirOwnSidesAtRestAndInPlace) {
+  // Two triangles on either side of the cut edge (0, 1) | (2, 3), rotated and moved in x.
+  optimize::FracturedShell shell;
+  shell.rest.positions.resize(6, 3);
+  shell.rest.positions << 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0;
+  shell.rest.triangles.resize(2, 3);
+  shell.rest.triangles << 0, 1, 4, 3, 2, 5;
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  shell.positions =
+      (shell.rest.positions * turn.transpose()).rowwise() + Eigen::RowVector3d(2, 0, 1);
+  shell.heldVertex = {false, false, false, true, false, false};
+  const double gap = 1e-2;
+  const Positions restBefore = shell.rest.positions, before = shell.positions;
+  EXPECT_EQ(optimize::openLips(shell, gap), 3);  // 0, 1, 2; the held 3 stays
+  for (int v : {0, 1, 2}) {
+    EXPECT_NEAR((shell.rest.positions.row(v) - restBefore.row(v)).norm(), gap, 1e-15);
+    EXPECT_NEAR((shell.positions.row(v) - before.row(v)).norm(), gap, 1e-15);
+  }
+  EXPECT_GT(shell.rest.positions(0, 1), 0.0);  // into the upper triangle's side
+  EXPECT_LT(shell.rest.positions(2, 1), 0.0);  // into the lower's
+  EXPECT_EQ(shell.positions.row(3), before.row(3));
+  for (int f = 0; f < 2; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = shell.rest.triangles(f, k), b = shell.rest.triangles(f, (k + 1) % 3);
+      EXPECT_NEAR((shell.positions.row(a) - shell.positions.row(b)).norm(),
+                  (shell.rest.positions.row(a) - shell.rest.positions.row(b)).norm(), 1e-12);
+    }
+}
+
+// A pinned sheet punctured by a small box mesh falling through it (ε_f = 0.001): it tears, and no
+// step's end has two faces of the shell crossing (exact test), lips included.
+TEST(SelfContact, APuncturedSheetTearsWithoutPassingThroughItself) {
+  const Mesh sheet = testing::generatedPlate(modeling::MeshFamily::Patch48, 10);
+  optimize::ProblemOptions o = testing::plateProblem(Discretization::Hinge, 1e4);
+  o.fixedRings = 1;
+  Mesh box;
+  box.positions.resize(8, 3);
+  for (int v = 0; v < 8; ++v)
+    box.positions.row(v) << (v & 1 ? 0.06 : -0.06), (v & 2 ? 0.06 : -0.06), (v & 4 ? 0.17 : 0.05);
+  box.triangles.resize(12, 3);
+  box.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
+      2, 4, 6, 1, 3, 5, 3, 7, 5;
+  o.meshObstacles = {{box, optimize::PinMotion::translation({0, 0, -2}), "box"}};
+  optimize::FractureOptions fracture;
+  fracture.fractureStrain = 0.001;
+  fracture.thickness = 0.01;
+  optimize::FracturingDynamics dynamics(sheet, optimize::buildProblem(sheet, o), o, {}, fracture);
+  dynamics.start(sheet.positions, Positions::Zero(sheet.vertexCount(), 3));
+  int crossings = 0;
+  for (int frame = 0; frame < 20; ++frame) {
+    const TimeStepper::Advance a = dynamics.advance(0.005, 0.005 / 64, 0);
+    ASSERT_TRUE(a.completed) << "frame " << frame << ": " << a.failure.failure;
+    crossings +=
+        static_cast<int>(modeling::intersectingFacePairs(
+                             Mesh{dynamics.stepper().positions(), dynamics.restMesh().triangles})
+                             .size());
+  }
+  std::printf("punctured sheet: %zu cracks, %zu fragments, %d crossing pairs\n",
+              dynamics.cracks().size(), dynamics.fragments().size(), crossings);
+  EXPECT_GT(dynamics.cracks().size(), 3u);
+  EXPECT_EQ(crossings, 0);
 }
 
 }  // namespace
