@@ -141,18 +141,33 @@ class SelfContact {
   double takeDetectionSeconds() { return std::exchange(detectionSeconds_, 0.0); }
 
  private:
-  // The repelling pairs within d̂ at x, each with its squared distance.
-  std::vector<std::pair<ContactPair, double>> activePairs(const Positions& x) const;
-  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or touch while x
-  // moves to x + dx (dx empty: static): the kept candidates when both ends of every vertex's
-  // motion lie within their margin r of where they were found (in each coordinate), else the
-  // pairs within d̂ + 2r of x by a new broad phase, kept, with r = max(d̂/2, the motion's largest
-  // coordinate) (its boxes inflated by (d̂ + 2r)/2: two boxes so inflated overlap whenever their
-  // primitives are within d̂ + 2r along every axis). So they hold every pair within d̂ of any x so
-  // placed, and every pair that touches while the vertices move inside that margin, and a Newton
-  // loop's shrinking steps reuse them. A motion longer than 2 d̂ gets the pairs whose swept boxes
-  // overlap instead, not kept.
+  // The repelling pairs within d̂ at x, each with its squared distance (kept until the next x).
+  const std::vector<std::pair<ContactPair, double>>& activePairs(const Positions& x) const;
+  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or whose impact
+  // time (stepBound) can be < 1 while x moves to x + dx (dx empty: static). Distances do not change
+  // under a common translation, so the rule measures motion after removing one: ρ(x) is the
+  // largest half-range over the vertices of a coordinate of x − x_k (x_k: where the candidates
+  // were kept), so x is x_k moved by one translation and by at most ρ per coordinate; M(dx) is
+  // max_v |dx_v − c| with c the coordinates' midranges of dx, which bounds ACCD's rate l ≤ 3 M
+  // (continuous_collision.h: each |dx_i − p̄| ≤ ¾ max_j |dx_i − dx_j| ≤ 1.5 M).
+  // The kept candidates are the pairs within d̂ + 2r of x_k (boxes inflated by (d̂ + 2r)/2: two
+  // boxes so inflated overlap whenever their primitives are within d̂ + 2r along every axis); any
+  // other pair is at x more than d̂ + 2r − 2ρ apart along an axis. They serve x when ρ(x) ≤ r (no
+  // other pair within d̂), and a motion dx besides when 3 M(dx) ≤ 0.99 (1 − s) (d̂ + 2r − 2ρ(x)),
+  // so that every other pair's ACCD reaches t = 1 in its first step (s: ACCD's gap fraction).
+  // Otherwise a new broad phase at x keeps the pairs with r = max(d̂/2, M, the r the motion needs),
+  // or, when that r exceeds d̂/2, returns the pairs whose swept boxes overlap instead, not kept.
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
+  // Whether the kept candidates serve x and the motion dx (nearbyPairs' rule).
+  bool keptServe(const Positions& x, const Positions& dx) const;
+  // Sets moved_ to each vertex's distance at x from where the candidates were kept, after
+  // removing the translation of the coordinates' midranges.
+  void measureMoves(const Positions& x) const;
+  // A lower bound on the distance at x of kept pair k with vertices v, given measureMoves(x): its
+  // distance where it was kept less the farthest move of each primitive's vertices (every point of
+  // a primitive moves at most as far as its farthest vertex; the translation changes no distance)
+  // and a rounding allowance.
+  double keptDistanceBound(std::size_t k, const std::array<int, 4>& v) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                      Eigen::Matrix<double, 12, 1>* gradient,
@@ -197,6 +212,13 @@ class SelfContact {
   mutable Positions keptAt_;
   mutable double keptMargin_ = 0.0;
   mutable std::vector<ContactPair> kept_, moving_;
+  // The kept pairs' distances at keptAt_ (in kept_'s order), their rounding allowance, and each
+  // vertex's distance from keptAt_ (measureMoves).
+  mutable std::vector<double> keptDistance_, moved_;
+  mutable double keptSlack_ = 0.0;
+  // The last active pairs and where they were found (activePairs).
+  mutable Positions activeAt_;
+  mutable std::vector<std::pair<ContactPair, double>> active_;
 };
 
 // The rule's self-contact for a mesh (its faces and edges from `stencils`): d̂ = `layer`, or ¼ the
