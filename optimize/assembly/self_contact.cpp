@@ -123,6 +123,7 @@ void SelfContact::addObstacles(std::vector<MeshObstacle> obstacles, bool shellPa
   obstaclePositions_ = rest_.bottomRows(rest_.rows() - shellVertices_);
   keptAt_.resize(0, 3);
   activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
 }
 
 void SelfContact::setObstacleTime(double t) {
@@ -260,6 +261,7 @@ void SelfContact::exemptClosePairs(const Positions& x) {
   exempt_.clear();
   keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
   activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
   const Positions at = stacked(x);
   for (const ContactPair& pair : countedCandidates(rest_, Positions(), 0.5 * layer_)) {
     const double squared = layer_ * layer_;
@@ -280,6 +282,7 @@ void SelfContact::liftExemptions(const Positions& shell) {
   }
   keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
   activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
 }
 
 // A motion whose margin r (nearbyPairs) would exceed this many d̂ gets a broad phase of its own
@@ -315,6 +318,10 @@ const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
   const double needed =
       0.5 * (kRateBound * motion / (kFirstStepMargin * (1.0 - kImpactGap)) - layer_);
   if (!(needed <= kLongestKeptMotion * layer_)) {  // the motion's own swept boxes, not kept
+    if (movingAt_.rows() == x.rows() && movingAt_ == x && movingBy_.rows() == dx.rows() &&
+        movingBy_ == dx)
+      return moving_;
+    movingAt_ = x, movingBy_ = dx;
     moving_.clear();
     for (const ContactPair& pair : countedCandidates(x, dx, 0.0))
       if (exempt_.empty() || !exempt_.count(key(pair))) moving_.push_back(pair);

@@ -208,10 +208,12 @@ class SelfContact {
   std::vector<int> vertexStart_, faceStart_, edgeStart_;
   Positions obstaclePositions_ = Positions(0, 3);
   mutable double detectionSeconds_ = 0.0;
-  // The kept candidates and where they were found (nearbyPairs); a motion's candidates.
+  // The kept candidates and where they were found (nearbyPairs); a motion's candidates, and the
+  // motion (movingAt_ → movingAt_ + movingBy_).
   mutable Positions keptAt_;
   mutable double keptMargin_ = 0.0;
   mutable std::vector<ContactPair> kept_, moving_;
+  mutable Positions movingAt_, movingBy_;
   // The kept pairs' distances at keptAt_ (in kept_'s order), their rounding allowance, and each
   // vertex's distance from keptAt_ (measureMoves).
   mutable std::vector<double> keptDistance_, moved_;
