@@ -275,11 +275,13 @@ void SelfContact::exemptClosePairs(const Positions& x) {
 void SelfContact::liftExemptions(const Positions& shell) {
   const Positions x = stacked(shell);
   const std::uint64_t mask = (std::uint64_t(1) << 31) - 1;
+  const std::size_t exempt = exempt_.size();
   for (auto k = exempt_.begin(); k != exempt_.end();) {
     const ContactPair pair{(*k >> 62) ? ContactPair::Kind::EdgeEdge : ContactPair::Kind::VertexFace,
                            static_cast<int>((*k >> 31) & mask), static_cast<int>(*k & mask)};
     k = squaredDistance(pair, x) >= layer_ * layer_ ? exempt_.erase(k) : std::next(k);
   }
+  if (exempt_.size() == exempt) return;
   keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
   activeAt_.resize(0, 3);
   movingAt_.resize(0, 3);

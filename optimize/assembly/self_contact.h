@@ -5,7 +5,7 @@
 // that no two parts of the mesh — fragments after a cut included — pass through each other.
 //
 // Pairs: a vertex and a face not containing it, two edges sharing no vertex (contact/
-// broad_phase.h finds the candidates in O(n log n)). A pair k at distance d_k < d̂ contributes
+// broad_phase.h finds the candidates in O(n)). A pair k at distance d_k < d̂ contributes
 //   B_k = κ m_k b(d_k),   b(d) = −(d − d̂)² log(d / d̂)  (barrierPotential, obstacles.h),
 // with m_k = 1 for a vertex–face pair and, for an edge–edge pair, IPC's mollifier m(c) of the
 // edges' cross product c = |e_a × e_b|² (contact/primitive_distance.h), which makes B_k C¹ where

@@ -107,9 +107,10 @@ class BoxGrid {
       for (int j = low[1]; j <= high[1]; ++j)
         for (int k = low[2]; k <= high[2]; ++k) {
           const int c = index({i, j, k});
-          for (int e = cellStart_[c]; e < cellStart_[c + 1]; ++e) {
+          // A cell lists its boxes in increasing order: those > after are its last.
+          for (int e = cellStart_[c + 1] - 1; e >= cellStart_[c] && listed_[e] > after; --e) {
             const int b = listed_[e];
-            if (b > after && overlap(box, listedBoxes_[e]) && wanted(b) &&
+            if (overlap(box, listedBoxes_[e]) && wanted(b) &&
                 isReferenceCell(box, listedBoxes_[e], {i, j, k}))
               report(b);
           }
