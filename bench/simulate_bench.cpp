@@ -32,6 +32,7 @@
 // 1. Midedge has no fracture run (its ξ do not carry across a cut). It also times, on the same
 // scene, the parts a cut rebuilds (FracturingDynamics::checkFracture) against one step.
 #include <CLI/CLI.hpp>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -673,11 +674,29 @@ json runElastic(const BenchOptions& o, const std::vector<bool>& modes) {
 
 }  // namespace
 
+// The growth exponents log(t₂/t₁) / log(n₂/n₁) of the detection seconds per step t between
+// consecutive sizes n (vertices), per energy.
+void printDetectionGrowth(
+    const std::map<std::string, std::vector<std::array<double, 2>>>& seconds) {
+  std::fprintf(stderr,
+               "\n| energy | vertices n₁ → n₂ | detection s/step t₁ → t₂ | growth exponent |\n"
+               "|---|---|---|---|\n");
+  for (const auto& [energy, points] : seconds)
+    for (std::size_t k = 1; k < points.size(); ++k) {
+      const auto& [n1, t1] = points[k - 1];
+      const auto& [n2, t2] = points[k];
+      std::fprintf(stderr, "| %s | %.0f → %.0f | %.4f → %.4f | %.2f |\n", energy.c_str(), n1, n2,
+                   t1, t2, std::log(t2 / t1) / std::log(n2 / n1));
+    }
+}
+
 // --self-contact: per size and energy the drape without and with self-contact (PCG off, the
 // default stepper), alternated `repeat` times, the best of each kept; a table of steps/s, their
-// ratio (the target: on/off time ≤ 1.5), the broad phase + CCD seconds per step and the pairs.
+// ratio (the target: on/off time ≤ 1.5), the broad phase + CCD seconds per step and the pairs,
+// then the detection's growth with the size.
 json measureSelfContact(const BenchOptions& o) {
   json records = json::array();
+  std::map<std::string, std::vector<std::array<double, 2>>> detectionSeconds;
   std::fprintf(stderr,
                "\n| vertices | energy | off steps/s | on steps/s | on time / off time | "
                "detection s/step | detection share | pairs mean, peak | pattern growths |\n"
@@ -706,8 +725,10 @@ json measureSelfContact(const BenchOptions& o) {
                    100.0 * detection * on, best[1]["contact_pairs_mean"].get<double>(),
                    best[1]["contact_pairs_peak"].get<int>(),
                    best[1]["contact_pattern_growths"].get<int>());
+      detectionSeconds[energy].push_back({double(mesh.vertexCount()), detection});
     }
   }
+  printDetectionGrowth(detectionSeconds);
   return records;
 }
 

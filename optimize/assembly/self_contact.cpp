@@ -30,6 +30,25 @@ Matrix12 projected(const Matrix12& h) {
   return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
+// The midrange of each coordinate over the rows of u (#V by 3).
+Eigen::RowVector3d midrange(const Positions& u) {
+  return 0.5 * (u.colwise().maxCoeff() + u.colwise().minCoeff());
+}
+
+// The largest half-range over the rows of u of a coordinate: u is a translation plus at most this
+// much in each coordinate (0 for no rows).
+double halfRange(const Positions& u) {
+  if (u.rows() == 0) return 0.0;
+  return 0.5 * (u.colwise().maxCoeff() - u.colwise().minCoeff()).maxCoeff();
+}
+
+// M of SelfContact::nearbyPairs: max_v |dx_v − c|, c the coordinates' midranges.
+double relativeMotion(const Positions& dx) {
+  if (dx.rows() == 0) return 0.0;
+  const Eigen::RowVector3d centre = midrange(dx);
+  return (dx.rowwise() - centre).rowwise().norm().maxCoeff();
+}
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -94,6 +113,8 @@ void SelfContact::addObstacles(std::vector<MeshObstacle> obstacles, bool shellPa
   }
   obstaclePositions_ = rest_.bottomRows(rest_.rows() - shellVertices_);
   keptAt_.resize(0, 3);
+  activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
 }
 
 void SelfContact::setObstacleTime(double t) {
@@ -254,7 +275,9 @@ std::vector<InsetPair> SelfContact::insets() const {
 
 void SelfContact::setInsets(const std::vector<InsetPair>& insets) {
   exempt_.clear();
-  keptAt_.resize(0, 3);  // the kept candidates left other pairs out
+  keptAt_.resize(0, 3);  // the kept candidates left other pairs out, the active pairs other layers
+  activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
   for (const InsetPair& inset : insets) {
     const ContactPair& p = inset.pair;
     const bool vertexFace = p.kind == ContactPair::Kind::VertexFace;
@@ -274,6 +297,8 @@ void SelfContact::exemptClosePairs(const Positions& x) {
   if (empty()) return;
   exempt_.clear();
   keptAt_.resize(0, 3);  // the kept candidates did not leave the new exemptions out
+  activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
   const Positions at = stacked(x);
   for (const ContactPair& pair : countedCandidates(rest_, Positions(), 0.5 * layer_)) {
     const double squared = layer_ * layer_;
@@ -290,58 +315,118 @@ constexpr double kSmallestInset = 1e-3;
 
 void SelfContact::liftExemptions(const Positions& shell) {
   const Positions x = stacked(shell);
+  bool changed = false;  // a pair lifted, or an inset layer raised
   for (auto k = exempt_.begin(); k != exempt_.end();) {
     const double d = std::sqrt(squaredDistance(pairOf(k->first), x));
     if (d >= layer_) {
       k = exempt_.erase(k);
+      changed = true;
       continue;
     }
-    if (d >= kSmallestInset * layer_) k->second = std::max(k->second, 0.5 * d);
+    if (d >= kSmallestInset * layer_ && 0.5 * d > k->second) {
+      k->second = 0.5 * d;
+      changed = true;
+    }
     ++k;
   }
+  if (!changed) return;
   keptAt_.resize(0, 3);  // the kept candidates left the lifted pairs out
+  activeAt_.resize(0, 3);
+  movingAt_.resize(0, 3);
 }
 
-// Motions longer than this many d̂ (in a coordinate) get a broad phase of their own swept boxes:
-// kept candidates covering them would hold the pairs within several d̂ of every vertex.
-constexpr double kLongestKeptMotion = 2.0;
+// A motion whose margin r (nearbyPairs) would exceed this many d̂ gets a broad phase of its own
+// swept boxes: the kept pairs' count grows as (d̂ + 2r)², and the Newton loop's later, shorter
+// steps are served by kept candidates of the smallest margin.
+constexpr double kLongestKeptMotion = 0.5;
+// ACCD's rate bound l ≤ 3 M (nearbyPairs' rule).
+constexpr double kRateBound = 3.0;
+// The kept distances' allowance for rounding, relative to d̂ plus the largest coordinate: far
+// above the distance functions' rounding errors, far below any distance that matters.
+constexpr double kDistanceRoundoff = 1e-9;
+// ACCD's gap fraction s (contact/continuous_collision.h): no pair comes closer than s × its start
+// distance during a step.
+constexpr double kImpactGap = 0.1;
+// A pair whose distance rate bound l is below this fraction of (1 − s) × a lower bound on its
+// start distance has impact time 1 (its first step reaches t = 1 with room for rounding).
+constexpr double kFirstStepMargin = 0.99;
+
+bool SelfContact::keptServe(const Positions& x, const Positions& dx) const {
+  if (keptAt_.rows() != x.rows()) return false;
+  const double rho = halfRange(x - keptAt_);
+  if (!(rho <= keptMargin_)) return false;
+  return dx.size() == 0 ||
+         kRateBound * relativeMotion(dx) <=
+             kFirstStepMargin * (1.0 - kImpactGap) * (layer_ + 2.0 * (keptMargin_ - rho));
+}
 
 const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
                                                          const Positions& dx) const {
-  const auto inside = [&](const Positions& y) {
-    return keptAt_.rows() == y.rows() && (y - keptAt_).cwiseAbs().maxCoeff() <= keptMargin_;
-  };
-  if (inside(x) && (dx.size() == 0 || inside(x + dx))) return kept_;
-  const auto start = std::chrono::steady_clock::now();
-  const double motion = dx.size() == 0 ? 0.0 : dx.cwiseAbs().maxCoeff();
-  if (motion > kLongestKeptMotion * layer_) {  // the motion's own swept boxes, not kept
+  if (keptServe(x, dx)) return kept_;
+  const double motion = dx.size() == 0 ? 0.0 : relativeMotion(dx);
+  // The r that makes 3 M ≤ 0.99 (1 − s) (d̂ + 2r) at x_k = x.
+  const double needed =
+      0.5 * (kRateBound * motion / (kFirstStepMargin * (1.0 - kImpactGap)) - layer_);
+  if (!(needed <= kLongestKeptMotion * layer_)) {  // the motion's own swept boxes, not kept
+    if (movingAt_.rows() == x.rows() && movingAt_ == x && movingBy_.rows() == dx.rows() &&
+        movingBy_ == dx)
+      return moving_;
+    movingAt_ = x, movingBy_ = dx;
     moving_.clear();
     for (const ContactPair& pair : countedCandidates(x, dx, 0.0))
       if (!ignored(pair)) moving_.push_back(pair);
-    detectionSeconds_ += secondsSince(start);
     return moving_;
   }
-  keptMargin_ = std::max(0.5 * layer_, motion);
+  keptMargin_ = std::max({0.5 * layer_, motion, needed});
   kept_.clear();
+  keptDistance_.clear();
   for (const ContactPair& pair : countedCandidates(x, Positions(), 0.5 * layer_ + keptMargin_))
-    if (!ignored(pair)) kept_.push_back(pair);
+    if (!ignored(pair)) {
+      kept_.push_back(pair);
+      keptDistance_.push_back(std::sqrt(squaredDistance(pair, x)));
+    }
   keptAt_ = x;
-  detectionSeconds_ += secondsSince(start);
+  keptSlack_ = kDistanceRoundoff * (layer_ + x.cwiseAbs().maxCoeff());
   return kept_;
 }
 
-std::vector<std::pair<ContactPair, double>> SelfContact::activePairs(const Positions& x) const {
-  std::vector<std::pair<ContactPair, double>> active;
-  if (empty()) return active;
+void SelfContact::measureMoves(const Positions& x) const {
+  const Positions u = x - keptAt_;
+  const Eigen::RowVector3d centre = midrange(u);
+  moved_.resize(x.rows());
+  for (Eigen::Index v = 0; v < x.rows(); ++v) moved_[v] = (u.row(v) - centre).norm();
+}
+
+double SelfContact::keptDistanceBound(std::size_t k, const std::array<int, 4>& v) const {
+  const int split = kept_[k].kind == ContactPair::Kind::VertexFace ? 1 : 2;
+  double first = 0.0, second = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    double& farthest = i < split ? first : second;
+    farthest = std::max(farthest, moved_[v[i]]);
+  }
+  return keptDistance_[k] - first - second - keptSlack_;
+}
+
+const std::vector<std::pair<ContactPair, double>>& SelfContact::activePairs(
+    const Positions& x) const {
+  if (empty() || (activeAt_.rows() == x.rows() && activeAt_ == x)) return active_;
   const auto start = std::chrono::steady_clock::now();
-  for (const ContactPair& pair : nearbyPairs(x, Positions())) {
-    if (boxGap(pair, x) >= layer_) continue;  // a lower bound on the distance
+  active_.clear();
+  const std::vector<ContactPair>& pairs = nearbyPairs(x, Positions());
+  const bool kept = &pairs == &kept_;
+  if (kept) measureMoves(x);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const ContactPair& pair = pairs[k];
+    // Lower bounds on the distance: the kept one, the boxes' gap.
+    if (kept && keptDistanceBound(k, vertices(pair)) >= layer_) continue;
+    if (boxGap(pair, x) >= layer_) continue;
     const double s = squaredDistance(pair, x);
     const double layer = pairLayer(pair);
-    if (s < layer * layer) active.emplace_back(pair, s);
+    if (s < layer * layer) active_.emplace_back(pair, s);
   }
+  activeAt_ = x;
   detectionSeconds_ += secondsSince(start);
-  return active;
+  return active_;
 }
 
 double SelfContact::unmollifiedStiffness(const ContactPair& pair) const {
@@ -505,15 +590,24 @@ double SelfContact::boundOver(const Positions& x, const Positions& dx,
                               ContactPair* limiting) const {
   const auto start = std::chrono::steady_clock::now();
   double bound = 1.0;
-  for (const ContactPair& pair : nearbyPairs(x, dx)) {
+  const std::vector<ContactPair>& pairs = nearbyPairs(x, dx);
+  const bool kept = &pairs == &kept_;
+  if (kept) measureMoves(x);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const ContactPair& pair = pairs[k];
     if (boxGap(pair, x, &dx) > 0.0) continue;  // the swept boxes are apart: no contact
     const std::array<int, 4> v = vertices(pair);
+    const std::array<Eigen::Vector3d, 4> p{row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3])};
+    const std::array<Eigen::Vector3d, 4> d{row(dx, v[0]), row(dx, v[1]), row(dx, v[2]),
+                                           row(dx, v[3])};
+    const int split = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
+    if (kept && distanceRateBound(d, split) <=
+                    kFirstStepMargin * (1.0 - kImpactGap) * keptDistanceBound(k, v))
+      continue;  // its impact time is 1
     const double t =
         pair.kind == ContactPair::Kind::VertexFace
-            ? pointTriangleImpactTime(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
-                                      row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]))
-            : edgeEdgeImpactTime(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]),
-                                 row(dx, v[0]), row(dx, v[1]), row(dx, v[2]), row(dx, v[3]));
+            ? pointTriangleImpactTime(p[0], p[1], p[2], p[3], d[0], d[1], d[2], d[3], kImpactGap)
+            : edgeEdgeImpactTime(p[0], p[1], p[2], p[3], d[0], d[1], d[2], d[3], kImpactGap);
     if (t < bound && limiting != nullptr) *limiting = pair;
     bound = std::min(bound, t);
   }
@@ -523,19 +617,36 @@ double SelfContact::boundOver(const Positions& x, const Positions& dx,
 
 std::vector<std::array<int, 2>> SelfContact::couplings(const Positions& shell,
                                                        const Positions& dx) const {
-  std::vector<std::array<int, 2>> pairs;
-  if (empty()) return pairs;
-  for (const ContactPair& pair :
-       countedCandidates(stacked(shell), stackedMotion(dx, Positions()), 0.5 * layer_)) {
+  if (empty()) return {};
+  const auto start = std::chrono::steady_clock::now();
+  // Each coupling (i, j) is listed under i (counting sort), and each vertex's list sorted and
+  // cleared of repeats: the result comes out sorted in O(n) for a bounded number per vertex.
+  // Distances do not change under a common translation: the swept boxes of dx less its
+  // coordinates' midranges hold the pairs' relative motion.
+  Positions motion = stackedMotion(dx, Positions());
+  if (motion.rows() != 0) motion.rowwise() -= midrange(motion);
+  std::vector<std::array<int, 2>> listed;
+  for (const ContactPair& pair : countedCandidates(stacked(shell), motion, 0.5 * layer_)) {
     if (ignored(pair)) continue;
     const std::array<int, 4> v = vertices(pair);
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)
         if (v[i] != v[j] && v[i] < shellVertices_ && v[j] < shellVertices_)
-          pairs.push_back({std::min(v[i], v[j]), std::max(v[i], v[j])});
+          listed.push_back({std::min(v[i], v[j]), std::max(v[i], v[j])});
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::vector<int> first(shellVertices_ + 1, 0), second(listed.size());
+  for (const std::array<int, 2>& c : listed) ++first[c[0] + 1];
+  for (int v = 0; v < shellVertices_; ++v) first[v + 1] += first[v];
+  std::vector<int> next(first.begin(), first.end() - 1);
+  for (const std::array<int, 2>& c : listed) second[next[c[0]]++] = c[1];
+  std::vector<std::array<int, 2>> pairs;
+  for (int v = 0; v < shellVertices_; ++v) {
+    const auto begin = second.begin() + first[v], end = second.begin() + first[v + 1];
+    std::sort(begin, end);
+    for (auto j = begin; j != end; ++j)
+      if (j == begin || *j != *(j - 1)) pairs.push_back({v, *j});
+  }
+  detectionSeconds_ += secondsSince(start);
   return pairs;
 }
 

@@ -5,7 +5,7 @@
 // that no two parts of the mesh — fragments after a cut included — pass through each other.
 //
 // Pairs: a vertex and a face not containing it, two edges sharing no vertex (contact/
-// broad_phase.h finds the candidates in O(n log n)). A pair k at distance d_k < d̂ contributes
+// broad_phase.h finds the candidates in O(n)). A pair k at distance d_k < d̂ contributes
 //   B_k = κ m_k b(d_k),   b(d) = −(d − d̂)² log(d / d̂)  (barrierPotential, obstacles.h),
 // with m_k = 1 for a vertex–face pair and, for an edge–edge pair, IPC's mollifier m(c) of the
 // edges' cross product c = |e_a × e_b|² (contact/primitive_distance.h), which makes B_k C¹ where
@@ -165,17 +165,22 @@ class SelfContact {
   double takeDetectionSeconds() { return std::exchange(detectionSeconds_, 0.0); }
 
  private:
-  // The repelling pairs within d̂ at x, each with its squared distance.
-  std::vector<std::pair<ContactPair, double>> activePairs(const Positions& x) const;
-  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or touch while x
-  // moves to x + dx (dx empty: static): the kept candidates when both ends of every vertex's
-  // motion lie within their margin r of where they were found (in each coordinate), else the
-  // pairs within d̂ + 2r of x by a new broad phase, kept, with r = max(d̂/2, the motion's largest
-  // coordinate) (its boxes inflated by (d̂ + 2r)/2: two boxes so inflated overlap whenever their
-  // primitives are within d̂ + 2r along every axis). So they hold every pair within d̂ of any x so
-  // placed, and every pair that touches while the vertices move inside that margin, and a Newton
-  // loop's shrinking steps reuse them. A motion longer than 2 d̂ gets the pairs whose swept boxes
-  // overlap instead, not kept.
+  // The repelling pairs within d̂ at x, each with its squared distance (kept until the next x).
+  const std::vector<std::pair<ContactPair, double>>& activePairs(const Positions& x) const;
+  // The candidate pairs (exempt ones left out) that can come within d̂ at x, or whose impact
+  // time (stepBound) can be < 1 while x moves to x + dx (dx empty: static). Distances do not change
+  // under a common translation, so the rule measures motion after removing one: ρ(x) is the
+  // largest half-range over the vertices of a coordinate of x − x_k (x_k: where the candidates
+  // were kept), so x is x_k moved by one translation and by at most ρ per coordinate; M(dx) is
+  // max_v |dx_v − c| with c the coordinates' midranges of dx, which bounds ACCD's rate l ≤ 3 M
+  // (continuous_collision.h: each |dx_i − p̄| ≤ ¾ max_j |dx_i − dx_j| ≤ 1.5 M).
+  // The kept candidates are the pairs within d̂ + 2r of x_k (boxes inflated by (d̂ + 2r)/2: two
+  // boxes so inflated overlap whenever their primitives are within d̂ + 2r along every axis); any
+  // other pair is at x more than d̂ + 2r − 2ρ apart along an axis. They serve x when ρ(x) ≤ r (no
+  // other pair within d̂), and a motion dx besides when 3 M(dx) ≤ 0.99 (1 − s) (d̂ + 2r − 2ρ(x)),
+  // so that every other pair's ACCD reaches t = 1 in its first step (s: ACCD's gap fraction).
+  // Otherwise a new broad phase at x keeps the pairs with r = max(d̂/2, M, the r the motion needs),
+  // or, when that r exceeds d̂/2, returns the pairs whose swept boxes overlap instead, not kept.
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
   // A pair's stiffness: κ, or κ_o with an obstacle, times d̂/ℓ_k when inset (the force of a pair
   // at a given fraction of its layer is then the same as an ordinary pair's).
@@ -185,6 +190,16 @@ class SelfContact {
   // A pair's layer: ℓ_k when inset, else d̂; and whether it is ignored (inset with ℓ_k = 0).
   double pairLayer(const ContactPair& pair) const;
   bool ignored(const ContactPair& pair) const;
+  // Whether the kept candidates serve x and the motion dx (nearbyPairs' rule).
+  bool keptServe(const Positions& x, const Positions& dx) const;
+  // Sets moved_ to each vertex's distance at x from where the candidates were kept, after
+  // removing the translation of the coordinates' midranges.
+  void measureMoves(const Positions& x) const;
+  // A lower bound on the distance at x of kept pair k with vertices v, given measureMoves(x): its
+  // distance where it was kept less the farthest move of each primitive's vertices (every point of
+  // a primitive moves at most as far as its farthest vertex; the translation changes no distance)
+  // and a rounding allowance.
+  double keptDistanceBound(std::size_t k, const std::array<int, 4>& v) const;
   // B_k, and when asked its gradient (12) and Hessian (12 by 12) over `vertices`.
   double pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,
                      Eigen::Matrix<double, 12, 1>* gradient,
@@ -226,10 +241,19 @@ class SelfContact {
   std::vector<int> vertexStart_, faceStart_, edgeStart_;
   Positions obstaclePositions_ = Positions(0, 3);
   mutable double detectionSeconds_ = 0.0;
-  // The kept candidates and where they were found (nearbyPairs); a motion's candidates.
+  // The kept candidates and where they were found (nearbyPairs); a motion's candidates, and the
+  // motion (movingAt_ → movingAt_ + movingBy_).
   mutable Positions keptAt_;
   mutable double keptMargin_ = 0.0;
   mutable std::vector<ContactPair> kept_, moving_;
+  mutable Positions movingAt_, movingBy_;
+  // The kept pairs' distances at keptAt_ (in kept_'s order), their rounding allowance, and each
+  // vertex's distance from keptAt_ (measureMoves).
+  mutable std::vector<double> keptDistance_, moved_;
+  mutable double keptSlack_ = 0.0;
+  // The last active pairs and where they were found (activePairs).
+  mutable Positions activeAt_;
+  mutable std::vector<std::pair<ContactPair, double>> active_;
 };
 
 // The rule's self-contact for a mesh (its faces and edges from `stencils`): d̂ = `layer`, or ¼ the

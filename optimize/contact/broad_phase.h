@@ -1,8 +1,8 @@
 // The broad phase of self-contact: the pairs of mesh primitives (vertex–face, edge–edge) that can
 // come within a given distance during a linear motion, found by intersecting axis-aligned boxes
-// (CGAL's box_intersection_d, Zomorodian and Edelsbrunner 2000, "Fast software for box
-// intersections"). The exact distances and impact times of the candidates are
-// primitive_distance.h's and continuous_collision.h's.
+// in a uniform grid (Teschner et al. 2003, "Optimized spatial hashing for collision detection of
+// deformable objects"): O(n) for boxes of similar size. The exact distances and impact times of
+// the candidates are primitive_distance.h's and continuous_collision.h's.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,7 +24,7 @@ struct CandidatePairs {
 // is its point's. The candidates are the pairs whose boxes overlap, so every pair that comes
 // within distance `inflation` during the motion is among them (boxes overlap up to 2 × inflation
 // apart per axis). Pairs sharing a vertex index (a vertex of its own face, edges with a common
-// end) are left out.
+// end) are left out. A box with an undefined (NaN) coordinate overlaps every box.
 // x: #V by 3; dx: #V by 3 or empty; faces: #F by 3; edges: #E by 2 (vertex indices).
 // Throws InputError for a dx of another size, a negative inflation, or an index out of range.
 CandidatePairs contactCandidates(const Eigen::Ref<const modeling::Positions>& x,

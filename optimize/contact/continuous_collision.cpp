@@ -23,25 +23,12 @@ struct MovingPair {
   int firstCount;
 };
 
-// l of the header: the displacements' Lipschitz bound after removing their mean.
-double distanceRateBound(const MovingPair& pair) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& d : pair.dx) mean += 0.25 * d;
-  double first = 0.0, second = 0.0;
-  for (int i = 0; i < 4; ++i) {
-    const double speed = (pair.dx[i] - mean).norm();
-    double& largest = i < pair.firstCount ? first : second;
-    largest = std::max(largest, speed);
-  }
-  return first + second;
-}
-
 template <class Distance>
 double impactTime(const MovingPair& pair, double gapFraction, const Distance& distanceAt) {
   if (!(gapFraction > 0.0 && gapFraction < 1.0))
     throw InputError("continuous collision detection: the gap fraction must lie in (0, 1), not " +
                      numberText(gapFraction));
-  const double rate = distanceRateBound(pair);
+  const double rate = distanceRateBound(pair.dx, pair.firstCount);
   if (!std::isfinite(rate)) return 0.0;
   const double start = std::sqrt(distanceAt(0.0));
   if (!(start > 0.0)) return 0.0;
@@ -65,6 +52,18 @@ std::array<Eigen::Vector3d, 4> positionsAt(const MovingPair& pair, double t) {
 }
 
 }  // namespace
+
+double distanceRateBound(const std::array<Eigen::Vector3d, 4>& dx, int firstCount) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& d : dx) mean += 0.25 * d;
+  double first = 0.0, second = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const double speed = (dx[i] - mean).norm();
+    double& largest = i < firstCount ? first : second;
+    largest = std::max(largest, speed);
+  }
+  return first + second;
+}
 
 double pointTriangleImpactTime(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
                                const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,

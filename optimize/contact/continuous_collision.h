@@ -18,8 +18,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 
 namespace flexure::optimize {
+
+// l above for the displacements dx of a pair's four points, the first `firstCount` the first
+// primitive's. The impact times below are 1 whenever l ≤ (1 − s) d(0): the first step reaches 1.
+double distanceRateBound(const std::array<Eigen::Vector3d, 4>& dx, int firstCount);
 
 // The largest time t ∈ [0, 1] found such that on [0, t] the distance between the point p and the
 // triangle (t0, t1, t2), moving by (dp, dt0, dt1, dt2), stays ≥ gapFraction × its start distance
