@@ -63,6 +63,18 @@ TEST(Friction, MollifierIsC1WithItsDerivative) {
 // by tangential and normal displacements both below and beyond ε): its assembled gradient against
 // central differences of D, its Hessian against those of the gradient, each contact's block
 // positive semidefinite, and the work ∇D·(x − x_n) ≥ 0.
+// D, its gradient and Hessian at x on `assembly`'s pattern, the value checked against energy(x).
+optimize::HessianEvaluation evaluated(const Friction& friction,
+                                      const optimize::HessianAssembly& assembly,
+                                      const Positions& x) {
+  optimize::HessianEvaluation e;
+  e.gradient = Eigen::VectorXd::Zero(assembly.size());
+  e.values.assign(assembly.rowIndex().size(), 0.0);
+  friction.add(assembly, x, e);
+  EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
+  return e;
+}
+
 TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
   const testing::Plate plate(modeling::MeshFamily::Patch48, 4, Discretization::Hinge, 1e3);
   const int vertexCount = plate.mesh.vertexCount();
@@ -92,11 +104,7 @@ TEST(Friction, AssembledGradientAndHessianMatchFiniteDifferences) {
   const std::vector<bool> free(3 * vertexCount, true);
   const optimize::HessianAssembly assembly(plate.terms(), free, vertexCount,
                                            curvature::Derivatives::All);
-  optimize::HessianEvaluation e;
-  e.gradient = Eigen::VectorXd::Zero(assembly.size());
-  e.values.assign(assembly.rowIndex().size(), 0.0);
-  friction.add(assembly, x, e);
-  EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
+  const optimize::HessianEvaluation e = evaluated(friction, assembly, x);
   ASSERT_GT(e.energy, 0.0);
 
   const int active = testing::expectAssembledDerivativesMatch(assembly, e, x, friction);
@@ -162,11 +170,7 @@ TEST(Friction, PairContactsDerivativesMatchFiniteDifferences) {
   const std::vector<bool> free(3 * 2 * v, true);
   const optimize::HessianAssembly assembly({}, free, 2 * v, curvature::Derivatives::All,
                                            contact.couplings(start, x - start));
-  optimize::HessianEvaluation e;
-  e.gradient = Eigen::VectorXd::Zero(assembly.size());
-  e.values.assign(assembly.rowIndex().size(), 0.0);
-  friction.add(assembly, x, e);
-  EXPECT_NEAR(e.energy, friction.energy(x), 1e-14 * std::abs(e.energy));
+  const optimize::HessianEvaluation e = evaluated(friction, assembly, x);
   ASSERT_GT(e.energy, 0.0);
   EXPECT_GT(testing::expectAssembledDerivativesMatch(assembly, e, x, friction), 20);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(
