@@ -475,7 +475,12 @@ int openLips(FracturedShell& shell, double gap) {
   int moved = 0;
   for (const auto& [position, twins] : at) {
     if (twins.size() < 2) continue;
-    moved += moveIntoFans(twins, faces, fans, shell.heldVertex, gap, shell.positions);
+    // Lips of earlier cuts (rest copies, positions apart) are opened at rest only: in place they
+    // are where the run took them.
+    const bool fresh = std::all_of(twins.begin(), twins.end(), [&](int v) {
+      return shell.positions.row(v) == shell.positions.row(twins.front());
+    });
+    if (fresh) moved += moveIntoFans(twins, faces, fans, shell.heldVertex, gap, shell.positions);
     moveIntoFans(twins, faces, fans, shell.heldVertex, gap, rest);
   }
   return moved;

@@ -142,7 +142,10 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
     return false;
   const std::vector<modeling::VertexSource>& sources = shell->cut.sources;
   // With self-contact, the lips open by a hundredth of its layer d̂ (openLips): apart, they
-  // repel on their inset layers and cannot pass through each other.
+  // repel on their inset layers and cannot pass through each other. The problem's rest mesh is
+  // the opened one; the fracture bookkeeping keeps the cut's, whose lips coincide (a lip is a rest
+  // point of two or more vertices, a tip one of a single vertex).
+  modeling::Mesh cutRest = shell->rest;
   const SelfContact& contact = stepper_->selfContact();
   if (!contact.empty() && contact.shellPairs()) openLips(*shell, 1e-2 * contact.layer());
   seconds.cut = secondsSince(clock);
@@ -196,7 +199,7 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
 
   stepper_ = std::move(stepper);
   problem_ = std::move(problem);
-  rest_ = std::move(shell->rest);
+  rest_ = std::move(cutRest);
   clock = Clock::now();
   criterion_ = std::make_unique<FractureCriterion>(rest_);
   dynamics_ = std::move(dynamics);
