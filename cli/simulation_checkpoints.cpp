@@ -40,7 +40,8 @@ nlohmann::json insetsJson(const std::vector<optimize::InsetPair>& insets) {
 std::vector<optimize::InsetPair> insetsFrom(const nlohmann::json& rows) {
   std::vector<optimize::InsetPair> insets;
   for (const nlohmann::json& row : rows) {
-    if (!row.is_array() || row.size() != 4) throw InputError("an inset pair that is not 4 numbers");
+    if (!row.is_array() || row.size() != 4 || (row.at(0) != 0 && row.at(0) != 1))
+      throw InputError("an inset pair that is not [0 or 1, first, second, layer]");
     optimize::InsetPair p;
     p.pair.kind = row.at(0).get<int>() == 1 ? optimize::ContactPair::Kind::EdgeEdge
                                             : optimize::ContactPair::Kind::VertexFace;
