@@ -14,6 +14,7 @@
 #include "modeling/vertex_quantities.h"
 #include "optimize/problem.h"
 #include "optimize/solvers/minimize.h"
+#include "optimize/solvers/static_energy.h"
 #include "support/energy_fixtures.h"
 
 namespace flexure {
@@ -227,6 +228,26 @@ TEST(Problem, MinimizeRefusesAClampForTheOtherSolve) {
   // Free normals hold no ξ: either solve takes the problem.
   o.boundaryNormals = BoundaryNormals::Free;
   EXPECT_TRUE(optimize::minimize(optimize::buildProblem(mesh, o), linearized).report.converged);
+}
+
+// An objective's unknowns of another length are refused with both counts, not read past.
+TEST(Problem, ObjectiveRefusesUnknownsOfAnotherLength) {
+  const optimize::Problem problem =
+      optimize::buildProblem(curvedPatch(), optionsFor(Discretization::Hinge, DofMode::Height));
+  const std::vector<const curvature::EnergyTerm*> terms = problem.termPointers();
+  const optimize::HessianAssembly assembly(terms, problem.freeUnknowns(),
+                                           static_cast<int>(problem.rest.positions.rows()),
+                                           curvature::Derivatives::HeightOnly);
+  optimize::StaticEnergy objective(assembly, {problem.boundary.start, {}}, terms,
+                                   problem.externalForce, problem.obstacles,
+                                   optimize::HessianProjection::Exact);
+  const Eigen::VectorXd right = Eigen::VectorXd::Zero(assembly.size());
+  EXPECT_TRUE(std::isfinite(objective.evaluate(right, curvature::SecondDerivatives::None).energy));
+  const Eigen::VectorXd longer = Eigen::VectorXd::Zero(assembly.size() + 1);
+  EXPECT_THAT([&] { objective.evaluate(longer, curvature::SecondDerivatives::None); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(
+                  "x has " + std::to_string(assembly.size() + 1) + " entries, the problem " +
+                  std::to_string(assembly.size()) + " free unknowns")));
 }
 
 TEST(Problem, BadOptionsNameTheField) {

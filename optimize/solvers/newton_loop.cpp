@@ -93,6 +93,9 @@ void Objective::place(const Eigen::VectorXd& y, Configuration& at) const {
 }
 
 Configuration Objective::configuration(const Eigen::VectorXd& y) const {
+  if (y.size() != size())
+    throw InputError("x has " + std::to_string(y.size()) + " entries, the problem " +
+                     std::to_string(size()) + " free unknowns");
   Configuration at = fixedPart_;
   place(y, at);
   return at;

@@ -156,9 +156,6 @@ std::unique_ptr<BoundProblem> makeProblem(const PositionsRef& restV, const Trian
 
 // (E, ∇E (n), the Hessian's upper-triangle values on the pattern, empty for kind "none").
 py::tuple evaluateProblem(BoundProblem& p, const Eigen::VectorXd& y, const std::string& kind) {
-  if (y.size() != p.assembly().size())
-    throw InputError("x has " + std::to_string(y.size()) + " entries, the problem " +
-                     std::to_string(p.assembly().size()) + " free unknowns");
   const curvature::SecondDerivatives second = curvature::parseSecondDerivatives(kind);
   optimize::HessianEvaluation e;
   {
