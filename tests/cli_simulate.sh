@@ -237,7 +237,7 @@ stderr_has "could not proceed"; stderr_has "blown/report.json"; stderr_has "the 
 report_check blown "not d['completed'] and d['partial'] and 'a step of 0.01 s failed' in d['failure']" "the failure"
 [ -s blown/frame-00000.obj ] && [ -s blown/energies.csv ] || fail "blown: the start's frame and energies are gone"
 
-# The README's cotan drape at dt 0.01 (patch48 n = 12) used to blow up (total -0.79 -> +26.8 at
+# simulate.md's cotan drape at dt 0.01 (patch48 n = 12) used to blow up (total -0.79 -> +26.8 at
 # t = 1) and exit 0. Without halving it now stops where a step gains more than 5 % of the peak
 # kinetic energy, keeping the 19 frames to t = 0.6 (meshes, images, energies), exit 3 (without
 # self-contact, which would change where: its folds touch).
