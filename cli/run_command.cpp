@@ -24,6 +24,7 @@ namespace {
 struct RunCommandOptions {
   std::string specFile;
   bool dryRun = false;
+  bool checkOnly = false;
 };
 
 std::string expandSpecDir(std::string text, const std::string& specDir) {
@@ -110,6 +111,7 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
       return code;
     }
   }
+  if (o.checkOnly) return 0;
 
   for (size_t k = 0; k < steps.size(); ++k) {
     std::vector<std::string> args = steps[k];
@@ -139,7 +141,12 @@ void registerRunCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<RunCommandOptions>();
   CLI::App* sub = app.add_subcommand("run", "Run a study kept as a JSON run spec (see examples/)");
   sub->add_option("spec", options->specFile, "Run spec (.json)")->required();
-  sub->add_flag("--dry-run", options->dryRun, "Print the command lines instead of running them");
+  CLI::Option* dryRun = sub->add_flag("--dry-run", options->dryRun,
+                                      "Print the command lines instead of running them");
+  sub->add_flag("--check", options->checkOnly,
+                "Check every step's options and outputs as a run does before its first step, "
+                "and run nothing (exit 0 or the exit a run would stop with)")
+      ->excludes(dryRun);
   sub->callback([options, &global] {
     const int code = runRunCommand(*options, global);
     if (code != 0) throw CLI::RuntimeError(code);
