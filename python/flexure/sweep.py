@@ -310,6 +310,12 @@ def _client_of(client, workers):
     except ImportError:
         raise ImportError("flexure.sweep needs Dask's distributed (Debian: python3-distributed, "
                           "pip: distributed)") from None
+    # The task travels by value, so workers need the flexure command but not this package.
+    try:
+        import cloudpickle
+        cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    except (ImportError, AttributeError):  # cloudpickle < 2: workers import flexure.sweep
+        pass
     if isinstance(client, distributed.Client):
         return client, False
     if isinstance(client, str):
@@ -399,6 +405,11 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
     failed | lost), exit_code, message, seconds, worker, attempts (runs started for the case in
     this sweep, killed ones included), and the report's top-level numbers and booleans.
     """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):
+        raise ValueError(f"workers: expected a whole number >= 1, got {workers!r}")
+    if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+        raise ValueError(f"retries: expected a whole number >= 0, got {retries!r}")
     spec, spec_dir = _load_json(spec, "spec")
     if isinstance(grid, (str, os.PathLike)):
         grid, _ = _load_json(grid, "grid")
