@@ -471,3 +471,40 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
     except ImportError:
         return table
     return pandas.DataFrame(table, columns=columns)
+
+
+def main(argv=None):
+    """``python3 -m flexure.sweep SPEC GRID [--out DIR] [--scheduler ADDRESS] [--workers N]``:
+    the sweep from a shell. Exit 0 when every case is done or skipped; 2 for a refused grid or
+    spec (nothing run); else the largest exit code of the failed cases (3 for a lost one)."""
+    import argparse
+    parser = argparse.ArgumentParser(prog="python3 -m flexure.sweep",
+                                     description="Run a flexure run spec over a grid on Dask.")
+    parser.add_argument("spec", help="run spec (.json) with ${name} placeholders")
+    parser.add_argument("grid", help="grid (.json): {name: [values]} or [{name: value}]")
+    parser.add_argument("--out", default="sweep", help="the sweep's folder (default: sweep)")
+    parser.add_argument("--scheduler", help="a Dask scheduler's address (default: local workers)")
+    parser.add_argument("--workers", type=int, help="local worker processes (default: CPUs)")
+    parser.add_argument("--command", help="the flexure executable")
+    parser.add_argument("--report", help="the report file, relative to a case folder")
+    args = parser.parse_args(argv)
+    try:
+        table = sweep(args.spec, args.grid, client=args.scheduler, out_dir=args.out,
+                      workers=args.workers, command=args.command, report=args.report)
+    except ValueError as e:
+        print(f"flexure sweep: {e}", file=sys.stderr)
+        return 2
+    rows = table.to_dict("records") if hasattr(table, "to_dict") else table
+    counts = {}
+    for row in rows:
+        counts[row["status"]] = counts.get(row["status"], 0) + 1
+    summary = ", ".join(f"{n} {status}" for status, n in counts.items())
+    print(f"flexure sweep: {len(rows)} cases ({summary}): {os.path.join(args.out, _TABLE)}",
+          file=sys.stderr)
+    codes = [3 if row["status"] == "lost" else int(row["exit_code"]) for row in rows
+             if row["status"] in ("failed", "lost")]
+    return max(codes, default=0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
