@@ -474,11 +474,11 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
 
 
 def main(argv=None):
-    """``python3 -m flexure.sweep SPEC GRID [--out DIR] [--scheduler ADDRESS] [--workers N]``:
+    """``python3 -m flexure sweep SPEC GRID [--out DIR] [--scheduler ADDRESS] [--workers N]``:
     the sweep from a shell. Exit 0 when every case is done or skipped; 2 for a refused grid or
     spec (nothing run); else the largest exit code of the failed cases (3 for a lost one)."""
     import argparse
-    parser = argparse.ArgumentParser(prog="python3 -m flexure.sweep",
+    parser = argparse.ArgumentParser(prog="python3 -m flexure sweep",
                                      description="Run a flexure run spec over a grid on Dask.")
     parser.add_argument("spec", help="run spec (.json) with ${name} placeholders")
     parser.add_argument("grid", help="grid (.json): {name: [values]} or [{name: value}]")
@@ -505,6 +505,3 @@ def main(argv=None):
              if row["status"] in ("failed", "lost")]
     return max(codes, default=0)
 
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -14,6 +14,7 @@ import distributed
 import pytest
 
 import flexure
+from flexure.sweep import main as sweep_main
 
 # A tiny clamped plate: the mesh, then Newton on one thread (< 1 s a case).
 SPEC = {"steps": [
@@ -135,7 +136,7 @@ def test_a_rerun_after_an_interrupted_sweep_runs_only_the_missing_cases(client, 
 
 
 def test_a_failing_case_is_recorded_and_the_others_go_on(client, cli_path, tmp_path):
-    # 60 iterations are too few for Newton from a flat start (no linearized start): exit 3.
+    # Two iterations are too few for Newton from the flat plate (start given): exit 3.
     spec = json.loads(json.dumps(SPEC))
     spec["steps"][1]["options"].update({"start": "${start}", "max-iterations": 2})
     grid = {"energy": ["midedge"], "a": [3.0], "n": [8], "start": ["linearized", "given"]}
@@ -144,6 +145,15 @@ def test_a_failing_case_is_recorded_and_the_others_go_on(client, cli_path, tmp_p
     assert codes["given"] == 3 and codes["linearized"] in (0, 3)
     failed = table[table["start"] == "given"].iloc[0]
     assert failed["status"] == "failed" and failed["message"]
+    # From a shell, on the same scheduler: the failed case runs again and its code is the exit.
+    (tmp_path / "spec.json").write_text(json.dumps(spec))
+    (tmp_path / "grid.json").write_text(json.dumps(grid))
+    code = sweep_main([str(tmp_path / "spec.json"), str(tmp_path / "grid.json"),
+                       "--out", str(tmp_path / "s"), "--command", cli_path,
+                       "--scheduler", client.scheduler.address])
+    assert code == 3
+    again = list(csv.DictReader(open(tmp_path / "s" / "sweep.csv")))
+    assert {r["start"]: r["status"] for r in again}["given"] == "failed"
 
 
 @pytest.mark.parametrize("grid, message", [
