@@ -78,8 +78,8 @@ def test_sweep_on_two_workers_equals_the_cases_run_one_by_one(client, cli_path, 
 
 def test_a_worker_killed_mid_case_has_its_case_retried_and_its_folder_whole(client, cli_path,
                                                                             tmp_path):
-    # Four cases of about 2 s each, so both workers are busy when one is killed.
-    grid = {"energy": ["midedge"], "a": [0.2, 0.4, 0.6, 0.8], "n": [40]}
+    # Four cases of about 1 s each, so both workers are busy when one is killed.
+    grid = {"energy": ["midedge"], "a": [0.2, 0.4, 0.6, 0.8], "n": [160]}
     out = tmp_path / "sweep"
     result = {}
     thread = threading.Thread(target=lambda: result.update(table=flexure.sweep(
