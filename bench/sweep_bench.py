@@ -66,7 +66,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cases", type=int, default=8)
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--n", type=int, default=48, help="patch48 cells per side")
+    parser.add_argument("--n", type=int, default=160, help="patch48 cells per side")
     parser.add_argument("--trials", type=int, default=2)
     args = parser.parse_args()
     cli = find_cli()
