@@ -169,3 +169,23 @@ def test_a_bad_grid_is_refused_before_any_case_runs(cli_path, tmp_path, grid, me
         flexure.sweep(SPEC, grid, client="tcp://127.0.0.1:1", out_dir=tmp_path / "s",
                       command=cli_path)
     assert not (tmp_path / "s").exists()
+
+
+def test_flexure_run_grid_runs_the_sweep_from_the_command(client, cli_path, tmp_path):
+    (tmp_path / "spec.json").write_text(json.dumps(SPEC))
+    (tmp_path / "grid.json").write_text(json.dumps({"energy": ["midedge", "hinge"], "a": [0.2],
+                                                    "n": [6]}))
+    done = subprocess.run([cli_path, "run", "spec.json", "--grid", "grid.json", "-o", "out",
+                           "--scheduler", client.scheduler.address], cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    rows = list(csv.DictReader(open(tmp_path / "out" / "sweep.csv")))
+    assert [(r["energy"], r["status"]) for r in rows] == [("midedge", "done"), ("hinge", "done")]
+    for r in rows:
+        report = json.loads((tmp_path / "out" / r["case"] / "report.json").read_text())
+        assert r["final_energy"] == repr(report["final_energy"])
+    (tmp_path / "bad.json").write_text(json.dumps({"energy": ["hinge"], "a": [0.2]}))
+    done = subprocess.run([cli_path, "run", "spec.json", "--grid", "bad.json", "-o", "bad"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == 2 and "${n}" in done.stderr
+    assert not (tmp_path / "bad").exists()
