@@ -377,6 +377,32 @@ def _write_csv(path, table, columns):
     os.replace(temporary, path)
 
 
+def _run_cases(client, workers, cli, out_dir, todo, report, retries):
+    """Runs the cases (id, spec) on Dask: ({case id: status}, {case id: runs started}), the
+    folders of killed runs counted, then removed."""
+    client, owned = _client_of(client, workers)
+    try:
+        futures = {case_id: client.submit(_run_case, cli, out_dir, case_id, case_spec, report,
+                                          retries=retries, pure=False,
+                                          key=f"flexure-case-{case_id}-{uuid.uuid4().hex}")
+                   for case_id, case_spec in todo}
+        statuses = _gather(client, futures)
+    finally:
+        if owned:
+            cluster = getattr(client, "cluster", None)
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    abandoned = _partials(out_dir, ("partial",))
+    attempts = {case_id: len(paths) for case_id, paths in abandoned.items()}
+    for paths in _partials(out_dir).values():
+        for path in paths:
+            shutil.rmtree(path, ignore_errors=True)
+    for case_id, _ in todo:  # the run that finished (a lost case has none)
+        attempts[case_id] = attempts.get(case_id, 0) + (statuses[case_id]["exit_code"] is not None)
+    return statuses, attempts
+
+
 def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, report=None,
           retries=2):
     """Run a run spec for every row of a grid, each case in its own folder, on Dask workers.
@@ -443,27 +469,8 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
             todo.append((case_id, case_spec))
     attempts = {}  # case id: runs started in this sweep
     if todo:
-        client, owned = _client_of(client, workers)
-        try:
-            futures = {case_id: client.submit(_run_case, cli, out_dir, case_id, case_spec, report,
-                                              retries=retries, pure=False,
-                                              key=f"flexure-case-{case_id}-{uuid.uuid4().hex}")
-                       for case_id, case_spec in todo}
-            statuses.update(_gather(client, futures))
-        finally:
-            if owned:
-                cluster = getattr(client, "cluster", None)
-                client.close()
-                if cluster is not None:
-                    cluster.close()
-        abandoned = _partials(out_dir, ("partial",))
-        attempts = {case_id: len(paths) for case_id, paths in abandoned.items()}
-        for paths in _partials(out_dir).values():
-            for path in paths:
-                shutil.rmtree(path, ignore_errors=True)
-        for case_id, _ in todo:
-            attempts[case_id] = attempts.get(case_id, 0) + (statuses[case_id]["exit_code"]
-                                                            is not None)
+        ran, attempts = _run_cases(client, workers, cli, out_dir, todo, report, retries)
+        statuses.update(ran)
     table, columns = _table(rows, [c for c, _ in cases], statuses, attempts)
     _write_csv(os.path.join(out_dir, _TABLE), table, columns)
     try:
