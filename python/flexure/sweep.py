@@ -436,6 +436,8 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
         raise ValueError(f"workers: expected a whole number >= 1, got {workers!r}")
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
         raise ValueError(f"retries: expected a whole number >= 0, got {retries!r}")
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise ValueError(f"out_dir: {out_dir} exists and is not a folder")
     spec, spec_dir = _load_json(spec, "spec")
     if isinstance(grid, (str, os.PathLike)):
         grid, _ = _load_json(grid, "grid")

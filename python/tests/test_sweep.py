@@ -189,3 +189,11 @@ def test_flexure_run_grid_runs_the_sweep_from_the_command(client, cli_path, tmp_
                           cwd=tmp_path, capture_output=True, text=True)
     assert done.returncode == 2 and "${n}" in done.stderr
     assert not (tmp_path / "bad").exists()
+
+
+def test_an_out_dir_that_is_a_file_is_refused(cli_path, tmp_path):
+    (tmp_path / "s").write_text("not a folder")
+    with pytest.raises(ValueError, match="out_dir: .*s exists and is not a folder"):
+        flexure.sweep(SPEC, GRID, client="tcp://127.0.0.1:1", out_dir=tmp_path / "s",
+                      command=cli_path)
+    assert (tmp_path / "s").read_text() == "not a folder"
