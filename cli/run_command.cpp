@@ -98,11 +98,10 @@ int runSweep(const RunCommandOptions& o, const GlobalOptions& global) {
   namespace fs = std::filesystem;
   const fs::path self = fs::read_symlink("/proc/self/exe");
   const fs::path buildTreePackage = self.parent_path().parent_path() / "python";
+  std::string pythonPath;
   if (fs::exists(buildTreePackage / "flexure" / "__init__.py")) {
     const char* path = std::getenv("PYTHONPATH");
-    const std::string value =
-        buildTreePackage.string() + (path && *path ? ":" + std::string(path) : "");
-    setenv("PYTHONPATH", value.c_str(), 1);
+    pythonPath = buildTreePackage.string() + (path && *path ? ":" + std::string(path) : "");
   }
   const char* chosen = std::getenv("FLEXURE_PYTHON");
   const std::string python =
@@ -118,6 +117,7 @@ int runSweep(const RunCommandOptions& o, const GlobalOptions& global) {
   std::cout.flush();
   const pid_t child = fork();
   if (child == 0) {
+    if (!pythonPath.empty()) setenv("PYTHONPATH", pythonPath.c_str(), 1);
     execvp(argv[0], argv.data());
     std::cerr << "flexure run --grid: cannot start " << python << " (" << std::strerror(errno)
               << "); a sweep needs Python 3 with flexure's module and Dask's distributed "
