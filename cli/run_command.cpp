@@ -9,6 +9,12 @@
 // false or null is left out, an array passes several values. "inputs" are positional arguments.
 // Relative paths resolve against the working directory, as on the command line; "${spec_dir}" in
 // a string stands for the directory holding the spec, so a spec can name files kept beside it.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -24,6 +30,11 @@ namespace {
 struct RunCommandOptions {
   std::string specFile;
   bool dryRun = false;
+  bool checkOnly = false;
+  std::string gridFile;   // a sweep: the spec run for every row of the grid (flexure.sweep)
+  std::string scheduler;  // the sweep's Dask scheduler address ("": local worker processes)
+  int workers = 0;        // local worker processes (0: one per CPU)
+  std::string sweepDir = "sweep";
 };
 
 std::string expandSpecDir(std::string text, const std::string& specDir) {
@@ -78,7 +89,54 @@ std::vector<std::string> commandLine(const nlohmann::json& step, const std::stri
   return args;
 }
 
+// A sweep is Python's flexure.sweep on Dask (docs/sweeps.md): `python3 -m flexure sweep`, with
+// this executable as the command the cases run. The interpreter: $FLEXURE_PYTHON, else Debian's
+// /usr/bin/python3 (the one the module is built for), else python3 on PATH; the package: the
+// build tree's beside this executable (build/cli/flexure → build/python) ahead of PYTHONPATH,
+// else the installed one. The sweep checks the grid and every case before any runs (exit 2).
+int runSweep(const RunCommandOptions& o, const GlobalOptions& global) {
+  namespace fs = std::filesystem;
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  const fs::path buildTreePackage = self.parent_path().parent_path() / "python";
+  std::string pythonPath;
+  if (fs::exists(buildTreePackage / "flexure" / "__init__.py")) {
+    const char* path = std::getenv("PYTHONPATH");
+    pythonPath = buildTreePackage.string() + (path && *path ? ":" + std::string(path) : "");
+  }
+  const char* chosen = std::getenv("FLEXURE_PYTHON");
+  const std::string python =
+      chosen && *chosen ? chosen
+                        : (fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3");
+  std::vector<std::string> args = {python,     "-m",    "flexure",  "sweep",     o.specFile,
+                                   o.gridFile, "--out", o.sweepDir, "--command", self.string()};
+  if (!o.scheduler.empty()) args.insert(args.end(), {"--scheduler", o.scheduler});
+  if (o.workers > 0) args.insert(args.end(), {"--workers", std::to_string(o.workers)});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::cout.flush();
+  const pid_t child = fork();
+  if (child == 0) {
+    if (!pythonPath.empty()) setenv("PYTHONPATH", pythonPath.c_str(), 1);
+    execvp(argv[0], argv.data());
+    std::cerr << "flexure run --grid: cannot start " << python << " (" << std::strerror(errno)
+              << "); a sweep needs Python 3 with flexure's module and Dask's distributed "
+                 "(set FLEXURE_PYTHON to choose the interpreter)\n";
+    _exit(kExitInputError);
+  }
+  int status = 0;
+  if (child < 0 || waitpid(child, &status, 0) < 0)
+    throw InputError(std::string("flexure run --grid: cannot start the sweep: ") +
+                     std::strerror(errno));
+  if (!global.quiet && WIFSIGNALED(status))
+    std::cerr << "flexure run --grid: the sweep was killed by signal " << WTERMSIG(status) << '\n';
+  // Python's "No module named flexure / distributed" exits 1: a missing prerequisite, bad input.
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 3;
+  return code == 1 ? kExitInputError : code;
+}
+
 int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
+  if (!o.gridFile.empty()) return runSweep(o, global);
   std::ifstream in(o.specFile);
   if (!in) throw InputError(o.specFile + ": cannot open the run spec");
   nlohmann::json spec;
@@ -110,6 +168,7 @@ int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
       return code;
     }
   }
+  if (o.checkOnly) return 0;
 
   for (size_t k = 0; k < steps.size(); ++k) {
     std::vector<std::string> args = steps[k];
@@ -139,7 +198,30 @@ void registerRunCommand(CLI::App& app, const GlobalOptions& global) {
   auto options = std::make_shared<RunCommandOptions>();
   CLI::App* sub = app.add_subcommand("run", "Run a study kept as a JSON run spec (see examples/)");
   sub->add_option("spec", options->specFile, "Run spec (.json)")->required();
-  sub->add_flag("--dry-run", options->dryRun, "Print the command lines instead of running them");
+  CLI::Option* dryRun = sub->add_flag("--dry-run", options->dryRun,
+                                      "Print the command lines instead of running them");
+  CLI::Option* check =
+      sub->add_flag("--check", options->checkOnly,
+                    "Check every step's options and outputs as a run does before its first step, "
+                    "and run nothing (exit 0 or the exit a run would stop with)")
+          ->excludes(dryRun);
+  CLI::Option* grid = sub->add_option(
+      "--grid", options->gridFile,
+      "A sweep: run the spec, whose strings hold ${name} placeholders, for every row of this "
+      "grid (.json: {name: [values]} or [{name: value}]) on Dask workers, each case in its own "
+      "folder (docs/sweeps.md)");
+  grid->excludes(dryRun)->excludes(check);
+  sub->add_option("--scheduler", options->scheduler,
+                  "With --grid: a Dask scheduler's address (default: local worker processes)")
+      ->needs(grid);
+  sub->add_option("--workers", options->workers,
+                  "With --grid: local worker processes (default: one per CPU)")
+      ->needs(grid)
+      ->check(CLI::PositiveNumber);
+  sub->add_option("-o,--output", options->sweepDir,
+                  "With --grid: the sweep's folder (case folders and sweep.csv)")
+      ->capture_default_str()
+      ->needs(grid);
   sub->callback([options, &global] {
     const int code = runRunCommand(*options, global);
     if (code != 0) throw CLI::RuntimeError(code);

@@ -243,6 +243,19 @@ cat > study.json <<'JSON'
 JSON
 run 0 run study.json; stdout_has '"faces": 16'
 run 0 run study.json --dry-run; stdout_has "flexure mesh --aspect 2 --family criss"
+# --check: every step checked, none run (a sweep's check of each case, docs/sweeps.md).
+cat > checked.json <<'JSON'
+{"steps": [
+  {"command": "mesh", "options": {"family": "patch48", "n": 4, "o": "checked.obj"}},
+  {"command": "minimize", "options": {"rest": "checked.obj", "energy": "ENERGY", "o": "checked-bent.obj"}}
+]}
+JSON
+sed -i 's/ENERGY/midedge/' checked.json
+run 0 run checked.json --check; absent checked.obj
+sed -i 's/midedge/midedgee/' checked.json
+run 2 run checked.json --check; stderr_has "midedgee"; stderr_has "step 2 would fail"; absent checked.obj
+run 2 run checked.json --check --dry-run; stderr_has "excludes"
+run 2 run checked.json --workers 2; stderr_has "requires --grid"
 echo '{"command": "mesh", "options": {"n": 4}' > broken.json
 run 2 run broken.json; stderr_has "broken.json"; stderr_has "not valid JSON"
 echo '{"command": "run", "inputs": ["x.json"]}' > nested.json
