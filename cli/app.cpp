@@ -91,6 +91,7 @@ int runFlexure(const std::vector<std::string>& args, bool checkOnly) {
   registerDemoCommand(app, global);
   registerRunCommand(app, global);
   registerRenderCommand(app, global);
+  registerViewCommand(app, global);
   registerCompareCommand(app, global);
   registerFairCommand(app, global);
   registerModesCommand(app, global);

@@ -30,6 +30,7 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global);
 void registerModesCommand(CLI::App& app, const GlobalOptions& global);
 void registerSimulateCommand(CLI::App& app, const GlobalOptions& global);
 void registerRepairCommand(CLI::App& app, const GlobalOptions& global);
+void registerViewCommand(CLI::App& app, const GlobalOptions& global);
 
 // Parses `args` (args[0] is the program name) and runs the chosen subcommand; returns the exit
 // code: 0 success, 2 bad input or usage, 3 numerical failure. `flexure run` re-enters here.

@@ -148,6 +148,11 @@ std::vector<modeling::FieldName> figureFlags() {
       {"RenderOptions.exaggeration", "--exaggerate"},
       {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
       {"RenderOptions.crackEdges", "the lips of the cracks drawn in the frames"},
+      // the viewer page
+      {"ViewerPageSpec.meshes", "the inputs"},
+      {"ViewerPageSpec.style", "--style"},
+      {"ViewerPageSpec.stripeCount", "--stripes"},
+      {"ViewerPageSpec.stripeWidth", "--stripe-width"},
   };
 }
 

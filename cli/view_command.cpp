@@ -1,0 +1,225 @@
+// flexure view: one self-contained HTML page (render/viewer_page.h) of meshes and simulation
+// folders, with a linked orbit camera, reflection lines or isophotes, a mean-curvature or
+// displacement field with its legend, and a simulation's frames on a time slider; --open opens it.
+// This file reads the inputs and maps the flags to a ViewerPageSpec; the page is the library's.
+#include <spawn.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "cli/command_files.h"
+#include "cli/commands.h"
+#include "curvature/energy_registry.h"
+#include "modeling/atomic_write.h"
+#include "modeling/errors.h"
+#include "modeling/mesh_io.h"
+#include "render/viewer_page.h"
+
+extern char** environ;
+
+namespace flexure::cli {
+namespace {
+
+struct ViewCommandOptions {
+  std::vector<std::string> inputs;
+  std::string output;
+  std::string style = "reflection";
+  std::string reference;
+  std::string curvatureEnergy;
+  bool open = false;
+  render::ViewerPageSpec page;
+};
+
+bool endsWithHtml(const std::string& path) {
+  std::string lower = path;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return (lower.size() > 5 && lower.substr(lower.size() - 5) == ".html") ||
+         (lower.size() > 4 && lower.substr(lower.size() - 4) == ".htm");
+}
+
+// The frame-NNNNN.obj files of a `flexure simulate` folder, in order.
+std::vector<std::filesystem::path> simulationFrames(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> frames;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("frame-", 0) == 0 && entry.path().extension() == ".obj")
+      frames.push_back(entry.path());
+  }
+  std::sort(frames.begin(), frames.end());
+  if (frames.empty())
+    throw InputError(dir.string() +
+                     ": a folder given to view must hold a simulation's frame-NNNNN.obj files; "
+                     "it holds none");
+  return frames;
+}
+
+// The frame times of DIR/report.json ("frame_times"), or none when it is missing or has none for
+// every frame (the page then numbers the frames).
+std::vector<double> simulationFrameTimes(const std::filesystem::path& dir, std::size_t count) {
+  std::ifstream file(dir / "report.json");
+  if (!file) return {};
+  const nlohmann::json report = nlohmann::json::parse(file, nullptr, false);
+  if (report.is_discarded() || !report.contains("frame_times")) return {};
+  std::vector<double> times;
+  for (const auto& t : report["frame_times"])
+    if (t.is_number()) times.push_back(t.get<double>());
+  return times.size() == count ? times : std::vector<double>{};
+}
+
+// One input: a mesh file (one frame) or a simulation folder (every frame, the same faces each).
+render::ViewerMesh readViewerMesh(const std::string& input) {
+  render::ViewerMesh m;
+  m.name = std::filesystem::path(input).filename().string();
+  if (!std::filesystem::is_directory(input)) {
+    modeling::Mesh mesh = modeling::readMesh(input);
+    m.triangles = std::move(mesh.triangles);
+    m.frames.push_back(std::move(mesh.positions));
+    return m;
+  }
+  const std::vector<std::filesystem::path> frames = simulationFrames(input);
+  for (const std::filesystem::path& path : frames) {
+    modeling::Mesh mesh = modeling::readMesh(path.string());
+    if (m.frames.empty()) {
+      m.triangles = mesh.triangles;
+    } else if (mesh.triangles != m.triangles || mesh.vertexCount() != m.frames[0].rows()) {
+      throw InputError(path.string() + ": " + std::to_string(mesh.vertexCount()) +
+                       " vertices and " + std::to_string(mesh.faceCount()) + " faces, but " +
+                       frames.front().string() +
+                       " has other faces or vertices (a simulation's frames share them)");
+    }
+    m.frames.push_back(std::move(mesh.positions));
+  }
+  m.frameTimes = simulationFrameTimes(input, m.frames.size());
+  return m;
+}
+
+bool givesMeanCurvature(const curvature::EnergyEntry& e) {
+  return static_cast<bool>(e.meanCurvatureField);
+}
+
+const curvature::EnergyEntry& curvatureEnergy(const std::string& name) {
+  if (name.empty()) return curvature::defaultMeanCurvatureEnergy();
+  const curvature::EnergyEntry* entry = curvature::findEnergy(name);
+  if (!entry || !givesMeanCurvature(*entry))
+    throw InputError("--curvature-energy " + name + ": expected " +
+                     curvature::energyNamesWhere(givesMeanCurvature));
+  return *entry;
+}
+
+// The mean curvature H at every frame (the energy's kernel, as flexure render's curvature style).
+void addCurvature(render::ViewerMesh& m, const curvature::EnergyEntry& energy) {
+  for (const modeling::Positions& x : m.frames) {
+    const std::vector<double> h = energy.meanCurvatureField(modeling::Mesh{x, m.triangles});
+    m.fields.push_back(Eigen::Map<const Eigen::VectorXd>(h.data(), Eigen::Index(h.size())));
+  }
+}
+
+// |x − x_rest| at every vertex of every frame.
+void addDisplacement(render::ViewerMesh& m, const modeling::Positions& rest,
+                     const std::string& restName) {
+  if (rest.rows() != m.frames[0].rows())
+    throw InputError("--reference " + restName + ": " + std::to_string(rest.rows()) +
+                     " vertices, but " + m.name + " has " + std::to_string(m.frames[0].rows()));
+  for (const modeling::Positions& x : m.frames) m.fields.push_back((x - rest).rowwise().norm());
+}
+
+// Opens `page` with $BROWSER, else xdg-open, without waiting; a notice when neither starts.
+void openPage(const std::string& page) {
+  const char* browser = std::getenv("BROWSER");
+  const std::string program = browser && *browser ? browser : "xdg-open";
+  std::vector<char*> argv{const_cast<char*>(program.c_str()), const_cast<char*>(page.c_str()),
+                          nullptr};
+  pid_t pid;
+  if (posix_spawnp(&pid, program.c_str(), nullptr, nullptr, argv.data(), environ) != 0)
+    std::cerr << "flexure view: could not start " << program << " to open " << page
+              << " (set $BROWSER); the page is written\n";
+}
+
+void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
+  if (!endsWithHtml(o.output))
+    throw InputError("--output '" + o.output + "': flexure view writes an HTML page (.html)");
+  render::ViewerPageSpec& page = o.page;
+  const bool curvatureStyle = o.style == "curvature", displacementStyle = o.style == "displacement";
+  page.style = curvatureStyle || displacementStyle ? render::ViewerStyle::Field
+                                                   : render::parseViewerStyle(o.style);
+  if (o.style == "field")
+    throw InputError(
+        "--style field: expected reflection, isophote, shaded, curvature or displacement");
+  if (!curvatureStyle && !o.curvatureEnergy.empty())
+    throw InputError("--curvature-energy applies to --style curvature only");
+  if (curvatureStyle) curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
+  if (!displacementStyle && !o.reference.empty())
+    throw InputError("--reference applies to --style displacement only");
+
+  for (const std::string& input : o.inputs) page.meshes.push_back(readViewerMesh(input));
+  if (curvatureStyle) {
+    const curvature::EnergyEntry& energy = curvatureEnergy(o.curvatureEnergy);
+    page.fieldTitle = "mean curvature H (" + energy.name + ")";
+    page.diverging = true;
+    for (render::ViewerMesh& m : page.meshes) addCurvature(m, energy);
+  } else if (displacementStyle) {
+    page.fieldTitle = "displacement |x - x_rest|";
+    std::optional<modeling::Mesh> rest;
+    if (!o.reference.empty()) rest = modeling::readMesh(o.reference);
+    for (render::ViewerMesh& m : page.meshes) {
+      if (!rest && m.frames.size() == 1)
+        throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
+      addDisplacement(m, rest ? rest->positions : m.frames[0],
+                      rest ? o.reference : m.name + "'s first frame");
+    }
+  }
+  page.title = "flexure view: " + o.inputs.front() + (o.inputs.size() > 1 ? " ..." : "");
+  // Its own batch, committed here, so that the page is in place before --open shows it.
+  modeling::OutputBatch batch;
+  const std::size_t bytes = render::writeViewerPage(o.output, page);
+  batch.commit();
+  if (!global.quiet) {
+    std::size_t frames = 0;
+    for (const render::ViewerMesh& m : page.meshes) frames += m.frames.size();
+    std::cerr << "flexure view: wrote " << o.output << " (" << page.meshes.size() << " meshes, "
+              << frames << " frames, " << bytes / 1024 << " KiB)\n";
+  }
+  if (o.open) openPage(o.output);
+}
+
+}  // namespace
+
+void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
+  auto options = std::make_shared<ViewCommandOptions>();
+  ViewCommandOptions& o = *options;
+  CLI::App* sub = app.add_subcommand(
+      "view", "An interactive HTML page (three.js, offline) of meshes and simulation folders");
+  auto files = CommandFiles::of(*sub);
+  files
+      ->inputs("inputs", o.inputs,
+               "Meshes (.obj, .off, .ply, .stl) and simulation folders (flexure simulate -o DIR), "
+               "each in its own view (or one with --overlay)")
+      ->required();
+  files->output("-o,--output", o.output, "Output page (.html)")->required();
+  sub->add_option("--style", o.style,
+                  "reflection | isophote | shaded | curvature | displacement (default reflection)");
+  sub->add_option("--stripes", o.page.stripeCount,
+                  "Number of reflection stripes / isophote bands (default 12)")
+      ->check(inRange(1, 1000));
+  sub->add_option("--stripe-width", o.page.stripeWidth,
+                  "Dark fraction of each stripe period, in (0, 1) (default 0.5)");
+  sub->add_option("--curvature-energy", o.curvatureEnergy,
+                  "Curvature style: the discretization of H (default " +
+                      curvature::defaultMeanCurvatureEnergy().name + ")");
+  files->input("--reference", o.reference,
+               "Displacement style: the rest mesh (default: a simulation's first frame)");
+  sub->add_flag("--overlay", o.page.overlay, "Every input in one view instead of one view each");
+  sub->add_flag("--open", o.open, "Open the page with $BROWSER or xdg-open once written");
+  sub->footer(
+      "Example: flexure view bowl.obj faired.obj --style curvature -o bowl.html --open\n"
+      "The page is self-contained (three.js embedded): it works offline from file://.");
+  files->onRun(global, [options, &global] { runViewCommand(*options, global); });
+}
+
+}  // namespace flexure::cli

@@ -1,0 +1,273 @@
+#include "render/viewer_page.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+#include "modeling/atomic_write.h"
+#include "modeling/errors.h"
+#include "render/colour_map.h"
+#include "render/mesh_renderer.h"
+#include "render/viewer_assets.h"
+
+namespace flexure::render {
+namespace {
+
+[[noreturn]] void fail(const std::string& field, const std::string& what) {
+  throw InputError("ViewerPageSpec." + field + " " + what);
+}
+
+// RFC 4648 base64 of `size` bytes.
+std::string base64(const unsigned char* bytes, std::size_t size) {
+  static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  for (std::size_t i = 0; i < size; i += 3) {
+    const std::uint32_t a = bytes[i], b = i + 1 < size ? bytes[i + 1] : 0,
+                        c = i + 2 < size ? bytes[i + 2] : 0;
+    const std::uint32_t word = (a << 16) | (b << 8) | c;
+    out += digits[(word >> 18) & 63];
+    out += digits[(word >> 12) & 63];
+    out += i + 1 < size ? digits[(word >> 6) & 63] : '=';
+    out += i + 2 < size ? digits[word & 63] : '=';
+  }
+  return out;
+}
+
+// Little-endian 32-bit words (the page reads them as Float32Array / Uint32Array on a
+// little-endian machine, which every browser platform is).
+template <typename T>
+std::string base64Words(const std::vector<T>& words) {
+  static_assert(sizeof(T) == 4);
+  std::vector<unsigned char> bytes(4 * words.size());
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    std::uint32_t w;
+    std::memcpy(&w, &words[i], 4);
+    for (int k = 0; k < 4; ++k) bytes[4 * i + k] = static_cast<unsigned char>(w >> (8 * k));
+  }
+  return base64(bytes.data(), bytes.size());
+}
+
+// A JSON string literal, with "</" written "<\/" so that it cannot close the page's <script>.
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", c);
+      out += code;
+    } else if (c == '/' && i > 0 && text[i - 1] == '<') {
+      out += "\\/";
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string htmlText(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", x);
+  return text;
+}
+
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+// The colour map's range over every field of every mesh: [min, max] for a sequential field;
+// [-M, M] for a diverging one, M the 98th percentile of |value| (render/'s curvature default).
+std::pair<double, double> fieldRange(const ViewerPageSpec& spec) {
+  std::vector<double> values;
+  for (const ViewerMesh& m : spec.meshes)
+    for (const Eigen::VectorXd& f : m.fields) values.insert(values.end(), f.begin(), f.end());
+  if (values.empty()) return {0.0, 1.0};
+  if (spec.diverging) {
+    for (double& v : values) v = std::abs(v);
+    const std::size_t k = std::min(values.size() - 1, values.size() * 98 / 100);
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    const double m = values[k] > 0.0 ? values[k] : 1.0;
+    return {-m, m};
+  }
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  return {*lo, *hi > *lo ? *hi : *lo + 1.0};
+}
+
+std::string meshData(const ViewerMesh& m) {
+  std::vector<float> positions, fields;
+  for (const modeling::Positions& x : m.frames)
+    for (Eigen::Index v = 0; v < x.rows(); ++v)
+      for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(x(v, k)));
+  for (const Eigen::VectorXd& f : m.fields)
+    for (double value : f) fields.push_back(static_cast<float>(value));
+  std::vector<std::uint32_t> triangles;
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) triangles.push_back(static_cast<std::uint32_t>(m.triangles(f, k)));
+  std::string times = "[";
+  for (std::size_t i = 0; i < m.frameTimes.size(); ++i)
+    times += (i ? "," : "") + number(m.frameTimes[i]);
+  return "{\"name\":" + jsonString(m.name) +
+         ",\"vertexCount\":" + std::to_string(m.frames.front().rows()) +
+         ",\"frameCount\":" + std::to_string(m.frames.size()) +
+         ",\"fieldCount\":" + std::to_string(m.fields.size()) + ",\"times\":" + times + "]" +
+         ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
+         base64Words(positions) + "\",\"fields\":" +
+         (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") + "}";
+}
+
+std::string pageData(const ViewerPageSpec& spec) {
+  const ColourMap& map = spec.diverging ? divergingColourMap() : sequentialColourMap();
+  const auto [lo, hi] = fieldRange(spec);
+  std::string stops;
+  for (const Rgb& c : map.stops)
+    stops += std::string(stops.empty() ? "" : ",") + "[" + number(c.r) + "," + number(c.g) + "," +
+             number(c.b) + "]";
+  const int styleNumber = spec.style == ViewerStyle::Reflection ? 0
+                          : spec.style == ViewerStyle::Isophote ? 1
+                          : spec.style == ViewerStyle::Shaded   ? 3
+                                                                : 4;
+  const RenderOptions defaults;  // the offscreen renderer's light and stripe angle
+  std::string meshes;
+  for (const ViewerMesh& m : spec.meshes) meshes += (meshes.empty() ? "" : ",") + meshData(m);
+  return "{\"style\":" + std::to_string(styleNumber) +
+         ",\"stripeCount\":" + std::to_string(spec.stripeCount) +
+         ",\"stripeWidth\":" + number(spec.stripeWidth) +
+         ",\"stripeDirectionDegrees\":" + number(defaults.stripeDirectionDegrees) + ",\"light\":[" +
+         number(defaults.lightDirection[0]) + "," + number(defaults.lightDirection[1]) + "," +
+         number(defaults.lightDirection[2]) + "]" +
+         ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) +
+         ",\"elevationDegrees\":" + number(60.0) +
+         ",\"overlay\":" + (spec.overlay ? "true" : "false") +
+         ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
+         number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
+         jsonString(shortNumber(hi)) + "],\"stops\":[" + stops + "],\"meshes\":[" + meshes + "]}";
+}
+
+// The template with each "@NAME@" of `parts` replaced, in one pass over the template only (a
+// mesh name that spells a placeholder stays as written).
+std::string filledTemplate(std::string_view page,
+                           const std::vector<std::pair<std::string, std::string_view>>& parts) {
+  std::string out;
+  std::size_t from = 0;
+  while (true) {
+    std::size_t next = std::string_view::npos;
+    const std::pair<std::string, std::string_view>* found = nullptr;
+    for (const auto& part : parts) {
+      const std::size_t at = page.find(part.first, from);
+      if (at < next) next = at, found = &part;
+    }
+    if (!found) break;
+    out.append(page.substr(from, next - from));
+    out.append(found->second);
+    from = next + found->first.size();
+  }
+  out.append(page.substr(from));
+  return out;
+}
+
+void validateMesh(const ViewerMesh& m, std::size_t i) {
+  const std::string at = "meshes[" + std::to_string(i) + "]";
+  if (m.frames.empty()) fail(at + ".frames", "is empty: a mesh needs at least one frame");
+  if (m.triangles.rows() == 0) fail(at + ".triangles", "is empty (" + m.name + ")");
+  const Eigen::Index vertices = m.frames.front().rows();
+  if (m.triangles.minCoeff() < 0 || m.triangles.maxCoeff() >= vertices)
+    fail(at + ".triangles", "names a vertex outside 0.." + std::to_string(vertices - 1));
+  for (std::size_t f = 0; f < m.frames.size(); ++f) {
+    if (m.frames[f].rows() != vertices)
+      fail(at + ".frames", "frame " + std::to_string(f) + " has " +
+                               std::to_string(m.frames[f].rows()) + " vertices, frame 0 has " +
+                               std::to_string(vertices));
+    if (!m.frames[f].allFinite())
+      fail(at + ".frames", "frame " + std::to_string(f) + " has a coordinate that is not finite");
+  }
+  if (!m.frameTimes.empty() && m.frameTimes.size() != m.frames.size())
+    fail(at + ".frameTimes", "has " + std::to_string(m.frameTimes.size()) + " times for " +
+                                 std::to_string(m.frames.size()) + " frames");
+  if (m.fields.size() > 1 && m.fields.size() != m.frames.size())
+    fail(at + ".fields", "has " + std::to_string(m.fields.size()) + " fields for " +
+                             std::to_string(m.frames.size()) + " frames (give one or one each)");
+  for (const Eigen::VectorXd& f : m.fields) {
+    if (f.size() != vertices)
+      fail(at + ".fields", "has " + std::to_string(f.size()) + " values for " +
+                               std::to_string(vertices) + " vertices");
+    if (!f.allFinite()) fail(at + ".fields", "has a value that is not finite");
+  }
+}
+
+}  // namespace
+
+void ViewerPageSpec::validate() const {
+  if (meshes.empty()) fail("meshes", "is empty: give at least one mesh");
+  if (stripeCount < 1 || stripeCount > 1000) fail("stripeCount", "must be in [1, 1000]");
+  if (!(stripeWidth > 0.0 && stripeWidth < 1.0)) fail("stripeWidth", "must be in (0, 1)");
+  for (std::size_t i = 0; i < meshes.size(); ++i) validateMesh(meshes[i], i);
+  const bool anyField = std::any_of(meshes.begin(), meshes.end(),
+                                    [](const ViewerMesh& m) { return !m.fields.empty(); });
+  const bool allFields = std::all_of(meshes.begin(), meshes.end(),
+                                     [](const ViewerMesh& m) { return !m.fields.empty(); });
+  if (style == ViewerStyle::Field && !allFields)
+    fail("style", "is field, but a mesh has no field values");
+  if (style != ViewerStyle::Field && anyField)
+    fail("style", std::string("is ") + viewerStyleName(style) + ", which draws no field");
+}
+
+ViewerStyle parseViewerStyle(const std::string& name) {
+  for (ViewerStyle s :
+       {ViewerStyle::Reflection, ViewerStyle::Isophote, ViewerStyle::Shaded, ViewerStyle::Field})
+    if (name == viewerStyleName(s)) return s;
+  fail("style", "'" + name + "': expected reflection, isophote, shaded or field");
+}
+
+const char* viewerStyleName(ViewerStyle style) {
+  switch (style) {
+    case ViewerStyle::Reflection:
+      return "reflection";
+    case ViewerStyle::Isophote:
+      return "isophote";
+    case ViewerStyle::Shaded:
+      return "shaded";
+    case ViewerStyle::Field:
+      return "field";
+  }
+  return "?";
+}
+
+std::string viewerPageHtml(const ViewerPageSpec& spec) {
+  const std::string title = htmlText(spec.title), data = pageData(spec);
+  return filledTemplate(viewerTemplate(), {{"@FLEXURE_TITLE@", title},
+                                           {"@FLEXURE_DATA@", data},
+                                           {"@FLEXURE_ORBIT_CONTROLS@", orbitControlsScript()},
+                                           {"@FLEXURE_THREE@", threeScript()}});
+}
+
+std::size_t writeViewerPage(const std::string& path, const ViewerPageSpec& spec) {
+  spec.validate();
+  const std::string page = viewerPageHtml(spec);
+  modeling::writeFileAtomically(path, page);
+  return page.size();
+}
+
+}  // namespace flexure::render

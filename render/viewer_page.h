@@ -1,0 +1,52 @@
+// The interactive viewer page: one self-contained HTML file (three.js and the page's script
+// embedded, the meshes as base64 Float32/Uint32 arrays) that draws meshes side by side or
+// overlaid with one linked camera, reflection lines and isophotes computed in the fragment shader
+// from the same camera-locked environment as the offscreen renderer (render/mesh_shaders.cpp), a
+// per-vertex field with its legend, and a simulation's frames with a time slider.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "modeling/mesh.h"
+
+namespace flexure::render {
+
+enum class ViewerStyle { Reflection, Isophote, Shaded, Field };
+
+// One mesh of the page: its connectivity, its positions at each frame (one frame for a still
+// mesh), and optionally a per-vertex field at each frame (or one for every frame).
+struct ViewerMesh {
+  std::string name;                         // shown above its view
+  modeling::Triangles triangles;            // #F by 3
+  std::vector<modeling::Positions> frames;  // each #V by 3
+  std::vector<double> frameTimes;           // one per frame, or empty (frames are numbered)
+  std::vector<Eigen::VectorXd> fields;      // empty, one, or one per frame; each #V
+};
+
+// What the page shows. validate() names the field at fault: "ViewerPageSpec.stripeCount …".
+struct ViewerPageSpec {
+  std::vector<ViewerMesh> meshes;
+  ViewerStyle style = ViewerStyle::Reflection;
+  int stripeCount = 12;      // stripes (reflection) or bands (isophote) across [-1, 1]
+  double stripeWidth = 0.5;  // dark fraction of a stripe period, in (0, 1)
+  bool overlay = false;      // every mesh in one view, instead of one view each
+  std::string fieldTitle;    // the legend's title (Field style)
+  bool diverging = false;    // the field is signed: the diverging map on [-M, M]
+  std::string title = "flexure view";
+
+  void validate() const;  // throws InputError
+};
+
+ViewerStyle parseViewerStyle(const std::string& name);  // InputError naming the choices
+const char* viewerStyleName(ViewerStyle style);
+
+// The page's HTML; the same spec gives the same bytes.
+std::string viewerPageHtml(const ViewerPageSpec& spec);
+
+// validate(), then the page written atomically (modeling/atomic_write.h); returns its size in
+// bytes.
+std::size_t writeViewerPage(const std::string& path, const ViewerPageSpec& spec);
+
+}  // namespace flexure::render
