@@ -225,6 +225,7 @@ nlohmann::json simulationReport(const SimulateOptions& o, const std::string& ene
       {"density", o.load.density},
       {"damping", o.damping},
       {"frames", recording.frames.size()},
+      {"frame_times", recording.frameTimes},
       {"obstacles", o.load.obstacles},
       {"friction", dynamics.friction},
       {"final_energies", {{"kinetic", last[1]}, {"total", last.back()}}},

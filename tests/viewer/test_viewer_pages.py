@@ -1,0 +1,221 @@
+"""flexure view's pages in a real browser (headless Chromium over the DevTools Protocol, WebGL on
+SwiftShader): a mesh is drawn (not a blank canvas), reflection lines show both stripe colours, the
+slider changes the frame shown, a field's legend shows its range, and no page logs a console error
+or requests anything but itself.
+
+Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
+  --measure: also the size and load time of a 10 000-vertex, 100-frame simulation page.
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdp import Browser  # noqa: E402
+
+# Counts over the drawing buffer: pixels that are not the white background, dark ones
+# (stripes: the shader's dark colour is 0.06), light ones (0.96), for the whole canvas and for
+# each half (side-by-side views).
+PIXELS = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  const r = {drawn: 0, dark: 0, light: 0, left: 0, right: 0, total: w * h, sum: 0};
+  for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
+    const i = 4 * (y * w + x), c = p[i] + p[i + 1] + p[i + 2];
+    r.sum += (x * 7 + y * 13) % 251 * c;
+    if (c >= 3 * 254) continue;
+    r.drawn += 1;
+    if (x < w / 2) r.left += 1; else r.right += 1;
+    if (c < 3 * 40) r.dark += 1;
+    if (c > 3 * 230 && p[i] === p[i + 1]) r.light += 1;
+  }
+  return r;
+})()"""
+
+failures = []
+
+
+def check(condition, what):
+    print(("ok    " if condition else "FAIL  ") + what)
+    if not condition:
+        failures.append(what)
+
+
+def flexure(binary, *args, expect=0):
+    result = subprocess.run([binary, *args], capture_output=True, text=True)
+    if result.returncode != expect:
+        raise SystemExit("flexure %s: exit %d, expected %d\n%s" %
+                         (" ".join(args), result.returncode, expect, result.stderr))
+    return result
+
+
+def write_obj(path, positions, faces):
+    with open(path, "w") as f:
+        for p in positions:
+            f.write("v %.9g %.9g %.9g\n" % tuple(p))
+        for t in faces:
+            f.write("f %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1))
+
+
+def read_obj(path):
+    positions, faces = [], []
+    for line in open(path):
+        parts = line.split()
+        if parts and parts[0] == "v":
+            positions.append([float(x) for x in parts[1:4]])
+        elif parts and parts[0] == "f":
+            faces.append([int(x.split("/")[0]) - 1 for x in parts[1:4]])
+    return positions, faces
+
+
+def simulation_folder(sheet, folder, frames):
+    """A folder as flexure simulate writes it: the sheet sagging into z = -a (x² + y²)."""
+    os.makedirs(folder, exist_ok=True)
+    positions, faces = read_obj(sheet)
+    times = []
+    for k in range(frames):
+        a = 0.8 * k / (frames - 1)
+        moved = [[x, y, z - a * (x * x + y * y) - 0.1 * a] for x, y, z in positions]
+        write_obj(os.path.join(folder, "frame-%05d.obj" % k), moved, faces)
+        times.append(0.05 * k)
+    with open(os.path.join(folder, "report.json"), "w") as f:
+        json.dump({"frames": frames, "frame_times": times}, f)
+
+
+def load(browser, page, timeout=120):
+    start = time.time()
+    browser.load("file://" + os.path.abspath(page), timeout=timeout)
+    browser.wait_for("document.body.dataset.drawnFrame === '0'", timeout=timeout)
+    return time.time() - start
+
+
+def clean(browser, page):
+    url = "file://" + os.path.abspath(page)
+    check(browser.console_errors() == [], page + ": no console error " + str(browser.console_errors()))
+    others = [u for u in browser.requests() if u != url]
+    check(others == [], page + ": no request but the page itself " + str(others))
+
+
+def main():
+    binary, work = sys.argv[1], sys.argv[2]
+    shots = sys.argv[sys.argv.index("--screenshots") + 1] if "--screenshots" in sys.argv else None
+    os.makedirs(work, exist_ok=True)
+    os.chdir(work)
+    flexure(binary, "mesh", "--family", "delaunay", "--n", "24", "--height", "quadratic:1,0,1",
+            "-o", "bowl.obj")
+    flexure(binary, "mesh", "--family", "sphere", "--n", "32", "-o", "sphere.obj")
+    flexure(binary, "mesh", "--family", "patch48", "--n", "16", "-o", "sheet.obj")
+    simulation_folder("sheet.obj", "sag", 20)
+    flexure(binary, "view", "bowl.obj", "sphere.obj", "-o", "side.html", "--quiet")
+    flexure(binary, "view", "bowl.obj", "--style", "curvature", "-o", "curvature.html", "--quiet")
+    flexure(binary, "view", "sag", "--style", "displacement", "-o", "sag.html", "--quiet")
+    flexure(binary, "view", "bowl.obj", "--style", "isophote", "-o", "isophote.html", "--quiet")
+
+    browser = Browser()
+    try:
+        # Two meshes side by side, reflection lines: each half drawn, both stripe colours.
+        load(browser, "side.html")
+        px = browser.evaluate(PIXELS)
+        check(px["left"] > 0.05 * px["total"] / 2 and px["right"] > 0.05 * px["total"] / 2,
+              "side.html: a mesh drawn in each view %s" % px)
+        check(px["dark"] > 0.1 * px["drawn"] and px["light"] > 0.1 * px["drawn"],
+              "side.html: dark and light reflection stripes")
+        names = browser.evaluate("document.getElementById('names').innerText")
+        check("bowl.obj" in names and "sphere.obj" in names, "side.html: both names shown")
+        # Orbiting moves the camera-locked stripes: the image changes.
+        before = px["sum"]
+        browser.evaluate("(() => { const c = flexureViewer.camera; c.position.applyAxisAngle("
+                         "new THREE.Vector3(0, 0, 1), 0.4); flexureViewer.controls.update(); })()")
+        check(browser.evaluate(PIXELS)["sum"] != before, "side.html: orbiting changes the image")
+        if shots:
+            browser.screenshot(os.path.join(shots, "view-side.png"))
+        clean(browser, "side.html")
+
+        # A curvature field: its legend shows the symmetric range of H, the bowl is coloured.
+        load(browser, "curvature.html")
+        lo = float(browser.evaluate("document.getElementById('legend-min').textContent"))
+        hi = float(browser.evaluate("document.getElementById('legend-max').textContent"))
+        title = browser.evaluate("document.getElementById('legend-title').textContent")
+        visible = browser.evaluate("!document.getElementById('legend').hidden")
+        # z = x² + y²: H = 2 at the apex (the sign is the kernel's), near it over the patch.
+        check(visible and "mean curvature" in title and lo == -hi and 1.0 < hi < 4.0,
+              "curvature.html: legend '%s' [%g, %g]" % (title, lo, hi))
+        px = browser.evaluate(PIXELS)
+        check(px["drawn"] > 0.05 * px["total"], "curvature.html: mesh drawn %s" % px)
+        check(browser.evaluate("document.getElementById('controls').hidden"),
+              "curvature.html: no slider for one frame")
+        if shots:
+            browser.screenshot(os.path.join(shots, "view-curvature.png"))
+        clean(browser, "curvature.html")
+
+        # A simulation: the slider shows another frame; the legend spans 0 .. the largest sag.
+        load(browser, "sag.html")
+        first = browser.evaluate(PIXELS)
+        check(browser.evaluate("document.getElementById('time').textContent") == "t = 0.000 s",
+              "sag.html: the first frame's time")
+        browser.evaluate("(() => { const s = document.getElementById('frame'); s.value = '19';"
+                         " s.dispatchEvent(new Event('input')); })()")
+        browser.wait_for("document.body.dataset.drawnFrame === '19'")
+        last = browser.evaluate(PIXELS)
+        check(browser.evaluate("document.getElementById('time').textContent") == "t = 0.950 s",
+              "sag.html: the slider shows the last frame's time")
+        check(last["sum"] != first["sum"] and last["drawn"] > 0.05 * last["total"],
+              "sag.html: the slider changes the frame drawn")
+        hi = float(browser.evaluate("document.getElementById('legend-max').textContent"))
+        expected = 0.8 * 0.5 + 0.08  # the corner (±1/2, ±1/2) of the last frame
+        check(abs(hi - expected) < 0.01 * expected, "sag.html: legend top %g ~ %g" % (hi, expected))
+        browser.evaluate("document.getElementById('play').click()")
+        time.sleep(0.3)
+        browser.evaluate("document.getElementById('play').click()")
+        check(browser.evaluate("document.getElementById('frame').value") != "19",
+              "sag.html: play advances the frames")
+        if shots:
+            browser.screenshot(os.path.join(shots, "view-sag.png"))
+        clean(browser, "sag.html")
+
+        load(browser, "isophote.html")
+        px = browser.evaluate(PIXELS)
+        check(px["dark"] > 0.05 * px["drawn"] and px["light"] > 0.05 * px["drawn"],
+              "isophote.html: dark and light bands %s" % px)
+        if shots:
+            browser.screenshot(os.path.join(shots, "view-isophote.png"))
+        clean(browser, "isophote.html")
+
+        # The driver does see a console error and a request when a page makes them.
+        browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
+        time.sleep(0.2)
+        browser.evaluate("1")
+        check(any("probe" in e for e in browser.console_errors()) and
+              any(u.startswith("http://127.0.0.1:9/") for u in browser.requests()),
+              "the driver records console errors and requests")
+
+        if "--measure" in sys.argv:
+            flexure(binary, "mesh", "--family", "patch48", "--n", "99", "-o", "big.obj")
+            simulation_folder("big.obj", "big", 100)
+            start = time.time()
+            flexure(binary, "view", "big", "--style", "displacement", "-o", "big.html", "--quiet")
+            print("measure: flexure view of 10 000 vertices x 100 frames: %.2f s, %.1f MB" %
+                  (time.time() - start, os.path.getsize("big.html") / 1e6))
+            seconds = load(browser, "big.html", timeout=300)
+            print("measure: load to the first frame drawn in headless chromium: %.2f s" % seconds)
+            start = time.time()
+            browser.evaluate("flexureViewer.setFrame(99)")
+            browser.wait_for("document.body.dataset.drawnFrame === '99'")
+            print("measure: one slider step: %.3f s" % (time.time() - start))
+            clean(browser, "big.html")
+    finally:
+        browser.close()
+    if failures:
+        print("%d check(s) failed" % len(failures))
+        sys.exit(1)
+    print("every check passed")
+
+
+if __name__ == "__main__":
+    main()
