@@ -145,12 +145,15 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
   if (!endsWithHtml(o.output))
     throw InputError("--output '" + o.output + "': flexure view writes an HTML page (.html)");
   render::ViewerPageSpec& page = o.page;
+  // The command's styles: the library's reflection, isophote and shaded, and its field style with
+  // the field named (curvature, displacement).
   const bool curvatureStyle = o.style == "curvature", displacementStyle = o.style == "displacement";
+  if (o.style != "reflection" && o.style != "isophote" && o.style != "shaded" && !curvatureStyle &&
+      !displacementStyle)
+    throw InputError("--style '" + o.style +
+                     "': expected reflection, isophote, shaded, curvature or displacement");
   page.style = curvatureStyle || displacementStyle ? render::ViewerStyle::Field
                                                    : render::parseViewerStyle(o.style);
-  if (o.style == "field")
-    throw InputError(
-        "--style field: expected reflection, isophote, shaded, curvature or displacement");
   if (!curvatureStyle && !o.curvatureEnergy.empty())
     throw InputError("--curvature-energy applies to --style curvature only");
   if (curvatureStyle) curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work

@@ -80,6 +80,7 @@ void bindSimulation(pybind11::module_& m);
 void bindFairing(pybind11::module_& m);
 void bindModes(pybind11::module_& m);
 void bindRender(pybind11::module_& m);
+void bindViewer(pybind11::module_& m);
 void bindMeshes(pybind11::module_& m);
 void bindStudy(pybind11::module_& m);
 

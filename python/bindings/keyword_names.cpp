@@ -132,6 +132,11 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"RenderOptions.referencePositions", "surface"},
       {"RenderOptions.markedFaces", "the faces marked at the mesh's problems"},
       {"RenderOptions.crackEdges", "the lips of the cracks"},
+      // flexure.view
+      {"ViewerPageSpec.meshes", "the meshes"},
+      {"ViewerPageSpec.style", "style"},
+      {"ViewerPageSpec.stripeCount", "stripes"},
+      {"ViewerPageSpec.stripeWidth", "stripe_width"},
   };
   return rows;
 }

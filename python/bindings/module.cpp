@@ -471,6 +471,7 @@ PYBIND11_MODULE(_flexure, m) {
   bindFairing(m);
   bindModes(m);
   bindRender(m);
+  bindViewer(m);
   bindMeshes(m);
   bindStudy(m);
 }

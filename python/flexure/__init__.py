@@ -25,7 +25,7 @@ __all__ = [
     "NumericalError", "read_mesh", "write_mesh", "mesh", "energies", "energy", "Problem",
     "minimize", "form", "LinearizedSolver", "Simulation", "fair", "modes", "render", "write_png",
     "read_png", "png_bytes", "info", "boundary_rings", "vertex_rings", "boundary_loops",
-    "converge", "c2_table", "compare_figure", "reuse_freed_memory", "sweep",
+    "converge", "c2_table", "compare_figure", "reuse_freed_memory", "sweep", "view", "View",
 ]
 
 NumericalError = _flexure.NumericalError
@@ -465,3 +465,4 @@ from .render import render, write_png, read_png, png_bytes  # noqa: E402
 from .meshes import info, boundary_rings, vertex_rings, boundary_loops  # noqa: E402
 from .study import converge, c2_table, compare_figure  # noqa: E402
 from .sweep import sweep  # noqa: E402
+from .viewer import view, View  # noqa: E402

@@ -1,0 +1,78 @@
+"""flexure.view: the same page as `flexure view`; _repr_html_ and save; refusals by keyword."""
+
+import base64
+import html
+import json
+import re
+
+import numpy as np
+import pytest
+
+import flexure
+from conftest import bent
+
+
+def page_data(page):
+    """The page's data object (its meshes' arrays decoded)."""
+    data = json.loads(re.search(r"const flexureData = (\{.*?\});\n", page, re.S).group(1))
+    for m in data["meshes"]:
+        m["positions"] = np.frombuffer(base64.b64decode(m["positions"]), "<f4")
+        m["triangles"] = np.frombuffer(base64.b64decode(m["triangles"]), "<u4")
+        if m["fields"]:
+            m["fields"] = np.frombuffer(base64.b64decode(m["fields"]), "<f4")
+    return data
+
+
+def test_same_page_as_the_cli(cli, plate, tmp_path):
+    V, F = plate
+    W = bent(V, 3)
+    flexure.write_mesh(tmp_path / "a.obj", W, F)
+    cli("-q", "view", tmp_path / "a.obj", "-o", tmp_path / "a.html", "--style", "curvature")
+    python = flexure.view(tmp_path / "a.obj", style="curvature").html
+    expected = (tmp_path / "a.html").read_text()
+    # The title names the input as given; everything else is the same bytes.
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip(expected)
+
+
+def test_arrays_frames_and_fields(plate):
+    V, F = plate
+    frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])
+    view = flexure.view((frames, F), (V, F), style="displacement", names=["moving", "still"],
+                        times=[0, 0.5, 1.0, 1.5])
+    data = page_data(view.html)
+    moving, still = data["meshes"]
+    assert moving["name"] == "moving" and moving["frameCount"] == 4 and still["frameCount"] == 1
+    assert moving["times"] == [0, 0.5, 1.0, 1.5] and still["times"] == []
+    np.testing.assert_allclose(moving["positions"].reshape(4, -1, 3), frames, atol=1e-6)
+    np.testing.assert_array_equal(moving["triangles"].reshape(-1, 3), F)
+    # |x − first frame|: 0.1 k at every vertex of frame k; the legend spans [0, 0.3].
+    np.testing.assert_allclose(moving["fields"].reshape(4, -1), np.repeat(
+        0.1 * np.arange(4)[:, None], V.shape[0], axis=1), atol=1e-6)
+    assert data["rangeText"] == ["0", "0.3"] and data["style"] == 4
+
+
+def test_repr_html_and_save(plate, tmp_path):
+    V, F = plate
+    view = flexure.view((V, F))
+    shown = view._repr_html_()
+    assert shown.startswith("<iframe srcdoc=") and "<script>" not in shown
+    assert html.unescape(re.search(r'srcdoc="(.*?)"', shown, re.S).group(1)) == view.html
+    view.save(tmp_path / "v.html")
+    assert (tmp_path / "v.html").read_text() == view.html
+    assert [p.name for p in tmp_path.iterdir()] == ["v.html"]  # no temporary left
+
+
+@pytest.mark.parametrize("args, kwargs, words", [
+    ((), {}, "meshes"),
+    (("plate",), {"style": "wavy"}, "style"),
+    (("plate",), {"stripe_width": 1.5}, "stripe_width"),
+    (("plate",), {"stripes": 0}, "stripes"),
+    (("plate",), {"rest": np.zeros((3, 3))}, "rest"),
+    (("plate",), {"style": "displacement", "rest": np.zeros((3, 3))}, "rest"),
+    (("plate",), {"names": ["a", "b"]}, "names"),
+])
+def test_refusals_name_the_keyword(plate, args, kwargs, words):
+    meshes = [plate if a == "plate" else a for a in args]
+    with pytest.raises(ValueError, match=words):
+        flexure.view(*meshes, **kwargs)
