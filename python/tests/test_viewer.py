@@ -76,3 +76,36 @@ def test_refusals_name_the_keyword(plate, args, kwargs, words):
     meshes = [plate if a == "plate" else a for a in args]
     with pytest.raises(ValueError, match=words):
         flexure.view(*meshes, **kwargs)
+
+
+def test_repr_html_draws_inside_a_host_page(plate, tmp_path):
+    """The iframe of _repr_html_, in a page as a notebook holds it, loaded in headless Chromium:
+    the mesh is drawn in the displacement map's colours, with no console error or request."""
+    import pathlib
+    import sys
+    import time
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "tests" / "viewer"))
+    from cdp import Browser
+    V, F = plate
+    frames = np.stack([V + [0, 0, 0.1 * k] for k in range(3)])
+    host = tmp_path / "host.html"
+    host.write_text("<!DOCTYPE html><html><body><p>cell</p>" +
+                    flexure.view((frames, F), style="displacement")._repr_html_() +
+                    "</body></html>")
+    browser = Browser(width=800, height=600)
+    try:
+        browser.load(host.as_uri())
+        deadline = time.time() + 60
+        while True:
+            browser.screenshot(tmp_path / "host.png")
+            image = flexure.read_png(tmp_path / "host.png").astype(int)
+            # viridis' first stop (0.267, 0.005, 0.329): frame 0 is at rest, |x − rest| = 0.
+            violet = np.all(np.abs(image - [68, 1, 84]) <= 12, axis=2).sum()
+            if violet > 0.05 * image.shape[0] * image.shape[1] or time.time() > deadline:
+                break
+            time.sleep(0.2)
+        assert violet > 0.05 * image.shape[0] * image.shape[1]
+        assert browser.console_errors() == []
+        assert browser.requests() == [host.as_uri()]
+    finally:
+        browser.close()
