@@ -31,6 +31,8 @@ class Browser:
         def child_fds():
             os.dup2(to_browser_read, 3)
             os.dup2(from_browser_write, 4)
+        # The browser is not under test: a sanitized test run's preloaded runtimes stay out of it.
+        environment = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
         self.process = subprocess.Popen(
             [chromium, "--headless=new", "--remote-debugging-pipe", "--no-sandbox",
              "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
@@ -38,7 +40,7 @@ class Browser:
              "--disable-component-update", "--disable-sync", "--user-data-dir=" + self.profile,
              "--window-size=%d,%d" % (width, height), "about:blank"],
             pass_fds=(3, 4), preexec_fn=child_fds,
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=environment)
         os.close(to_browser_read)
         os.close(from_browser_write)
         self.buffer = b""
