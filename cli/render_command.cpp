@@ -12,6 +12,7 @@
 
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/curvature_arguments.h"
 #include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_check.h"
@@ -106,31 +107,6 @@ std::string problemSummary(const modeling::MeshCheck& check) {
             std::string(modeling::meshProblemName(static_cast<modeling::MeshProblemKind>(k)));
   }
   return text;
-}
-
-bool givesMeanCurvature(const curvature::EnergyEntry& e) {
-  return static_cast<bool>(e.meanCurvatureField);
-}
-
-// The energy whose kernel measures H for the curvature style: --curvature-energy's, else the
-// registry's default (the first that gives a mean-curvature field).
-const curvature::EnergyEntry& curvatureEnergy(const std::string& name) {
-  if (name.empty()) return curvature::defaultMeanCurvatureEnergy();
-  const curvature::EnergyEntry* entry = curvature::findEnergy(name);
-  if (!entry || !givesMeanCurvature(*entry))
-    throw InputError("--curvature-energy " + name + ": expected " +
-                     curvature::energyNamesWhere(givesMeanCurvature));
-  return *entry;
-}
-
-// --curvature-energy's help: each energy that gives H, how, and the default.
-std::string curvatureEnergyHelp() {
-  std::string ways;
-  for (const curvature::EnergyEntry& e : curvature::registeredEnergies())
-    if (givesMeanCurvature(e))
-      ways += (ways.empty() ? "" : "; ") + e.name + ": " + e.meanCurvatureFormula;
-  return "Curvature style: the discretization of H (" + ways + "; default " +
-         curvature::defaultMeanCurvatureEnergy().name + ")";
 }
 
 // The mesh to draw: a valid one as every command reads it; one that only the mesh checks refuse,

@@ -15,6 +15,7 @@
 
 #include "cli/command_files.h"
 #include "cli/commands.h"
+#include "cli/curvature_arguments.h"
 #include "curvature/energy_registry.h"
 #include "modeling/atomic_write.h"
 #include "modeling/errors.h"
@@ -97,19 +98,6 @@ render::ViewerMesh readViewerMesh(const std::string& input) {
   }
   m.frameTimes = simulationFrameTimes(input, m.frames.size());
   return m;
-}
-
-bool givesMeanCurvature(const curvature::EnergyEntry& e) {
-  return static_cast<bool>(e.meanCurvatureField);
-}
-
-const curvature::EnergyEntry& curvatureEnergy(const std::string& name) {
-  if (name.empty()) return curvature::defaultMeanCurvatureEnergy();
-  const curvature::EnergyEntry* entry = curvature::findEnergy(name);
-  if (!entry || !givesMeanCurvature(*entry))
-    throw InputError("--curvature-energy " + name + ": expected " +
-                     curvature::energyNamesWhere(givesMeanCurvature));
-  return *entry;
 }
 
 // The mean curvature H at every frame (the energy's kernel, as flexure render's curvature style).
@@ -212,9 +200,7 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
       ->check(inRange(1, 1000));
   sub->add_option("--stripe-width", o.page.stripeWidth,
                   "Dark fraction of each stripe period, in (0, 1) (default 0.5)");
-  sub->add_option("--curvature-energy", o.curvatureEnergy,
-                  "Curvature style: the discretization of H (default " +
-                      curvature::defaultMeanCurvatureEnergy().name + ")");
+  sub->add_option("--curvature-energy", o.curvatureEnergy, curvatureEnergyHelp());
   files->input("--reference", o.reference,
                "Displacement style: the rest mesh (default: a simulation's first frame)");
   sub->add_flag("--overlay", o.page.overlay, "Every input in one view instead of one view each");
