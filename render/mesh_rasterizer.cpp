@@ -99,6 +99,8 @@ GLuint compileShader(const GlFunctions& gl, GLenum kind, const char* source, con
 GLuint linkProgram(const GlFunctions& gl, bool cracks) {
   const GLuint vertex = compileShader(gl, GL_VERTEX_SHADER, kVertexShader, "vertex");
   std::string fragmentSource = kFragmentShader;
+  const std::string stripes = "@STRIPE_FUNCTIONS@";
+  fragmentSource.replace(fragmentSource.find(stripes), stripes.size(), kStripeFunctions);
   if (cracks) fragmentSource.insert(fragmentSource.find('\n') + 1, "#define CRACKS\n");
   const GLuint fragment = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource.c_str(), "fragment");
   const GLuint program = gl.CreateProgram();

@@ -65,6 +65,21 @@ void main() {
 // Stripes are dark where s is within w/2 of an integer (w = the dark fraction of a period); the
 // edges are smoothed over one pixel, |∇s| ≈ fwidth(s), against aliasing. The edge overlay paints
 // blue the pixels within about one pixel of a triangle edge (a barycentric coordinate near 0).
+const char* const kStripeFunctions = R"(
+const vec3 darkStripeColour = vec3(0.06);
+const vec3 lightStripeColour = vec3(0.96);
+const vec3 surfaceColour = vec3(0.72, 0.77, 0.86);
+
+// 1 on a dark stripe, 0 on a light one: the stripes are the bands of width stripeWidth (a
+// fraction of the period) centred on the integers of s, antialiased over one pixel.
+float darkStripe(float s) {
+  float distanceToLine = abs(s - floor(s + 0.5));
+  float halfPixel = 0.5 * max(fwidth(s), 1e-6);
+  return 1.0 - smoothstep(0.5 * stripeWidth - halfPixel, 0.5 * stripeWidth + halfPixel,
+                          distanceToLine);
+}
+)";
+
 const char* const kFragmentShader = R"(#version 450 core
 in vec3 framePosition;
 in vec3 frameNormal;
@@ -90,17 +105,8 @@ uniform vec3 crackColour;
 uniform float crackWidth;
 out vec4 colour;
 
-const vec3 darkStripeColour = vec3(0.06);
-const vec3 lightStripeColour = vec3(0.96);
-const vec3 surfaceColour = vec3(0.72, 0.77, 0.86);
 const vec3 edgeColour = vec3(0.15, 0.35, 0.85);  // visible on black and on white stripes
-
-float darkStripe(float s) {
-  float distanceToLine = abs(s - round(s));
-  float halfPixel = 0.5 * max(fwidth(s), 1e-6);
-  return 1.0 - smoothstep(0.5 * stripeWidth - halfPixel, 0.5 * stripeWidth + halfPixel,
-                          distanceToLine);
-}
+@STRIPE_FUNCTIONS@
 
 vec3 colourMap(float value) {
   float t = clamp((value - scalarRange.x) / (scalarRange.y - scalarRange.x), 0.0, 1.0);

@@ -10,6 +10,7 @@
 #include "modeling/errors.h"
 #include "render/colour_map.h"
 #include "render/mesh_renderer.h"
+#include "render/mesh_shaders.h"
 #include "render/viewer_assets.h"
 
 namespace flexure::render {
@@ -260,7 +261,8 @@ std::string viewerPageHtml(const ViewerPageSpec& spec) {
   return filledTemplate(viewerTemplate(), {{"@FLEXURE_TITLE@", title},
                                            {"@FLEXURE_DATA@", data},
                                            {"@FLEXURE_ORBIT_CONTROLS@", orbitControlsScript()},
-                                           {"@FLEXURE_THREE@", threeScript()}});
+                                           {"@FLEXURE_THREE@", threeScript()},
+                                           {"@STRIPE_FUNCTIONS@", kStripeFunctions}});
 }
 
 std::size_t writeViewerPage(const std::string& path, const ViewerPageSpec& spec) {
