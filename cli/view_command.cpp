@@ -21,6 +21,7 @@
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fields.h"
 
 extern char** environ;
 
@@ -100,23 +101,6 @@ render::ViewerMesh readViewerMesh(const std::string& input) {
   return m;
 }
 
-// The mean curvature H at every frame (the energy's kernel, as flexure render's curvature style).
-void addCurvature(render::ViewerMesh& m, const curvature::EnergyEntry& energy) {
-  for (const modeling::Positions& x : m.frames) {
-    const std::vector<double> h = energy.meanCurvatureField(modeling::Mesh{x, m.triangles});
-    m.fields.push_back(Eigen::Map<const Eigen::VectorXd>(h.data(), Eigen::Index(h.size())));
-  }
-}
-
-// |x − x_rest| at every vertex of every frame.
-void addDisplacement(render::ViewerMesh& m, const modeling::Positions& rest,
-                     const std::string& restName) {
-  if (rest.rows() != m.frames[0].rows())
-    throw InputError("--reference " + restName + ": " + std::to_string(rest.rows()) +
-                     " vertices, but " + m.name + " has " + std::to_string(m.frames[0].rows()));
-  for (const modeling::Positions& x : m.frames) m.fields.push_back((x - rest).rowwise().norm());
-}
-
 // Opens `page` with $BROWSER, else xdg-open, without waiting; a notice when neither starts.
 void openPage(const std::string& page) {
   const char* browser = std::getenv("BROWSER");
@@ -149,21 +133,14 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
     throw InputError("--reference applies to --style displacement only");
 
   for (const std::string& input : o.inputs) page.meshes.push_back(readViewerMesh(input));
-  if (curvatureStyle) {
-    const curvature::EnergyEntry& energy = curvatureEnergy(o.curvatureEnergy);
-    page.fieldTitle = "mean curvature H (" + energy.name + ")";
-    page.diverging = true;
-    for (render::ViewerMesh& m : page.meshes) addCurvature(m, energy);
-  } else if (displacementStyle) {
-    page.fieldTitle = "displacement |x - x_rest|";
-    std::optional<modeling::Mesh> rest;
-    if (!o.reference.empty()) rest = modeling::readMesh(o.reference);
-    for (render::ViewerMesh& m : page.meshes) {
-      if (!rest && m.frames.size() == 1)
+  if (curvatureStyle) reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
+  if (displacementStyle) {
+    modeling::Positions rest;
+    if (!o.reference.empty()) rest = modeling::readMesh(o.reference).positions;
+    for (const render::ViewerMesh& m : page.meshes)
+      if (rest.rows() == 0 && m.frames.size() == 1)
         throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
-      addDisplacement(m, rest ? rest->positions : m.frames[0],
-                      rest ? o.reference : m.name + "'s first frame");
-    }
+    reports::addDisplacementFields(page, rest, "--reference " + o.reference);
   }
   page.title = "flexure view: " + o.inputs.front() + (o.inputs.size() > 1 ? " ..." : "");
   // Its own batch, committed here, so that the page is in place before --open shows it.

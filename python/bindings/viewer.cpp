@@ -12,6 +12,7 @@
 #include "modeling/errors.h"
 #include "python/bindings/bindings.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fields.h"
 
 namespace py = pybind11;
 
@@ -33,36 +34,17 @@ using ViewerItem = std::tuple<std::string, Triangles, std::vector<Positions>, st
 py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments& a) {
   render::ViewerPageSpec page;
   const bool curvatureStyle = a.style == "curvature", displacementStyle = a.style == "displacement";
-  page.style = curvatureStyle || displacementStyle ? render::ViewerStyle::Field
-                                                   : render::parseViewerStyle(a.style);
+  if (!curvatureStyle && !displacementStyle) page.style = render::parseViewerStyle(a.style);
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
-  const curvature::EnergyEntry& energy = curvature::defaultMeanCurvatureEnergy();
-  if (curvatureStyle) {
-    page.fieldTitle = "mean curvature H (" + energy.name + ")";
-    page.diverging = true;
-  } else if (displacementStyle) {
-    page.fieldTitle = "displacement |x - x_rest|";
-  }
   for (const auto& [name, F, frames, times] : items) {
-    render::ViewerMesh m{name, F, frames, times, {}};
-    if (frames.empty()) throw InputError(name + ": no frames");
-    for (const Positions& V : frames) {
-      const modeling::Mesh mesh = checkedMesh(V, F, name);
-      if (curvatureStyle) {
-        const std::vector<double> h = energy.meanCurvatureField(mesh);
-        m.fields.push_back(Eigen::Map<const Eigen::VectorXd>(h.data(), Eigen::Index(h.size())));
-      } else if (displacementStyle) {
-        const Positions& rest = a.rest ? *a.rest : frames.front();
-        if (rest.rows() != V.rows())
-          throw InputError("rest: " + std::to_string(rest.rows()) + " vertices, but " + name +
-                           " has " + std::to_string(V.rows()));
-        m.fields.push_back((V - rest).rowwise().norm());
-      }
-    }
-    page.meshes.push_back(std::move(m));
+    for (const Positions& V : frames) checkedMesh(V, F, name);
+    page.meshes.push_back({name, F, frames, times, {}});
   }
+  if (curvatureStyle)
+    reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());
+  if (displacementStyle) reports::addDisplacementFields(page, a.rest.value_or(Positions()), "rest");
   page.validate();
   return py::bytes(render::viewerPageHtml(page));
 }
