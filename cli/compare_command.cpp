@@ -203,7 +203,7 @@ void registerCompareCommand(CLI::App& app, const GlobalOptions& global) {
                   "polynomial:EXPR)")
       ->capture_default_str()
       ->check(surfaceSpec());
-  sub->add_option("--n", o.n, "Cells per side of the meshes")
+  sub->add_option("-n,--n", o.n, "Cells per side of the meshes")
       ->capture_default_str()
       ->check(inRange(4, 256));
   sub->add_option("--solve", o.solve,

@@ -1,6 +1,8 @@
 // flexure converge: the convergence study — C1, C2, nonlinear C2 and refinement — over energies,
 // mesh families and levels, written as results.json, results.csv, summary.md and PNG plots.
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -12,9 +14,12 @@
 #include "cli/solver_arguments.h"
 #include "cli/spectrum_outputs.h"
 #include "cli/study_outputs.h"
+#include "cli/sweep_dispatch.h"
+#include "modeling/atomic_write.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
 #include "optimize/studies/convergence_study.h"
+#include "reports/study_parts.h"
 
 namespace flexure::cli {
 namespace {
@@ -30,6 +35,11 @@ struct ConvergeCommandOptions {
   // --measure modes: the vibration spectrum (reports/spectrum_outputs.h) in place of C1/C2.
   std::string measure = "c1c2", support = "simply-supported";
   int count = 6;
+  // The energies as the cases of a Dask sweep (cli/sweep_dispatch.h): a scheduler's address, or
+  // local worker processes; threadsGiven: --threads was given (each case's, else 1).
+  std::string scheduler;
+  int workers = 0;
+  bool threadsGiven = false;
 };
 
 // "a,b,c;a,b,c;…" → quadratics. Throws InputError quoting the entry.
@@ -118,9 +128,103 @@ optimize::SpectrumStudyOptions spectrumOptions(const ConvergeCommandOptions& o,
   return spectrum;
 }
 
+// The run spec of one energy's part of the study: `flexure converge` with the command's options,
+// ${energy} for --energies, writing to the case folder's part/. Meshes by absolute path (a case
+// runs in its own folder).
+nlohmann::json convergePartSpec(const ConvergeCommandOptions& o, bool familiesGiven) {
+  nlohmann::json options = {{"energies", "${energy}"},
+                            {"seeds", o.seeds},
+                            {"n", o.n},
+                            {"levels", o.levels},
+                            {"amplitudes", o.amplitudes},
+                            {"solution", o.solution},
+                            {"threads", o.threadsGiven ? o.threads : 1},
+                            {"solver", o.solver.solver},
+                            {"hessian", o.solver.hessian},
+                            {"o", "part"}};
+  if (familiesGiven) options["families"] = o.families;
+  nlohmann::json meshes = nlohmann::json::array();
+  for (const std::string& file : o.meshFiles)
+    meshes.push_back(std::filesystem::absolute(file).string());
+  if (!meshes.empty()) options["mesh"] = meshes;
+  if (!o.quadratics.empty()) options["quadratics"] = o.quadratics;
+  if (o.poisson) options["poisson"] = *o.poisson;
+  return {{"command", "converge"}, {"options", options}};
+}
+
+// The parts' results.json (DIR/cases/<case>/part/), in the sweep table's row order (the energies'),
+// read back and joined; user meshes renamed from the absolute paths the parts were given to the
+// names the command was given.
+optimize::StudyResults joinConvergeParts(const ConvergeCommandOptions& o,
+                                         const optimize::StudyOptions& study,
+                                         const std::filesystem::path& cases) {
+  const auto readJson = [](const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot be read");
+    try {
+      return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+      throw InputError(path.string() + ": not valid JSON: " + e.what());
+    }
+  };
+  const nlohmann::json table = readJson(cases / "sweep.json");
+  std::vector<optimize::StudyResults> parts;
+  for (const nlohmann::json& row : table) {
+    const auto file = cases / row.at("case").get<std::string>() / "part" / "results.json";
+    parts.push_back(reports::studyResultsFromJson(readJson(file), study, file.string()));
+  }
+  if (parts.size() != study.energies.size())
+    throw InputError((cases / "sweep.json").string() + ": " + std::to_string(parts.size()) +
+                     " parts for " + std::to_string(study.energies.size()) + " energies");
+  optimize::StudyResults joined = reports::joinStudyParts(std::move(parts));
+  for (const std::string& file : o.meshFiles) {
+    const std::string absolute = std::filesystem::absolute(file).string();
+    for (optimize::StudyRecord& r : joined.records)
+      if (r.family == absolute) r.family = file;
+  }
+  return joined;
+}
+
+// --scheduler / --workers: each energy's part of the study is a case of a Dask sweep in
+// DIR/cases/ (resumable: a rerun runs only the parts not done), then the parts are joined and
+// written as a local run writes them; the tables equal a local run's.
+void runConvergeSweep(const ConvergeCommandOptions& o, bool familiesGiven,
+                      const GlobalOptions& global) {
+  const optimize::StudyOptions study = studyOptions(o, familiesGiven);
+  study.validate();
+  nlohmann::json energies = nlohmann::json::array();
+  for (const optimize::EnergyVariant& v : study.energies)
+    energies.push_back(optimize::energyVariantSpec(v));
+  const std::filesystem::path cases = std::filesystem::path(o.outputDir) / "cases";
+  modeling::createOutputDirectory(cases.string());
+  modeling::writeFileNow((cases / "part.json").string(),
+                         convergePartSpec(o, familiesGiven).dump(1) + "\n");
+  modeling::writeFileNow((cases / "grid.json").string(),
+                         nlohmann::json{{"energy", energies}}.dump(1) + "\n");
+  const int code = runSweep({(cases / "part.json").string(), (cases / "grid.json").string(),
+                             cases.string(), o.scheduler, o.workers},
+                            global, "flexure converge");
+  if (code != 0) {
+    std::cerr << "flexure converge: not every energy's part of the study ran (" << cases.string()
+              << "/sweep.csv); no table was written; a rerun runs only the parts not done\n";
+    throw CLI::RuntimeError(code);
+  }
+  const optimize::StudyResults results = joinConvergeParts(o, study, cases);
+  const std::string summary = reports::writeStudyOutputs(
+      study, results, optimize::summarizeStudy(study, results), o.outputDir);
+  std::cout << summary;
+  if (!global.quiet) {
+    std::cerr << "flexure converge: joined " << study.energies.size()
+              << " parts; wrote results.json, results.csv, summary.md and the plots to "
+              << o.outputDir << '\n';
+  }
+}
+
 void runConvergeCommand(const ConvergeCommandOptions& o, bool familiesGiven,
                         const GlobalOptions& global) {
   if (o.measure == "modes") {
+    if (!o.scheduler.empty() || o.workers > 0)
+      throw InputError("--scheduler and --workers apply to --measure c1c2");
     if (!o.meshFiles.empty())
       throw InputError("--measure modes runs on the generated square plates; --mesh is for C1/C2");
     const std::string summary = runSpectrumStudyInto(spectrumOptions(o, familiesGiven), o.outputDir,
@@ -134,6 +238,7 @@ void runConvergeCommand(const ConvergeCommandOptions& o, bool familiesGiven,
     return;
   }
   if (o.measure != "c1c2") throw InputError("--measure " + o.measure + ": expected c1c2 or modes");
+  if (!o.scheduler.empty() || o.workers > 0) return runConvergeSweep(o, familiesGiven, global);
   const optimize::StudyOptions study = studyOptions(o, familiesGiven);
   const std::string summary = runStudyInto(study, o.outputDir, global, "flexure converge");
   std::cout << summary;
@@ -174,7 +279,7 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
   auto files = CommandFiles::of(*sub);
   files->inputs("--mesh", options->meshFiles,
                 "A flat mesh of yours (z = 0; repeat for several): C1, C2, nonlinear C2");
-  sub->add_option("--n", options->n, "Cells per side of the coarsest generated meshes")
+  sub->add_option("-n,--n", options->n, "Cells per side of the coarsest generated meshes")
       ->capture_default_str()
       ->check(inRange(2, 1024));
   sub->add_option("--levels", options->levels, "Refinement levels: n, 2n, …, 2^(K-1) n (1 to 8)")
@@ -198,9 +303,19 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                       curvature::energyNamesWhere(takesPoisson, ", ", " and ") + " (default 0.3; " +
                       curvature::energyNamesWhere(meanCurvatureOnly, ", ", " and ") +
                       " are nu = 1 models)");
-  sub->add_option("--threads", options->threads, "Independent cases run on this many threads")
-      ->capture_default_str()
-      ->check(inRange(1, maxThreads()));
+  CLI::Option* threads =
+      sub->add_option("--threads", options->threads,
+                      "Independent cases run on this many threads (with --scheduler or "
+                      "--workers: in each part; default 1 there)")
+          ->capture_default_str()
+          ->check(inRange(1, maxThreads()));
+  sub->add_option("--scheduler", options->scheduler,
+                  "Run each energy's part of the study as a case of a Dask sweep on the "
+                  "scheduler at this address, in DIR/cases (docs/sweeps.md); the tables equal "
+                  "a local run's");
+  sub->add_option("--workers", options->workers,
+                  "The same on this many local Dask worker processes")
+      ->check(CLI::PositiveNumber);
   addSolverArguments(*sub, options->solver);
   sub->add_option("--measure", options->measure,
                   "c1c2 (quadratic reproduction, nonlinear C2, refinement) | modes (the "
@@ -237,6 +352,7 @@ void registerConvergeCommand(CLI::App& app, const GlobalOptions& global) {
                : std::vector<const CLI::Option*>{support, count})
       if (other->count() > 0)
         throw InputError(other->get_name() + " applies to --measure " + (modes ? "c1c2" : "modes"));
+    options->threadsGiven = threads->count() > 0;
     runConvergeCommand(*options, families->count() > 0, global);
   });
 }

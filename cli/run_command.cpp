@@ -9,12 +9,6 @@
 // false or null is left out, an array passes several values. "inputs" are positional arguments.
 // Relative paths resolve against the working directory, as on the command line; "${spec_dir}" in
 // a string stands for the directory holding the spec, so a spec can name files kept beside it.
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -22,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/sweep_dispatch.h"
 #include "modeling/errors.h"
 
 namespace flexure::cli {
@@ -89,54 +84,10 @@ std::vector<std::string> commandLine(const nlohmann::json& step, const std::stri
   return args;
 }
 
-// A sweep is Python's flexure.sweep on Dask (docs/sweeps.md): `python3 -m flexure sweep`, with
-// this executable as the command the cases run. The interpreter: $FLEXURE_PYTHON, else Debian's
-// /usr/bin/python3 (the one the module is built for), else python3 on PATH; the package: the
-// build tree's beside this executable (build/cli/flexure → build/python) ahead of PYTHONPATH,
-// else the installed one. The sweep checks the grid and every case before any runs (exit 2).
-int runSweep(const RunCommandOptions& o, const GlobalOptions& global) {
-  namespace fs = std::filesystem;
-  const fs::path self = fs::read_symlink("/proc/self/exe");
-  const fs::path buildTreePackage = self.parent_path().parent_path() / "python";
-  std::string pythonPath;
-  if (fs::exists(buildTreePackage / "flexure" / "__init__.py")) {
-    const char* path = std::getenv("PYTHONPATH");
-    pythonPath = buildTreePackage.string() + (path && *path ? ":" + std::string(path) : "");
-  }
-  const char* chosen = std::getenv("FLEXURE_PYTHON");
-  const std::string python =
-      chosen && *chosen ? chosen
-                        : (fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3");
-  std::vector<std::string> args = {python,     "-m",    "flexure",  "sweep",     o.specFile,
-                                   o.gridFile, "--out", o.sweepDir, "--command", self.string()};
-  if (!o.scheduler.empty()) args.insert(args.end(), {"--scheduler", o.scheduler});
-  if (o.workers > 0) args.insert(args.end(), {"--workers", std::to_string(o.workers)});
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::cout.flush();
-  const pid_t child = fork();
-  if (child == 0) {
-    if (!pythonPath.empty()) setenv("PYTHONPATH", pythonPath.c_str(), 1);
-    execvp(argv[0], argv.data());
-    std::cerr << "flexure run --grid: cannot start " << python << " (" << std::strerror(errno)
-              << "); a sweep needs Python 3 with flexure's module and Dask's distributed "
-                 "(set FLEXURE_PYTHON to choose the interpreter)\n";
-    _exit(kExitInputError);
-  }
-  int status = 0;
-  if (child < 0 || waitpid(child, &status, 0) < 0)
-    throw InputError(std::string("flexure run --grid: cannot start the sweep: ") +
-                     std::strerror(errno));
-  if (!global.quiet && WIFSIGNALED(status))
-    std::cerr << "flexure run --grid: the sweep was killed by signal " << WTERMSIG(status) << '\n';
-  // Python's "No module named flexure / distributed" exits 1: a missing prerequisite, bad input.
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 3;
-  return code == 1 ? kExitInputError : code;
-}
-
 int runRunCommand(const RunCommandOptions& o, const GlobalOptions& global) {
-  if (!o.gridFile.empty()) return runSweep(o, global);
+  if (!o.gridFile.empty())
+    return runSweep({o.specFile, o.gridFile, o.sweepDir, o.scheduler, o.workers}, global,
+                    "flexure run --grid");
   std::ifstream in(o.specFile);
   if (!in) throw InputError(o.specFile + ": cannot open the run spec");
   nlohmann::json spec;

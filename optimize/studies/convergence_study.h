@@ -178,6 +178,9 @@ struct EnergyVariant {
 // (triavg, midedge, quadfit; hinge and cotan are ν = 1 models). Throws InputError listing the
 // names.
 EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> poisson = {});
+// The spec parseEnergyVariant reads back into `v`: its label with "(option)" as ":option"
+// ("hinge(tan)" → "hinge:tan", "midedge(free)" → "midedge:free").
+std::string energyVariantSpec(const EnergyVariant& v);
 // The spellings parseEnergyVariant takes, in registry order: each energy's name, and name:option
 // for each option it reads (hinge:tan, cotan:barycentric and, withBoundaryNormals, midedge:free);
 // the last two joined by `lastSeparator`.

@@ -62,6 +62,12 @@ EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> po
   return v;
 }
 
+std::string energyVariantSpec(const EnergyVariant& v) {
+  const auto open = v.label.find('(');
+  if (open == std::string::npos) return v.label;
+  return v.label.substr(0, open) + ":" + v.label.substr(open + 1, v.label.size() - open - 2);
+}
+
 std::vector<EnergyVariant> defaultEnergyVariants(std::optional<double> poisson) {
   std::vector<const curvature::EnergyEntry*> entries;
   for (const curvature::EnergyEntry& e : curvature::registeredEnergies()) entries.push_back(&e);

@@ -32,6 +32,7 @@ _PLACEHOLDER = re.compile(r"\$\{([A-Za-z_][A-Za-z0-9_]*)\}")
 _STATUS = "status.json"
 _CASE_SPEC = "case.json"
 _TABLE = "sweep.csv"
+_TABLE_JSON = "sweep.json"  # the same rows, for programs (non-finite numbers as null)
 _STATUS_COLUMNS = ["case", "status", "exit_code", "message", "seconds", "worker", "attempts"]
 
 
@@ -194,6 +195,12 @@ def _write_json_atomically(path, data):
         f.flush()
         os.fsync(f.fileno())
     os.replace(temporary, path)
+
+
+def _finite(table):
+    """The table with NaN and infinite numbers as None: JSON has no spelling for them."""
+    return [{k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+             for k, v in entry.items()} for entry in table]
 
 
 def _headline(report_path):
@@ -427,9 +434,10 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
     A case whose folder holds a status with exit 0 for the same case spec is skipped (status
     "skipped"); a case that exits 2 or 3 is recorded with its message ("failed") and the others
     go on. Returns the table — a pandas DataFrame when pandas is installed, else a list of dicts,
-    also written to ``out_dir/sweep.csv``: the grid values, case, status (done | skipped |
-    failed | lost), exit_code, message, seconds, worker, attempts (runs started for the case in
-    this sweep, killed ones included), and the report's top-level numbers and booleans.
+    also written to ``out_dir/sweep.csv`` and ``out_dir/sweep.json`` (non-finite numbers null):
+    the grid values, case, status (done | skipped | failed | lost), exit_code, message, seconds,
+    worker, attempts (runs started for the case in this sweep, killed ones included), and the
+    report's top-level numbers and booleans.
     """
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
                                 or workers < 1):
@@ -475,6 +483,7 @@ def sweep(spec, grid, client=None, out_dir="sweep", workers=None, command=None, 
         statuses.update(ran)
     table, columns = _table(rows, [c for c, _ in cases], statuses, attempts)
     _write_csv(os.path.join(out_dir, _TABLE), table, columns)
+    _write_json_atomically(os.path.join(out_dir, _TABLE_JSON), _finite(table))
     try:
         import pandas
     except ImportError:

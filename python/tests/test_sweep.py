@@ -57,6 +57,8 @@ def test_sweep_on_two_workers_equals_the_cases_run_one_by_one(client, cli_path, 
     assert table["worker"].nunique() == 2  # both workers ran cases
     on_disk = list(csv.DictReader(open(tmp_path / "sweep" / "sweep.csv")))
     assert [r["case"] for r in on_disk] == list(table["case"])
+    as_json = json.loads((tmp_path / "sweep" / "sweep.json").read_text())
+    assert [r["case"] for r in as_json] == list(table["case"])
     compared = 0
     for k, row in table.iterrows():
         report = one_by_one(cli_path, tmp_path / "serial" / row["case"], row["energy"], row["a"],
@@ -106,7 +108,8 @@ def test_a_worker_killed_mid_case_has_its_case_retried_and_its_folder_whole(clie
         assert json.loads((folder / "status.json").read_text())["exit_code"] == 0
         assert json.loads((folder / "report.json").read_text())["converged"] is True
         assert (folder / "bent.obj").stat().st_size > 0
-    assert sorted(p.name for p in out.iterdir()) == sorted(list(table["case"]) + ["sweep.csv"])
+    tables = ["sweep.csv", "sweep.json"]
+    assert sorted(p.name for p in out.iterdir()) == sorted(list(table["case"]) + tables)
     client.wait_for_workers(2, timeout=60)
 
 
@@ -197,3 +200,48 @@ def test_an_out_dir_that_is_a_file_is_refused(cli_path, tmp_path):
         flexure.sweep(SPEC, GRID, client="tcp://127.0.0.1:1", out_dir=tmp_path / "s",
                       command=cli_path)
     assert (tmp_path / "s").read_text() == "not a folder"
+
+
+def test_flexure_converge_on_a_scheduler_writes_a_local_runs_tables(client, cli_path, tmp_path):
+    """Each energy's part of the study is a case of the sweep; joined, the tables and plots are
+    the local run's byte for byte (a user mesh named as given); a rerun runs only a lost part."""
+    def flexure_cli(*args):
+        return subprocess.run([cli_path, *args], cwd=tmp_path, capture_output=True, text=True)
+
+    assert flexure_cli("mesh", "--family", "delaunay", "-n", "5", "-o", "mine.obj").returncode == 0
+    study = ["converge", "--energies", "hinge,midedge:free,cotan", "--families",
+             "patch48,delaunay", "--mesh", "mine.obj", "-n", "4", "--levels", "2",
+             "--amplitudes", "2"]
+    local = flexure_cli(*study, "-o", "local")
+    assert local.returncode == 0, local.stderr
+    dist = flexure_cli(*study, "-o", "dist", "--scheduler", client.scheduler.address)
+    assert dist.returncode == 0, dist.stderr
+    assert dist.stdout == local.stdout  # summary.md, printed
+
+    def same_files():
+        names = sorted(p.name for p in (tmp_path / "local").iterdir())
+        assert sorted(p.name for p in (tmp_path / "dist").iterdir()) == sorted(names + ["cases"])
+        for name in names:
+            assert (tmp_path / "dist" / name).read_bytes() == \
+                (tmp_path / "local" / name).read_bytes(), name
+        return names
+
+    assert "summary.md" in same_files() and "c2_delaunay.png" in same_files()
+    assert "mine.obj" in (tmp_path / "dist" / "results.csv").read_text()
+    cases = tmp_path / "dist" / "cases"
+    rows = json.loads((cases / "sweep.json").read_text())
+    assert [(r["energy"], r["status"]) for r in rows] == [
+        ("hinge", "done"), ("midedge:free", "done"), ("cotan:voronoi", "done")]
+
+    lost = rows[1]["case"]
+    subprocess.run(["rm", "-r", str(cases / lost), str(tmp_path / "dist" / "results.json")],
+                   check=True)
+    again = flexure_cli(*study, "-o", "dist", "--scheduler", client.scheduler.address)
+    assert again.returncode == 0, again.stderr
+    rows = json.loads((cases / "sweep.json").read_text())
+    assert [r["status"] for r in rows] == ["skipped", "done", "skipped"]
+    same_files()
+
+    modes = flexure_cli("converge", "--measure", "modes", "--workers", "2", "-o", "m")
+    assert modes.returncode == 2
+    assert "--scheduler and --workers apply to --measure c1c2" in modes.stderr
