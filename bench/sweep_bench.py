@@ -11,6 +11,8 @@ processes, not the solver's threads, use the cores). ``--cases`` equal cases (th
 an output name) run
 
 - serially: ``flexure run case.json`` in a fresh folder for each, one after another;
+- as plain processes, ``--workers`` at a time (no Dask, no checks): the floor of any scheduler on
+  these cores;
 - as a sweep: ``flexure.sweep`` on a LocalCluster of ``--workers`` single-threaded worker
   processes, started beforehand (its start-up time is printed apart).
 
@@ -41,13 +43,32 @@ def spec_of(n):
                      "threads": 1, "o": "bent-${copy}.obj", "report": "report.json"}}]}
 
 
+def case_folder(spec, copy, scratch):
+    folder = pathlib.Path(tempfile.mkdtemp(dir=scratch))
+    (folder / "case.json").write_text(json.dumps(spec).replace("${copy}", str(copy)))
+    return folder
+
+
 def serial_seconds(cli, spec, cases, scratch):
     start = time.perf_counter()
     for copy in range(cases):
-        folder = pathlib.Path(tempfile.mkdtemp(dir=scratch))
-        text = json.dumps(spec).replace("${copy}", str(copy))
-        (folder / "case.json").write_text(text)
-        subprocess.run([cli, "--quiet", "run", "case.json"], cwd=folder, check=True)
+        subprocess.run([cli, "--quiet", "run", "case.json"], cwd=case_folder(spec, copy, scratch),
+                       check=True)
+    return time.perf_counter() - start
+
+
+def parallel_seconds(cli, spec, cases, workers, scratch):
+    """The floor of any scheduler: the cases as plain processes, `workers` at a time (no Dask,
+    no checks): what the cores give two equal solves at once."""
+    start = time.perf_counter()
+    running = []
+    for copy in range(cases):
+        if len(running) == workers:
+            running.pop(0).wait()
+        running.append(subprocess.Popen([cli, "--quiet", "run", "case.json"],
+                                        cwd=case_folder(spec, copy, scratch)))
+    for process in running:
+        process.wait()
     return time.perf_counter() - start
 
 
@@ -76,26 +97,31 @@ def main():
                                        processes=True, dashboard_address=None)
     client = distributed.Client(cluster)
     startup = time.perf_counter() - start
-    serial, swept, case_seconds = [], [], []
+    serial, parallel, swept, case_seconds = [], [], [], []
     with tempfile.TemporaryDirectory(prefix="sweep-bench-") as scratch:
         for trial in range(args.trials):
             serial.append(serial_seconds(cli, spec, args.cases, scratch))
+            parallel.append(parallel_seconds(cli, spec, args.cases, args.workers, scratch))
             seconds, mean_case = sweep_seconds(client, cli, spec, args.cases, scratch)
             swept.append(seconds)
             case_seconds.append(mean_case)
-            print(f"trial {trial + 1}: serial {serial[-1]:.2f} s, sweep {seconds:.2f} s "
-                  f"(a case {mean_case:.2f} s on a worker)", file=sys.stderr)
+            print(f"trial {trial + 1}: serial {serial[-1]:.2f} s, plain processes "
+                  f"{parallel[-1]:.2f} s, sweep {seconds:.2f} s (a case {mean_case:.2f} s on a "
+                  f"worker)", file=sys.stderr)
     client.close()
     cluster.close()
-    ratio = min(serial) / min(swept)
+    ratio, floor = min(serial) / min(swept), min(serial) / min(parallel)
     print(f"{args.cases} cases (patch48 n = {args.n}, midedge Newton, 1 thread), "
           f"{args.workers} workers on {os.cpu_count()} cores: serial {min(serial):.2f} s, "
-          f"sweep {min(swept):.2f} s (cluster start-up {startup:.2f} s apart): "
-          f"throughput ratio {ratio:.2f}x", file=sys.stderr)
+          f"plain processes {min(parallel):.2f} s, sweep {min(swept):.2f} s (cluster start-up "
+          f"{startup:.2f} s apart): throughput ratio {ratio:.2f}x; plain processes "
+          f"{floor:.2f}x (the cores' floor); the sweep reaches {ratio / floor:.0%} of it",
+          file=sys.stderr)
     json.dump({"cases": args.cases, "workers": args.workers, "n": args.n, "cores": os.cpu_count(),
-               "serial_seconds": min(serial), "sweep_seconds": min(swept),
-               "cluster_startup_seconds": startup, "mean_case_seconds": case_seconds,
-               "throughput_ratio": ratio}, sys.stdout, indent=1)
+               "serial_seconds": min(serial), "plain_process_seconds": min(parallel),
+               "sweep_seconds": min(swept), "cluster_startup_seconds": startup,
+               "mean_case_seconds": case_seconds, "throughput_ratio": ratio,
+               "plain_process_ratio": floor}, sys.stdout, indent=1)
     print()
 
 
