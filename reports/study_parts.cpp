@@ -81,6 +81,16 @@ struct Fields {
   }
 };
 
+// order, energy_order, verdict and energy_verdict: a refinement series' fit, written on the
+// series and on each of its records.
+void readFit(const Fields& f, std::optional<double>& order, std::optional<double>& energyOrder,
+             Refinement& verdict, Refinement& energyVerdict) {
+  order = f.optionalNumber("order");
+  energyOrder = f.optionalNumber("energy_order");
+  verdict = f.refinement("verdict");
+  energyVerdict = f.refinement("energy_verdict");
+}
+
 RecordKind recordKind(const Fields& f) {
   const std::string name = f.text("kind");
   for (RecordKind k : {RecordKind::Quadratic, RecordKind::NonlinearC2, RecordKind::Refinement})
@@ -124,10 +134,7 @@ optimize::StudyRecord recordFromJson(const Fields& f, const optimize::StudyOptio
       r.discreteEnergy = f.number("discrete_energy");
       r.exactEnergy = f.number("exact_energy");
       r.energyError = f.number("energy_error");
-      r.order = f.optionalNumber("order");
-      r.energyOrder = f.optionalNumber("energy_order");
-      r.verdict = f.refinement("verdict");
-      r.energyVerdict = f.refinement("energy_verdict");
+      readFit(f, r.order, r.energyOrder, r.verdict, r.energyVerdict);
       break;
   }
   return r;
@@ -142,10 +149,7 @@ optimize::RefinementFit fitFromJson(const Fields& f, const optimize::StudyOption
   fit.h = f.numbers("h");
   fit.solutionErrors = f.numbers("errors");
   fit.energyErrors = f.numbers("energy_errors");
-  fit.order = f.optionalNumber("order");
-  fit.energyOrder = f.optionalNumber("energy_order");
-  fit.verdict = f.refinement("verdict");
-  fit.energyVerdict = f.refinement("energy_verdict");
+  readFit(f, fit.order, fit.energyOrder, fit.verdict, fit.energyVerdict);
   return fit;
 }
 
