@@ -117,6 +117,28 @@ std::pair<double, double> fieldRange(const ViewerPageSpec& spec) {
   return {*lo, *hi > *lo ? *hi : *lo + 1.0};
 }
 
+// A mesh's modes: each its label, φ (#V·3 floats) and its nodal lines as the vertex pairs of
+// their points (4 words a segment) and the points' t (2 floats a segment).
+std::string modesData(const ViewerMesh& m) {
+  std::string out = "[";
+  for (const ViewerMode& mode : m.modes) {
+    std::vector<float> shape, t;
+    std::vector<std::uint32_t> ends;
+    for (Eigen::Index v = 0; v < mode.shape.rows(); ++v)
+      for (int k = 0; k < 3; ++k) shape.push_back(static_cast<float>(mode.shape(v, k)));
+    for (const auto& [p, q] : mode.nodalLines)
+      for (const ViewerLinePoint& point : {p, q}) {
+        ends.push_back(static_cast<std::uint32_t>(point.a));
+        ends.push_back(static_cast<std::uint32_t>(point.b));
+        t.push_back(static_cast<float>(point.t));
+      }
+    out += std::string(out.size() > 1 ? "," : "") + "{\"label\":" + jsonString(mode.label) +
+           ",\"shape\":\"" + base64Words(shape) + "\",\"lineEnds\":\"" + base64Words(ends) +
+           "\",\"lineT\":\"" + base64Words(t) + "\"}";
+  }
+  return out + "]";
+}
+
 std::string meshData(const ViewerMesh& m) {
   std::vector<float> positions, fields;
   for (const modeling::Positions& x : m.frames)
@@ -136,7 +158,8 @@ std::string meshData(const ViewerMesh& m) {
          ",\"fieldCount\":" + std::to_string(m.fields.size()) + ",\"times\":" + times + "]" +
          ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
          base64Words(positions) + "\",\"fields\":" +
-         (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") + "}";
+         (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") +
+         ",\"modes\":" + modesData(m) + "}";
 }
 
 std::string pageData(const ViewerPageSpec& spec) {
@@ -218,13 +241,37 @@ void validateMesh(const ViewerMesh& m, std::size_t i) {
   }
 }
 
+void validateModes(const ViewerMesh& m, std::size_t i) {
+  if (m.modes.empty()) return;
+  const std::string at = "meshes[" + std::to_string(i) + "].modes";
+  if (m.frames.size() != 1)
+    fail(at, "are animated about one rest frame, but the mesh has " +
+                 std::to_string(m.frames.size()) + " frames");
+  const Eigen::Index vertices = m.frames.front().rows();
+  for (std::size_t k = 0; k < m.modes.size(); ++k) {
+    const ViewerMode& mode = m.modes[k];
+    const std::string here = at + "[" + std::to_string(k) + "]";
+    if (mode.shape.rows() != vertices || !mode.shape.allFinite())
+      fail(here + ".shape", "must be " + std::to_string(vertices) + " by 3 and finite");
+    for (const auto& [p, q] : mode.nodalLines)
+      for (const ViewerLinePoint& point : {p, q})
+        if (point.a < 0 || point.b < 0 || point.a >= vertices || point.b >= vertices ||
+            !(point.t >= 0.0 && point.t <= 1.0))
+          fail(here + ".nodalLines", "has a point off the mesh (vertices 0.." +
+                                         std::to_string(vertices - 1) + ", t in [0, 1])");
+  }
+}
+
 }  // namespace
 
 void ViewerPageSpec::validate() const {
   if (meshes.empty()) fail("meshes", "is empty: give at least one mesh");
   if (stripeCount < 1 || stripeCount > 1000) fail("stripeCount", "must be in [1, 1000]");
   if (!(stripeWidth > 0.0 && stripeWidth < 1.0)) fail("stripeWidth", "must be in (0, 1)");
-  for (std::size_t i = 0; i < meshes.size(); ++i) validateMesh(meshes[i], i);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    validateMesh(meshes[i], i);
+    validateModes(meshes[i], i);
+  }
   const bool anyField = std::any_of(meshes.begin(), meshes.end(),
                                     [](const ViewerMesh& m) { return !m.fields.empty(); });
   const bool allFields = std::all_of(meshes.begin(), meshes.end(),

@@ -21,6 +21,13 @@ cp sheet.obj sim/frame-00000.obj
 sed 's/^v \(.*\) \(.*\) \(.*\)$/v \1 \2 0.25/' sheet.obj >sim/frame-00001.obj
 run 0 view sim --style displacement -o sim.html; stderr_has "(1 meshes, 2 frames"
 
+# A modes folder (flexure modes --write-shapes): each energy's mesh with its modes.
+run 0 modes --family patch48 --n 6 --energy midedge,cotan --count 3 --write-shapes -o modes --quiet
+test -f modes/rest.obj || fail "flexure modes --write-shapes wrote no rest.obj"
+run 0 view modes -o modes.html; stderr_has "(2 meshes, 2 frames"
+grep -q '"label":"mode 3: ' modes.html || fail "modes.html has no mode 3"
+grep -q '"lineEnds":"[A-Za-z0-9+/]' modes.html || fail "modes.html has no nodal line"
+
 # Refusals, before any page is written.
 run 2 view sheet.obj -o page.png; stderr_has "--output 'page.png'"; absent page.png
 run 2 view missing.obj -o page.html; stderr_has "missing.obj"; absent page.html
@@ -37,5 +44,18 @@ run 2 view empty -o page.html; stderr_has "empty: a folder given to view"; absen
 cp sphere.obj sim/frame-00002.obj
 run 2 view sim -o page.html; stderr_has "sim/frame-00002.obj"; absent page.html
 run 2 view sheet.obj -o sheet.obj; stderr_has "sheet.obj"
+# A modes folder without its shapes, with a shape of another mesh, with a broken report.
+run 0 modes --family patch48 --n 6 --energy midedge --count 2 -o noshapes --quiet
+run 2 view noshapes -o page.html; stderr_has "noshapes: a modes folder without"
+stderr_has "--write-shapes"; absent page.html
+cp -r modes badshape; cp sphere.obj badshape/mode-cotan-2.obj
+run 2 view badshape -o page.html; stderr_has "badshape/mode-cotan-2.obj"; absent page.html
+cp -r modes badreport; echo '{"energies": 3' >badreport/modes.json
+run 2 view badreport -o page.html; stderr_has "badreport/modes.json"; absent page.html
+run 2 view modes --style curvature -o page.html; stderr_has "modes: a modes folder"
+absent page.html
+# modes refuses to write its rest.obj over the input mesh.
+run 2 modes --mesh modes/rest.obj --energy midedge --count 2 --write-shapes -o modes
+stderr_has "modes/rest.obj"; stderr_has "--write-shapes"
 
 finish cli_view

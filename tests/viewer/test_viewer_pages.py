@@ -1,7 +1,8 @@
 """flexure view's pages in a real browser (headless Chromium over the DevTools Protocol, WebGL on
 SwiftShader): a mesh is drawn (not a blank canvas), reflection lines show both stripe colours, the
-slider changes the frame shown, a field's legend shows its range, and no page logs a console error
-or requests anything but itself.
+slider changes the frame shown, a field's legend shows its range, a modes folder's selector and
+amplitude slider change the mode drawn and its nodal lines are drawn, and no page logs a console
+error or requests anything but itself.
 
 Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
   --measure: also the size and load time of a 10 000-vertex, 100-frame simulation page.
@@ -102,6 +103,64 @@ def clean(browser, page):
     check(others == [], page + ": no request but the page itself " + str(others))
 
 
+# Pixels of the nodal lines' red (the reflection stripes are grey).
+RED = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let black = 0;
+  for (let i = 0; i < p.length; i += 4) if (p[i] > 150 && p[i + 1] < 90 && p[i + 2] < 90) black += 1;
+  return black;
+})()"""
+
+def modes_page(browser, shots):
+    """A flexure modes folder: mode 1 animated, the selector and the amplitude slider change the
+    drawing, the nodal lines (none for the simply supported (1,1) mode, a line for (1,2)) drawn."""
+    load(browser, "modes.html")
+    check(not browser.evaluate("document.getElementById('mode-controls').hidden"),
+          "modes.html: the mode controls are shown")
+    options = browser.evaluate("Array.from(document.getElementById('mode').options)"
+                               ".map(o => o.textContent)")
+    check(len(options) == 4 and options[0].startswith("mode 1: λ = ") and "ω = " in options[0],
+          "modes.html: four modes in the selector %s" % options)
+    # Playing: the phase moves on its own.
+    a = browser.evaluate(PIXELS)["sum"]
+    time.sleep(0.4)
+    check(browser.evaluate(PIXELS)["sum"] != a, "modes.html: the mode plays")
+    browser.evaluate("flexureViewer.pause(); flexureViewer.setPhase(Math.PI / 2)")
+    first = browser.evaluate(PIXELS)
+    check(first["drawn"] > 0.05 * first["total"], "modes.html: a mesh drawn %s" % first)
+    check(browser.evaluate("document.body.dataset.nodalSegments") == "0",
+          "modes.html: mode 1 (1,1) has no nodal line inside the plate")
+    browser.evaluate("(() => { const s = document.getElementById('mode'); s.value = '1';"
+                     " s.dispatchEvent(new Event('change')); })()")
+    second = browser.evaluate(PIXELS)
+    segments = int(browser.evaluate("document.body.dataset.nodalSegments"))
+    check(browser.evaluate("document.body.dataset.mode") == "1" and second["sum"] != first["sum"],
+          "modes.html: the selector changes the mode drawn")
+    check(segments >= 16, "modes.html: mode 2 has a nodal line (%d segments)" % segments)
+    red = browser.evaluate(RED)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = false; }))")
+    unlined = browser.evaluate(RED)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = true; }))")
+    check(red > unlined + 50, "modes.html: the nodal line drawn red (%d red pixels, %d "
+          "without it)" % (red, unlined))
+    browser.evaluate("(() => { const s = document.getElementById('amplitude'); s.value = '0';"
+                     " s.dispatchEvent(new Event('input')); })()")
+    flat = browser.evaluate(PIXELS)
+    check(flat["sum"] != second["sum"] and
+          browser.evaluate("document.getElementById('amplitude-text').textContent") == "0.00 × φ",
+          "modes.html: the amplitude slider changes the drawing")
+    browser.evaluate("flexureViewer.setAmplitude(1)")
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-modes.png"))
+    clean(browser, "modes.html")
+
+
 def main():
     binary, work = sys.argv[1], sys.argv[2]
     shots = sys.argv[sys.argv.index("--screenshots") + 1] if "--screenshots" in sys.argv else None
@@ -116,6 +175,9 @@ def main():
     flexure(binary, "view", "bowl.obj", "--style", "curvature", "-o", "curvature.html", "--quiet")
     flexure(binary, "view", "sag", "--style", "displacement", "-o", "sag.html", "--quiet")
     flexure(binary, "view", "bowl.obj", "--style", "isophote", "-o", "isophote.html", "--quiet")
+    flexure(binary, "modes", "--family", "patch48", "--n", "16", "--energy", "midedge", "--count",
+            "4", "--support", "simply-supported", "--write-shapes", "-o", "modes", "--quiet")
+    flexure(binary, "view", "modes", "-o", "modes.html", "--quiet")
 
     browser = Browser()
     try:
@@ -186,6 +248,8 @@ def main():
         if shots:
             browser.screenshot(os.path.join(shots, "view-isophote.png"))
         clean(browser, "isophote.html")
+
+        modes_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
