@@ -13,6 +13,7 @@
 #include "python/bindings/bindings.h"
 #include "render/viewer_page.h"
 #include "reports/viewer_fields.h"
+#include "reports/viewer_modes.h"
 
 namespace py = pybind11;
 
@@ -27,8 +28,10 @@ struct ViewerArguments {
   std::optional<Positions> rest;  // displacement: the rest positions (else each first frame)
 };
 
-// One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered).
-using ViewerItem = std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>>;
+// One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
+// `flexure modes` folder (the last element; the others empty): its meshes with their modes.
+using ViewerItem =
+    std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>, std::string>;
 
 // The page's HTML, as `flexure view` writes it for the same meshes and style.
 py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments& a) {
@@ -38,9 +41,19 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
-  for (const auto& [name, F, frames, times] : items) {
+  for (const auto& [name, F, frames, times, modesFolder] : items) {
+    if (!modesFolder.empty()) {
+      if (curvatureStyle || displacementStyle)
+        throw InputError(modesFolder +
+                         ": a modes folder is drawn in the reflection, isophote or "
+                         "shaded style, not " +
+                         a.style);
+      for (render::ViewerMesh& m : reports::readModesFolder(modesFolder))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
     for (const Positions& V : frames) checkedMesh(V, F, name);
-    page.meshes.push_back({name, F, frames, times, {}});
+    page.meshes.push_back({name, F, frames, times, {}, {}});
   }
   if (curvatureStyle)
     reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());

@@ -35,6 +35,32 @@ def test_same_page_as_the_cli(cli, plate, tmp_path):
     assert strip(python) == strip(expected)
 
 
+def test_modes_folder_same_page_as_the_cli(cli, tmp_path):
+    modes = tmp_path / "modes"
+    cli("-q", "modes", "--family", "patch48", "--n", "8", "--energy", "midedge", "--count", "3",
+        "--support", "simply-supported", "--write-shapes", "-o", modes)
+    cli("-q", "view", modes, "-o", tmp_path / "modes.html")
+    python = flexure.view(modes).html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "modes.html").read_text())
+    (mesh,) = page_data(python)["meshes"]
+    assert mesh["name"] == "midedge" and mesh["frameCount"] == 1
+    assert [m["label"].split(":")[0] for m in mesh["modes"]] == ["mode 1", "mode 2", "mode 3"]
+    # φ_k = shape − rest: its largest displacement is --scale × L = 0.1.
+    rest, _ = flexure.read_mesh(modes / "rest.obj")
+    shape, _ = flexure.read_mesh(modes / "mode-midedge-2.obj")
+    phi = np.frombuffer(base64.b64decode(mesh["modes"][1]["shape"]), "<f4").reshape(-1, 3)
+    np.testing.assert_allclose(phi, shape - rest, atol=1e-6)
+    assert abs(np.linalg.norm(phi, axis=1).max() - 0.1) < 1e-6
+    # Mode 1 (1,1) has no nodal line inside the held boundary; mode 2 one across the plate.
+    assert mesh["modes"][0]["lineT"] == "" and len(mesh["modes"][1]["lineT"]) > 0
+    with pytest.raises(ValueError, match="modes"):
+        flexure.view(modes, style="curvature")
+    (modes / "rest.obj").unlink()
+    with pytest.raises(ValueError, match="rest.obj"):
+        flexure.view(modes)
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])
