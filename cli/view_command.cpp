@@ -22,6 +22,7 @@
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
 #include "reports/viewer_modes.h"
 
@@ -135,6 +136,11 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
     throw InputError("--reference applies to --style displacement only");
 
   for (const std::string& input : o.inputs) {
+    if (reports::isFairingReport(input)) {  // input, CGAL's fair and the result, region outlined
+      for (render::ViewerMesh& m : reports::readFairingReport(input))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
     if (!reports::isModesFolder(input)) {
       page.meshes.push_back(readViewerMesh(input));
       continue;
@@ -184,10 +190,11 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
       "view", "An interactive HTML page (three.js, offline) of meshes and simulation folders");
   auto files = CommandFiles::of(*sub);
   files
-      ->inputs("inputs", o.inputs,
-               "Meshes (.obj, .off, .ply, .stl), simulation folders (flexure simulate -o DIR) and "
-               "modes folders (flexure modes --write-shapes -o DIR), each in its own view (or one "
-               "with --overlay)")
+      ->inputs(
+          "inputs", o.inputs,
+          "Meshes (.obj, .off, .ply, .stl), simulation folders (flexure simulate -o DIR) and "
+          "modes folders (flexure modes --write-shapes -o DIR) and fairing reports (flexure fair "
+          "--report R.json), each in its own view (or one with --overlay)")
       ->required();
   files->output("-o,--output", o.output, "Output page (.html)")->required();
   sub->add_option("--style", o.style,

@@ -117,24 +117,29 @@ std::pair<double, double> fieldRange(const ViewerPageSpec& spec) {
   return {*lo, *hi > *lo ? *hi : *lo + 1.0};
 }
 
-// A mesh's modes: each its label, φ (#V·3 floats) and its nodal lines as the vertex pairs of
-// their points (4 words a segment) and the points' t (2 floats a segment).
+// Segments as the vertex pairs of their points (4 words a segment) and the points' t (2 floats a
+// segment): "\"lineEnds\":…,\"lineT\":…".
+std::string segmentsData(const ViewerSegments& segments) {
+  std::vector<float> t;
+  std::vector<std::uint32_t> ends;
+  for (const auto& [p, q] : segments)
+    for (const ViewerLinePoint& point : {p, q}) {
+      ends.push_back(static_cast<std::uint32_t>(point.a));
+      ends.push_back(static_cast<std::uint32_t>(point.b));
+      t.push_back(static_cast<float>(point.t));
+    }
+  return "\"lineEnds\":\"" + base64Words(ends) + "\",\"lineT\":\"" + base64Words(t) + "\"";
+}
+
+// A mesh's modes: each its label, φ (#V·3 floats) and its nodal lines (segmentsData).
 std::string modesData(const ViewerMesh& m) {
   std::string out = "[";
   for (const ViewerMode& mode : m.modes) {
-    std::vector<float> shape, t;
-    std::vector<std::uint32_t> ends;
+    std::vector<float> shape;
     for (Eigen::Index v = 0; v < mode.shape.rows(); ++v)
       for (int k = 0; k < 3; ++k) shape.push_back(static_cast<float>(mode.shape(v, k)));
-    for (const auto& [p, q] : mode.nodalLines)
-      for (const ViewerLinePoint& point : {p, q}) {
-        ends.push_back(static_cast<std::uint32_t>(point.a));
-        ends.push_back(static_cast<std::uint32_t>(point.b));
-        t.push_back(static_cast<float>(point.t));
-      }
     out += std::string(out.size() > 1 ? "," : "") + "{\"label\":" + jsonString(mode.label) +
-           ",\"shape\":\"" + base64Words(shape) + "\",\"lineEnds\":\"" + base64Words(ends) +
-           "\",\"lineT\":\"" + base64Words(t) + "\"}";
+           ",\"shape\":\"" + base64Words(shape) + "\"," + segmentsData(mode.nodalLines) + "}";
   }
   return out + "]";
 }
@@ -159,7 +164,7 @@ std::string meshData(const ViewerMesh& m) {
          ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
          base64Words(positions) + "\",\"fields\":" +
          (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") +
-         ",\"modes\":" + modesData(m) + "}";
+         ",\"modes\":" + modesData(m) + ",\"outline\":{" + segmentsData(m.outline) + "}}";
 }
 
 std::string pageData(const ViewerPageSpec& spec) {
@@ -241,7 +246,18 @@ void validateMesh(const ViewerMesh& m, std::size_t i) {
   }
 }
 
+void validateSegments(const ViewerSegments& segments, Eigen::Index vertices,
+                      const std::string& at) {
+  for (const auto& [p, q] : segments)
+    for (const ViewerLinePoint& point : {p, q})
+      if (point.a < 0 || point.b < 0 || point.a >= vertices || point.b >= vertices ||
+          !(point.t >= 0.0 && point.t <= 1.0))
+        fail(at, "has a point off the mesh (vertices 0.." + std::to_string(vertices - 1) +
+                     ", t in [0, 1])");
+}
+
 void validateModes(const ViewerMesh& m, std::size_t i) {
+  validateSegments(m.outline, m.frames.front().rows(), "meshes[" + std::to_string(i) + "].outline");
   if (m.modes.empty()) return;
   const std::string at = "meshes[" + std::to_string(i) + "].modes";
   if (m.frames.size() != 1)
@@ -253,12 +269,7 @@ void validateModes(const ViewerMesh& m, std::size_t i) {
     const std::string here = at + "[" + std::to_string(k) + "]";
     if (mode.shape.rows() != vertices || !mode.shape.allFinite())
       fail(here + ".shape", "must be " + std::to_string(vertices) + " by 3 and finite");
-    for (const auto& [p, q] : mode.nodalLines)
-      for (const ViewerLinePoint& point : {p, q})
-        if (point.a < 0 || point.b < 0 || point.a >= vertices || point.b >= vertices ||
-            !(point.t >= 0.0 && point.t <= 1.0))
-          fail(here + ".nodalLines", "has a point off the mesh (vertices 0.." +
-                                         std::to_string(vertices - 1) + ", t in [0, 1])");
+    validateSegments(mode.nodalLines, vertices, here + ".nodalLines");
   }
 }
 

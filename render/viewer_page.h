@@ -42,6 +42,7 @@ struct ViewerMesh {
   std::vector<double> frameTimes;           // one per frame, or empty (frames are numbered)
   std::vector<Eigen::VectorXd> fields;      // empty, one, or one per frame; each #V
   std::vector<ViewerMode> modes;            // empty, or modes of a one-frame mesh (a selector)
+  ViewerSegments outline;  // drawn green on every frame, e.g. a faired region's boundary
 };
 
 // What the page shows. validate() names the field at fault: "ViewerPageSpec.stripeCount …".

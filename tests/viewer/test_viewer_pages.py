@@ -1,8 +1,9 @@
 """flexure view's pages in a real browser (headless Chromium over the DevTools Protocol, WebGL on
 SwiftShader): a mesh is drawn (not a blank canvas), reflection lines show both stripe colours, the
 slider changes the frame shown, a field's legend shows its range, a modes folder's selector and
-amplitude slider change the mode drawn and its nodal lines are drawn, and no page logs a console
-error or requests anything but itself.
+amplitude slider change the mode drawn and its nodal lines are drawn, a fairing report's three
+meshes are drawn with the region outlined green, and no page logs a console error or requests
+anything but itself.
 
 Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
   --measure: also the size and load time of a 10 000-vertex, 100-frame simulation page.
@@ -115,6 +116,54 @@ RED = """(() => {
   return black;
 })()"""
 
+def bumpy_bowl(bowl, out):
+    """The bowl with a cone-shaped bump of height 0.05 and radius 0.2 at its apex: a region to fair."""
+    positions, faces = read_obj(bowl)
+    for p in positions:
+        d = math.hypot(p[0], p[1])
+        p[2] += 0.05 * max(0.0, 1.0 - d / 0.2)
+    write_obj(out, positions, faces)
+
+
+# Pixels of the outline's green (0, 0.8, 0.2) in each third of the canvas.
+GREEN = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  const thirds = [0, 0, 0];
+  for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
+    const i = 4 * (y * w + x);
+    if (p[i + 1] > 150 && p[i] < 80 && p[i + 2] < 120) thirds[Math.min(2, Math.floor(3 * x / w))] += 1;
+  }
+  return thirds;
+})()"""
+
+
+def fairing_page(browser, shots):
+    """A fairing report: input, CGAL's fair and flexure's side by side, the region outlined on each."""
+    load(browser, "fair.html")
+    names = browser.evaluate("document.getElementById('names').innerText")
+    check("input: bumpy.obj" in names and "CGAL fair: cgal.obj" in names and
+          "flexure midedge: faired.obj" in names, "fair.html: the three meshes named %r" % names)
+    outline = browser.evaluate("document.body.dataset.outlineSegments").split(",")
+    check(len(outline) == 3 and len(set(outline)) == 1 and int(outline[0]) > 20,
+          "fair.html: the same outline on each mesh (%s segments)" % outline)
+    green = browser.evaluate(GREEN)
+    check(all(g > 100 for g in green), "fair.html: the outline drawn green in each view %s" % green)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = false; }))")
+    check(all(g < 5 for g in browser.evaluate(GREEN)), "fair.html: no green without the outline")
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = true; }))")
+    px = browser.evaluate(PIXELS)
+    check(px["drawn"] > 0.05 * px["total"], "fair.html: meshes drawn %s" % px)
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-fair.png"))
+    clean(browser, "fair.html")
+
+
 def modes_page(browser, shots):
     """A flexure modes folder: mode 1 animated, the selector and the amplitude slider change the
     drawing, the nodal lines (none for the simply supported (1,1) mode, a line for (1,2)) drawn."""
@@ -178,6 +227,10 @@ def main():
     flexure(binary, "modes", "--family", "patch48", "--n", "16", "--energy", "midedge", "--count",
             "4", "--support", "simply-supported", "--write-shapes", "-o", "modes", "--quiet")
     flexure(binary, "view", "modes", "-o", "modes.html", "--quiet")
+    bumpy_bowl("bowl.obj", "bumpy.obj")
+    flexure(binary, "fair", "bumpy.obj", "--region", "sphere:0,0,0.05,0.28", "-o", "faired.obj",
+            "--cgal-output", "cgal.obj", "--report", "fair.json", "--quiet")
+    flexure(binary, "view", "fair.json", "-o", "fair.html", "--quiet")
 
     browser = Browser()
     try:
@@ -250,6 +303,7 @@ def main():
         clean(browser, "isophote.html")
 
         modes_page(browser, shots)
+        fairing_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
