@@ -1,5 +1,6 @@
 // flexure._flexure.viewer_page: flexure view's HTML page (render/viewer_page.h) of meshes and
-// frame sequences given as arrays; the styles as the command names them.
+// frame sequences given as arrays, modes folders and fairing reports; the styles as the command
+// names them.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -12,6 +13,7 @@
 #include "modeling/errors.h"
 #include "python/bindings/bindings.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
 #include "reports/viewer_modes.h"
 
@@ -29,7 +31,8 @@ struct ViewerArguments {
 };
 
 // One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
-// `flexure modes` folder (the last element; the others empty): its meshes with their modes.
+// `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
+// meshes, with their modes or the region outlined.
 using ViewerItem =
     std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>, std::string>;
 
@@ -41,14 +44,19 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
-  for (const auto& [name, F, frames, times, modesFolder] : items) {
-    if (!modesFolder.empty()) {
+  for (const auto& [name, F, frames, times, source] : items) {
+    if (!source.empty() && reports::isFairingReport(source)) {
+      for (render::ViewerMesh& m : reports::readFairingReport(source))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
+    if (!source.empty()) {
       if (curvatureStyle || displacementStyle)
-        throw InputError(modesFolder +
+        throw InputError(source +
                          ": a modes folder is drawn in the reflection, isophote or "
                          "shaded style, not " +
                          a.style);
-      for (render::ViewerMesh& m : reports::readModesFolder(modesFolder))
+      for (render::ViewerMesh& m : reports::readModesFolder(source))
         page.meshes.push_back(std::move(m));
       continue;
     }

@@ -71,7 +71,8 @@ def _item(item, k):
     if isinstance(item, (str, os.PathLike)):
         path = os.fspath(item)
         name = os.path.basename(os.path.normpath(path))
-        if os.path.isdir(path) and os.path.isfile(os.path.join(path, "modes.json")):
+        if (os.path.isdir(path) and os.path.isfile(os.path.join(path, "modes.json"))) or \
+                path.lower().endswith(".json"):
             return name, np.zeros((0, 3), dtype=np.int32), [], [], path
         if os.path.isdir(path):
             frames, F, times = _read_obj_frames(path)
@@ -99,7 +100,9 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
     Each of ``meshes``: (V, F) with V #V×3; (frames, F) with frames #T×#V×3 (a time slider);
     a mesh file; a ``flexure simulate`` folder; or a ``flexure modes`` folder written with
     ``--write-shapes`` (a view per energy: its modes animated about the rest, a mode selector, an
-    amplitude slider, the nodal lines drawn). Each mesh has its own view with one linked
+    amplitude slider, the nodal lines drawn); or a ``flexure fair --report`` JSON file (the input,
+    CGAL's fair when written with ``--cgal-output``, and the result side by side, the region
+    outlined). Each mesh has its own view with one linked
     camera, or all one view with ``overlay``. style: "reflection" | "isophote" | "shaded" |
     "curvature" (mean curvature H, the default curvature energy) | "displacement" (|x − rest|,
     ``rest`` #V×3, else each mesh's first frame); stripes, stripe_width as in ``flexure render``;

@@ -61,6 +61,28 @@ def test_modes_folder_same_page_as_the_cli(cli, tmp_path):
         flexure.view(modes)
 
 
+def test_fairing_report_same_page_as_the_cli(cli, tmp_path):
+    cli("-q", "mesh", "--family", "patch48", "--n", "8", "--height", "quadratic:1,0,1", "-o",
+        tmp_path / "bowl.obj")
+    cli("-q", "fair", tmp_path / "bowl.obj", "--region", "rings:40,1", "-o", tmp_path / "f.obj",
+        "--cgal-output", tmp_path / "c.obj", "--report", tmp_path / "fair.json")
+    cli("-q", "view", tmp_path / "fair.json", "-o", tmp_path / "fair.html")
+    python = flexure.view(tmp_path / "fair.json").html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "fair.html").read_text())
+    meshes = page_data(python)["meshes"]
+    assert [m["name"].split(":")[0] for m in meshes] == ["input", "CGAL fair", "flexure midedge"]
+    # The outline: the boundary edges of the region's faces, the same on each mesh, each end a
+    # vertex (t = 0), none in the region.
+    ends = [np.frombuffer(base64.b64decode(m["outline"]["lineEnds"]), "<u4") for m in meshes]
+    assert len(ends[0]) > 0 and all(np.array_equal(e, ends[0]) for e in ends)
+    t = np.frombuffer(base64.b64decode(meshes[0]["outline"]["lineT"]), "<f4")
+    assert np.all(t == 0) and np.array_equal(ends[0][0::2], ends[0][1::2])
+    report = json.loads((tmp_path / "fair.json").read_text())
+    region = set(report["region"]["indices"])
+    assert len(region) == report["region"]["vertices"] and not region & set(ends[0].tolist())
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])
