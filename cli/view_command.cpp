@@ -25,6 +25,7 @@
 #include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
 #include "reports/viewer_modes.h"
+#include "reports/viewer_simulation.h"
 
 extern char** environ;
 
@@ -101,6 +102,7 @@ render::ViewerMesh readViewerMesh(const std::string& input) {
     m.frames.push_back(std::move(mesh.positions));
   }
   m.frameTimes = simulationFrameTimes(input, m.frames.size());
+  reports::addSimulationObstacles(m, input);
   return m;
 }
 

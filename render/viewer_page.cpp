@@ -144,6 +144,18 @@ std::string modesData(const ViewerMesh& m) {
   return out + "]";
 }
 
+// A mesh's obstacles: "[[x, y, z, r], …],\"planes\":[[nx, ny, nz, d], …]".
+std::string obstaclesData(const ViewerMesh& m) {
+  std::string spheres, planes;
+  for (const SphereObstacle& s : m.spheres)
+    spheres += std::string(spheres.empty() ? "" : ",") + "[" + number(s.centre.x()) + "," +
+               number(s.centre.y()) + "," + number(s.centre.z()) + "," + number(s.radius) + "]";
+  for (const PlaneObstacle& p : m.planes)
+    planes += std::string(planes.empty() ? "" : ",") + "[" + number(p.normal.x()) + "," +
+              number(p.normal.y()) + "," + number(p.normal.z()) + "," + number(p.offset) + "]";
+  return "[" + spheres + "],\"planes\":[" + planes + "]";
+}
+
 std::string meshData(const ViewerMesh& m) {
   std::vector<float> positions, fields;
   for (const modeling::Positions& x : m.frames)
@@ -164,7 +176,8 @@ std::string meshData(const ViewerMesh& m) {
          ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
          base64Words(positions) + "\",\"fields\":" +
          (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") +
-         ",\"modes\":" + modesData(m) + ",\"outline\":{" + segmentsData(m.outline) + "}}";
+         ",\"modes\":" + modesData(m) + ",\"outline\":{" + segmentsData(m.outline) + "}" +
+         ",\"spheres\":" + obstaclesData(m) + "}";
 }
 
 std::string pageData(const ViewerPageSpec& spec) {
@@ -187,8 +200,9 @@ std::string pageData(const ViewerPageSpec& spec) {
          ",\"stripeDirectionDegrees\":" + number(defaults.stripeDirectionDegrees) + ",\"light\":[" +
          number(defaults.lightDirection[0]) + "," + number(defaults.lightDirection[1]) + "," +
          number(defaults.lightDirection[2]) + "]" +
-         ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) +
-         ",\"elevationDegrees\":" + number(60.0) +
+         ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) + ",\"obstacleColour\":[" +
+         number(defaults.obstacleColour.r) + "," + number(defaults.obstacleColour.g) + "," +
+         number(defaults.obstacleColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
          ",\"overlay\":" + (spec.overlay ? "true" : "false") +
          ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
          number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
@@ -256,7 +270,18 @@ void validateSegments(const ViewerSegments& segments, Eigen::Index vertices,
                      ", t in [0, 1])");
 }
 
+void validateObstacles(const ViewerMesh& m, std::size_t i) {
+  const std::string at = "meshes[" + std::to_string(i) + "]";
+  for (const SphereObstacle& s : m.spheres)
+    if (!s.centre.allFinite() || !(s.radius > 0.0 && std::isfinite(s.radius)))
+      fail(at + ".spheres", "has a sphere whose centre is not finite or radius not > 0");
+  for (const PlaneObstacle& p : m.planes)
+    if (!p.normal.allFinite() || !(p.normal.norm() > 0.0) || !std::isfinite(p.offset))
+      fail(at + ".planes", "has a plane whose normal is zero or not finite");
+}
+
 void validateModes(const ViewerMesh& m, std::size_t i) {
+  validateObstacles(m, i);
   validateSegments(m.outline, m.frames.front().rows(), "meshes[" + std::to_string(i) + "].outline");
   if (m.modes.empty()) return;
   const std::string at = "meshes[" + std::to_string(i) + "].modes";

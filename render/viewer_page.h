@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "modeling/mesh.h"
+#include "render/mesh_renderer.h"
 
 namespace flexure::render {
 
@@ -43,6 +44,10 @@ struct ViewerMesh {
   std::vector<Eigen::VectorXd> fields;      // empty, one, or one per frame; each #V
   std::vector<ViewerMode> modes;            // empty, or modes of a one-frame mesh (a selector)
   ViewerSegments outline;  // drawn green on every frame, e.g. a faired region's boundary
+  // A simulation's obstacles, drawn in its view in the renderer's obstacle colour: the spheres,
+  // and each plane as a square of half side the framed radius about the foot of the frames' centre.
+  std::vector<SphereObstacle> spheres;
+  std::vector<PlaneObstacle> planes;
 };
 
 // What the page shows. validate() names the field at fault: "ViewerPageSpec.stripeCount …".

@@ -81,6 +81,13 @@ sed 's/"cgal.obj"/"sphere.obj"/' fair.json >wrong.json
 run 2 view wrong.json -o page.html; stderr_has "sphere.obj"; absent page.html
 run 2 fair bowl.obj --region rings:40,1 -o same.obj --cgal-output same.obj
 stderr_has "--cgal-output"; absent same.obj
+# A simulation report with an obstacle that is no sphere or plane.
+cp -r sim badobstacle && rm badobstacle/frame-00002.obj
+echo '{"obstacles": ["cone:0,0,1"]}' >badobstacle/report.json
+run 2 view badobstacle -o page.html; stderr_has "badobstacle/report.json"; absent page.html
+echo '{"obstacles": ["sphere:0,0,-1,0.5"]}' >badobstacle/report.json
+run 0 view badobstacle -o obstacle.html --quiet
+grep -q '"spheres":\[\[0,0,-1,0.5\]\]' obstacle.html || fail "obstacle.html has no sphere"
 # modes refuses to write its rest.obj over the input mesh.
 run 2 modes --mesh modes/rest.obj --energy midedge --count 2 --write-shapes -o modes
 stderr_has "modes/rest.obj"; stderr_has "--write-shapes"

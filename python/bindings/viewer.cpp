@@ -16,6 +16,7 @@
 #include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
 #include "reports/viewer_modes.h"
+#include "reports/viewer_simulation.h"
 
 namespace py = pybind11;
 
@@ -32,7 +33,8 @@ struct ViewerArguments {
 
 // One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
 // `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
-// meshes, with their modes or the region outlined.
+// meshes, with their modes or the region outlined; a simulation folder's frames with the folder
+// (its obstacles).
 using ViewerItem =
     std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>, std::string>;
 
@@ -50,7 +52,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
         page.meshes.push_back(std::move(m));
       continue;
     }
-    if (!source.empty()) {
+    if (reports::isModesFolder(source)) {
       if (curvatureStyle || displacementStyle)
         throw InputError(source +
                          ": a modes folder is drawn in the reflection, isophote or "
@@ -61,7 +63,8 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
       continue;
     }
     for (const Positions& V : frames) checkedMesh(V, F, name);
-    page.meshes.push_back({name, F, frames, times, {}, {}});
+    page.meshes.push_back({name, F, frames, times, {}, {}, {}, {}, {}});
+    if (!source.empty()) reports::addSimulationObstacles(page.meshes.back(), source);
   }
   if (curvatureStyle)
     reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());

@@ -76,7 +76,7 @@ def _item(item, k):
             return name, np.zeros((0, 3), dtype=np.int32), [], [], path
         if os.path.isdir(path):
             frames, F, times = _read_obj_frames(path)
-            return name, F, frames, times, ""
+            return name, F, frames, times, path
         from . import read_mesh
         V, F = read_mesh(path)
         return name, F, [V], [], ""

@@ -83,6 +83,26 @@ def test_fairing_report_same_page_as_the_cli(cli, tmp_path):
     assert len(region) == report["region"]["vertices"] and not region & set(ends[0].tolist())
 
 
+def test_simulation_obstacles(cli, plate, tmp_path):
+    V, F = plate
+    folder = tmp_path / "sim"
+    folder.mkdir()
+    for k in range(2):
+        flexure.write_mesh(folder / ("frame-%05d.obj" % k), V + [0, 0, -0.1 * k], F)
+    (folder / "report.json").write_text(json.dumps(
+        {"frame_times": [0, 0.1], "obstacles": ["sphere:0,0,-1,0.5", "plane:0,0,2,-3"]}))
+    cli("-q", "view", folder, "-o", tmp_path / "sim.html")
+    python = flexure.view(folder).html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "sim.html").read_text())
+    (mesh,) = page_data(python)["meshes"]
+    # The plane 2z = −3 as its unit normal and offset: z = −1.5.
+    assert mesh["spheres"] == [[0, 0, -1, 0.5]] and mesh["planes"] == [[0, 0, 1, -1.5]]
+    (folder / "report.json").write_text(json.dumps({"obstacles": ["cone:1,2,3"]}))
+    with pytest.raises(ValueError, match="report.json"):
+        flexure.view(folder)
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])

@@ -2,7 +2,7 @@
 SwiftShader): a mesh is drawn (not a blank canvas), reflection lines show both stripe colours, the
 slider changes the frame shown, a field's legend shows its range, a modes folder's selector and
 amplitude slider change the mode drawn and its nodal lines are drawn, a fairing report's three
-meshes are drawn with the region outlined green, and no page logs a console error or requests
+meshes are drawn with the region outlined green, a simulation's obstacles are drawn, and no page logs a console error or requests
 anything but itself.
 
 Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
@@ -76,7 +76,7 @@ def read_obj(path):
     return positions, faces
 
 
-def simulation_folder(sheet, folder, frames):
+def simulation_folder(sheet, folder, frames, obstacles=None):
     """A folder as flexure simulate writes it: the sheet sagging into z = -a (x² + y²)."""
     os.makedirs(folder, exist_ok=True)
     positions, faces = read_obj(sheet)
@@ -87,7 +87,8 @@ def simulation_folder(sheet, folder, frames):
         write_obj(os.path.join(folder, "frame-%05d.obj" % k), moved, faces)
         times.append(0.05 * k)
     with open(os.path.join(folder, "report.json"), "w") as f:
-        json.dump({"frames": frames, "frame_times": times}, f)
+        json.dump({"frames": frames, "frame_times": times,
+                   **({"obstacles": obstacles} if obstacles else {})}, f)
 
 
 def load(browser, page, timeout=120):
@@ -156,12 +157,44 @@ def fairing_page(browser, shots):
                      "c => { if (c.isLineSegments) c.visible = false; }))")
     check(all(g < 5 for g in browser.evaluate(GREEN)), "fair.html: no green without the outline")
     browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
-                     "c => { if (c.isLineSegments) c.visible = true; }))")
+                     "c => { if (c.isLineSegments) c.visible = true; })); flexureViewer.draw()")
     px = browser.evaluate(PIXELS)
     check(px["drawn"] > 0.05 * px["total"], "fair.html: meshes drawn %s" % px)
     if shots:
         browser.screenshot(os.path.join(shots, "view-fair.png"))
     clean(browser, "fair.html")
+
+
+# Pixels of the obstacles' orange (0.86, 0.62, 0.36), lit: red well above blue.
+ORANGE = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let orange = 0;
+  for (let i = 0; i < p.length; i += 4)
+    if (p[i] > 80 && p[i] > p[i + 1] + 20 && p[i + 1] > p[i + 2] + 20) orange += 1;
+  return orange;
+})()"""
+
+
+def obstacles_page(browser, shots):
+    """A simulation folder whose report lists a sphere and a plane: both drawn, in orange."""
+    load(browser, "obstacles.html")
+    check(browser.evaluate("document.body.dataset.obstacles") == "2",
+          "obstacles.html: a sphere and a plane added")
+    orange = browser.evaluate(ORANGE)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isMesh && c.material.isMeshLambertMaterial) c.visible = false; }))")
+    hidden = browser.evaluate(ORANGE)
+    check(orange > 0.02 * 700000 and hidden < 100,
+          "obstacles.html: the obstacles drawn orange (%d pixels, %d hidden)" % (orange, hidden))
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isMesh) c.visible = true; })); flexureViewer.draw()")
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-obstacles.png"))
+    clean(browser, "obstacles.html")
 
 
 def modes_page(browser, shots):
@@ -195,7 +228,7 @@ def modes_page(browser, shots):
                      "c => { if (c.isLineSegments) c.visible = false; }))")
     unlined = browser.evaluate(RED)
     browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
-                     "c => { if (c.isLineSegments) c.visible = true; }))")
+                     "c => { if (c.isLineSegments) c.visible = true; })); flexureViewer.draw()")
     check(red > unlined + 50, "modes.html: the nodal line drawn red (%d red pixels, %d "
           "without it)" % (red, unlined))
     browser.evaluate("(() => { const s = document.getElementById('amplitude'); s.value = '0';"
@@ -231,6 +264,9 @@ def main():
     flexure(binary, "fair", "bumpy.obj", "--region", "sphere:0,0,0.05,0.28", "-o", "faired.obj",
             "--cgal-output", "cgal.obj", "--report", "fair.json", "--quiet")
     flexure(binary, "view", "fair.json", "-o", "fair.html", "--quiet")
+    simulation_folder("sheet.obj", "sag-obstacles", 3,
+                      obstacles=["sphere:0,0,-0.8,0.25", "plane:0,0,1,-1.2"])
+    flexure(binary, "view", "sag-obstacles", "-o", "obstacles.html", "--quiet")
 
     browser = Browser()
     try:
@@ -304,6 +340,7 @@ def main():
 
         modes_page(browser, shots)
         fairing_page(browser, shots)
+        obstacles_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
