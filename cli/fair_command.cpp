@@ -49,7 +49,7 @@ constexpr int kMinRenderSize = 200;
 using optimize::kSliverToleranceDegrees;
 
 struct FairCommandOptions {
-  std::string input, region, output, reportFile, renderFile;
+  std::string input, region, output, reportFile, renderFile, cgalOutput;
   optimize::FairingSpec spec;  // the flags map one to one onto its fields; it holds the rules
   int renderSize = 700;
   SolverArguments solverArguments;
@@ -271,26 +271,26 @@ struct FigurePanel {
   std::string scalarLabel, scalarSymbol;
 };
 
-// The region's outline: the boundary of the region's faces (those with a vertex in the region,
-// i.e. every face that can change shape) — the edges with a region face on one side and a face
-// that is not on the other. It runs along the first held ring, which stays in place, so it is the
-// same line on every panel. #2S by 3, segment s from row 2s to row 2s + 1 (RenderOptions).
+// The region's outline (modeling::regionOutlineEdges) as render segments: #2S by 3, segment s
+// from row 2s to row 2s + 1 (RenderOptions).
 modeling::Positions regionOutline(const modeling::Mesh& mesh, const modeling::Stencils& stencils,
                                   const std::vector<bool>& region) {
-  const auto regionFace = [&](int f) {
-    if (f < 0) return false;
-    const auto t = mesh.triangles.row(f);
-    return region[t(0)] || region[t(1)] || region[t(2)];
-  };
-  std::vector<int> ends;
-  for (int e = 0; e < stencils.edgeCount(); ++e) {
-    if (regionFace(stencils.edgeFaces(e, 0)) != regionFace(stencils.edgeFaces(e, 1)))
-      ends.insert(ends.end(), {stencils.edges(e, 0), stencils.edges(e, 1)});
+  const std::vector<std::pair<int, int>> edges = modeling::regionOutlineEdges(stencils, region);
+  modeling::Positions segments(2 * static_cast<Eigen::Index>(edges.size()), 3);
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    segments.row(2 * static_cast<Eigen::Index>(i)) = mesh.positions.row(edges[i].first);
+    segments.row(2 * static_cast<Eigen::Index>(i) + 1) = mesh.positions.row(edges[i].second);
   }
-  modeling::Positions segments(static_cast<Eigen::Index>(ends.size()), 3);
-  for (std::size_t i = 0; i < ends.size(); ++i)
-    segments.row(static_cast<Eigen::Index>(i)) = mesh.positions.row(ends[i]);
   return segments;
+}
+
+// The region's vertices (of the mesh faired: for holes, the filled one), ascending: what
+// `flexure view` outlines on the input, CGAL's fair and the result.
+std::vector<int> regionIndices(const std::vector<bool>& region) {
+  std::vector<int> indices;
+  for (std::size_t v = 0; v < region.size(); ++v)
+    if (region[v]) indices.push_back(static_cast<int>(v));
+  return indices;
 }
 
 // The signed distance of flexure's result from CGAL's fair at every mesh vertex,
@@ -489,6 +489,7 @@ nlohmann::json fairReport(const FairCommandOptions& o, const FairSettings& s,
       {"region",
        {{"spec", o.region},
         {"vertices", modeling::countVertices(choice.region)},
+        {"indices", regionIndices(choice.region)},
         {"held_rings", modeling::kHeldRings},
         {"patch_vertices", patch.mesh.vertexCount()},
         {"patch_faces", patch.mesh.faceCount()}}},
@@ -640,6 +641,12 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   modeling::Mesh out = mesh;
   out.positions = faired;
   modeling::writeMesh(o.output, out);
+  if (!o.cgalOutput.empty()) {
+    modeling::Mesh cgal = mesh;
+    cgal.positions = modeling::scatterPatchPositions(mesh.positions, patch, r.cgalPatch);
+    modeling::writeMesh(o.cgalOutput, cgal);
+    report["cgal_output"] = o.cgalOutput;
+  }
   if (figure) render::writePng(o.renderFile, *figure);
   report["seconds"] = seconds();
   if (!o.reportFile.empty()) writeJsonFile(o.reportFile, report);
@@ -706,6 +713,9 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
                 "Reflection-line figure (PNG) of the region (outlined) and its surroundings: the "
                 "input, CGAL's fair, flexure's result and the signed distance flexure - CGAL "
                 "(with --method flexure)");
+  files->output("--cgal-output", options->cgalOutput,
+                "Also write CGAL's fair of the same region (.obj, .off, .ply): flexure view of "
+                "the report shows input, CGAL and flexure side by side");
   sub->add_option("--render-size", options->renderSize, "Render panel size in pixels")
       ->capture_default_str()
       ->check(inRange(kMinRenderSize, 4096));

@@ -41,7 +41,7 @@ namespace {
 
 // The files modes writes into its folder.
 bool isModesFile(const std::string& name) {
-  return name == "modes.json" || name == "chladni.png" ||
+  return name == "modes.json" || name == "chladni.png" || name == "rest.obj" ||
          (name.rfind("mode-", 0) == 0 && name.size() > 4 && name.substr(name.size() - 4) == ".obj");
 }
 
@@ -466,6 +466,7 @@ nlohmann::json modesReport(const ModesOptions& o, const optimize::ModesOptions& 
       {"figure", "chladni.png"},
       {"energies", energies}};
   if (!o.fix.empty()) report["fix"] = o.fix;
+  if (o.writeShapes) report["rest"] = "rest.obj";
   if (!o.reference.empty()) {
     report["reference"] = {{"name", o.reference},
                            {"source", optimize::squarePlateSource(base.support)}};
@@ -482,6 +483,11 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   optimize::ModesOptions base = spec.modes;
   std::vector<EnergyRun> runs = energyRuns(o, spec);
   checkReferenceName(o.reference, base.support);
+  const fs::path restCopy = fs::path(o.outputDir) / "rest.obj";
+  std::error_code error;
+  if (o.writeShapes && !o.meshFile.empty() && fs::equivalent(o.meshFile, restCopy, error))
+    throw InputError("-o " + o.outputDir + ": --write-shapes writes " + restCopy.string() +
+                     ", which is the input --mesh " + o.meshFile + "; give another folder");
   const Plate plate = readOrGeneratePlate(o);
   const modeling::Stencils stencils = modeling::compileStencils(plate.mesh);
   const modeling::RestState rest = modeling::precomputeRestState(stencils, plate.mesh.positions);
@@ -511,6 +517,8 @@ void runModes(const ModesOptions& o, const GlobalOptions& global, const std::str
   modeling::createOutputDirectory(dir.string());
   render::writePng((dir / "chladni.png").string(), figure);
   for (const auto& [name, shaped] : out.shapes) modeling::writeMesh((dir / name).string(), shaped);
+  // The rest mesh beside the shapes, written alike: a shape minus it is the mode (flexure view).
+  if (o.writeShapes) modeling::writeMesh((dir / "rest.obj").string(), plate.mesh);
   writeJsonFile((dir / "modes.json").string(),
                 modesReport(o, base, plate, runs.front().result, out.energies));
   if (!global.quiet) {
@@ -581,7 +589,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--reference", o.reference,
                   "Compare with square-simply-supported (exact) or square-clamped (Leissa 1973)");
   sub->add_flag("--write-shapes", o.writeShapes,
-                "Also write mode-<energy>-<k>.obj: the rest mesh displaced by each mode");
+                "Also write mode-<energy>-<k>.obj: the rest mesh displaced by each mode, and the "
+                "rest mesh as rest.obj (flexure view DIR animates them)");
   sub->add_option("--scale", o.scale,
                   "The largest displacement of the --write-shapes meshes and of a shell's 3-D "
                   "figure, as a fraction of L")
@@ -599,7 +608,8 @@ void registerModesCommand(CLI::App& app, const GlobalOptions& global) {
   sub->footer(
       "Writes DIR/modes.json (per energy: λ, ω, multiplicity, residual, nodal-line length of "
       "each mode; rigid and spurious zero modes named), DIR/chladni.png (rows = energies, "
-      "columns = modes, nodal lines black) and with --write-shapes DIR/mode-<energy>-<k>.obj; "
+      "columns = modes, nodal lines black) and with --write-shapes DIR/mode-<energy>-<k>.obj and "
+      "DIR/rest.obj; "
       "prints the λ table.\n"
       "Example: flexure modes --family patch48 --n 32 --energy midedge,cotan "
       "--support simply-supported --reference square-simply-supported -o modes");

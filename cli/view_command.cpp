@@ -1,6 +1,7 @@
 // flexure view: one self-contained HTML page (render/viewer_page.h) of meshes and simulation
 // folders, with a linked orbit camera, reflection lines or isophotes, a mean-curvature or
-// displacement field with its legend, and a simulation's frames on a time slider; --open opens it.
+// displacement field with its legend, a simulation's frames on a time slider, and a modes folder's
+// vibration modes animated with their nodal lines; --open opens it.
 // This file reads the inputs and maps the flags to a ViewerPageSpec; the page is the library's.
 #include <spawn.h>
 
@@ -21,7 +22,10 @@
 #include "modeling/errors.h"
 #include "modeling/mesh_io.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
+#include "reports/viewer_modes.h"
+#include "reports/viewer_simulation.h"
 
 extern char** environ;
 
@@ -98,6 +102,7 @@ render::ViewerMesh readViewerMesh(const std::string& input) {
     m.frames.push_back(std::move(mesh.positions));
   }
   m.frameTimes = simulationFrameTimes(input, m.frames.size());
+  reports::addSimulationObstacles(m, input);
   return m;
 }
 
@@ -132,7 +137,29 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
   if (!displacementStyle && !o.reference.empty())
     throw InputError("--reference applies to --style displacement only");
 
-  for (const std::string& input : o.inputs) page.meshes.push_back(readViewerMesh(input));
+  for (const std::string& input : o.inputs) {
+    if (reports::isFairingReport(input)) {  // input, CGAL's fair and the result, region outlined
+      for (render::ViewerMesh& m : reports::readFairingReport(input))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
+    if (!reports::isModesFolder(input)) {
+      page.meshes.push_back(readViewerMesh(input));
+      continue;
+    }
+    // A `flexure modes` folder: each energy's modes, animated, with their nodal lines.
+    if (!std::filesystem::exists(std::filesystem::path(input) / "rest.obj"))
+      throw InputError(input +
+                       ": a modes folder without its rest mesh and mode shapes; write "
+                       "them with flexure modes --write-shapes");
+    if (page.style == render::ViewerStyle::Field)
+      throw InputError(input +
+                       ": a modes folder is drawn in the reflection, isophote or shaded "
+                       "style, not --style " +
+                       o.style);
+    for (render::ViewerMesh& m : reports::readModesFolder(input))
+      page.meshes.push_back(std::move(m));
+  }
   if (curvatureStyle) reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
   if (displacementStyle) {
     modeling::Positions rest;
@@ -165,9 +192,11 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
       "view", "An interactive HTML page (three.js, offline) of meshes and simulation folders");
   auto files = CommandFiles::of(*sub);
   files
-      ->inputs("inputs", o.inputs,
-               "Meshes (.obj, .off, .ply, .stl) and simulation folders (flexure simulate -o DIR), "
-               "each in its own view (or one with --overlay)")
+      ->inputs(
+          "inputs", o.inputs,
+          "Meshes (.obj, .off, .ply, .stl), simulation folders (flexure simulate -o DIR) and "
+          "modes folders (flexure modes --write-shapes -o DIR) and fairing reports (flexure fair "
+          "--report R.json), each in its own view (or one with --overlay)")
       ->required();
   files->output("-o,--output", o.output, "Output page (.html)")->required();
   sub->add_option("--style", o.style,

@@ -291,4 +291,18 @@ Positions scatterPatchPositions(const Positions& input, const Submesh& patch,
   return out;
 }
 
+std::vector<std::pair<int, int>> regionOutlineEdges(const Stencils& stencils,
+                                                    const std::vector<bool>& region) {
+  const auto regionFace = [&](int f) {
+    if (f < 0) return false;
+    return region[stencils.faces(f, 0)] || region[stencils.faces(f, 1)] ||
+           region[stencils.faces(f, 2)];
+  };
+  std::vector<std::pair<int, int>> edges;
+  for (int e = 0; e < stencils.edgeCount(); ++e)
+    if (regionFace(stencils.edgeFaces(e, 0)) != regionFace(stencils.edgeFaces(e, 1)))
+      edges.emplace_back(stencils.edges(e, 0), stencils.edges(e, 1));
+  return edges;
+}
+
 }  // namespace flexure::modeling

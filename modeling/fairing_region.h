@@ -80,4 +80,11 @@ FairingPatch extractFairingPatch(const Mesh& mesh, const Stencils& stencils,
 Positions scatterPatchPositions(const Positions& input, const Submesh& patch,
                                 const Positions& patchPositions);
 
+// The region's outline: the boundary of the region's faces (those with a vertex in the region,
+// i.e. every face that can change shape) — the edges with a region face on one side and a face
+// that is not (or none) on the other, as vertex pairs. It runs along the first held ring, which
+// stays in place, so it is the same line on the input and on every fair of it.
+std::vector<std::pair<int, int>> regionOutlineEdges(const Stencils& stencils,
+                                                    const std::vector<bool>& region);
+
 }  // namespace flexure::modeling

@@ -117,6 +117,45 @@ std::pair<double, double> fieldRange(const ViewerPageSpec& spec) {
   return {*lo, *hi > *lo ? *hi : *lo + 1.0};
 }
 
+// Segments as the vertex pairs of their points (4 words a segment) and the points' t (2 floats a
+// segment): "\"lineEnds\":…,\"lineT\":…".
+std::string segmentsData(const ViewerSegments& segments) {
+  std::vector<float> t;
+  std::vector<std::uint32_t> ends;
+  for (const auto& [p, q] : segments)
+    for (const ViewerLinePoint& point : {p, q}) {
+      ends.push_back(static_cast<std::uint32_t>(point.a));
+      ends.push_back(static_cast<std::uint32_t>(point.b));
+      t.push_back(static_cast<float>(point.t));
+    }
+  return "\"lineEnds\":\"" + base64Words(ends) + "\",\"lineT\":\"" + base64Words(t) + "\"";
+}
+
+// A mesh's modes: each its label, φ (#V·3 floats) and its nodal lines (segmentsData).
+std::string modesData(const ViewerMesh& m) {
+  std::string out = "[";
+  for (const ViewerMode& mode : m.modes) {
+    std::vector<float> shape;
+    for (Eigen::Index v = 0; v < mode.shape.rows(); ++v)
+      for (int k = 0; k < 3; ++k) shape.push_back(static_cast<float>(mode.shape(v, k)));
+    out += std::string(out.size() > 1 ? "," : "") + "{\"label\":" + jsonString(mode.label) +
+           ",\"shape\":\"" + base64Words(shape) + "\"," + segmentsData(mode.nodalLines) + "}";
+  }
+  return out + "]";
+}
+
+// A mesh's obstacles: "[[x, y, z, r], …],\"planes\":[[nx, ny, nz, d], …]".
+std::string obstaclesData(const ViewerMesh& m) {
+  std::string spheres, planes;
+  for (const SphereObstacle& s : m.spheres)
+    spheres += std::string(spheres.empty() ? "" : ",") + "[" + number(s.centre.x()) + "," +
+               number(s.centre.y()) + "," + number(s.centre.z()) + "," + number(s.radius) + "]";
+  for (const PlaneObstacle& p : m.planes)
+    planes += std::string(planes.empty() ? "" : ",") + "[" + number(p.normal.x()) + "," +
+              number(p.normal.y()) + "," + number(p.normal.z()) + "," + number(p.offset) + "]";
+  return "[" + spheres + "],\"planes\":[" + planes + "]";
+}
+
 std::string meshData(const ViewerMesh& m) {
   std::vector<float> positions, fields;
   for (const modeling::Positions& x : m.frames)
@@ -136,7 +175,9 @@ std::string meshData(const ViewerMesh& m) {
          ",\"fieldCount\":" + std::to_string(m.fields.size()) + ",\"times\":" + times + "]" +
          ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
          base64Words(positions) + "\",\"fields\":" +
-         (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") + "}";
+         (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") +
+         ",\"modes\":" + modesData(m) + ",\"outline\":{" + segmentsData(m.outline) + "}" +
+         ",\"spheres\":" + obstaclesData(m) + "}";
 }
 
 std::string pageData(const ViewerPageSpec& spec) {
@@ -159,8 +200,9 @@ std::string pageData(const ViewerPageSpec& spec) {
          ",\"stripeDirectionDegrees\":" + number(defaults.stripeDirectionDegrees) + ",\"light\":[" +
          number(defaults.lightDirection[0]) + "," + number(defaults.lightDirection[1]) + "," +
          number(defaults.lightDirection[2]) + "]" +
-         ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) +
-         ",\"elevationDegrees\":" + number(60.0) +
+         ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) + ",\"obstacleColour\":[" +
+         number(defaults.obstacleColour.r) + "," + number(defaults.obstacleColour.g) + "," +
+         number(defaults.obstacleColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
          ",\"overlay\":" + (spec.overlay ? "true" : "false") +
          ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
          number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
@@ -218,13 +260,54 @@ void validateMesh(const ViewerMesh& m, std::size_t i) {
   }
 }
 
+void validateSegments(const ViewerSegments& segments, Eigen::Index vertices,
+                      const std::string& at) {
+  for (const auto& [p, q] : segments)
+    for (const ViewerLinePoint& point : {p, q})
+      if (point.a < 0 || point.b < 0 || point.a >= vertices || point.b >= vertices ||
+          !(point.t >= 0.0 && point.t <= 1.0))
+        fail(at, "has a point off the mesh (vertices 0.." + std::to_string(vertices - 1) +
+                     ", t in [0, 1])");
+}
+
+void validateObstacles(const ViewerMesh& m, std::size_t i) {
+  const std::string at = "meshes[" + std::to_string(i) + "]";
+  for (const SphereObstacle& s : m.spheres)
+    if (!s.centre.allFinite() || !(s.radius > 0.0 && std::isfinite(s.radius)))
+      fail(at + ".spheres", "has a sphere whose centre is not finite or radius not > 0");
+  for (const PlaneObstacle& p : m.planes)
+    if (!p.normal.allFinite() || !(p.normal.norm() > 0.0) || !std::isfinite(p.offset))
+      fail(at + ".planes", "has a plane whose normal is zero or not finite");
+}
+
+void validateModes(const ViewerMesh& m, std::size_t i) {
+  validateObstacles(m, i);
+  validateSegments(m.outline, m.frames.front().rows(), "meshes[" + std::to_string(i) + "].outline");
+  if (m.modes.empty()) return;
+  const std::string at = "meshes[" + std::to_string(i) + "].modes";
+  if (m.frames.size() != 1)
+    fail(at, "are animated about one rest frame, but the mesh has " +
+                 std::to_string(m.frames.size()) + " frames");
+  const Eigen::Index vertices = m.frames.front().rows();
+  for (std::size_t k = 0; k < m.modes.size(); ++k) {
+    const ViewerMode& mode = m.modes[k];
+    const std::string here = at + "[" + std::to_string(k) + "]";
+    if (mode.shape.rows() != vertices || !mode.shape.allFinite())
+      fail(here + ".shape", "must be " + std::to_string(vertices) + " by 3 and finite");
+    validateSegments(mode.nodalLines, vertices, here + ".nodalLines");
+  }
+}
+
 }  // namespace
 
 void ViewerPageSpec::validate() const {
   if (meshes.empty()) fail("meshes", "is empty: give at least one mesh");
   if (stripeCount < 1 || stripeCount > 1000) fail("stripeCount", "must be in [1, 1000]");
   if (!(stripeWidth > 0.0 && stripeWidth < 1.0)) fail("stripeWidth", "must be in (0, 1)");
-  for (std::size_t i = 0; i < meshes.size(); ++i) validateMesh(meshes[i], i);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    validateMesh(meshes[i], i);
+    validateModes(meshes[i], i);
+  }
   const bool anyField = std::any_of(meshes.begin(), meshes.end(),
                                     [](const ViewerMesh& m) { return !m.fields.empty(); });
   const bool allFields = std::all_of(meshes.begin(), meshes.end(),

@@ -2,7 +2,8 @@
 // embedded, the meshes as base64 Float32/Uint32 arrays) that draws meshes side by side or
 // overlaid with one linked camera, reflection lines and isophotes computed in the fragment shader
 // from the same camera-locked environment as the offscreen renderer (render/mesh_shaders.cpp), a
-// per-vertex field with its legend, and a simulation's frames with a time slider.
+// per-vertex field with its legend, a simulation's frames with a time slider, and vibration
+// modes animated about the rest shape with their nodal lines.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "modeling/mesh.h"
+#include "render/mesh_renderer.h"
 
 namespace flexure::render {
 
@@ -17,12 +19,35 @@ enum class ViewerStyle { Reflection, Isophote, Shaded, Field };
 
 // One mesh of the page: its connectivity, its positions at each frame (one frame for a still
 // mesh), and optionally a per-vertex field at each frame (or one for every frame).
+// A point of a line drawn on a mesh: (1 − t) x_a + t x_b of the frame shown, so that the line
+// follows the mesh as it moves (a = b for a vertex).
+struct ViewerLinePoint {
+  int a = 0, b = 0;
+  double t = 0.0;  // in [0, 1]
+};
+using ViewerSegments = std::vector<std::pair<ViewerLinePoint, ViewerLinePoint>>;
+
+// A vibration mode of a mesh, animated on its first frame x_rest as
+// x(t) = x_rest + a sin(2π t / T) φ, a the page's amplitude slider (1 by default, so that φ is
+// the displacement at full swing) and T a fixed display period; its nodal lines drawn black.
+struct ViewerMode {
+  std::string label;          // the mode selector's entry, e.g. "mode 2: λ = 49.3, ω = 12.3"
+  modeling::Positions shape;  // φ, #V by 3
+  ViewerSegments nodalLines;  // on the moving mesh
+};
+
 struct ViewerMesh {
   std::string name;                         // shown above its view
   modeling::Triangles triangles;            // #F by 3
   std::vector<modeling::Positions> frames;  // each #V by 3
   std::vector<double> frameTimes;           // one per frame, or empty (frames are numbered)
   std::vector<Eigen::VectorXd> fields;      // empty, one, or one per frame; each #V
+  std::vector<ViewerMode> modes;            // empty, or modes of a one-frame mesh (a selector)
+  ViewerSegments outline;  // drawn green on every frame, e.g. a faired region's boundary
+  // A simulation's obstacles, drawn in its view in the renderer's obstacle colour: the spheres,
+  // and each plane as a square of half side the framed radius about the foot of the frames' centre.
+  std::vector<SphereObstacle> spheres;
+  std::vector<PlaneObstacle> planes;
 };
 
 // What the page shows. validate() names the field at fault: "ViewerPageSpec.stripeCount …".

@@ -21,6 +21,30 @@ cp sheet.obj sim/frame-00000.obj
 sed 's/^v \(.*\) \(.*\) \(.*\)$/v \1 \2 0.25/' sheet.obj >sim/frame-00001.obj
 run 0 view sim --style displacement -o sim.html; stderr_has "(1 meshes, 2 frames"
 
+# A modes folder (flexure modes --write-shapes): each energy's mesh with its modes.
+run 0 modes --family patch48 --n 6 --energy midedge,cotan --count 3 --write-shapes -o modes --quiet
+test -f modes/rest.obj || fail "flexure modes --write-shapes wrote no rest.obj"
+run 0 view modes -o modes.html; stderr_has "(2 meshes, 2 frames"
+grep -q '"label":"mode 3: ' modes.html || fail "modes.html has no mode 3"
+grep -q '"lineEnds":"[A-Za-z0-9+/]' modes.html || fail "modes.html has no nodal line"
+
+# A fairing report: the input, CGAL's fair (--cgal-output) and the result, the region outlined.
+run 0 mesh --family patch48 --n 8 --height quadratic:1,0,1 -o bowl.obj --quiet
+run 0 fair bowl.obj --region rings:40,1 -o faired.obj --cgal-output cgal.obj --report fair.json \
+  --quiet
+grep -q '"indices"' fair.json || fail "fair.json has no region indices"
+grep -q '"cgal_output": "cgal.obj"' fair.json || fail "fair.json does not name cgal.obj"
+run 0 view fair.json -o fair.html; stderr_has "(3 meshes, 3 frames"
+grep -q '"name":"CGAL fair: cgal.obj"' fair.html || fail "fair.html has no CGAL mesh"
+grep -q '"outline":{"lineEnds":"[A-Za-z0-9+/]' fair.html || fail "fair.html has no outline"
+# Its paths resolve beside the report when the working directory is another.
+mkdir elsewhere
+(cd elsewhere && "$FLEXURE" view ../fair.json -o fair.html --quiet) ||
+  fail "view ../fair.json from another folder"
+test -f elsewhere/fair.html || fail "no elsewhere/fair.html"
+run 0 fair bowl.obj --region rings:40,1 -o faired2.obj --report fair2.json --quiet
+run 0 view fair2.json -o fair2.html; stderr_has "(2 meshes, 2 frames"
+
 # Refusals, before any page is written.
 run 2 view sheet.obj -o page.png; stderr_has "--output 'page.png'"; absent page.png
 run 2 view missing.obj -o page.html; stderr_has "missing.obj"; absent page.html
@@ -37,5 +61,35 @@ run 2 view empty -o page.html; stderr_has "empty: a folder given to view"; absen
 cp sphere.obj sim/frame-00002.obj
 run 2 view sim -o page.html; stderr_has "sim/frame-00002.obj"; absent page.html
 run 2 view sheet.obj -o sheet.obj; stderr_has "sheet.obj"
+# A modes folder without its shapes, with a shape of another mesh, with a broken report.
+run 0 modes --family patch48 --n 6 --energy midedge --count 2 -o noshapes --quiet
+run 2 view noshapes -o page.html; stderr_has "noshapes: a modes folder without"
+stderr_has "--write-shapes"; absent page.html
+cp -r modes badshape; cp sphere.obj badshape/mode-cotan-2.obj
+run 2 view badshape -o page.html; stderr_has "badshape/mode-cotan-2.obj"; absent page.html
+cp -r modes badreport; echo '{"energies": 3' >badreport/modes.json
+run 2 view badreport -o page.html; stderr_has "badreport/modes.json"; absent page.html
+run 2 view modes --style curvature -o page.html; stderr_has "modes: a modes folder"
+absent page.html
+# A fairing report without its result, without region indices, with a result of other vertices.
+sed 's/"output": "faired.obj"/"output": null/' fair.json >unconverged.json
+run 2 view unconverged.json -o page.html; stderr_has "unconverged.json: the fair did not converge"
+absent page.html
+sed 's/"indices"/"vertex_list"/' fair.json >old.json
+run 2 view old.json -o page.html; stderr_has "old.json: the report has no region indices"
+sed 's/"cgal.obj"/"sphere.obj"/' fair.json >wrong.json
+run 2 view wrong.json -o page.html; stderr_has "sphere.obj"; absent page.html
+run 2 fair bowl.obj --region rings:40,1 -o same.obj --cgal-output same.obj
+stderr_has "--cgal-output"; absent same.obj
+# A simulation report with an obstacle that is no sphere or plane.
+cp -r sim badobstacle && rm badobstacle/frame-00002.obj
+echo '{"obstacles": ["cone:0,0,1"]}' >badobstacle/report.json
+run 2 view badobstacle -o page.html; stderr_has "badobstacle/report.json"; absent page.html
+echo '{"obstacles": ["sphere:0,0,-1,0.5"]}' >badobstacle/report.json
+run 0 view badobstacle -o obstacle.html --quiet
+grep -q '"spheres":\[\[0,0,-1,0.5\]\]' obstacle.html || fail "obstacle.html has no sphere"
+# modes refuses to write its rest.obj over the input mesh.
+run 2 modes --mesh modes/rest.obj --energy midedge --count 2 --write-shapes -o modes
+stderr_has "modes/rest.obj"; stderr_has "--write-shapes"
 
 finish cli_view

@@ -488,30 +488,27 @@ std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Suppo
   return fixed;
 }
 
-std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
-    const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape) {
+std::vector<std::pair<NodalPoint, NodalPoint>> nodalEdgeSegments(const modeling::Stencils& stencils,
+                                                                 const modeling::RestState& rest,
+                                                                 const Positions& shape) {
   const Eigen::MatrixX3d normals = modeling::vertexNormals(rest.positions, stencils.faces);
   Eigen::VectorXd s = (shape.array() * normals.array()).rowwise().sum();
   const double floor = kNodalFloor * s.cwiseAbs().maxCoeff();
   for (double& value : s)
     if (std::abs(value) <= floor) value = 0.0;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
-  auto point = [&](int v) -> Eigen::Vector3d { return rest.positions.row(v).transpose(); };
+  std::vector<std::pair<NodalPoint, NodalPoint>> segments;
   for (int f = 0; f < stencils.faceCount(); ++f) {
     // Points of the zero set on the face's edges: a crossing inside each edge whose ends have
     // opposite signs, and a vertex where s = 0 (a held one) when it is the face's only such vertex.
-    std::vector<Eigen::Vector3d> points;
+    std::vector<NodalPoint> points;
     int zeros = 0;
     for (int i = 0; i < 3; ++i) zeros += s[stencils.faces(f, i)] == 0.0;
     if (zeros > 1) continue;
     for (int i = 0; i < 3; ++i) {
       const int v = stencils.faces(f, i);
       const int a = stencils.faces(f, (i + 1) % 3), b = stencils.faces(f, (i + 2) % 3);
-      if (s[v] == 0.0) points.push_back(point(v));
-      if (s[a] * s[b] < 0.0) {
-        const double t = s[a] / (s[a] - s[b]);
-        points.push_back((1.0 - t) * point(a) + t * point(b));
-      }
+      if (s[v] == 0.0) points.push_back({v, v, 0.0});
+      if (s[a] * s[b] < 0.0) points.push_back({a, b, s[a] / (s[a] - s[b])});
     }
     if (points.size() == 2) segments.emplace_back(points[0], points[1]);
   }
@@ -520,8 +517,20 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
   for (int h = 0; h < stencils.hingeCount(); ++h) {
     const int i = stencils.hinges(h, 0), j = stencils.hinges(h, 1);
     const int k = stencils.hinges(h, 2), l = stencils.hinges(h, 3);
-    if (s[i] == 0.0 && s[j] == 0.0 && s[k] * s[l] < 0.0) segments.emplace_back(point(i), point(j));
+    if (s[i] == 0.0 && s[j] == 0.0 && s[k] * s[l] < 0.0)
+      segments.emplace_back(NodalPoint{i, i, 0.0}, NodalPoint{j, j, 0.0});
   }
+  return segments;
+}
+
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
+    const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape) {
+  auto point = [&](const NodalPoint& p) -> Eigen::Vector3d {
+    return ((1.0 - p.t) * rest.positions.row(p.a) + p.t * rest.positions.row(p.b)).transpose();
+  };
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+  for (const auto& [p, q] : nodalEdgeSegments(stencils, rest, shape))
+    segments.emplace_back(point(p), point(q));
   return segments;
 }
 

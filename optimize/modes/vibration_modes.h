@@ -173,4 +173,16 @@ std::vector<bool> supportFixedVertices(const modeling::Stencils& stencils, Suppo
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> nodalSegments(
     const modeling::Stencils& stencils, const modeling::RestState& rest, const Positions& shape);
 
+// A point of a nodal line on a mesh edge: (1 − t) x_a + t x_b, t in [0, 1] (a vertex where the
+// normal displacement is zero: a = b, t = 0), so that the line follows the mesh as it moves.
+struct NodalPoint {
+  int a = 0, b = 0;
+  double t = 0.0;
+};
+
+// The segments of nodalSegments as edge points: nodalSegments maps each to rest-space points.
+std::vector<std::pair<NodalPoint, NodalPoint>> nodalEdgeSegments(const modeling::Stencils& stencils,
+                                                                 const modeling::RestState& rest,
+                                                                 const Positions& shape);
+
 }  // namespace flexure::optimize

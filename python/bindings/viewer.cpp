@@ -1,5 +1,6 @@
 // flexure._flexure.viewer_page: flexure view's HTML page (render/viewer_page.h) of meshes and
-// frame sequences given as arrays; the styles as the command names them.
+// frame sequences given as arrays, modes folders and fairing reports; the styles as the command
+// names them.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -12,7 +13,10 @@
 #include "modeling/errors.h"
 #include "python/bindings/bindings.h"
 #include "render/viewer_page.h"
+#include "reports/viewer_fairing.h"
 #include "reports/viewer_fields.h"
+#include "reports/viewer_modes.h"
+#include "reports/viewer_simulation.h"
 
 namespace py = pybind11;
 
@@ -27,8 +31,12 @@ struct ViewerArguments {
   std::optional<Positions> rest;  // displacement: the rest positions (else each first frame)
 };
 
-// One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered).
-using ViewerItem = std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>>;
+// One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
+// `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
+// meshes, with their modes or the region outlined; a simulation folder's frames with the folder
+// (its obstacles).
+using ViewerItem =
+    std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>, std::string>;
 
 // The page's HTML, as `flexure view` writes it for the same meshes and style.
 py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments& a) {
@@ -38,9 +46,25 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
-  for (const auto& [name, F, frames, times] : items) {
+  for (const auto& [name, F, frames, times, source] : items) {
+    if (!source.empty() && reports::isFairingReport(source)) {
+      for (render::ViewerMesh& m : reports::readFairingReport(source))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
+    if (reports::isModesFolder(source)) {
+      if (curvatureStyle || displacementStyle)
+        throw InputError(source +
+                         ": a modes folder is drawn in the reflection, isophote or "
+                         "shaded style, not " +
+                         a.style);
+      for (render::ViewerMesh& m : reports::readModesFolder(source))
+        page.meshes.push_back(std::move(m));
+      continue;
+    }
     for (const Positions& V : frames) checkedMesh(V, F, name);
-    page.meshes.push_back({name, F, frames, times, {}});
+    page.meshes.push_back({name, F, frames, times, {}, {}, {}, {}, {}});
+    if (!source.empty()) reports::addSimulationObstacles(page.meshes.back(), source);
   }
   if (curvatureStyle)
     reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());

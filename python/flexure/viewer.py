@@ -67,16 +67,19 @@ def _read_obj_frames(folder):
 
 
 def _item(item, k):
-    """(name, F, frames, times) of one argument of view."""
+    """(name, F, frames, times, modes folder) of one argument of view."""
     if isinstance(item, (str, os.PathLike)):
         path = os.fspath(item)
         name = os.path.basename(os.path.normpath(path))
+        if (os.path.isdir(path) and os.path.isfile(os.path.join(path, "modes.json"))) or \
+                path.lower().endswith(".json"):
+            return name, np.zeros((0, 3), dtype=np.int32), [], [], path
         if os.path.isdir(path):
             frames, F, times = _read_obj_frames(path)
-            return name, F, frames, times
+            return name, F, frames, times, path
         from . import read_mesh
         V, F = read_mesh(path)
-        return name, F, [V], []
+        return name, F, [V], [], ""
     try:
         V, F = item
     except (TypeError, ValueError):
@@ -86,7 +89,7 @@ def _item(item, k):
     frames = list(V) if V.ndim == 3 else [V]
     frames = [_checks.positions(X, f"meshes[{k}] V") for X in frames]
     F = _checks.faces(F, frames[0].shape[0], f"meshes[{k}] F")
-    return f"mesh {k + 1}", F, frames, []
+    return f"mesh {k + 1}", F, frames, [], ""
 
 
 def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, overlay=False,
@@ -95,7 +98,11 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
     ``.save(path)``, shown inline in a notebook).
 
     Each of ``meshes``: (V, F) with V #V×3; (frames, F) with frames #T×#V×3 (a time slider);
-    a mesh file; or a ``flexure simulate`` folder. Each mesh has its own view with one linked
+    a mesh file; a ``flexure simulate`` folder; or a ``flexure modes`` folder written with
+    ``--write-shapes`` (a view per energy: its modes animated about the rest, a mode selector, an
+    amplitude slider, the nodal lines drawn); or a ``flexure fair --report`` JSON file (the input,
+    CGAL's fair when written with ``--cgal-output``, and the result side by side, the region
+    outlined). Each mesh has its own view with one linked
     camera, or all one view with ``overlay``. style: "reflection" | "isophote" | "shaded" |
     "curvature" (mean curvature H, the default curvature energy) | "displacement" (|x − rest|,
     ``rest`` #V×3, else each mesh's first frame); stripes, stripe_width as in ``flexure render``;
@@ -114,7 +121,7 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
         items = [(n,) + it[1:] for n, it in zip(names, items)]
     if times is not None:
         times = [_checks.number(t, "times") for t in times]
-        items = [it[:3] + (times if len(it[2]) > 1 else [],) for it in items]
+        items = [it[:3] + (times if len(it[2]) > 1 else [],) + it[4:] for it in items]
     a = _flexure.ViewerArguments()
     a.style = style
     a.stripes = _checks.number(stripes, "stripes", positive=True, integer=True)

@@ -35,6 +35,74 @@ def test_same_page_as_the_cli(cli, plate, tmp_path):
     assert strip(python) == strip(expected)
 
 
+def test_modes_folder_same_page_as_the_cli(cli, tmp_path):
+    modes = tmp_path / "modes"
+    cli("-q", "modes", "--family", "patch48", "--n", "8", "--energy", "midedge", "--count", "3",
+        "--support", "simply-supported", "--write-shapes", "-o", modes)
+    cli("-q", "view", modes, "-o", tmp_path / "modes.html")
+    python = flexure.view(modes).html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "modes.html").read_text())
+    (mesh,) = page_data(python)["meshes"]
+    assert mesh["name"] == "midedge" and mesh["frameCount"] == 1
+    assert [m["label"].split(":")[0] for m in mesh["modes"]] == ["mode 1", "mode 2", "mode 3"]
+    # φ_k = shape − rest: its largest displacement is --scale × L = 0.1.
+    rest, _ = flexure.read_mesh(modes / "rest.obj")
+    shape, _ = flexure.read_mesh(modes / "mode-midedge-2.obj")
+    phi = np.frombuffer(base64.b64decode(mesh["modes"][1]["shape"]), "<f4").reshape(-1, 3)
+    np.testing.assert_allclose(phi, shape - rest, atol=1e-6)
+    assert abs(np.linalg.norm(phi, axis=1).max() - 0.1) < 1e-6
+    # Mode 1 (1,1) has no nodal line inside the held boundary; mode 2 one across the plate.
+    assert mesh["modes"][0]["lineT"] == "" and len(mesh["modes"][1]["lineT"]) > 0
+    with pytest.raises(ValueError, match="modes"):
+        flexure.view(modes, style="curvature")
+    (modes / "rest.obj").unlink()
+    with pytest.raises(ValueError, match="rest.obj"):
+        flexure.view(modes)
+
+
+def test_fairing_report_same_page_as_the_cli(cli, tmp_path):
+    cli("-q", "mesh", "--family", "patch48", "--n", "8", "--height", "quadratic:1,0,1", "-o",
+        tmp_path / "bowl.obj")
+    cli("-q", "fair", tmp_path / "bowl.obj", "--region", "rings:40,1", "-o", tmp_path / "f.obj",
+        "--cgal-output", tmp_path / "c.obj", "--report", tmp_path / "fair.json")
+    cli("-q", "view", tmp_path / "fair.json", "-o", tmp_path / "fair.html")
+    python = flexure.view(tmp_path / "fair.json").html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "fair.html").read_text())
+    meshes = page_data(python)["meshes"]
+    assert [m["name"].split(":")[0] for m in meshes] == ["input", "CGAL fair", "flexure midedge"]
+    # The outline: the boundary edges of the region's faces, the same on each mesh, each end a
+    # vertex (t = 0), none in the region.
+    ends = [np.frombuffer(base64.b64decode(m["outline"]["lineEnds"]), "<u4") for m in meshes]
+    assert len(ends[0]) > 0 and all(np.array_equal(e, ends[0]) for e in ends)
+    t = np.frombuffer(base64.b64decode(meshes[0]["outline"]["lineT"]), "<f4")
+    assert np.all(t == 0) and np.array_equal(ends[0][0::2], ends[0][1::2])
+    report = json.loads((tmp_path / "fair.json").read_text())
+    region = set(report["region"]["indices"])
+    assert len(region) == report["region"]["vertices"] and not region & set(ends[0].tolist())
+
+
+def test_simulation_obstacles(cli, plate, tmp_path):
+    V, F = plate
+    folder = tmp_path / "sim"
+    folder.mkdir()
+    for k in range(2):
+        flexure.write_mesh(folder / ("frame-%05d.obj" % k), V + [0, 0, -0.1 * k], F)
+    (folder / "report.json").write_text(json.dumps(
+        {"frame_times": [0, 0.1], "obstacles": ["sphere:0,0,-1,0.5", "plane:0,0,2,-3"]}))
+    cli("-q", "view", folder, "-o", tmp_path / "sim.html")
+    python = flexure.view(folder).html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "sim.html").read_text())
+    (mesh,) = page_data(python)["meshes"]
+    # The plane 2z = −3 as its unit normal and offset: z = −1.5.
+    assert mesh["spheres"] == [[0, 0, -1, 0.5]] and mesh["planes"] == [[0, 0, 1, -1.5]]
+    (folder / "report.json").write_text(json.dumps({"obstacles": ["cone:1,2,3"]}))
+    with pytest.raises(ValueError, match="report.json"):
+        flexure.view(folder)
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])

@@ -1,7 +1,9 @@
 """flexure view's pages in a real browser (headless Chromium over the DevTools Protocol, WebGL on
 SwiftShader): a mesh is drawn (not a blank canvas), reflection lines show both stripe colours, the
-slider changes the frame shown, a field's legend shows its range, and no page logs a console error
-or requests anything but itself.
+slider changes the frame shown, a field's legend shows its range, a modes folder's selector and
+amplitude slider change the mode drawn and its nodal lines are drawn, a fairing report's three
+meshes are drawn with the region outlined green, a simulation's obstacles are drawn, and no page logs a console error or requests
+anything but itself.
 
 Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
   --measure: also the size and load time of a 10 000-vertex, 100-frame simulation page.
@@ -74,7 +76,7 @@ def read_obj(path):
     return positions, faces
 
 
-def simulation_folder(sheet, folder, frames):
+def simulation_folder(sheet, folder, frames, obstacles=None):
     """A folder as flexure simulate writes it: the sheet sagging into z = -a (x² + y²)."""
     os.makedirs(folder, exist_ok=True)
     positions, faces = read_obj(sheet)
@@ -85,7 +87,8 @@ def simulation_folder(sheet, folder, frames):
         write_obj(os.path.join(folder, "frame-%05d.obj" % k), moved, faces)
         times.append(0.05 * k)
     with open(os.path.join(folder, "report.json"), "w") as f:
-        json.dump({"frames": frames, "frame_times": times}, f)
+        json.dump({"frames": frames, "frame_times": times,
+                   **({"obstacles": obstacles} if obstacles else {})}, f)
 
 
 def load(browser, page, timeout=120):
@@ -102,6 +105,144 @@ def clean(browser, page):
     check(others == [], page + ": no request but the page itself " + str(others))
 
 
+# Pixels of the nodal lines' red (the reflection stripes are grey).
+RED = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let black = 0;
+  for (let i = 0; i < p.length; i += 4) if (p[i] > 150 && p[i + 1] < 90 && p[i + 2] < 90) black += 1;
+  return black;
+})()"""
+
+def bumpy_bowl(bowl, out):
+    """The bowl with a cone-shaped bump of height 0.05 and radius 0.2 at its apex: a region to fair."""
+    positions, faces = read_obj(bowl)
+    for p in positions:
+        d = math.hypot(p[0], p[1])
+        p[2] += 0.05 * max(0.0, 1.0 - d / 0.2)
+    write_obj(out, positions, faces)
+
+
+# Pixels of the outline's green (0, 0.8, 0.2) in each third of the canvas.
+GREEN = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  const thirds = [0, 0, 0];
+  for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
+    const i = 4 * (y * w + x);
+    if (p[i + 1] > 150 && p[i] < 80 && p[i + 2] < 120) thirds[Math.min(2, Math.floor(3 * x / w))] += 1;
+  }
+  return thirds;
+})()"""
+
+
+def fairing_page(browser, shots):
+    """A fairing report: input, CGAL's fair and flexure's side by side, the region outlined on each."""
+    load(browser, "fair.html")
+    names = browser.evaluate("document.getElementById('names').innerText")
+    check("input: bumpy.obj" in names and "CGAL fair: cgal.obj" in names and
+          "flexure midedge: faired.obj" in names, "fair.html: the three meshes named %r" % names)
+    outline = browser.evaluate("document.body.dataset.outlineSegments").split(",")
+    check(len(outline) == 3 and len(set(outline)) == 1 and int(outline[0]) > 20,
+          "fair.html: the same outline on each mesh (%s segments)" % outline)
+    green = browser.evaluate(GREEN)
+    check(all(g > 100 for g in green), "fair.html: the outline drawn green in each view %s" % green)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = false; }))")
+    check(all(g < 5 for g in browser.evaluate(GREEN)), "fair.html: no green without the outline")
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = true; })); flexureViewer.draw()")
+    px = browser.evaluate(PIXELS)
+    check(px["drawn"] > 0.05 * px["total"], "fair.html: meshes drawn %s" % px)
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-fair.png"))
+    clean(browser, "fair.html")
+
+
+# Pixels of the obstacles' orange (0.86, 0.62, 0.36), lit: red well above blue.
+ORANGE = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let orange = 0;
+  for (let i = 0; i < p.length; i += 4)
+    if (p[i] > 80 && p[i] > p[i + 1] + 20 && p[i + 1] > p[i + 2] + 20) orange += 1;
+  return orange;
+})()"""
+
+
+def obstacles_page(browser, shots):
+    """A simulation folder whose report lists a sphere and a plane: both drawn, in orange."""
+    load(browser, "obstacles.html")
+    check(browser.evaluate("document.body.dataset.obstacles") == "2",
+          "obstacles.html: a sphere and a plane added")
+    orange = browser.evaluate(ORANGE)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isMesh && c.material.isMeshLambertMaterial) c.visible = false; }))")
+    hidden = browser.evaluate(ORANGE)
+    check(orange > 0.02 * 700000 and hidden < 100,
+          "obstacles.html: the obstacles drawn orange (%d pixels, %d hidden)" % (orange, hidden))
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isMesh) c.visible = true; })); flexureViewer.draw()")
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-obstacles.png"))
+    clean(browser, "obstacles.html")
+
+
+def modes_page(browser, shots):
+    """A flexure modes folder: mode 1 animated, the selector and the amplitude slider change the
+    drawing, the nodal lines (none for the simply supported (1,1) mode, a line for (1,2)) drawn."""
+    load(browser, "modes.html")
+    check(not browser.evaluate("document.getElementById('mode-controls').hidden"),
+          "modes.html: the mode controls are shown")
+    options = browser.evaluate("Array.from(document.getElementById('mode').options)"
+                               ".map(o => o.textContent)")
+    check(len(options) == 4 and options[0].startswith("mode 1: λ = ") and "ω = " in options[0],
+          "modes.html: four modes in the selector %s" % options)
+    # Playing: the phase moves on its own.
+    a = browser.evaluate(PIXELS)["sum"]
+    time.sleep(0.4)
+    check(browser.evaluate(PIXELS)["sum"] != a, "modes.html: the mode plays")
+    browser.evaluate("flexureViewer.pause(); flexureViewer.setPhase(Math.PI / 2)")
+    first = browser.evaluate(PIXELS)
+    check(first["drawn"] > 0.05 * first["total"], "modes.html: a mesh drawn %s" % first)
+    check(browser.evaluate("document.body.dataset.nodalSegments") == "0",
+          "modes.html: mode 1 (1,1) has no nodal line inside the plate")
+    browser.evaluate("(() => { const s = document.getElementById('mode'); s.value = '1';"
+                     " s.dispatchEvent(new Event('change')); })()")
+    second = browser.evaluate(PIXELS)
+    segments = int(browser.evaluate("document.body.dataset.nodalSegments"))
+    check(browser.evaluate("document.body.dataset.mode") == "1" and second["sum"] != first["sum"],
+          "modes.html: the selector changes the mode drawn")
+    check(segments >= 16, "modes.html: mode 2 has a nodal line (%d segments)" % segments)
+    red = browser.evaluate(RED)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = false; }))")
+    unlined = browser.evaluate(RED)
+    browser.evaluate("flexureViewer.scenes.forEach(s => s.children.forEach("
+                     "c => { if (c.isLineSegments) c.visible = true; })); flexureViewer.draw()")
+    check(red > unlined + 50, "modes.html: the nodal line drawn red (%d red pixels, %d "
+          "without it)" % (red, unlined))
+    browser.evaluate("(() => { const s = document.getElementById('amplitude'); s.value = '0';"
+                     " s.dispatchEvent(new Event('input')); })()")
+    flat = browser.evaluate(PIXELS)
+    check(flat["sum"] != second["sum"] and
+          browser.evaluate("document.getElementById('amplitude-text').textContent") == "0.00 × φ",
+          "modes.html: the amplitude slider changes the drawing")
+    browser.evaluate("flexureViewer.setAmplitude(1)")
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-modes.png"))
+    clean(browser, "modes.html")
+
+
 def main():
     binary, work = sys.argv[1], sys.argv[2]
     shots = sys.argv[sys.argv.index("--screenshots") + 1] if "--screenshots" in sys.argv else None
@@ -116,6 +257,16 @@ def main():
     flexure(binary, "view", "bowl.obj", "--style", "curvature", "-o", "curvature.html", "--quiet")
     flexure(binary, "view", "sag", "--style", "displacement", "-o", "sag.html", "--quiet")
     flexure(binary, "view", "bowl.obj", "--style", "isophote", "-o", "isophote.html", "--quiet")
+    flexure(binary, "modes", "--family", "patch48", "--n", "16", "--energy", "midedge", "--count",
+            "4", "--support", "simply-supported", "--write-shapes", "-o", "modes", "--quiet")
+    flexure(binary, "view", "modes", "-o", "modes.html", "--quiet")
+    bumpy_bowl("bowl.obj", "bumpy.obj")
+    flexure(binary, "fair", "bumpy.obj", "--region", "sphere:0,0,0.05,0.28", "-o", "faired.obj",
+            "--cgal-output", "cgal.obj", "--report", "fair.json", "--quiet")
+    flexure(binary, "view", "fair.json", "-o", "fair.html", "--quiet")
+    simulation_folder("sheet.obj", "sag-obstacles", 3,
+                      obstacles=["sphere:0,0,-0.8,0.25", "plane:0,0,1,-1.2"])
+    flexure(binary, "view", "sag-obstacles", "-o", "obstacles.html", "--quiet")
 
     browser = Browser()
     try:
@@ -186,6 +337,10 @@ def main():
         if shots:
             browser.screenshot(os.path.join(shots, "view-isophote.png"))
         clean(browser, "isophote.html")
+
+        modes_page(browser, shots)
+        fairing_page(browser, shots)
+        obstacles_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
