@@ -12,7 +12,7 @@
 // targets: ≥ 10 steps/s for hinge and cotan, ≥ 3 for midedge, on these 2-core machines; measured
 // (docs/commands/simulate.md; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
 // steps/s, cotan 2.3, midedge 5.0; at 10 000 (45 steps, about 26 in contact) hinge 1.74, cotan
-// 0.44, midedge 0.49. --trace prints every step; --tolerance sets DynamicsOptions::tolerance. Each
+// 0.44, midedge 0.49. --trace prints every step; --step-tolerance sets DynamicsOptions::stepTolerance. Each
 // record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the
 // same machine in the same run (the floor a contact step cannot go below: one Hessian, one
 // factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
@@ -197,13 +197,13 @@ json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, dou
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
                bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
-               double tolerance, json* costs, bool selfContact = false) {
+               double stepTolerance, json* costs, bool selfContact = false) {
   const optimize::ProblemOptions body = sceneBody(mesh, energy, drape, selfContact);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
   options.preconditionedSteps = pcg;
-  if (tolerance > 0.0) options.tolerance = tolerance;
+  if (stepTolerance > 0.0) options.stepTolerance = stepTolerance;
   options.predictAcceleration = predict;
 
   const optimize::Problem problem = optimize::buildProblem(mesh, body);
@@ -555,7 +555,7 @@ struct BenchOptions {
   bool orderings = false, inelastic = false, selfContact = false;
   bool chordSteps = true, predict = true;
   bool trace = false;
-  double tolerance = 0.0;
+  double stepTolerance = 0.0;  // 0: DynamicsOptions' default
   bool energiesGiven = false;  // --energies given
   std::vector<int> cells;      // the sizes run: --n, or --sizes
 };
@@ -596,7 +596,9 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
       ->capture_default_str();
   app.add_option("--predict", o.predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
       ->capture_default_str();
-  app.add_option("--tolerance", o.tolerance, "DynamicsOptions::tolerance (default: its default)");
+  app.add_option("--step-tolerance", o.stepTolerance,
+                 "DynamicsOptions::stepTolerance ε_v (default: its default; 1e-9: the strict "
+                 "reference)");
   app.add_flag("--trace", o.trace, "Each step's seconds, iterations and factorizations on stderr");
   try {
     app.parse(argc, argv);
@@ -607,8 +609,8 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
     std::cerr << "--scene " << o.scene << ": expected drape or hang\n";
     return 2;
   }
-  if (app.count("--tolerance") > 0 && !(o.tolerance > 0.0)) {
-    std::cerr << "--tolerance " << o.tolerance << ": expected a value > 0\n";
+  if (app.count("--step-tolerance") > 0 && !(o.stepTolerance > 0.0)) {
+    std::cerr << "--step-tolerance " << o.stepTolerance << ": expected a value > 0\n";
     return 2;
   }
   if (o.pcgModes != "both" && o.pcgModes != "on" && o.pcgModes != "off") {
@@ -638,7 +640,7 @@ void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std
       for (size_t m = 0; m < modes.size(); ++m) {
         json record = runEnergy(mesh, energy, o.steps, o.dt, std::string(hessian) == "gauss-newton",
                                 o.scene == "drape", o.chordSteps, modes[m], o.predict, o.trace,
-                                o.tolerance, &costs);
+                                o.stepTolerance, &costs);
         if (best[m].is_null() || record.contains("error") ||
             (!best[m].contains("error") &&
              record["steps_per_second"] > best[m]["steps_per_second"]))
@@ -710,7 +712,7 @@ json measureSelfContact(const BenchOptions& o) {
       for (int run = 0; run < o.repeat; ++run)
         for (int on = 0; on < 2; ++on) {
           json record = runEnergy(mesh, energy, o.steps, o.dt, false, true, o.chordSteps, false,
-                                  o.predict, o.trace, o.tolerance, nullptr, on == 1);
+                                  o.predict, o.trace, o.stepTolerance, nullptr, on == 1);
           if (best[on].is_null() || record.contains("error") ||
               (!best[on].contains("error") &&
                record["steps_per_second"] > best[on]["steps_per_second"]))
