@@ -12,23 +12,24 @@
 // targets: ≥ 10 steps/s for hinge and cotan, ≥ 3 for midedge, on these 2-core machines; measured
 // (docs/commands/simulate.md; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
 // steps/s, cotan 2.3, midedge 5.0; at 10 000 (45 steps, about 26 in contact) hinge 1.74, cotan
-// 0.44, midedge 0.49. --trace prints every step; --step-tolerance sets DynamicsOptions::stepTolerance. Each
-// record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the
-// same machine in the same run (the floor a contact step cannot go below: one Hessian, one
-// factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
-// Issue #27: --sizes (cells per side, default 49,99: 2 500 and 10 000 vertices; 199, 40 000, is
-// opt-in) and, per energy (default hinge, cotan, midedge, exact Hessian), --pcg both (default)
-// runs each scene with the Newton steps factoring (before) and solved by conjugate gradients
-// preconditioned by the kept factor (after, DynamicsOptions::preconditionedSteps), --repeat times
-// alternated, and prints a markdown table on stderr: steps/s before and after and their ratio,
-// factorizations, Hessians, PCG solves and iterations per step, the in-run unit costs and the
-// floor (one first-derivative evaluation + one solve with a fixed factor). --orderings measures
-// the step Hessian's fill-reducing orders instead (analysis, nnz(L), factorization, solve).
-// Issue #29: --inelastic runs the drape per size and energy (default hinge, midedge) three ways,
-// alternated --repeat times, best kept — elastic, plastic (PlasticDynamics::afterStep after every
-// step) and fracture (FracturingDynamics with its event search and check) — with yield and
-// fracture values no face reaches, so that the ratio to the elastic run is the overhead of the
-// checks alone; a run where anything yields or cracks is no such measurement and the program exits
+// 0.44, midedge 0.49. --trace prints every step; --step-tolerance sets
+// DynamicsOptions::stepTolerance. Each record also has `iteration_costs`, what one Newton iteration
+// of a step costs part by part on the same machine in the same run (the floor a contact step cannot
+// go below: one Hessian, one factorization, one solve), and `step_over_newton_iteration`, a step's
+// time in those units. Issue #27: --sizes (cells per side, default 49,99: 2 500 and 10 000
+// vertices; 199, 40 000, is opt-in) and, per energy (default hinge, cotan, midedge, exact Hessian),
+// --pcg both (default) runs each scene with the Newton steps factoring (before) and solved by
+// conjugate gradients preconditioned by the kept factor (after,
+// DynamicsOptions::preconditionedSteps), --repeat times alternated, and prints a markdown table on
+// stderr: steps/s before and after and their ratio, factorizations, Hessians, PCG solves and
+// iterations per step, the in-run unit costs and the floor (one first-derivative evaluation + one
+// solve with a fixed factor). --orderings measures the step Hessian's fill-reducing orders instead
+// (analysis, nnz(L), factorization, solve). Issue #29: --inelastic runs the drape per size and
+// energy (default hinge, midedge) three ways, alternated --repeat times, best kept — elastic,
+// plastic (PlasticDynamics::afterStep after every step) and fracture (FracturingDynamics with its
+// event search and check) — with yield and fracture values no face reaches, so that the ratio to
+// the elastic run is the overhead of the checks alone; a run where anything yields or cracks is no
+// such measurement and the program exits
 // 1. Midedge has no fracture run (its ξ do not carry across a cut). It also times, on the same
 // scene, the parts a cut rebuilds (FracturingDynamics::checkFracture) against one step.
 #include <CLI/CLI.hpp>

@@ -8,7 +8,8 @@
 // (a sheet dropped 0.05 onto a sphere, StVK Y = 1e3 + each of --energies with k_B = 1, undamped,
 // on an n × n patch48 sheet); drape-soft, examples/drape-sphere.json's (k_B = 0.01, Rayleigh
 // α = 2: it wrinkles); fold and cantilever, examples/fold-strip.json and cantilever-droop.json.
-// Self-contact is on, as flexure simulate has it. JSON on stdout, a Markdown table on stderr: scripts/bench step-tolerance.
+// Self-contact is on, as flexure simulate has it. JSON on stdout, a Markdown table on stderr:
+// scripts/bench step-tolerance.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -45,7 +46,7 @@ struct Scene {
   std::string name, energy;
   int n = 12;
   double stiffness = 1.0, young = 1e3, rayleighMass = 0.0, dt = 0.01, duration = 1.0;
-  std::string obstacle;              // parseObstacle's spec; empty: none
+  std::string obstacle;               // parseObstacle's spec; empty: none
   double pinFrom = 1.0, pinTo = 0.0;  // empty range: nothing pinned
   optimize::PinMotion motion;
 };
@@ -54,11 +55,31 @@ std::vector<Scene> scenes(const std::vector<std::string>& energies, int drapeN, 
                           double drapeDuration) {
   std::vector<Scene> out;
   for (const std::string& energy : energies)  // simulate_bench's drape, undamped, k_B = 1
-    out.push_back({"drape", energy, drapeN, 1.0, 1e3, 0.0, drapeDt, drapeDuration,
-                   "sphere:0,0,-0.35,0.3", 1.0, 0.0, {}});
+    out.push_back({"drape",
+                   energy,
+                   drapeN,
+                   1.0,
+                   1e3,
+                   0.0,
+                   drapeDt,
+                   drapeDuration,
+                   "sphere:0,0,-0.35,0.3",
+                   1.0,
+                   0.0,
+                   {}});
   for (const std::string& energy : energies)  // examples/drape-sphere.json: k_B = 0.01, α = 2
-    out.push_back({"drape-soft", energy, drapeN, 0.01, 1e3, 2.0, drapeDt, drapeDuration,
-                   "sphere:0,0,-0.32,0.3", 1.0, 0.0, {}});
+    out.push_back({"drape-soft",
+                   energy,
+                   drapeN,
+                   0.01,
+                   1e3,
+                   2.0,
+                   drapeDt,
+                   drapeDuration,
+                   "sphere:0,0,-0.32,0.3",
+                   1.0,
+                   0.0,
+                   {}});
   Scene fold{"fold", "hinge", 8, 0.05, 1e3, 2.0, 0.01, 1.0, "plane:0,0,1,-0.02", 0.45, 0.5, {}};
   fold.motion = optimize::PinMotion::rotation({0, -1, 0}, {0, 0, 0.1}, M_PI);
   out.push_back(fold);  // examples/fold-strip.json
@@ -192,11 +213,9 @@ int main(int argc, char** argv) {
       r["max_distance_over_l"] = largestDistance(run, reference);
       std::fprintf(stderr, "| %s | %s | %.0e | %.2e | %s (%.2g) | %.2f | %.2f | %.1f |%s\n",
                    s.name.c_str(), s.energy.c_str(), r["step_tolerance"].get<double>(),
-                   r["max_distance_over_l"].get<double>(),
-                   r["balance"].get<std::string>().c_str(), r["balance_drift"].get<double>(),
-                   r["newton_iterations_per_step"].get<double>(),
-                   r["factorizations_per_step"].get<double>(),
-                   r["steps_per_second"].get<double>(),
+                   r["max_distance_over_l"].get<double>(), r["balance"].get<std::string>().c_str(),
+                   r["balance_drift"].get<double>(), r["newton_iterations_per_step"].get<double>(),
+                   r["factorizations_per_step"].get<double>(), r["steps_per_second"].get<double>(),
                    r["completed"].get<bool>()
                        ? ""
                        : (" failed: " + r["failure"].get<std::string>()).c_str());

@@ -512,11 +512,12 @@ TEST(TimeStepping, TheDefaultStepToleranceFollowsTheStrictReference) {
     double worst = 0.0;
     for (int k = 0; k < 60; ++k) {  // 0.3 s: in contact from about 0.1 s
       const auto a = loose.advance(h, h / 64.0), b = reference.advance(h, h / 64.0);
-      ASSERT_TRUE(a.completed && b.completed) << k << ": " << a.failure.failure << b.failure.failure;
+      ASSERT_TRUE(a.completed && b.completed)
+          << k << ": " << a.failure.failure << b.failure.failure;
       looseIterations += a.attemptedIterations;
       referenceIterations += b.attemptedIterations;
-      worst = std::max(worst,
-                       (loose.positions() - reference.positions()).rowwise().norm().maxCoeff());
+      worst =
+          std::max(worst, (loose.positions() - reference.positions()).rowwise().norm().maxCoeff());
     }
     std::printf("%s: largest distance %.2e l, Newton iterations %d (strict %d), drift %.2e\n",
                 std::string(curvature::discretizationName(d)).c_str(), worst / diagonal,

@@ -183,7 +183,7 @@ class Simulation:
                  V_start=None, velocities=None, gravity=None, density=1.0, mass="barycentric",
                  obstacles=(), integrator="newmark", beta=0.25, gamma=0.5, rayleigh=(0.0, 0.0),
                  bending_damping=0.0, pin_motion=None, pin_groups=None,
-                 max_newton_iterations=30, step_tolerance=1e-3, yield_curvature=None,
+                 max_newton_iterations=30, step_tolerance=1e-4, yield_curvature=None,
                  yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
                  energy_tolerance=0.05, self_contact=True, contact_offset=None, friction=0.0,
                  mesh_obstacles=()):
