@@ -12,23 +12,24 @@
 // targets: ≥ 10 steps/s for hinge and cotan, ≥ 3 for midedge, on these 2-core machines; measured
 // (docs/commands/simulate.md; idle machine): at 2 500 vertices (n = 49, 0.25 s) hinge 7.6
 // steps/s, cotan 2.3, midedge 5.0; at 10 000 (45 steps, about 26 in contact) hinge 1.74, cotan
-// 0.44, midedge 0.49. --trace prints every step; --tolerance sets DynamicsOptions::tolerance. Each
-// record also has `iteration_costs`, what one Newton iteration of a step costs part by part on the
-// same machine in the same run (the floor a contact step cannot go below: one Hessian, one
-// factorization, one solve), and `step_over_newton_iteration`, a step's time in those units.
-// Issue #27: --sizes (cells per side, default 49,99: 2 500 and 10 000 vertices; 199, 40 000, is
-// opt-in) and, per energy (default hinge, cotan, midedge, exact Hessian), --pcg both (default)
-// runs each scene with the Newton steps factoring (before) and solved by conjugate gradients
-// preconditioned by the kept factor (after, DynamicsOptions::preconditionedSteps), --repeat times
-// alternated, and prints a markdown table on stderr: steps/s before and after and their ratio,
-// factorizations, Hessians, PCG solves and iterations per step, the in-run unit costs and the
-// floor (one first-derivative evaluation + one solve with a fixed factor). --orderings measures
-// the step Hessian's fill-reducing orders instead (analysis, nnz(L), factorization, solve).
-// Issue #29: --inelastic runs the drape per size and energy (default hinge, midedge) three ways,
-// alternated --repeat times, best kept — elastic, plastic (PlasticDynamics::afterStep after every
-// step) and fracture (FracturingDynamics with its event search and check) — with yield and
-// fracture values no face reaches, so that the ratio to the elastic run is the overhead of the
-// checks alone; a run where anything yields or cracks is no such measurement and the program exits
+// 0.44, midedge 0.49. --trace prints every step; --step-tolerance sets
+// DynamicsOptions::stepTolerance. Each record also has `iteration_costs`, what one Newton iteration
+// of a step costs part by part on the same machine in the same run (the floor a contact step cannot
+// go below: one Hessian, one factorization, one solve), and `step_over_newton_iteration`, a step's
+// time in those units. Issue #27: --sizes (cells per side, default 49,99: 2 500 and 10 000
+// vertices; 199, 40 000, is opt-in) and, per energy (default hinge, cotan, midedge, exact Hessian),
+// --pcg both (default) runs each scene with the Newton steps factoring (before) and solved by
+// conjugate gradients preconditioned by the kept factor (after,
+// DynamicsOptions::preconditionedSteps), --repeat times alternated, and prints a markdown table on
+// stderr: steps/s before and after and their ratio, factorizations, Hessians, PCG solves and
+// iterations per step, the in-run unit costs and the floor (one first-derivative evaluation + one
+// solve with a fixed factor). --orderings measures the step Hessian's fill-reducing orders instead
+// (analysis, nnz(L), factorization, solve). Issue #29: --inelastic runs the drape per size and
+// energy (default hinge, midedge) three ways, alternated --repeat times, best kept — elastic,
+// plastic (PlasticDynamics::afterStep after every step) and fracture (FracturingDynamics with its
+// event search and check) — with yield and fracture values no face reaches, so that the ratio to
+// the elastic run is the overhead of the checks alone; a run where anything yields or cracks is no
+// such measurement and the program exits
 // 1. Midedge has no fracture run (its ξ do not carry across a cut). It also times, on the same
 // scene, the parts a cut rebuilds (FracturingDynamics::checkFracture) against one step.
 #include <CLI/CLI.hpp>
@@ -197,13 +198,13 @@ json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, dou
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
                bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
-               double tolerance, json* costs, bool selfContact = false) {
+               double stepTolerance, json* costs, bool selfContact = false) {
   const optimize::ProblemOptions body = sceneBody(mesh, energy, drape, selfContact);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
   options.preconditionedSteps = pcg;
-  if (tolerance > 0.0) options.tolerance = tolerance;
+  if (stepTolerance > 0.0) options.stepTolerance = stepTolerance;
   options.predictAcceleration = predict;
 
   const optimize::Problem problem = optimize::buildProblem(mesh, body);
@@ -555,7 +556,7 @@ struct BenchOptions {
   bool orderings = false, inelastic = false, selfContact = false;
   bool chordSteps = true, predict = true;
   bool trace = false;
-  double tolerance = 0.0;
+  double stepTolerance = 0.0;  // 0: DynamicsOptions' default
   bool energiesGiven = false;  // --energies given
   std::vector<int> cells;      // the sizes run: --n, or --sizes
 };
@@ -596,7 +597,9 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
       ->capture_default_str();
   app.add_option("--predict", o.predict, "Newton starts from x̂ + β h² a_n (false: from x̂)")
       ->capture_default_str();
-  app.add_option("--tolerance", o.tolerance, "DynamicsOptions::tolerance (default: its default)");
+  app.add_option("--step-tolerance", o.stepTolerance,
+                 "DynamicsOptions::stepTolerance ε_v (default: its default; 1e-9: the strict "
+                 "reference)");
   app.add_flag("--trace", o.trace, "Each step's seconds, iterations and factorizations on stderr");
   try {
     app.parse(argc, argv);
@@ -607,8 +610,8 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
     std::cerr << "--scene " << o.scene << ": expected drape or hang\n";
     return 2;
   }
-  if (app.count("--tolerance") > 0 && !(o.tolerance > 0.0)) {
-    std::cerr << "--tolerance " << o.tolerance << ": expected a value > 0\n";
+  if (app.count("--step-tolerance") > 0 && !(o.stepTolerance > 0.0)) {
+    std::cerr << "--step-tolerance " << o.stepTolerance << ": expected a value > 0\n";
     return 2;
   }
   if (o.pcgModes != "both" && o.pcgModes != "on" && o.pcgModes != "off") {
@@ -638,7 +641,7 @@ void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std
       for (size_t m = 0; m < modes.size(); ++m) {
         json record = runEnergy(mesh, energy, o.steps, o.dt, std::string(hessian) == "gauss-newton",
                                 o.scene == "drape", o.chordSteps, modes[m], o.predict, o.trace,
-                                o.tolerance, &costs);
+                                o.stepTolerance, &costs);
         if (best[m].is_null() || record.contains("error") ||
             (!best[m].contains("error") &&
              record["steps_per_second"] > best[m]["steps_per_second"]))
@@ -710,7 +713,7 @@ json measureSelfContact(const BenchOptions& o) {
       for (int run = 0; run < o.repeat; ++run)
         for (int on = 0; on < 2; ++on) {
           json record = runEnergy(mesh, energy, o.steps, o.dt, false, true, o.chordSteps, false,
-                                  o.predict, o.trace, o.tolerance, nullptr, on == 1);
+                                  o.predict, o.trace, o.stepTolerance, nullptr, on == 1);
           if (best[on].is_null() || record.contains("error") ||
               (!best[on].contains("error") &&
                record["steps_per_second"] > best[on]["steps_per_second"]))

@@ -65,6 +65,7 @@ std::vector<modeling::FieldName> dynamicsFlags() {
       {"DynamicsOptions.rayleighMass|rayleighStiffness", "--damping rayleigh:α,β"},
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
+      {"DynamicsOptions.stepTolerance", "--step-tolerance"},
       {"DynamicsOptions.friction", "--friction"},
       {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
       {"PinMotion.kind", "--pin-motion"},

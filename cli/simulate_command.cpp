@@ -265,6 +265,11 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "whose balance drifts more exits 3")
       ->capture_default_str()
       ->check(positive());
+  sub->add_option("--step-tolerance", o.stepTolerance,
+                  "A step's Newton iterations stop when the largest remaining velocity "
+                  "correction |dx|max / dt is below this times the rest mesh's bounding-box "
+                  "diagonal per second (1e-9: the strict reference)")
+      ->capture_default_str();
   sub->add_option(
          "--fracture-strain", o.fractureStrain,
          "Fracture: after each step, a face whose largest principal fibre strain exceeds "

@@ -52,6 +52,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   dynamics.pinGroups = pinGroupMotions(o.pin, dynamics.pinMotion);
   parseDamping(o.damping, dynamics);
   dynamics.energyTolerance = o.energyTolerance;
+  dynamics.stepTolerance = o.stepTolerance;
   dynamics.friction = o.friction;
   return dynamics;
 }

@@ -254,6 +254,12 @@ report_check drape "d['partial'] and abs(d['reached_time'] - 0.6) < 1e-9 and d['
 absent drape/frame-00019.obj
 run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
   --energy-tolerance 0 -o bad; stderr_has "--energy-tolerance"; absent bad
+# --step-tolerance ε_v (the Newton stop ‖Δx‖∞/h ≤ ε_v l) not > 0 and finite: refused before any
+# work, naming the flag (the library's rule, DynamicsOptions.stepTolerance).
+for bad in 0 -1e-3 inf; do
+  run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
+    --step-tolerance "$bad" -o bad; stderr_has "--step-tolerance"; absent bad
+done
 
 # --friction μ: a sheet falling on a floor under gravity tilted along x, undamped (report.json
 # carries μ, the work against friction counted as dissipated); μ < 0 or not finite refused before

@@ -183,6 +183,10 @@ void DynamicsOptions::validate() const {
   if (rayleighMass < 0.0 || rayleighStiffness < 0.0)
     throw InputError("DynamicsOptions.rayleighMass|rayleighStiffness: expected α, β ≥ 0");
   if (bendingDamping < 0.0) throw InputError("DynamicsOptions.bendingDamping: expected c ≥ 0");
+  if (!(stepTolerance > 0.0) || !std::isfinite(stepTolerance))
+    throw InputError("DynamicsOptions.stepTolerance " + numberText(stepTolerance) +
+                     ": expected a velocity tolerance ε_v > 0 (per second, relative to the rest "
+                     "mesh's bounding-box diagonal)");
   if (!(energyTolerance > 0.0))
     throw InputError("DynamicsOptions.energyTolerance: expected a fraction > 0");
   if (!(friction >= 0.0) || !std::isfinite(friction))
@@ -775,7 +779,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   if (im.factorStep != h) im.loop.forget();
   im.factorStep = h;  // the h of every factor this step makes
   StepStopRule rule;
-  rule.step = o.tolerance * length_;
+  rule.step = o.stepTolerance * length_ * h;  // ‖δ‖∞ / h ≤ ε_v l
   rule.maxNewtonSteps = o.maxNewtonIterations;
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;

@@ -67,6 +67,7 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"DynamicsOptions.rayleighMass", "rayleigh"},
       {"DynamicsOptions.bendingDamping", "bending_damping"},
       {"DynamicsOptions.energyTolerance", "energy_tolerance"},
+      {"DynamicsOptions.stepTolerance", "step_tolerance"},
       {"DynamicsOptions.friction", "friction"},
       {"DynamicsOptions.pinGroups", "pin_groups"},
       {"PinMotion.kind", "pin_motion"},

@@ -85,7 +85,7 @@ struct SimulationArguments : MembraneFields {
   // disjoint, DynamicsOptions::validatePinGroups).
   std::vector<PinGroupArguments> pinGroups;
   int maxNewtonIterations = 30;
-  double tolerance = 1e-10;
+  double stepTolerance = optimize::DynamicsOptions().stepTolerance;  // ε_v
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   double friction = 0.0;                              // μ at every contact
   optimize::PlasticityOptions plasticity;             // no yield value: elastic
@@ -133,7 +133,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
          g.releaseTime});
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
-  d.tolerance = a.tolerance;
+  d.stepTolerance = a.stepTolerance;
   d.energyTolerance = a.energyTolerance;
   d.friction = a.friction;
   return d;
@@ -459,7 +459,7 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("velocity", &SimulationArguments::velocity)
       .def_readwrite("pin_groups", &SimulationArguments::pinGroups)
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
-      .def_readwrite("tolerance", &SimulationArguments::tolerance)
+      .def_readwrite("step_tolerance", &SimulationArguments::stepTolerance)
       .def_readwrite("energy_tolerance", &SimulationArguments::energyTolerance)
       .def_readwrite("friction", &SimulationArguments::friction)
       .def_readwrite("plasticity", &SimulationArguments::plasticity)

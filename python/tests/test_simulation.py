@@ -77,7 +77,7 @@ def test_pin_motion_equals_the_cli(cli, plate, tmp_path, motion, cli_motion):
 def test_a_step_that_cannot_converge_raises_with_the_report(plate):
     V, F = plate
     s = flexure.Simulation(V, F, energy="hinge", pinned=2, gravity=[0, 0, -1e4],
-                           max_newton_iterations=1, tolerance=1e-14)
+                           max_newton_iterations=1, step_tolerance=1e-13)
     with pytest.raises(flexure.NumericalError) as caught:
         s.step(0.1, min_dt=0.05)
     report = caught.value.report
@@ -179,6 +179,9 @@ def test_friction_is_counted_as_dissipated(plate):
     ({"pinned": 2, "pin_motion": {"rotate": ([0, 0, 0], [0, 0, 0], 1)}}, "pin_motion"),
     ({"friction": -0.1}, "friction"),
     ({"friction": float("nan")}, "friction"),
+    ({"step_tolerance": 0}, "step_tolerance"),
+    ({"step_tolerance": -1e-3}, "step_tolerance"),
+    ({"step_tolerance": float("inf")}, "step_tolerance"),
 ])
 def test_bad_arguments_name_themselves(plate, arguments, name):
     V, F = plate

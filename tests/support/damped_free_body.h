@@ -10,9 +10,9 @@
 // F = M g − α p, so q = p − M g / α shrinks by r = (1 − z/2)/(1 + z/2) per step, z = α h, and
 // ln r = −z − z³/12 − z⁵/80 − …, i.e. −z − δ with δ ≤ z³/(12 (1 − z²/4)). After n = s/h steps
 //   |p_n − p(s)| = |q(T)| e^{−α s} (1 − e^{−n δ}) ≤ |q(T)| α s (α h)² / (12 (1 − (α h)²/4)),
-// plus Newton's: each step stops with x within tolerance × L per coordinate (L the rest diagonal),
-// and v = v̂ + γ h (x − x̂)/(β h²) is off by γ/(β h) of that, so Σ m v by √3 γ/(β h) tolerance L M
-// per step.
+// plus Newton's: each step stops with x within ε_v L h per coordinate (DynamicsOptions::
+// stepTolerance ε_v, L the rest diagonal), and v = v̂ + γ h (x − x̂)/(β h²) is off by γ/(β h) of
+// that, so Σ m v by √3 γ/β ε_v L M per step.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,7 +34,7 @@ class DampedFreeBody {
         alpha_(alpha),
         h_(h),
         q0_(alpha > 0.0 ? Eigen::Vector3d(p0 - mass * g / alpha) : p0),
-        newtonPerStep_(std::sqrt(3.0) * options.gamma / (options.beta * h) * options.tolerance *
+        newtonPerStep_(std::sqrt(3.0) * options.gamma / options.beta * options.stepTolerance *
                        diagonal * mass) {}
 
   // p(s), s the time since the release.
