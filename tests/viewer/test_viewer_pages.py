@@ -5,8 +5,8 @@ amplitude slider change the mode drawn and its nodal lines are drawn, a fairing 
 meshes are drawn with the region outlined green, a simulation's obstacles are drawn, and no page logs a console error or requests
 anything but itself.
 
-Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR] [--measure]
-  --measure: also the size and load time of a 10 000-vertex, 100-frame simulation page.
+Usage: test_viewer_pages.py FLEXURE WORKDIR [--screenshots DIR]
+(How fast the pages are is measured by scripts/bench view, not here.)
 """
 import json
 import math
@@ -350,20 +350,6 @@ def main():
               any(u.startswith("http://127.0.0.1:9/") for u in browser.requests()),
               "the driver records console errors and requests")
 
-        if "--measure" in sys.argv:
-            flexure(binary, "mesh", "--family", "patch48", "--n", "99", "-o", "big.obj")
-            simulation_folder("big.obj", "big", 100)
-            start = time.time()
-            flexure(binary, "view", "big", "--style", "displacement", "-o", "big.html", "--quiet")
-            print("measure: flexure view of 10 000 vertices x 100 frames: %.2f s, %.1f MB" %
-                  (time.time() - start, os.path.getsize("big.html") / 1e6))
-            seconds = load(browser, "big.html", timeout=300)
-            print("measure: load to the first frame drawn in headless chromium: %.2f s" % seconds)
-            start = time.time()
-            browser.evaluate("flexureViewer.setFrame(99)")
-            browser.wait_for("document.body.dataset.drawnFrame === '99'")
-            print("measure: one slider step: %.3f s" % (time.time() - start))
-            clean(browser, "big.html")
     finally:
         browser.close()
     if failures:

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""How fast `flexure view` pages are: a 10 000-vertex simulation of 100 frames written, opened,
+scrubbed and orbited in headless Chromium (WebGL on SwiftShader, the CPU: no GPU).
+
+Run by ``scripts/bench view [ARGS]`` (not a test; the page's checks are tests/viewer's). Needs the
+flexure command (``--flexure``, default build/cli/flexure) and Debian's chromium.
+
+The simulation folder holds a patch48 sheet (n = 99: 10 000 vertices) sagging over ``--frames``
+frames, as `flexure simulate` writes one. Measured:
+
+- ``flexure view FOLDER --style displacement``: seconds and page size;
+- load: navigation to the first frame drawn (the page parsed, meshes decoded, drawn once);
+- a slider step: setting a frame to the frame drawn, the mean over ``--steps`` frames;
+- orbit: frames per second of the camera turning, one draw per animation frame (the browser's
+  own loop, as a user dragging sees it), over ``--seconds``;
+- a draw: one frame's GL work alone (drawn, then a pixel read back so that it has finished).
+
+A table on stderr, JSON on stdout.
+"""
+
+import argparse
+import json
+import os
+import pathlib
+import random
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests" / "viewer"))
+from cdp import Browser  # noqa: E402
+from test_viewer_pages import simulation_folder  # noqa: E402
+
+# One draw, forced to finish (a pixel read back), timed: the GL work of a frame alone, the mean
+# over the given count.
+DRAW = """(() => {
+  const v = flexureViewer, gl = v.renderer.getContext(), pixel = new Uint8Array(4);
+  const axis = new THREE.Vector3(0, 0, 1);
+  const start = performance.now();
+  for (let k = 0; k < %d; ++k) {
+    v.camera.position.applyAxisAngle(axis, 0.02);
+    v.controls.update();
+    v.draw();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+  }
+  return (performance.now() - start) / %d / 1000;
+})()"""
+
+# The camera turned about the up axis by a small angle per animation frame, drawn each time; the
+# frames counted over the given seconds.
+ORBIT = """new Promise(done => {
+  const v = flexureViewer, axis = new THREE.Vector3(0, 0, 1);
+  let frames = 0;
+  const start = performance.now();
+  function tick(now) {
+    v.camera.position.applyAxisAngle(axis, 0.02);
+    v.controls.update();
+    v.draw();
+    frames += 1;
+    if (now - start < %f) requestAnimationFrame(tick);
+    else done(frames / ((performance.now() - start) / 1000));
+  }
+  requestAnimationFrame(tick);
+})"""
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--flexure", default=str(ROOT / "build" / "cli" / "flexure"))
+    parser.add_argument("--n", type=int, default=99, help="patch48 cells per side (99: 10 000 "
+                        "vertices)")
+    parser.add_argument("--frames", type=int, default=100)
+    parser.add_argument("--steps", type=int, default=10, help="slider steps timed")
+    parser.add_argument("--seconds", type=float, default=3.0, help="orbit time")
+    parser.add_argument("--size", default="1000x700", help="the window, WIDTHxHEIGHT")
+    args = parser.parse_args()
+    flexure = os.path.abspath(args.flexure)
+    width, height = (int(v) for v in args.size.split("x"))
+    results = {"window": args.size}
+    with tempfile.TemporaryDirectory(prefix="viewer-bench-") as work:
+        os.chdir(work)
+        subprocess.run([flexure, "--quiet", "mesh", "--family", "patch48", "-n",
+                        str(args.n), "-o", "sheet.obj"], check=True)
+        simulation_folder("sheet.obj", "sim", args.frames)
+        start = time.perf_counter()
+        subprocess.run([flexure, "--quiet", "view", "sim", "--style", "displacement", "-o",
+                        "page.html"], check=True)
+        results["write_seconds"] = time.perf_counter() - start
+        results["page_megabytes"] = os.path.getsize("page.html") / 1e6
+        results["vertices"] = (args.n + 1) ** 2
+        results["frames"] = args.frames
+        browser = Browser(width, height)
+        try:
+            start = time.perf_counter()
+            browser.load("file://" + os.path.abspath("page.html"), timeout=300)
+            browser.wait_for("document.body.dataset.drawnFrame === '0'", timeout=300)
+            results["load_seconds"] = time.perf_counter() - start
+            frames = random.Random(1).sample(range(1, args.frames), args.steps)
+            start = time.perf_counter()
+            for k in frames:
+                browser.evaluate("flexureViewer.setFrame(%d)" % k)
+                browser.wait_for("document.body.dataset.drawnFrame === '%d'" % k)
+            results["slider_step_seconds"] = (time.perf_counter() - start) / len(frames)
+            results["orbit_fps"] = browser.evaluate(ORBIT % (1000 * args.seconds),
+                                                    timeout=60 + args.seconds)
+            results["draw_seconds"] = browser.evaluate(DRAW % (20, 20), timeout=120)
+        finally:
+            browser.close()
+    print("flexure view of %d vertices x %d frames: written in %.2f s (%.1f MB); opened in "
+          "%.2f s; a slider step %.3f s; orbit %.1f frames/s, a draw alone %.3f s (headless "
+          "Chromium, SwiftShader, %d cores, %s window)" % (
+              results["vertices"], results["frames"], results["write_seconds"],
+              results["page_megabytes"], results["load_seconds"], results["slider_step_seconds"],
+              results["orbit_fps"], results["draw_seconds"], os.cpu_count(), args.size),
+          file=sys.stderr)
+    json.dump(results, sys.stdout, indent=1)
+    print()
+
+
+if __name__ == "__main__":
+    main()
