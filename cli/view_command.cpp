@@ -152,12 +152,7 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
       throw InputError(input +
                        ": a modes folder without its rest mesh and mode shapes; write "
                        "them with flexure modes --write-shapes");
-    if (page.style == render::ViewerStyle::Field)
-      throw InputError(input +
-                       ": a modes folder is drawn in the reflection, isophote or shaded "
-                       "style, not --style " +
-                       o.style);
-    for (render::ViewerMesh& m : reports::readModesFolder(input))
+    for (render::ViewerMesh& m : reports::readModesFolder(input, page.style))
       page.meshes.push_back(std::move(m));
   }
   if (curvatureStyle) reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));

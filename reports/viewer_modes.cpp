@@ -68,7 +68,12 @@ bool isModesFolder(const std::string& dir) {
          std::filesystem::is_regular_file(std::filesystem::path(dir) / "modes.json");
 }
 
-std::vector<render::ViewerMesh> readModesFolder(const std::string& folder) {
+std::vector<render::ViewerMesh> readModesFolder(const std::string& folder,
+                                                render::ViewerStyle style) {
+  if (style == render::ViewerStyle::Field)
+    throw InputError(folder +
+                     ": a modes folder is drawn in the reflection, isophote or shaded style, not "
+                     "with a field (curvature, displacement)");
   const std::filesystem::path dir(folder);
   const std::string report = (dir / "modes.json").string();
   std::ifstream file(report);

@@ -26,7 +26,9 @@ bool isModesFolder(const std::string& dir);
 // (rest.obj) with its flexible modes, φ_k = mode-<energy>-<k>.obj − rest (the largest
 // displacement the scale × L the shapes were written with), each labelled "mode k: λ = …, ω = …".
 // InputError naming the file at fault: modes.json unreadable, no rest.obj or shapes (the folder was
-// written without its mode shapes), a shape with another vertex count or other faces than the rest.
-std::vector<render::ViewerMesh> readModesFolder(const std::string& dir);
+// written without its mode shapes), a shape with another vertex count or other faces than the rest;
+// and naming the folder for a page `style` that cannot show modes (a field: the modes are drawn in
+// the reflection, isophote or shaded style).
+std::vector<render::ViewerMesh> readModesFolder(const std::string& dir, render::ViewerStyle style);
 
 }  // namespace flexure::reports

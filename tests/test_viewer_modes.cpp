@@ -137,14 +137,23 @@ TEST(ViewerModes, ReadsAModesFolder) {
       << R"( "omega": 12.5, "multiplicity": 2, "shape": "mode-midedge-1.obj"}]}]})";
   EXPECT_TRUE(reports::isModesFolder(dir.string()));
   try {
-    reports::readModesFolder(dir.string());
+    reports::readModesFolder(dir.string(), render::ViewerStyle::Reflection);
     ADD_FAILURE() << "no rest mesh, but read";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find((dir / "rest.obj").string()), std::string::npos)
         << e.what();
   }
   modeling::writeMesh((dir / "rest.obj").string(), square.mesh);
-  const std::vector<render::ViewerMesh> meshes = reports::readModesFolder(dir.string());
+  try {
+    reports::readModesFolder(dir.string(), render::ViewerStyle::Field);
+    ADD_FAILURE() << "a modes folder read for a field";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir.string() + ": a modes folder is drawn in the"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::vector<render::ViewerMesh> meshes =
+      reports::readModesFolder(dir.string(), render::ViewerStyle::Shaded);
   ASSERT_EQ(meshes.size(), 1u);
   EXPECT_EQ(meshes[0].name, "midedge");
   ASSERT_EQ(meshes[0].modes.size(), 1u);

@@ -53,12 +53,9 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
       continue;
     }
     if (reports::isModesFolder(source)) {
-      if (curvatureStyle || displacementStyle)
-        throw InputError(source +
-                         ": a modes folder is drawn in the reflection, isophote or "
-                         "shaded style, not " +
-                         a.style);
-      for (render::ViewerMesh& m : reports::readModesFolder(source))
+      const render::ViewerStyle style =
+          curvatureStyle || displacementStyle ? render::ViewerStyle::Field : page.style;
+      for (render::ViewerMesh& m : reports::readModesFolder(source, style))
         page.meshes.push_back(std::move(m));
       continue;
     }
