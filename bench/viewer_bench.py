@@ -11,8 +11,9 @@ frames, as `flexure simulate` writes one. Measured:
 - ``flexure view FOLDER --style displacement``: seconds and page size;
 - load: navigation to the first frame drawn (the page parsed, meshes decoded, drawn once);
 - a slider step: setting a frame to the frame drawn, the mean over ``--steps`` frames;
-- orbit: frames per second of the camera turning, one draw per animation frame (the browser's
-  own loop, as a user dragging sees it), over ``--seconds``;
+- orbit: frames per second of a drag turning the camera, drawn by the page once per animation
+  frame as a user's drag is (a drag slower than 30 frames/s goes on at half resolution), over
+  ``--seconds``;
 - a draw: one frame's GL work alone (drawn, then a pixel read back so that it has finished).
 
 A table on stderr, JSON on stdout.
@@ -48,19 +49,25 @@ DRAW = """(() => {
   return (performance.now() - start) / %d / 1000;
 })()"""
 
-# The camera turned about the up axis by a small angle per animation frame, drawn each time; the
-# frames counted over the given seconds.
+# A drag as OrbitControls makes one: its start event, then per animation frame the camera turned
+# about the up axis by a small angle and the controls updated (their change event has the page
+# draw in the next frame), then its end event; the frames counted over the given seconds.
 ORBIT = """new Promise(done => {
   const v = flexureViewer, axis = new THREE.Vector3(0, 0, 1);
   let frames = 0;
+  v.controls.dispatchEvent({type: 'start'});
   const start = performance.now();
   function tick(now) {
     v.camera.position.applyAxisAngle(axis, 0.02);
     v.controls.update();
-    v.draw();
     frames += 1;
-    if (now - start < %f) requestAnimationFrame(tick);
-    else done(frames / ((performance.now() - start) / 1000));
+    if (now - start < %f) {
+      requestAnimationFrame(tick);
+    } else {
+      const rate = frames / ((performance.now() - start) / 1000);
+      v.controls.dispatchEvent({type: 'end'});
+      done(rate);
+    }
   }
   requestAnimationFrame(tick);
 })"""
