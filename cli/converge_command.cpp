@@ -71,29 +71,11 @@ std::vector<optimize::Quadratic> parseQuadratics(const std::string& text) {
 
 optimize::StudyOptions studyOptions(const ConvergeCommandOptions& o, bool familiesGiven) {
   optimize::StudyOptions study;
-  if (!o.energies.empty()) {
-    study.energies.clear();
-    for (const std::string& spec : o.energies) {
-      try {
-        study.energies.push_back(optimize::parseEnergyVariant(spec, o.poisson));
-      } catch (const InputError& e) {
-        throw InputError(std::string("--energies: ") + e.what());
-      }
-    }
-  } else {
-    study.energies = optimize::defaultEnergyVariants(o.poisson);
-  }
+  study.energies = o.energies.empty() ? optimize::defaultEnergyVariants(o.poisson)
+                                      : optimize::parseEnergyVariants(o.energies, o.poisson);
   // With --mesh, the generated families run only when named.
-  if (familiesGiven || !o.meshFiles.empty()) {
-    study.families.clear();
-    for (const std::string& name : o.families) {
-      try {
-        study.families.push_back(modeling::parsePlateFamily(name));
-      } catch (const InputError& e) {
-        throw InputError(std::string("--families: ") + e.what());
-      }
-    }
-  }
+  if (familiesGiven || !o.meshFiles.empty())
+    study.families = optimize::parseStudyFamilies(o.families);
   study.seeds = o.seeds;
   for (const std::string& file : o.meshFiles)
     study.userMeshes.push_back({file, modeling::readMesh(file)});
@@ -204,6 +186,11 @@ void runConvergeSweep(const ConvergeCommandOptions& o, bool familiesGiven,
   const int code = runSweep({(cases / "part.json").string(), (cases / "grid.json").string(),
                              cases.string(), o.scheduler, o.workers},
                             global, "flexure converge");
+  if (code == kExitInputError) {  // refused before any part ran: leave nothing behind
+    std::filesystem::remove(cases / "part.json");
+    std::filesystem::remove(cases / "grid.json");
+    throw CLI::RuntimeError(code);
+  }
   if (code != 0) {
     std::cerr << "flexure converge: not every energy's part of the study ran (" << cases.string()
               << "/sweep.csv); no table was written; a rerun runs only the parts not done\n";

@@ -133,6 +133,7 @@ std::vector<modeling::FieldName> figureFlags() {
       {"ComparisonOptions.style", "--style"},
       // renders
       {"RenderOptions.style", "--style"},
+      {"RenderOptions.background", "--background"},
       {"RenderOptions.surface", "--surface"},
       {"RenderOptions.width", "--width"},
       {"RenderOptions.height", "--height"},

@@ -138,11 +138,7 @@ void runRenderCommand(RenderCommandOptions o, const GlobalOptions& global) {
   }
   render::RenderOptions& r = o.render;
   r.style = render::parseRenderStyle(o.style);
-  try {
-    r.background = render::parseColour(o.background);
-  } catch (const InputError& e) {
-    throw InputError(std::string("--background: ") + e.what());
-  }
+  r.background = render::parseBackground(o.background);
   r.projection = o.perspective ? render::Projection::Perspective : render::Projection::Orthographic;
   r.smoothNormals = !o.flat;
   if (!o.light.empty()) r.lightDirection = {o.light[0], o.light[1], o.light[2]};

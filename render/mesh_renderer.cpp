@@ -61,12 +61,13 @@ std::string_view renderStyleName(RenderStyle style) {
   return "?";
 }
 
-Rgb parseColour(std::string_view text) {
+Rgb parseBackground(std::string_view text) {
   std::string_view hex = text;
   if (!hex.empty() && hex.front() == '#') hex.remove_prefix(1);
   const auto isHex = [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; };
   if (hex.size() != 6 || !std::all_of(hex.begin(), hex.end(), isHex)) {
-    throw InputError("colour '" + std::string(text) + "' is not of the form #rrggbb");
+    throw InputError("RenderOptions.background: colour '" + std::string(text) +
+                     "' is not of the form #rrggbb");
   }
   const auto channel = [&](int k) {
     return std::stoi(std::string(hex.substr(2 * k, 2)), nullptr, 16) / 255.0;

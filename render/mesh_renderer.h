@@ -62,8 +62,9 @@ struct Rgb {
   double r = 1.0, g = 1.0, b = 1.0;  // each in [0, 1]
 };
 
-// "#rrggbb" (or "rrggbb"); InputError quoting the text otherwise.
-Rgb parseColour(std::string_view text);
+// RenderOptions.background from "#rrggbb" (or "rrggbb"); InputError naming the field and quoting
+// the text otherwise.
+Rgb parseBackground(std::string_view text);
 
 enum class Projection { Orthographic, Perspective };
 

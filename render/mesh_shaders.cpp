@@ -78,6 +78,26 @@ float darkStripe(float s) {
   return 1.0 - smoothstep(0.5 * stripeWidth - halfPixel, 0.5 * stripeWidth + halfPixel,
                           distanceToLine);
 }
+
+// The styles' colours at the unit normal n seen along v (towards the eye), in eye coordinates.
+// Reflection lines: s = N/2 (r·d + 1), r = reflect(−v, n) the view ray reflected in the surface,
+// d = (stripeAcross, 0) the camera-locked direction across the stripes.
+vec3 reflectionLines(vec3 n, vec3 v) {
+  vec3 r = reflect(-v, n);
+  float s = 0.5 * stripeCount * (dot(r, vec3(stripeAcross, 0.0)) + 1.0);
+  return mix(lightStripeColour, darkStripeColour, darkStripe(s));
+}
+// Isophotes: s = N/2 (n·l + 1), bands of equal diffuse light from the direction l.
+vec3 isophotes(vec3 n) {
+  float s = 0.5 * stripeCount * (dot(n, lightDirection) + 1.0);
+  return mix(lightStripeColour, darkStripeColour, darkStripe(s));
+}
+// Shaded: Lambert (15 % ambient) plus a Blinn–Phong highlight of exponent 40.
+vec3 shaded(vec3 n, vec3 v) {
+  vec3 halfway = normalize(lightDirection + v);
+  return surfaceColour * (0.15 + 0.85 * max(dot(n, lightDirection), 0.0)) +
+         vec3(0.25 * pow(max(dot(n, halfway), 0.0), 40.0));
+}
 )";
 
 const char* const kFragmentShader = R"(#version 450 core
@@ -154,11 +174,9 @@ void main() {
     return;
   }
   if (style == 0) {
-    vec3 r = reflect(-v, n);
-    c = mix(lightStripeColour, darkStripeColour, darkStripe(0.5 * stripeCount * (dot(r, d) + 1.0)));
+    c = reflectionLines(n, v);
   } else if (style == 1) {
-    float s = 0.5 * stripeCount * (dot(n, lightDirection) + 1.0);
-    c = mix(lightStripeColour, darkStripeColour, darkStripe(s));
+    c = isophotes(n);
   } else if (style == 2) {
     const float h = 2.0;
     if (n.z > 1e-3) {
@@ -168,9 +186,7 @@ void main() {
       c = vec3(0.5);
     }
   } else if (style == 3) {
-    vec3 halfway = normalize(lightDirection + v);
-    c = surfaceColour * (0.15 + 0.85 * max(dot(n, lightDirection), 0.0)) +
-        vec3(0.25 * pow(max(dot(n, halfway), 0.0), 40.0));
+    c = shaded(n, v);
   } else {
     c = colourMap(vertexScalar);
     if (zeroContour != 0) {

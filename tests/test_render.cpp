@@ -520,9 +520,11 @@ TEST(Render, BadOptionsAreInputErrors) {
               }),
               ::testing::StartsWith("RenderOptions.outlineColour: "));
   EXPECT_EQ(render::parseRenderStyle("isophote"), RenderStyle::Isophote);
-  EXPECT_THROW(render::parseColour("#12345"), InputError);
-  EXPECT_THROW(render::parseColour("#12345g"), InputError);
-  const render::Rgb c = render::parseColour("#ff8000");
+  EXPECT_THAT([] { render::parseBackground("#12345"); },
+              ::testing::ThrowsMessage<InputError>(
+                  ::testing::StartsWith("RenderOptions.background: colour '#12345'")));
+  EXPECT_THROW(render::parseBackground("#12345g"), InputError);
+  const render::Rgb c = render::parseBackground("#ff8000");
   EXPECT_DOUBLE_EQ(c.r, 1.0);
   EXPECT_DOUBLE_EQ(c.g, 128.0 / 255.0);
   EXPECT_DOUBLE_EQ(c.b, 0.0);

@@ -178,6 +178,11 @@ struct EnergyVariant {
 // (triavg, midedge, quadfit; hinge and cotan are ν = 1 models). Throws InputError listing the
 // names.
 EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> poisson = {});
+// The study's energies and families by name, for every front end: InputError naming the field
+// ("StudyOptions.energies: unknown energy 'x' (expected …)", "StudyOptions.families: …").
+std::vector<EnergyVariant> parseEnergyVariants(const std::vector<std::string>& specs,
+                                               std::optional<double> poisson = {});
+std::vector<modeling::MeshFamily> parseStudyFamilies(const std::vector<std::string>& names);
 // The spec parseEnergyVariant reads back into `v`: its label with "(option)" as ":option"
 // ("hinge(tan)" → "hinge:tan", "midedge(free)" → "midedge:free").
 std::string energyVariantSpec(const EnergyVariant& v);

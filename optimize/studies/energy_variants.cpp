@@ -7,6 +7,7 @@
 #include "curvature/bending_spec.h"
 #include "curvature/energy_registry.h"
 #include "modeling/errors.h"
+#include "modeling/generators.h"
 #include "optimize/studies/convergence_study.h"
 
 namespace flexure::optimize {
@@ -60,6 +61,31 @@ EnergyVariant parseEnergyVariant(std::string_view spec, std::optional<double> po
   if (e.poissonRule == curvature::PoissonRule::Koiter) v.bending.poisson = poisson;
   curvature::effectivePoisson(v.bending);  // rejects a ν outside [−1, 1]
   return v;
+}
+
+std::vector<EnergyVariant> parseEnergyVariants(const std::vector<std::string>& specs,
+                                               std::optional<double> poisson) {
+  std::vector<EnergyVariant> variants;
+  for (const std::string& spec : specs) {
+    try {
+      variants.push_back(parseEnergyVariant(spec, poisson));
+    } catch (const InputError& e) {
+      throw InputError(std::string("StudyOptions.energies: ") + e.what());
+    }
+  }
+  return variants;
+}
+
+std::vector<modeling::MeshFamily> parseStudyFamilies(const std::vector<std::string>& names) {
+  std::vector<modeling::MeshFamily> families;
+  for (const std::string& name : names) {
+    try {
+      families.push_back(modeling::parsePlateFamily(name));
+    } catch (const InputError& e) {
+      throw InputError(std::string("StudyOptions.families: ") + e.what());
+    }
+  }
+  return families;
 }
 
 std::string energyVariantSpec(const EnergyVariant& v) {

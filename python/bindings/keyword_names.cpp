@@ -118,6 +118,7 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"ComparisonOptions.cellsPerSide", "n"},
       {"ComparisonOptions.style", "style"},
       {"RenderOptions.style", "style"},
+      {"RenderOptions.background", "background"},
       {"RenderOptions.surface", "surface"},
       {"RenderOptions.width", "size"},
       {"RenderOptions.height", "size"},

@@ -48,11 +48,7 @@ render::RenderOptions renderOptions(const RenderArguments& a) {
   r.projection = a.perspective ? render::Projection::Perspective : render::Projection::Orthographic;
   r.smoothNormals = !a.flat;
   r.edges = a.edges;
-  try {
-    r.background = render::parseColour(a.background);
-  } catch (const InputError& e) {
-    throw InputError(std::string("background: ") + e.what());
-  }
+  r.background = render::parseBackground(a.background);
   r.stripeCount = a.stripes;
   r.stripeWidth = a.stripeWidth;
   r.stripeDirectionDegrees = a.stripeDirection;
@@ -115,7 +111,7 @@ void bindRender(py::module_& m) {
   m.def("render", &renderImage);
   m.def("encode_png", [](py::array_t<std::uint8_t, py::array::c_style> pixels) {
     if (pixels.ndim() != 3 || pixels.shape(2) != 3)
-      throw InputError("image: expected an H x W x 3 uint8 array");
+      throw py::value_error("image: expected an H x W x 3 uint8 array");  // the array's shape
     render::Image image;
     image.height = static_cast<int>(pixels.shape(0));
     image.width = static_cast<int>(pixels.shape(1));

@@ -50,38 +50,11 @@ struct StudyArguments {
   std::string solver = "newton", hessian = "exact";
 };
 
-// Energy specs ("hinge", "midedge:free", …) as variants; InputError naming the argument energies.
-std::vector<optimize::EnergyVariant> energyVariants(const std::vector<std::string>& specs,
-                                                    std::optional<double> poisson) {
-  std::vector<optimize::EnergyVariant> variants;
-  for (const std::string& spec : specs) {
-    try {
-      variants.push_back(optimize::parseEnergyVariant(spec, poisson));
-    } catch (const InputError& e) {
-      throw InputError(std::string("energies: ") + e.what());
-    }
-  }
-  return variants;
-}
-
-// InputError naming the argument families for an unknown name.
-std::vector<modeling::MeshFamily> meshFamilies(const std::vector<std::string>& names) {
-  std::vector<modeling::MeshFamily> families;
-  for (const std::string& name : names) {
-    try {
-      families.push_back(modeling::parsePlateFamily(name));
-    } catch (const InputError& e) {
-      throw InputError(std::string("families: ") + e.what());
-    }
-  }
-  return families;
-}
-
 optimize::StudyOptions studyOptions(const StudyArguments& a) {
   optimize::StudyOptions s;
   s.energies = a.energies.empty() ? optimize::defaultEnergyVariants(a.poisson)
-                                  : energyVariants(a.energies, a.poisson);
-  s.families = meshFamilies(a.families);
+                                  : optimize::parseEnergyVariants(a.energies, a.poisson);
+  s.families = optimize::parseStudyFamilies(a.families);
   s.seeds = a.seeds;
   s.baseN = a.n;
   s.levels = a.levels;
@@ -110,8 +83,9 @@ struct SpectrumArguments {
 
 optimize::SpectrumStudyOptions spectrumOptions(const SpectrumArguments& a) {
   optimize::SpectrumStudyOptions s;
-  s.energies = reports::spectrumEnergies(energyVariants(a.energies, a.poisson), a.poisson);
-  if (!a.families.empty()) s.families = meshFamilies(a.families);
+  s.energies =
+      reports::spectrumEnergies(optimize::parseEnergyVariants(a.energies, a.poisson), a.poisson);
+  if (!a.families.empty()) s.families = optimize::parseStudyFamilies(a.families);
   s.seeds = a.seeds;
   s.baseN = a.n;
   s.levels = a.levels;

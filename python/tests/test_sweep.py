@@ -245,3 +245,9 @@ def test_flexure_converge_on_a_scheduler_writes_a_local_runs_tables(client, cli_
     modes = flexure_cli("converge", "--measure", "modes", "--workers", "2", "-o", "m")
     assert modes.returncode == 2
     assert "--scheduler and --workers apply to --measure c1c2" in modes.stderr
+    # A sweep that cannot start leaves no folder behind.
+    refused = subprocess.run([cli_path, *study, "-o", "refused", "--workers", "2"], cwd=tmp_path,
+                             capture_output=True, text=True,
+                             env=dict(os.environ, FLEXURE_PYTHON=str(tmp_path / "no-python")))
+    assert refused.returncode == 2 and "cannot start" in refused.stderr
+    assert not (tmp_path / "refused").exists()
