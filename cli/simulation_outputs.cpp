@@ -137,10 +137,27 @@ void writeFrameImages(const SimulateOptions& o, render::RenderOptions look,
   if (!o.video.empty()) writeVideo(o.video, pngs, o.fps);
 }
 
+// DIR/cracks.json: {"lips": [frame 0's lips, frame 1's, …]}, each the vertex pairs of the
+// frame's mesh that are crack lips (render::crackLipEdges of the frame's rest positions), for
+// `flexure view`.
+void writeCrackLips(const Recording& recording, const std::string& path) {
+  nlohmann::json lips = nlohmann::json::array();
+  for (size_t f = 0; f < recording.frames.size(); ++f) {
+    nlohmann::json frame = nlohmann::json::array();
+    for (const auto& [a, b] :
+         render::crackLipEdges(recording.frameRest[f], recording.frames[f].second.triangles))
+      frame.push_back({a, b});
+    lips.push_back(std::move(frame));
+  }
+  modeling::writeFileAtomically(path, nlohmann::json{{"lips", lips}}.dump() + "\n");
+}
+
 }  // namespace
 
 bool isSimulationFile(const std::string& name) {
-  if (name == "energies.csv" || name == "energies.png" || name == "report.json") return true;
+  if (name == "energies.csv" || name == "energies.png" || name == "report.json" ||
+      name == "cracks.json")
+    return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
   return (name.rfind("frame-", 0) == 0 && (obj || png)) ||
@@ -159,6 +176,8 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
     written.push_back(name);
   }
   if (dynamics.fractures()) {
+    writeCrackLips(recording, (dir / "cracks.json").string());
+    written.push_back("cracks.json");
     const std::vector<modeling::Mesh> fragments = dynamics.fragments();
     for (size_t k = 0; k < fragments.size(); ++k) {
       const std::string name = "fragment-" + std::to_string(k) + ".obj";

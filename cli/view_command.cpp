@@ -49,60 +49,14 @@ bool endsWithHtml(const std::string& path) {
          (lower.size() > 4 && lower.substr(lower.size() - 4) == ".htm");
 }
 
-// The frame-NNNNN.obj files of a `flexure simulate` folder, in order.
-std::vector<std::filesystem::path> simulationFrames(const std::filesystem::path& dir) {
-  std::vector<std::filesystem::path> frames;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("frame-", 0) == 0 && entry.path().extension() == ".obj")
-      frames.push_back(entry.path());
-  }
-  std::sort(frames.begin(), frames.end());
-  if (frames.empty())
-    throw InputError(dir.string() +
-                     ": a folder given to view must hold a simulation's frame-NNNNN.obj files; "
-                     "it holds none");
-  return frames;
-}
-
-// The frame times of DIR/report.json ("frame_times"), or none when it is missing or has none for
-// every frame (the page then numbers the frames).
-std::vector<double> simulationFrameTimes(const std::filesystem::path& dir, std::size_t count) {
-  std::ifstream file(dir / "report.json");
-  if (!file) return {};
-  const nlohmann::json report = nlohmann::json::parse(file, nullptr, false);
-  if (report.is_discarded() || !report.contains("frame_times")) return {};
-  std::vector<double> times;
-  for (const auto& t : report["frame_times"])
-    if (t.is_number()) times.push_back(t.get<double>());
-  return times.size() == count ? times : std::vector<double>{};
-}
-
-// One input: a mesh file (one frame) or a simulation folder (every frame, the same faces each).
+// One input: a mesh file (one frame) or a simulation folder (reports::readSimulationFolder).
 render::ViewerMesh readViewerMesh(const std::string& input) {
+  if (reports::isSimulationFolder(input)) return reports::readSimulationFolder(input);
   render::ViewerMesh m;
   m.name = std::filesystem::path(input).filename().string();
-  if (!std::filesystem::is_directory(input)) {
-    modeling::Mesh mesh = modeling::readMesh(input);
-    m.triangles = std::move(mesh.triangles);
-    m.frames.push_back(std::move(mesh.positions));
-    return m;
-  }
-  const std::vector<std::filesystem::path> frames = simulationFrames(input);
-  for (const std::filesystem::path& path : frames) {
-    modeling::Mesh mesh = modeling::readMesh(path.string());
-    if (m.frames.empty()) {
-      m.triangles = mesh.triangles;
-    } else if (mesh.triangles != m.triangles || mesh.vertexCount() != m.frames[0].rows()) {
-      throw InputError(path.string() + ": " + std::to_string(mesh.vertexCount()) +
-                       " vertices and " + std::to_string(mesh.faceCount()) + " faces, but " +
-                       frames.front().string() +
-                       " has other faces or vertices (a simulation's frames share them)");
-    }
-    m.frames.push_back(std::move(mesh.positions));
-  }
-  m.frameTimes = simulationFrameTimes(input, m.frames.size());
-  reports::addSimulationObstacles(m, input);
+  modeling::Mesh mesh = modeling::readMesh(input);
+  m.triangles = std::move(mesh.triangles);
+  m.frames.push_back(std::move(mesh.positions));
   return m;
 }
 

@@ -156,28 +156,71 @@ std::string obstaclesData(const ViewerMesh& m) {
   return "[" + spheres + "],\"planes\":[" + planes + "]";
 }
 
-std::string meshData(const ViewerMesh& m) {
-  std::vector<float> positions, fields;
+std::vector<std::uint32_t> triangleWords(const modeling::Triangles& triangles) {
+  std::vector<std::uint32_t> words;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) words.push_back(static_cast<std::uint32_t>(triangles(f, k)));
+  return words;
+}
+
+Eigen::Index largestVertexCount(const ViewerMesh& m) {
+  Eigen::Index count = 0;
+  for (const modeling::Positions& x : m.frames) count = std::max(count, x.rows());
+  return count;
+}
+
+// The frames (and fields), each padded to the largest vertex count with copies of its first
+// vertex (no face of that frame names them), so that the page reads frame k at k·#V·3.
+std::vector<float> paddedFrames(const ViewerMesh& m, Eigen::Index vertices) {
+  std::vector<float> positions;
   for (const modeling::Positions& x : m.frames)
-    for (Eigen::Index v = 0; v < x.rows(); ++v)
-      for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(x(v, k)));
+    for (Eigen::Index v = 0; v < vertices; ++v)
+      for (int k = 0; k < 3; ++k)
+        positions.push_back(static_cast<float>(x(v < x.rows() ? v : 0, k)));
+  return positions;
+}
+
+std::vector<float> paddedFields(const ViewerMesh& m, Eigen::Index vertices) {
+  std::vector<float> fields;
   for (const Eigen::VectorXd& f : m.fields)
-    for (double value : f) fields.push_back(static_cast<float>(value));
-  std::vector<std::uint32_t> triangles;
-  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
-    for (int k = 0; k < 3; ++k) triangles.push_back(static_cast<std::uint32_t>(m.triangles(f, k)));
+    for (Eigen::Index v = 0; v < vertices; ++v)
+      fields.push_back(static_cast<float>(v < f.size() ? f[v] : f[0]));
+  return fields;
+}
+
+// The face changes ("[{\"frame\":k,\"triangles\":…},…]") and each frame's cracks (segmentsData
+// of them all and "crackStarts": the first segment of each frame, then the total).
+std::string cutsData(const ViewerMesh& m) {
+  std::string changes = "[";
+  for (const ViewerFaceChange& c : m.faceChanges)
+    changes += std::string(changes.size() > 1 ? "," : "") +
+               "{\"frame\":" + std::to_string(c.frame) + ",\"triangles\":\"" +
+               base64Words(triangleWords(c.triangles)) + "\"}";
+  ViewerSegments cracks;
+  std::string starts = "[";
+  for (const ViewerSegments& frame : m.frameCracks) {
+    starts += std::to_string(cracks.size()) + ",";
+    cracks.insert(cracks.end(), frame.begin(), frame.end());
+  }
+  starts += std::to_string(cracks.size()) + "]";
+  return changes + "],\"cracks\":{" + segmentsData(cracks) + ",\"starts\":" + starts + "}";
+}
+
+std::string meshData(const ViewerMesh& m) {
+  const Eigen::Index vertices = largestVertexCount(m);
+  const std::vector<float> positions = paddedFrames(m, vertices),
+                           fields = paddedFields(m, vertices);
   std::string times = "[";
   for (std::size_t i = 0; i < m.frameTimes.size(); ++i)
     times += (i ? "," : "") + number(m.frameTimes[i]);
-  return "{\"name\":" + jsonString(m.name) +
-         ",\"vertexCount\":" + std::to_string(m.frames.front().rows()) +
+  return "{\"name\":" + jsonString(m.name) + ",\"vertexCount\":" + std::to_string(vertices) +
          ",\"frameCount\":" + std::to_string(m.frames.size()) +
          ",\"fieldCount\":" + std::to_string(m.fields.size()) + ",\"times\":" + times + "]" +
-         ",\"triangles\":\"" + base64Words(triangles) + "\",\"positions\":\"" +
+         ",\"triangles\":\"" + base64Words(triangleWords(m.triangles)) + "\",\"positions\":\"" +
          base64Words(positions) + "\",\"fields\":" +
          (fields.empty() ? std::string("null") : "\"" + base64Words(fields) + "\"") +
-         ",\"modes\":" + modesData(m) + ",\"outline\":{" + segmentsData(m.outline) + "}" +
-         ",\"spheres\":" + obstaclesData(m) + "}";
+         ",\"faceChanges\":" + cutsData(m) + ",\"modes\":" + modesData(m) + ",\"outline\":{" +
+         segmentsData(m.outline) + "}" + ",\"spheres\":" + obstaclesData(m) + "}";
 }
 
 std::string pageData(const ViewerPageSpec& spec) {
@@ -202,7 +245,9 @@ std::string pageData(const ViewerPageSpec& spec) {
          number(defaults.lightDirection[2]) + "]" +
          ",\"azimuthDegrees\":" + number(defaults.azimuthDegrees) + ",\"obstacleColour\":[" +
          number(defaults.obstacleColour.r) + "," + number(defaults.obstacleColour.g) + "," +
-         number(defaults.obstacleColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
+         number(defaults.obstacleColour.b) + "]" + ",\"crackColour\":[" +
+         number(defaults.crackColour.r) + "," + number(defaults.crackColour.g) + "," +
+         number(defaults.crackColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
          ",\"overlay\":" + (spec.overlay ? "true" : "false") +
          ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
          number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
@@ -231,35 +276,6 @@ std::string filledTemplate(std::string_view page,
   return out;
 }
 
-void validateMesh(const ViewerMesh& m, std::size_t i) {
-  const std::string at = "meshes[" + std::to_string(i) + "]";
-  if (m.frames.empty()) fail(at + ".frames", "is empty: a mesh needs at least one frame");
-  if (m.triangles.rows() == 0) fail(at + ".triangles", "is empty (" + m.name + ")");
-  const Eigen::Index vertices = m.frames.front().rows();
-  if (m.triangles.minCoeff() < 0 || m.triangles.maxCoeff() >= vertices)
-    fail(at + ".triangles", "names a vertex outside 0.." + std::to_string(vertices - 1));
-  for (std::size_t f = 0; f < m.frames.size(); ++f) {
-    if (m.frames[f].rows() != vertices)
-      fail(at + ".frames", "frame " + std::to_string(f) + " has " +
-                               std::to_string(m.frames[f].rows()) + " vertices, frame 0 has " +
-                               std::to_string(vertices));
-    if (!m.frames[f].allFinite())
-      fail(at + ".frames", "frame " + std::to_string(f) + " has a coordinate that is not finite");
-  }
-  if (!m.frameTimes.empty() && m.frameTimes.size() != m.frames.size())
-    fail(at + ".frameTimes", "has " + std::to_string(m.frameTimes.size()) + " times for " +
-                                 std::to_string(m.frames.size()) + " frames");
-  if (m.fields.size() > 1 && m.fields.size() != m.frames.size())
-    fail(at + ".fields", "has " + std::to_string(m.fields.size()) + " fields for " +
-                             std::to_string(m.frames.size()) + " frames (give one or one each)");
-  for (const Eigen::VectorXd& f : m.fields) {
-    if (f.size() != vertices)
-      fail(at + ".fields", "has " + std::to_string(f.size()) + " values for " +
-                               std::to_string(vertices) + " vertices");
-    if (!f.allFinite()) fail(at + ".fields", "has a value that is not finite");
-  }
-}
-
 void validateSegments(const ViewerSegments& segments, Eigen::Index vertices,
                       const std::string& at) {
   for (const auto& [p, q] : segments)
@@ -268,6 +284,55 @@ void validateSegments(const ViewerSegments& segments, Eigen::Index vertices,
           !(point.t >= 0.0 && point.t <= 1.0))
         fail(at, "has a point off the mesh (vertices 0.." + std::to_string(vertices - 1) +
                      ", t in [0, 1])");
+}
+
+void validateFaces(const ViewerMesh& m, const std::string& at) {
+  if (m.triangles.rows() == 0) fail(at + ".triangles", "is empty (" + m.name + ")");
+  for (std::size_t k = 0; k < m.faceChanges.size(); ++k) {
+    const ViewerFaceChange& c = m.faceChanges[k];
+    const std::size_t after = k == 0 ? 0 : m.faceChanges[k - 1].frame;
+    if (c.frame <= after || c.frame >= m.frames.size() || c.triangles.rows() == 0)
+      fail(at + ".faceChanges", "[" + std::to_string(k) + "] must name a later frame below " +
+                                    std::to_string(m.frames.size()) + " and have faces");
+  }
+  for (std::size_t f = 0; f < m.frames.size(); ++f) {
+    const modeling::Triangles& t = m.trianglesAt(f);
+    const Eigen::Index vertices = m.frames[f].rows();
+    if (t.minCoeff() < 0 || t.maxCoeff() >= vertices)
+      fail(at + ".triangles", "of frame " + std::to_string(f) + " name a vertex outside 0.." +
+                                  std::to_string(vertices - 1));
+    if (f > 0 && &t == &m.trianglesAt(f - 1) && vertices != m.frames[f - 1].rows())
+      fail(at + ".frames", "frame " + std::to_string(f) + " has " + std::to_string(vertices) +
+                               " vertices, frame " + std::to_string(f - 1) + " has " +
+                               std::to_string(m.frames[f - 1].rows()) + " and the same faces");
+    if (!m.frames[f].allFinite())
+      fail(at + ".frames", "frame " + std::to_string(f) + " has a coordinate that is not finite");
+  }
+}
+
+void validateMesh(const ViewerMesh& m, std::size_t i) {
+  const std::string at = "meshes[" + std::to_string(i) + "]";
+  if (m.frames.empty()) fail(at + ".frames", "is empty: a mesh needs at least one frame");
+  validateFaces(m, at);
+  if (!m.frameTimes.empty() && m.frameTimes.size() != m.frames.size())
+    fail(at + ".frameTimes", "has " + std::to_string(m.frameTimes.size()) + " times for " +
+                                 std::to_string(m.frames.size()) + " frames");
+  if (m.fields.size() > 1 && m.fields.size() != m.frames.size())
+    fail(at + ".fields", "has " + std::to_string(m.fields.size()) + " fields for " +
+                             std::to_string(m.frames.size()) + " frames (give one or one each)");
+  for (std::size_t k = 0; k < m.fields.size(); ++k) {
+    const Eigen::Index vertices = m.frames[m.fields.size() == 1 ? 0 : k].rows();
+    if (m.fields[k].size() != vertices)
+      fail(at + ".fields", "has " + std::to_string(m.fields[k].size()) + " values for " +
+                               std::to_string(vertices) + " vertices");
+    if (!m.fields[k].allFinite()) fail(at + ".fields", "has a value that is not finite");
+  }
+  if (!m.frameCracks.empty() && m.frameCracks.size() != m.frames.size())
+    fail(at + ".frameCracks", "has " + std::to_string(m.frameCracks.size()) + " lists for " +
+                                  std::to_string(m.frames.size()) + " frames");
+  for (std::size_t f = 0; f < m.frameCracks.size(); ++f)
+    validateSegments(m.frameCracks[f], m.frames[f].rows(),
+                     at + ".frameCracks[" + std::to_string(f) + "]");
 }
 
 void validateObstacles(const ViewerMesh& m, std::size_t i) {
@@ -316,6 +381,13 @@ void ViewerPageSpec::validate() const {
     fail("style", "is field, but a mesh has no field values");
   if (style != ViewerStyle::Field && anyField)
     fail("style", std::string("is ") + viewerStyleName(style) + ", which draws no field");
+}
+
+const modeling::Triangles& ViewerMesh::trianglesAt(std::size_t frame) const {
+  const modeling::Triangles* faces = &triangles;
+  for (const ViewerFaceChange& c : faceChanges)
+    if (c.frame <= frame) faces = &c.triangles;
+  return *faces;
 }
 
 ViewerStyle parseViewerStyle(const std::string& name) {

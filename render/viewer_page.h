@@ -36,18 +36,31 @@ struct ViewerMode {
   ViewerSegments nodalLines;  // on the moving mesh
 };
 
+// A cut (fracture, modeling/crack_cut.h) changes a simulation's faces and appends vertices: from
+// frame `frame` on, until the next change, the frames have these faces.
+struct ViewerFaceChange {
+  std::size_t frame = 0;
+  modeling::Triangles triangles;
+};
+
 struct ViewerMesh {
-  std::string name;                         // shown above its view
-  modeling::Triangles triangles;            // #F by 3
-  std::vector<modeling::Positions> frames;  // each #V by 3
-  std::vector<double> frameTimes;           // one per frame, or empty (frames are numbered)
-  std::vector<Eigen::VectorXd> fields;      // empty, one, or one per frame; each #V
-  std::vector<ViewerMode> modes;            // empty, or modes of a one-frame mesh (a selector)
+  std::string name;                           // shown above its view
+  modeling::Triangles triangles;              // #F by 3 (the first frame's)
+  std::vector<modeling::Positions> frames;    // each #V by 3 (#V the same between face changes)
+  std::vector<ViewerFaceChange> faceChanges;  // in frame order; empty: one set of faces
+  // The cracks' lips at each frame (empty, or one list per frame), drawn in the crack colour.
+  std::vector<ViewerSegments> frameCracks;
+  std::vector<double> frameTimes;       // one per frame, or empty (frames are numbered)
+  std::vector<Eigen::VectorXd> fields;  // empty, one, or one per frame; each #V
+  std::vector<ViewerMode> modes;        // empty, or modes of a one-frame mesh (a selector)
   ViewerSegments outline;  // drawn green on every frame, e.g. a faired region's boundary
   // A simulation's obstacles, drawn in its view in the renderer's obstacle colour: the spheres,
   // and each plane as a square of half side the framed radius about the foot of the frames' centre.
   std::vector<SphereObstacle> spheres;
   std::vector<PlaneObstacle> planes;
+
+  // The faces frame `frame` has.
+  const modeling::Triangles& trianglesAt(std::size_t frame) const;
 };
 
 // What the page shows. validate() names the field at fault: "ViewerPageSpec.stripeCount …".

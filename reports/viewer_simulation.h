@@ -1,5 +1,6 @@
-// A simulation folder's extras on a viewer page (render/viewer_page.h): its obstacles, read from
-// the folder's report.json; shared by `flexure view` and flexure.view.
+// A `flexure simulate` folder on a viewer page (render/viewer_page.h): its frames and their times,
+// the faces a cut changed, the cracks' lips and the obstacles; shared by `flexure view` and
+// flexure.view.
 #pragma once
 
 #include <string>
@@ -8,9 +9,17 @@
 
 namespace flexure::reports {
 
-// The spheres and planes of DIR/report.json's "obstacles" (each "sphere:x,y,z,r" or
-// "plane:nx,ny,nz,d", as optimize::parseObstacle reads them) added to `mesh`; nothing when the
-// report or the list is missing. InputError naming the report for an obstacle it cannot read.
-void addSimulationObstacles(render::ViewerMesh& mesh, const std::string& dir);
+// Whether `dir` is a folder (a simulation's, when it holds frame-NNNNN.obj files).
+bool isSimulationFolder(const std::string& dir);
+
+// DIR's frame-NNNNN.obj files in order as one mesh named after the folder: the times of
+// report.json's "frame_times" (none, and the page numbers the frames, when it has not one per
+// frame); where a frame's faces differ from the one before (a cut: fracture), a face change; the
+// lips of cracks.json (written by a simulation that fractured); the spheres and planes of
+// report.json's "obstacles" (as optimize::parseObstacle reads them). InputError naming the folder
+// when it holds no frame; the file of a frame that cannot be read, that changes the vertex count
+// without changing the faces, or that changes the faces in a folder without cracks.json;
+// cracks.json when it does not match the frames; the report when an obstacle cannot be read.
+render::ViewerMesh readSimulationFolder(const std::string& dir);
 
 }  // namespace flexure::reports

@@ -21,6 +21,16 @@ cp sheet.obj sim/frame-00000.obj
 sed 's/^v \(.*\) \(.*\) \(.*\)$/v \1 \2 0.25/' sheet.obj >sim/frame-00001.obj
 run 0 view sim --style displacement -o sim.html; stderr_has "(1 meshes, 2 frames"
 
+# A run that fractured: the faces change after the cut, its lips (cracks.json) on the page.
+run 0 --quiet run "$support/../../examples/tear-strip.json"
+test -f tear/cracks.json || fail "a run that fractured wrote no cracks.json"
+run 0 view tear -o tear.html; stderr_has "(1 meshes, 7 frames"
+grep -q '"faceChanges":\[{"frame":3,' tear.html || fail "tear.html has no face change at frame 3"
+cp -r tear tear-broken; echo '{"lips": [[[0, 99999]]]}' >tear-broken/cracks.json
+run 2 view tear-broken -o page.html; stderr_has "tear-broken/cracks.json"; absent page.html
+cp -r tear tear-nolips; rm tear-nolips/cracks.json
+run 2 view tear-nolips -o page.html; stderr_has "tear-nolips/frame-00003.obj"; absent page.html
+
 # A modes folder (flexure modes --write-shapes): each energy's mesh with its modes.
 run 0 modes --family patch48 --n 6 --energy midedge,cotan --count 3 --write-shapes -o modes --quiet
 test -f modes/rest.obj || fail "flexure modes --write-shapes wrote no rest.obj"

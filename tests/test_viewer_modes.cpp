@@ -13,6 +13,7 @@
 #include "modeling/mesh_io.h"
 #include "modeling/vertex_quantities.h"
 #include "optimize/modes/vibration_modes.h"
+#include "render/viewer_page.h"
 #include "reports/viewer_modes.h"
 
 namespace flexure {
@@ -160,6 +161,47 @@ TEST(ViewerModes, ReadsAModesFolder) {
   EXPECT_EQ(meshes[0].modes[0].label, "mode 1: λ = 49.35, ω = 12.5 (×2)");
   EXPECT_LE((meshes[0].modes[0].shape - 0.1 * square.mode(2, 1)).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_GE(meshes[0].modes[0].nodalLines.size(), 8u);
+}
+
+// A cut's face change: valid from a later frame whose vertices the faces name; refused (naming
+// the field) at frame 0, out of order, or naming a vertex the frame does not have.
+TEST(ViewerPage, FaceChangesAreCheckedAgainstTheirFrames) {
+  const Square square(4);
+  render::ViewerPageSpec page;
+  render::ViewerMesh m;
+  m.triangles = square.mesh.triangles;
+  m.frames = {square.mesh.positions, square.mesh.positions};
+  modeling::Positions grown(square.mesh.vertexCount() + 1, 3);
+  grown << square.mesh.positions, square.mesh.positions.row(0);
+  m.frames.push_back(grown);
+  modeling::Triangles cut = square.mesh.triangles;
+  cut(0, 0) = square.mesh.vertexCount();  // the appended vertex
+  m.faceChanges.push_back({2, cut});
+  page.meshes = {m};
+  EXPECT_NO_THROW(page.validate());
+  EXPECT_EQ(page.meshes[0].trianglesAt(1)(0, 0), square.mesh.triangles(0, 0));
+  EXPECT_EQ(page.meshes[0].trianglesAt(2)(0, 0), square.mesh.vertexCount());
+  const auto refused = [&](render::ViewerMesh bad, const std::string& field) {
+    page.meshes = {bad};
+    try {
+      page.validate();
+      ADD_FAILURE() << "accepted; expected a refusal naming " << field;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  render::ViewerMesh atZero = m;
+  atZero.faceChanges[0].frame = 0;
+  refused(atZero, "meshes[0].faceChanges");
+  render::ViewerMesh early = m;
+  early.faceChanges[0].frame = 1;  // frame 1 has no vertex #V
+  refused(early, "meshes[0].triangles");
+  render::ViewerMesh grownWithoutCut = m;
+  grownWithoutCut.faceChanges.clear();
+  refused(grownWithoutCut, "meshes[0].frames");
+  render::ViewerMesh cracks = m;
+  cracks.frameCracks = {{}, {}};
+  refused(cracks, "meshes[0].frameCracks");
 }
 
 }  // namespace

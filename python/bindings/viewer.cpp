@@ -33,8 +33,8 @@ struct ViewerArguments {
 
 // One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
 // `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
-// meshes, with their modes or the region outlined; a simulation folder's frames with the folder
-// (its obstacles).
+// meshes, with their modes or the region outlined; or a simulation folder
+// (reports::readSimulationFolder).
 using ViewerItem =
     std::tuple<std::string, Triangles, std::vector<Positions>, std::vector<double>, std::string>;
 
@@ -59,9 +59,20 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
         page.meshes.push_back(std::move(m));
       continue;
     }
+    if (!source.empty() && reports::isSimulationFolder(source)) {
+      render::ViewerMesh m = reports::readSimulationFolder(source);
+      m.name = name;
+      if (!times.empty()) m.frameTimes = times;
+      page.meshes.push_back(std::move(m));
+      continue;
+    }
     for (const Positions& V : frames) checkedMesh(V, F, name);
-    page.meshes.push_back({name, F, frames, times, {}, {}, {}, {}, {}});
-    if (!source.empty()) reports::addSimulationObstacles(page.meshes.back(), source);
+    render::ViewerMesh m;
+    m.name = name;
+    m.triangles = F;
+    m.frames = frames;
+    m.frameTimes = times;
+    page.meshes.push_back(std::move(m));
   }
   if (curvatureStyle)
     reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());

@@ -3,7 +3,6 @@ offline), of meshes and frame sequences given as arrays or files; shown inline i
 
 import html
 import os
-import re
 import tempfile
 
 import numpy as np
@@ -42,41 +41,13 @@ class View:
             raise
 
 
-def _read_obj_frames(folder):
-    from . import read_mesh
-    names = sorted(n for n in os.listdir(folder) if re.fullmatch(r"frame-\d+\.obj", n))
-    if not names:
-        raise ValueError(f"{folder}: a folder given to view must hold a simulation's "
-                         "frame-NNNNN.obj files; it holds none")
-    frames, F = [], None
-    for name in names:
-        V, G = read_mesh(os.path.join(folder, name))
-        if F is not None and (G.shape != F.shape or not np.array_equal(G, F)):
-            raise ValueError(f"{os.path.join(folder, name)}: other faces than {names[0]} "
-                             "(a simulation's frames share them)")
-        F = G
-        frames.append(V)
-    times = []
-    try:
-        import json
-        with open(os.path.join(folder, "report.json")) as f:
-            times = [float(t) for t in json.load(f).get("frame_times", [])]
-    except (OSError, ValueError):
-        pass
-    return frames, F, times if len(times) == len(frames) else []
-
-
 def _item(item, k):
-    """(name, F, frames, times, modes folder) of one argument of view."""
+    """(name, F, frames, times, folder or report) of one argument of view."""
     if isinstance(item, (str, os.PathLike)):
         path = os.fspath(item)
         name = os.path.basename(os.path.normpath(path))
-        if (os.path.isdir(path) and os.path.isfile(os.path.join(path, "modes.json"))) or \
-                path.lower().endswith(".json"):
+        if os.path.isdir(path) or path.lower().endswith(".json"):  # read by the library
             return name, np.zeros((0, 3), dtype=np.int32), [], [], path
-        if os.path.isdir(path):
-            frames, F, times = _read_obj_frames(path)
-            return name, F, frames, times, path
         from . import read_mesh
         V, F = read_mesh(path)
         return name, F, [V], [], ""
@@ -121,7 +92,8 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
         items = [(n,) + it[1:] for n, it in zip(names, items)]
     if times is not None:
         times = [_checks.number(t, "times") for t in times]
-        items = [it[:3] + (times if len(it[2]) > 1 else [],) + it[4:] for it in items]
+        items = [it[:3] + (times if len(it[2]) > 1 or os.path.isdir(it[4]) else [],) + it[4:]
+                 for it in items]
     a = _flexure.ViewerArguments()
     a.style = style
     a.stripes = _checks.number(stripes, "stripes", positive=True, integer=True)

@@ -3,6 +3,7 @@
 import base64
 import html
 import json
+import pathlib
 import re
 
 import numpy as np
@@ -101,6 +102,25 @@ def test_simulation_obstacles(cli, plate, tmp_path):
     (folder / "report.json").write_text(json.dumps({"obstacles": ["cone:1,2,3"]}))
     with pytest.raises(ValueError, match="report.json"):
         flexure.view(folder)
+
+
+def test_fractured_simulation_same_page_as_the_cli(cli, tmp_path, monkeypatch):
+    """A run that fractured (examples/tear-strip.json): the faces change at the cut's frame, the
+    frames are padded to the cut mesh's vertex count, and each frame has its crack lips."""
+    monkeypatch.chdir(tmp_path)
+    cli("-q", "run", pathlib.Path(__file__).parents[2] / "examples" / "tear-strip.json")
+    cli("-q", "view", "tear", "-o", "tear.html")
+    python = flexure.view("tear").html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "tear.html").read_text())
+    (mesh,) = page_data(python)["meshes"]
+    lips = json.loads((tmp_path / "tear" / "cracks.json").read_text())["lips"]
+    cut_frame = next(f for f, frame in enumerate(lips) if frame)
+    assert [c["frame"] for c in mesh["faceChanges"]] == [cut_frame]
+    last, _ = flexure.read_mesh(tmp_path / "tear" / ("frame-%05d.obj" % (len(lips) - 1)))
+    assert mesh["vertexCount"] == len(last)
+    assert len(mesh["positions"]) == 3 * len(last) * len(lips)
+    assert mesh["cracks"]["starts"] == [0] + list(np.cumsum([len(f) for f in lips]))
 
 
 def test_arrays_frames_and_fields(plate):

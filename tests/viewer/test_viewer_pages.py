@@ -197,6 +197,37 @@ def obstacles_page(browser, shots):
     clean(browser, "obstacles.html")
 
 
+# Pixels of the cracks' magenta (the renderer's crack colour).
+MAGENTA = """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let n = 0;
+  for (let i = 0; i < p.length; i += 4) if (p[i] > 200 && p[i + 1] < 80 && p[i + 2] > 150) n += 1;
+  return n;
+})()"""
+
+
+def tear_page(browser, shots):
+    """examples/tear-strip.json's folder: a cut changes the faces (128 → 129) at frame 3, whose
+    crack lips (cracks.json) are drawn magenta; the first frame has neither."""
+    load(browser, "tear.html")
+    check(browser.evaluate("document.body.dataset.shownFaces") == "128" and
+          browser.evaluate("document.body.dataset.crackSegments") == "0" and
+          browser.evaluate(MAGENTA) == 0, "tear.html: frame 0 has the uncut faces, no crack")
+    browser.evaluate("flexureViewer.setFrame(6)")
+    browser.wait_for("document.body.dataset.drawnFrame === '6'")
+    magenta = browser.evaluate(MAGENTA)
+    check(browser.evaluate("document.body.dataset.shownFaces") == "129" and
+          browser.evaluate("document.body.dataset.crackSegments") == "16" and magenta > 50,
+          "tear.html: frame 6 has the cut faces and its 16 lip edges drawn (%d pixels)" % magenta)
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-tear.png"))
+    clean(browser, "tear.html")
+
+
 def modes_page(browser, shots):
     """A flexure modes folder: mode 1 animated, the selector and the amplitude slider change the
     drawing, the nodal lines (none for the simply supported (1,1) mode, a line for (1,2)) drawn."""
@@ -267,6 +298,9 @@ def main():
     simulation_folder("sheet.obj", "sag-obstacles", 3,
                       obstacles=["sphere:0,0,-0.8,0.25", "plane:0,0,1,-1.2"])
     flexure(binary, "view", "sag-obstacles", "-o", "obstacles.html", "--quiet")
+    examples = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
+    flexure(binary, "--quiet", "run", os.path.join(examples, "tear-strip.json"))
+    flexure(binary, "view", "tear", "-o", "tear.html", "--quiet")
 
     browser = Browser()
     try:
@@ -341,6 +375,7 @@ def main():
         modes_page(browser, shots)
         fairing_page(browser, shots)
         obstacles_page(browser, shots)
+        tear_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
