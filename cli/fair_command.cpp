@@ -420,8 +420,9 @@ FairOutcome fairPatch(const FairSettings& s, const modeling::FairingPatch& patch
 
 std::vector<MeasureColumn> measureColumns(const FairCommandOptions& o, const RegionChoice& choice,
                                           const FairSettings& s, const FairOutcome& r) {
+  // Headings fit printSideBySide's column of 17 characters.
   std::string input = choice.filled ? "holes filled" : "input";
-  if (o.spec.remesh) input += ", remeshed";
+  if (o.spec.remesh) input = choice.filled ? "fill remeshed" : "input remeshed";
   std::vector<MeasureColumn> columns = {{"input", input, r.before},
                                         {"cgal", "CGAL fair", r.cgalMeasures}};
   if (!s.cgal) columns.push_back({"flexure", "flexure " + s.energyName, r.after});

@@ -767,6 +767,16 @@ assert 0 < r["hausdorff_distance"] < 0.1 * r["target_edge_length"], r
 assert r["hausdorff_distance"] == max(r["hausdorff_input_to_remeshed"], r["hausdorff_remeshed_to_input"])
 assert dome["converged"] and dome["measures"]["input"]["triangle_quality"]["min_angle_degrees"] > 0
 PY
+# With holes, the fills and the faces around them are remeshed (13.2 -> 15.9 degrees measured).
+run 0 fair "$shark" --region holes --remesh -o shark-remeshed.off --report shark-remeshed.json \
+  --quiet
+python3 - <<'PY' || fail "fair --region holes --remesh: the report"
+import json
+report = json.load(open("shark-remeshed.json"))
+r = report["remesh"]
+assert report["converged"] and r["min_angle_degrees_after"] > r["min_angle_degrees_before"], r
+assert 0 < r["hausdorff_distance"] < 0.2 * r["target_edge_length"], r
+PY
 run 2 fair dome.off --region all-interior --remesh --remesh-edge-length 0 -o e.off
 stderr_has "--remesh-edge-length 0: expected a finite length > 0"; absent e.off
 run 2 fair dome.off --region all-interior --remesh --remesh-iterations 0 -o e.off
