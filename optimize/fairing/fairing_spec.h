@@ -1,8 +1,9 @@
 // A fairing run as a person names it, said once for the command and for Python: the method, the
-// bending energy, the membrane and its weight, the start, the metric, the smallest-angle rule and
-// the solver's limits. Plain data; validate() holds every rule on one field and between fields,
-// each message naming the fields (FairingOptions.membraneWeight), so that the front ends map their
-// words to fields and the fields of a message back to their words, and hold no rule of their own.
+// bending energy, the membrane and its weight, the start, the metric, the smallest-angle rule, the
+// region's remeshing and the solver's limits. Plain data; validate() holds every rule on one field
+// and between fields, each message naming the fields (FairingOptions.membraneWeight), so that the
+// front ends map their words to fields and the fields of a message back to their words, and hold no
+// rule of their own.
 #pragma once
 
 #include <optional>
