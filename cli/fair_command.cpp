@@ -23,6 +23,7 @@
 #include "modeling/fairing_region.h"
 #include "modeling/hole_filling.h"
 #include "modeling/mesh_io.h"
+#include "modeling/region_remeshing.h"
 #include "modeling/rest_state.h"
 #include "modeling/stencils.h"
 #include "modeling/vertex_quantities.h"
@@ -417,11 +418,13 @@ FairOutcome fairPatch(const FairSettings& s, const modeling::FairingPatch& patch
       s.cgal ? optimize::FairingMethod::Cgal : optimize::FairingMethod::Flexure, s.bending);
 }
 
-std::vector<MeasureColumn> measureColumns(const RegionChoice& choice, const FairSettings& s,
-                                          const FairOutcome& r) {
-  std::vector<MeasureColumn> columns = {
-      {"input", choice.filled ? "holes filled" : "input", r.before},
-      {"cgal", "CGAL fair", r.cgalMeasures}};
+std::vector<MeasureColumn> measureColumns(const FairCommandOptions& o, const RegionChoice& choice,
+                                          const FairSettings& s, const FairOutcome& r) {
+  // Headings fit printSideBySide's column of 17 characters.
+  std::string input = choice.filled ? "holes filled" : "input";
+  if (o.spec.remesh) input = choice.filled ? "fill remeshed" : "input remeshed";
+  std::vector<MeasureColumn> columns = {{"input", input, r.before},
+                                        {"cgal", "CGAL fair", r.cgalMeasures}};
   if (!s.cgal) columns.push_back({"flexure", "flexure " + s.energyName, r.after});
   return columns;
 }
@@ -573,6 +576,41 @@ render::Image fairFigure(const FairCommandOptions& o, const FairSettings& s,
   return beforeAfterFigure(o, mesh, stencils, choice.region, patch, panels);
 }
 
+// The region remeshed (modeling::remeshRegion): `choice` takes the remeshed mesh and its region.
+// Said on stderr unless quiet; the report's "remesh" object says it too.
+modeling::RemeshedRegion remeshChoice(const FairCommandOptions& o, RegionChoice& choice,
+                                      bool quiet) {
+  modeling::RemeshedRegion r = modeling::remeshRegion(choice.mesh, choice.region, o.spec.remeshing);
+  choice.mesh = r.mesh;
+  choice.region = r.region;
+  if (!quiet) {
+    std::cerr << "flexure fair: remeshed the region's " << counted(r.facesBefore, "face")
+              << " into " << r.facesAfter << " (target edge length " << r.targetEdgeLength << ", "
+              << counted(r.iterations, "iteration") << "): smallest angle "
+              << r.minAngleDegreesBefore << " -> " << r.minAngleDegreesAfter
+              << " deg, Hausdorff distance " << r.hausdorffDistance << " from the input's faces\n";
+  }
+  if (!quiet && r.minAngleDegreesAfter < r.minAngleDegreesBefore) {
+    std::cerr << "flexure fair: --remesh lowered the region's smallest angle; a target edge length "
+                 "nearer the slivers' own (--remesh-edge-length) may suit this mesh better\n";
+  }
+  return r;
+}
+
+nlohmann::json remeshJson(const modeling::RemeshedRegion& r) {
+  return {{"target_edge_length", r.targetEdgeLength},
+          {"iterations", r.iterations},
+          {"faces_before", r.facesBefore},
+          {"faces_after", r.facesAfter},
+          {"hausdorff_distance", r.hausdorffDistance},
+          {"hausdorff_input_to_remeshed", r.hausdorffInputToRemeshed},
+          {"hausdorff_remeshed_to_input", r.hausdorffRemeshedToInput},
+          {"min_angle_degrees_before", r.minAngleDegreesBefore},
+          {"min_angle_degrees_after", r.minAngleDegreesAfter},
+          {"vertices", r.mesh.vertexCount()},
+          {"faces", r.mesh.faceCount()}};
+}
+
 // Holes whose fills gained no interior vertex (CGAL closed each by triangles alone): the filled
 // mesh is the result and there is nothing to fair. Writes it and the report; no figure.
 void writeFilledOnly(const FairCommandOptions& o, const RegionChoice& choice, bool quiet) {
@@ -589,6 +627,7 @@ void writeFilledOnly(const FairCommandOptions& o, const RegionChoice& choice, bo
     std::cerr << "flexure fair: wrote " << o.output << ": "
               << counted(static_cast<long long>(choice.filled->holes.size()), "hole")
               << " closed by triangles alone, no new vertex: nothing to fair"
+              << (o.spec.remesh ? " or remesh" : "")
               << (o.renderFile.empty() ? "" : "; " + o.renderFile + " not drawn") << '\n';
   }
 }
@@ -603,12 +642,19 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   if (!global.quiet)
     for (const std::string& notice : notices) std::cerr << "flexure fair: " << notice << '\n';
   const modeling::Stencils inputStencils = modeling::compileStencils(input);
-  const RegionChoice choice = chooseRegion(o, std::move(input), inputStencils, global.quiet);
+  RegionChoice choice = chooseRegion(o, std::move(input), inputStencils, global.quiet);
   if (choice.filled && modeling::countVertices(choice.region) == 0)
     return writeFilledOnly(o, choice, global.quiet);
-  const modeling::Mesh& mesh = choice.mesh;
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  modeling::Stencils stencils = modeling::compileStencils(choice.mesh);
   modeling::requireFairableRegion(stencils, choice.region, o.input + ": --region " + o.region);
+  std::optional<modeling::RemeshedRegion> remeshed;
+  if (o.spec.remesh) {
+    remeshed = remeshChoice(o, choice, global.quiet);
+    stencils = modeling::compileStencils(choice.mesh);
+    modeling::requireFairableRegion(stencils, choice.region,
+                                    o.input + ": --region " + o.region + " remeshed");
+  }
+  const modeling::Mesh& mesh = choice.mesh;
   const modeling::FairingPatch patch = modeling::extractFairingPatch(mesh, stencils, choice.region);
   if (!global.quiet) {
     std::cerr << "flexure fair: region "
@@ -621,8 +667,9 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
   const FairOutcome r = fairPatch(s, patch, global.quiet);
   const modeling::Positions faired =
       modeling::scatterPatchPositions(mesh.positions, patch, r.patchAfter);
-  const std::vector<MeasureColumn> columns = measureColumns(choice, s, r);
+  const std::vector<MeasureColumn> columns = measureColumns(o, choice, s, r);
   nlohmann::json report = fairReport(o, s, choice, patch, r, columns);
+  if (remeshed) report["remesh"] = remeshJson(*remeshed);
   if (!global.quiet) printSideBySide(columns);
 
   const auto seconds = [&] {
@@ -655,7 +702,8 @@ void runFairCommand(const FairCommandOptions& o, const GlobalOptions& global) {
               << measuredEnergy(r.before, s.energyName) << " -> "
               << measuredEnergy(r.after, s.energyName) << ", max displacement "
               << r.after.maxDisplacement << ", smallest angle " << r.checks.inputMinAngleDegrees
-              << " -> " << r.checks.resultMinAngleDegrees << " deg, " << r.solveSeconds << " s)\n";
+              << " -> " << r.checks.resultMinAngleDegrees << " deg"
+              << (remeshed ? " after remeshing" : "") << ", " << r.solveSeconds << " s)\n";
   }
 }
 
@@ -701,6 +749,17 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->spec.solver, /*tolerances=*/false);
   files->output("-o,--output", options->output, "Faired mesh (.obj, .off, .ply)")->required();
+  sub->add_flag("--remesh", options->spec.remesh,
+                "Remesh the faces touching the region before fairing (CGAL's isotropic remeshing, "
+                "their border and everything outside kept bit for bit); the output is the "
+                "remeshed mesh faired, the report's remesh object has the Hausdorff distance to "
+                "the input and the smallest angle before and after");
+  sub->add_option("--remesh-edge-length", options->spec.remeshing.targetEdgeLength,
+                  "With --remesh: the target edge length (default: the mean edge length of the "
+                  "faces touching the region)");
+  sub->add_option("--remesh-iterations", options->spec.remeshing.iterations,
+                  "With --remesh: rounds of split, collapse, flip and relaxation")
+      ->capture_default_str();
   sub->add_flag("--allow-slivers", options->spec.allowSlivers,
                 "Fair without the angle barrier that keeps the smallest angle at most 1 degree "
                 "below the input's and CGAL's fair's, and accept a result below that (otherwise "

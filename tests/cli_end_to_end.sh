@@ -719,6 +719,70 @@ run 2 fair "$elephant" --region holes -o e.off; stderr_has "no hole"; absent e.o
 run 2 fair "$CGAL_MESHES/polygon_mesh.off" --region all-interior -o e.off; stderr_has "polygon_mesh.off"
 run 2 fair fin.off --region all-interior -o e.off; stderr_has "fin.off: edge (1, 2)"; absent e.off
 run 2 fair "$lion" --region all-interior --membrane-weight -1 -o e.off; stderr_has "membrane-weight"
+# --remesh: a flat 12 x 12 grid whose middle column of cells is 0.02 wide in the interior
+# (smallest angle 0.58 degrees): the faces touching the region are remeshed before the fair, said
+# on stderr and in the report's remesh object; the slivers go (31.5 degrees measured), the flat
+# region stays flat (Hausdorff distance 0), the vertices off the remeshed faces keep their input
+# coordinates.
+python3 - <<'PY'
+n = 13
+points = [(5.98 if i == 5 and 3 <= j <= 9 else i, j) for j in range(n) for i in range(n)]
+faces = []
+for j in range(12):
+    for i in range(12):
+        a = j * n + i
+        faces += [(a, a + 1, a + n + 1), (a, a + n + 1, a + n)]
+with open("slivers.off", "w") as f:
+    f.write(f"OFF\n{len(points)} {len(faces)} 0\n")
+    f.writelines(f"{x} {y} 0\n" for x, y in points)
+    f.writelines(f"3 {a} {b} {c}\n" for a, b, c in faces)
+PY
+run 0 fair slivers.off --region all-interior --remesh -o slivers-faired.off --report slivers.json
+stderr_has "flexure fair: remeshed the region's 198 faces into"
+stderr_has "smallest angle 0.578726 -> "
+stderr_has "after remeshing"
+run 0 mesh --family hemisphere --n 24 -o dome.off
+run 0 fair dome.off --region all-interior --remesh --remesh-iterations 2 -o dome-faired.off \
+  --report dome.json --quiet
+python3 - <<'PY' || fail "fair --remesh: the reports or the held vertices"
+import json
+def off(path):
+    words = open(path).read().split()
+    n = int(words[1])
+    return [tuple(float(x) for x in words[4 + 3 * v:7 + 3 * v]) for v in range(n)]
+flat = json.load(open("slivers.json"))["remesh"]
+assert flat["min_angle_degrees_before"] < 0.6 and flat["min_angle_degrees_after"] > 20, flat
+assert flat["hausdorff_distance"] < 1e-12 and flat["iterations"] == 3, flat
+assert abs(flat["target_edge_length"] - 1.14225) < 1e-5, flat
+grid, faired = off("slivers.off"), off("slivers-faired.off")
+assert len(faired) == flat["vertices"]
+# The two outer rings of the grid are held (on or off the remeshed faces' border): each is in
+# the result at its input coordinates.
+outer = [p for p in grid if min(p[0], p[1], 12 - p[0], 12 - p[1]) < 2]
+assert len(outer) == 88 and set(outer) <= set(faired), "an outer vertex moved"
+dome = json.load(open("dome.json"))
+r = dome["remesh"]
+assert r["iterations"] == 2 and r["faces_after"] > 0 and r["faces_before"] > 0, r
+assert 0 < r["hausdorff_distance"] < 0.1 * r["target_edge_length"], r
+assert r["hausdorff_distance"] == max(r["hausdorff_input_to_remeshed"], r["hausdorff_remeshed_to_input"])
+assert dome["converged"] and dome["measures"]["input"]["triangle_quality"]["min_angle_degrees"] > 0
+PY
+# With holes, the fills and the faces around them are remeshed (13.2 -> 15.9 degrees measured).
+run 0 fair "$shark" --region holes --remesh -o shark-remeshed.off --report shark-remeshed.json \
+  --quiet
+python3 - <<'PY' || fail "fair --region holes --remesh: the report"
+import json
+report = json.load(open("shark-remeshed.json"))
+r = report["remesh"]
+assert report["converged"] and r["min_angle_degrees_after"] > r["min_angle_degrees_before"], r
+assert 0 < r["hausdorff_distance"] < 0.2 * r["target_edge_length"], r
+PY
+run 2 fair dome.off --region all-interior --remesh --remesh-edge-length 0 -o e.off
+stderr_has "--remesh-edge-length 0: expected a finite length > 0"; absent e.off
+run 2 fair dome.off --region all-interior --remesh --remesh-iterations 0 -o e.off
+stderr_has "--remesh-iterations 0: expected 1 to 100"; absent e.off
+run 2 fair dome.off --region all-interior --remesh-edge-length 0.1 -o e.off
+stderr_has "--remesh-edge-length: only with --remesh"; absent e.off
 run 2 fair "$lion" --region all-interior --energy cotan --poisson 0.3 -o e.off; stderr_has "poisson"
 absent e.off
 # A solve stopped early: exit 3, the report says why, no mesh.

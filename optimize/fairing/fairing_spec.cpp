@@ -23,6 +23,11 @@ void FairingSpec::validate() const {
     throw InputError("FairingOptions.membraneWeight " + numberText(*membraneWeight) +
                      ": expected a weight > 0");
   solver.validate();
+  remeshing.validate();
+  if (!remesh && remeshing.targetEdgeLength)
+    throw InputError("RemeshOptions.targetEdgeLength: only with FairingSpec.remesh");
+  if (!remesh && remeshing.iterations != modeling::RemeshOptions().iterations)
+    throw InputError("RemeshOptions.iterations: only with FairingSpec.remesh");
   if (chosen == FairingMethod::Cgal) {
     if (membraneWeight)
       throw InputError(

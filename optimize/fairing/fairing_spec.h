@@ -1,14 +1,16 @@
 // A fairing run as a person names it, said once for the command and for Python: the method, the
-// bending energy, the membrane and its weight, the start, the metric, the smallest-angle rule and
-// the solver's limits. Plain data; validate() holds every rule on one field and between fields,
-// each message naming the fields (FairingOptions.membraneWeight), so that the front ends map their
-// words to fields and the fields of a message back to their words, and hold no rule of their own.
+// bending energy, the membrane and its weight, the start, the metric, the smallest-angle rule, the
+// region's remeshing and the solver's limits. Plain data; validate() holds every rule on one field
+// and between fields, each message naming the fields (FairingOptions.membraneWeight), so that the
+// front ends map their words to fields and the fields of a message back to their words, and hold no
+// rule of their own.
 #pragma once
 
 #include <optional>
 #include <string>
 
 #include "curvature/bending_spec.h"
+#include "modeling/region_remeshing.h"
 #include "optimize/fairing/fairing.h"
 #include "optimize/solvers/minimize.h"
 
@@ -27,11 +29,16 @@ struct FairingSpec {
   std::string metric = "input";          // parseFairingMetric's names
   // No angle barrier, and a result below the smallest-angle rule accepted (SliverCheck).
   bool allowSlivers = false;
-  MinimizeOptions solver;  // its dof and start are fairing's own
+  // The region remeshed before the fair (modeling::remeshRegion), never without being asked:
+  // the faces touching it become those of CGAL's isotropic remeshing, their border held.
+  bool remesh = false;
+  modeling::RemeshOptions remeshing;  // its options; given only with remesh
+  MinimizeOptions solver;             // its dof and start are fairing's own
 
   // Every rule of a fairing run before its mesh is read (InputError naming the fields): the
   // names, the energy (curvature::BendingSpec::options), a membrane weight > 0, the solver's
-  // limits; and with method cgal, which solves no energy, no membrane weight and no smallest-angle
+  // limits; the remeshing's options (RemeshOptions::validate), given only with remesh; and with
+  // method cgal, which solves no energy, no membrane weight and no smallest-angle
   // rule to waive (FairingSpec.allowSlivers).
   void validate() const;
 

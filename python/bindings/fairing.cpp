@@ -12,6 +12,7 @@
 
 #include "modeling/errors.h"
 #include "modeling/fairing_region.h"
+#include "modeling/region_remeshing.h"
 #include "modeling/stencils.h"
 #include "optimize/fairing/fairing.h"
 #include "optimize/fairing/fairing_spec.h"
@@ -79,15 +80,32 @@ py::dict checkDict(const optimize::FairingChecks& c) {
   return d;
 }
 
-// (V' #V by 3, report).
+// The remeshing's part of the report (modeling::RemeshedRegion), with the new faces.
+py::dict remeshDict(const modeling::RemeshedRegion& r) {
+  py::dict d;
+  d["F"] = Triangles(r.mesh.triangles);
+  d["target_edge_length"] = r.targetEdgeLength;
+  d["iterations"] = r.iterations;
+  d["faces_before"] = r.facesBefore;
+  d["faces_after"] = r.facesAfter;
+  d["hausdorff_distance"] = r.hausdorffDistance;
+  d["hausdorff_input_to_remeshed"] = r.hausdorffInputToRemeshed;
+  d["hausdorff_remeshed_to_input"] = r.hausdorffRemeshedToInput;
+  d["min_angle_degrees_before"] = r.minAngleDegreesBefore;
+  d["min_angle_degrees_after"] = r.minAngleDegreesAfter;
+  return d;
+}
+
+// (V' #V by 3, report); with spec.remesh V' is of the remeshed mesh (#V' by 3), its faces in
+// report["remesh"]["F"].
 py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArguments& a,
                    py::object progress) {
   optimize::FairingOptions options = a.spec.options();  // every rule, before any work
   options.solver.progress = false;
   SolveObserver observer(std::move(progress));  // every stage of the solve reports to it
   options.solver.observer = observer.observer();
-  const modeling::Mesh mesh = checkedMesh(V, F, "V, F");
-  const modeling::Stencils stencils = modeling::compileStencils(mesh);
+  modeling::Mesh mesh = checkedMesh(V, F, "V, F");
+  modeling::Stencils stencils = modeling::compileStencils(mesh);
   std::vector<bool> region;
   if (a.regionMask) {
     region = *a.regionMask;
@@ -95,6 +113,17 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     region = modeling::parseRegion(a.regionSpec, mesh, stencils);
   }
   modeling::requireFairableRegion(stencils, region, "region");
+  std::optional<modeling::RemeshedRegion> remeshed;
+  if (a.spec.remesh) {
+    {
+      py::gil_scoped_release release;
+      remeshed.emplace(modeling::remeshRegion(mesh, region, a.spec.remeshing));
+    }
+    mesh = remeshed->mesh;
+    region = remeshed->region;
+    stencils = modeling::compileStencils(mesh);
+    modeling::requireFairableRegion(stencils, region, "region remeshed");
+  }
   const optimize::FairingMethod method = a.spec.fairingMethod();
   const curvature::BendingOptions material = a.spec.material();
   std::optional<modeling::FairingPatch> patch;
@@ -139,6 +168,7 @@ py::tuple fairMesh(const PositionsRef& V, const TrianglesRef& F, const FairArgum
     failure = "the solve did not converge (" + result->report.termination + ")" +
               (failure.empty() ? "" : "; " + failure);
   report["failure"] = failure;
+  if (remeshed) report["remesh"] = remeshDict(*remeshed);
   return py::make_tuple(faired, report);
 }
 
@@ -154,6 +184,17 @@ void bindFairing(py::module_& m) {
       .def_readwrite("metric", &optimize::FairingSpec::metric)
       .def_readwrite("method", &optimize::FairingSpec::method)
       .def_readwrite("allow_slivers", &optimize::FairingSpec::allowSlivers)
+      .def_readwrite("remesh", &optimize::FairingSpec::remesh)
+      .def_property(
+          "remesh_edge_length",
+          [](const optimize::FairingSpec& s) { return s.remeshing.targetEdgeLength; },
+          [](optimize::FairingSpec& s, std::optional<double> l) {
+            s.remeshing.targetEdgeLength = l;
+          })
+      .def_property(
+          "remesh_iterations",
+          [](const optimize::FairingSpec& s) { return s.remeshing.iterations; },
+          [](optimize::FairingSpec& s, int n) { s.remeshing.iterations = n; })
       .def_property(
           "max_iterations", [](const optimize::FairingSpec& s) { return s.solver.maxIterations; },
           [](optimize::FairingSpec& s, int n) { s.solver.maxIterations = n; });

@@ -8,7 +8,8 @@ from . import _bending
 def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_area=None,
          hinge_angle=None, membrane="mips", membrane_weight=None, start="best",
          metric="input", method="flexure", allow_slivers=False, max_iterations=None,
-         check=True, progress=None):
+         remesh=False, remesh_edge_length=None, remesh_iterations=None, check=True,
+         progress=None):
     """The region's vertices moved to minimize a bending energy (flat rest) + a membrane; the
     rest of the mesh (V #V×3 float64, F #F×3 int) is held, with the two rings around the region.
 
@@ -19,7 +20,10 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     input's metric, 0.1 on the current one); start: "best" | "biharmonic" | "input"; metric:
     "input" | "current"; method: "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's
     linear fair); allow_slivers: no angle barrier and the smallest-angle rule not applied (the
-    CLI's --allow-slivers); max_iterations: the solver's (None: its default).
+    CLI's --allow-slivers); max_iterations: the solver's (None: its default); remesh: the faces
+    touching the region remeshed first by CGAL's isotropic remeshing, their border and the rest
+    kept (the CLI's --remesh), to the target remesh_edge_length (None: the mean edge length of
+    those faces) in remesh_iterations rounds (None: 3).
 
     Returns ``(V', report)``: V' #V×3 float64; report a dict: converged (the solve, the checks
     and the smallest-angle rule, as ``flexure fair``'s exit 0), failure (in words, "" when
@@ -31,7 +35,10 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     triangles_passed, degenerate_faces, inverted_faces, input / result min angles) and slivers
     (input, cgal, result and limit degrees, passed). With ``check``, a fair that did not
     converge raises NumericalError with the report in ``.report``. progress and Ctrl-C as
-    ``flexure.minimize``'s, over every stage of the solve.
+    ``flexure.minimize``'s, over every stage of the solve. With remesh, V' is the remeshed mesh's
+    (#V'×3), report["remesh"] has its faces F (#F'×3 int) and target_edge_length, iterations,
+    faces_before, faces_after, hausdorff_distance (and its two one-sided parts),
+    min_angle_degrees_before and min_angle_degrees_after, as the CLI's report.
     """
     V = _checks.positions(V, "V")
     F = _checks.faces(F, V.shape[0], "F")
@@ -48,6 +55,12 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     spec.start, spec.metric = str(start), str(metric)
     spec.method = str(method)
     spec.allow_slivers = bool(allow_slivers)
+    spec.remesh = bool(remesh)
+    if remesh_edge_length is not None:
+        spec.remesh_edge_length = _checks.number(remesh_edge_length, "remesh_edge_length")
+    if remesh_iterations is not None:
+        spec.remesh_iterations = _checks.number(remesh_iterations, "remesh_iterations",
+                                                integer=True)
     if max_iterations is not None:
         spec.max_iterations = _checks.number(max_iterations, "max_iterations", integer=True)
     faired, report = _flexure.fair(V, F, a, _checks.progress(progress))

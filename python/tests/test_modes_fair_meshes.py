@@ -114,6 +114,29 @@ def test_fair_report_equals_the_cli_report(cli, tmp_path):
         assert repr(value) in text or f"{value:.17g}" in text, value
 
 
+def test_fair_remeshed_equals_the_cli(cli, tmp_path):
+    # A bent Delaunay plate, its region remeshed then faired: the same mesh, vertices and faces,
+    # and the same remesh record as the command's report.
+    V, F = flexure.mesh("delaunay", 8, seed=3)
+    W = bent(V, 7, amplitude=0.02)
+    flexure.write_mesh(tmp_path / "in.obj", W, F)
+    cli("-q", "fair", tmp_path / "in.obj", "--region", "all-interior", "--remesh",
+        "--remesh-iterations", "2", "-o", tmp_path / "out.obj", "--report", tmp_path / "r.json")
+    expected_V, expected_F = flexure.read_mesh(tmp_path / "out.obj")
+    expected = json.loads((tmp_path / "r.json").read_text())["remesh"]
+    faired, report = flexure.fair(W, F, region="all-interior", remesh=True, remesh_iterations=2)
+    remesh = report["remesh"]
+    assert faired.shape == expected_V.shape and np.abs(faired - expected_V).max() <= 1e-12
+    assert np.array_equal(remesh["F"], expected_F)
+    for key in ("target_edge_length", "faces_before", "faces_after", "hausdorff_distance",
+                "min_angle_degrees_before", "min_angle_degrees_after"):
+        assert remesh[key] == pytest.approx(expected[key], rel=1e-12, abs=1e-15), key
+    assert remesh["iterations"] == 2 and remesh["hausdorff_distance"] > 0
+    assert report["converged"]
+    # Without remesh, no record and the input's connectivity.
+    assert "remesh" not in flexure.fair(W, F, region="all-interior")[1]
+
+
 def test_fair_report_names_the_membrane_weight_of_its_result():
     # On the current metric the membrane fades w = 0.1 -> 0.01 (one stage); the input's has no fade.
     V, F = flexure.mesh("delaunay", 8, seed=3)
