@@ -238,6 +238,8 @@ void runNonlinear(const BenchOptions& o, CaseTable& table) {
                       {"start", r.start == optimize::FairingStart::Input ? "input" : "biharmonic"},
                       {"linear_solver_seconds", r.report.linearSolverSeconds},
                       {"evaluation_seconds", r.report.evaluationSeconds},
+                      {"ordering_seconds", r.report.orderingSeconds},
+                      {"solver_seconds", r.report.totalSeconds},
                       {"metric", metric},
                       {"membrane_weight", r.membraneWeight}},
                      &r);
