@@ -41,7 +41,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kContextRings = 8;  // rings of unchanged mesh around the patch in the render
 // The smallest panel: the signed-distance panel keeps render::kLegendWidth of it for its legend.
 constexpr int kMinRenderSize = 200;
 
@@ -247,21 +246,6 @@ double measuredEnergy(const optimize::FairingMeasures& m, const std::string& ene
   return std::nan("");
 }
 
-// Area-weighted mean unit normal of the faces touching a moving vertex (the render looks along
-// it); +z when they cancel.
-Eigen::Vector3d regionNormal(const modeling::FairingPatch& patch) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  const modeling::Mesh& m = patch.mesh;
-  for (int f = 0; f < m.faceCount(); ++f) {
-    const auto t = m.triangles.row(f);
-    if (!(patch.moves[t(0)] || patch.moves[t(1)] || patch.moves[t(2)])) continue;
-    const Eigen::Vector3d x0 = m.positions.row(t(0)), x1 = m.positions.row(t(1)),
-                          x2 = m.positions.row(t(2));
-    sum += (x1 - x0).cross(x2 - x0);
-  }
-  return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
-}
-
 // One panel of the figure: the mesh's positions (all vertices), a column label and a title; with
 // `vertexScalars` (#V) it is a signed map of them (the renderer's curvature style, titled
 // `scalarLabel`) instead of reflection lines.
@@ -312,14 +296,14 @@ std::vector<double> signedDistanceFromCgal(const modeling::Mesh& mesh,
   return d;
 }
 
-// The figure: the patch and kContextRings more rings of the mesh, seen along the region's mean
-// normal, every panel framed alike, the region's outline (regionOutline) drawn on each.
+// The figure: the patch and modeling::kContextRings more rings of the mesh, seen along the region's
+// mean normal, every panel framed alike, the region's outline (regionOutline) drawn on each.
 render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mesh& mesh,
                                 const modeling::Stencils& stencils, const std::vector<bool>& region,
                                 const modeling::FairingPatch& patch,
                                 const std::vector<FigurePanel>& panels) {
   const Eigen::VectorXi rings =
-      modeling::ringDistances(stencils, region, modeling::kHeldRings + kContextRings);
+      modeling::ringDistances(stencils, region, modeling::kHeldRings + modeling::kContextRings);
   std::vector<bool> keep(mesh.vertexCount());
   for (int v = 0; v < mesh.vertexCount(); ++v) keep[v] = rings[v] >= 0;
   const modeling::Submesh shown = modeling::extractSubmesh(mesh, keep);
@@ -334,7 +318,7 @@ render::Image beforeAfterFigure(const FairCommandOptions& o, const modeling::Mes
     }
   }
 
-  const Eigen::Vector3d n = regionNormal(patch);
+  const Eigen::Vector3d n = modeling::regionNormal(patch.mesh, patch.moves);
   render::RenderOptions look;
   look.style = render::RenderStyle::Reflection;
   look.width = look.height = o.renderSize;

@@ -93,8 +93,7 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
 
   for (const std::string& input : o.inputs) {
     if (reports::isFairingReport(input)) {  // input, CGAL's fair and the result, region outlined
-      for (render::ViewerMesh& m : reports::readFairingReport(input))
-        page.meshes.push_back(std::move(m));
+      reports::addFairingReport(page, input);
       continue;
     }
     if (!reports::isModesFolder(input)) {

@@ -305,4 +305,16 @@ std::vector<std::pair<int, int>> regionOutlineEdges(const Stencils& stencils,
   return edges;
 }
 
+Eigen::Vector3d regionNormal(const Mesh& m, const std::vector<bool>& region) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.triangles.row(f);
+    if (!(region[t(0)] || region[t(1)] || region[t(2)])) continue;
+    const Eigen::Vector3d x0 = m.positions.row(t(0)), x1 = m.positions.row(t(1)),
+                          x2 = m.positions.row(t(2));
+    sum += (x1 - x0).cross(x2 - x0);
+  }
+  return sum.norm() > 0.0 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
 }  // namespace flexure::modeling

@@ -9,6 +9,7 @@
 // constant: fairing the patch is fairing the mesh.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,9 @@
 namespace flexure::modeling {
 
 inline constexpr int kHeldRings = 2;
+// The rings of unchanged mesh beyond the held ones that a picture of a fairing shows around it
+// (flexure fair's figure, flexure view's framing of a fairing report).
+inline constexpr int kContextRings = 8;
 
 // The region a text names on `mesh`:
 //   "vertices:FILE"     the indices in FILE (as readVertexSet reads them);
@@ -86,5 +90,9 @@ Positions scatterPatchPositions(const Positions& input, const Submesh& patch,
 // stays in place, so it is the same line on the input and on every fair of it.
 std::vector<std::pair<int, int>> regionOutlineEdges(const Stencils& stencils,
                                                     const std::vector<bool>& region);
+
+// The area-weighted mean unit normal of the faces with a vertex in `region` (a flag per vertex of
+// `mesh`): the direction a picture of the region looks along; +z when the normals cancel.
+Eigen::Vector3d regionNormal(const Mesh& mesh, const std::vector<bool>& region);
 
 }  // namespace flexure::modeling

@@ -223,6 +223,18 @@ std::string meshData(const ViewerMesh& m) {
          segmentsData(m.outline) + "}" + ",\"spheres\":" + obstaclesData(m) + "}";
 }
 
+// "null", or {"points": #P·3 floats, "direction": [x, y, z] (zero: the default)}.
+std::string framingData(const ViewerPageSpec& spec) {
+  if (spec.framingPoints.rows() == 0) return "null";
+  std::vector<float> points;
+  for (Eigen::Index v = 0; v < spec.framingPoints.rows(); ++v)
+    for (int k = 0; k < 3; ++k) points.push_back(static_cast<float>(spec.framingPoints(v, k)));
+  const Eigen::Vector3d d =
+      spec.viewDirection.norm() > 0.0 ? spec.viewDirection.normalized() : Eigen::Vector3d::Zero();
+  return "{\"points\":\"" + base64Words(points) + "\",\"direction\":[" + number(d.x()) + "," +
+         number(d.y()) + "," + number(d.z()) + "]}";
+}
+
 std::string pageData(const ViewerPageSpec& spec) {
   const ColourMap& map = spec.diverging ? divergingColourMap() : sequentialColourMap();
   const auto [lo, hi] = fieldRange(spec);
@@ -248,7 +260,7 @@ std::string pageData(const ViewerPageSpec& spec) {
          number(defaults.obstacleColour.b) + "]" + ",\"crackColour\":[" +
          number(defaults.crackColour.r) + "," + number(defaults.crackColour.g) + "," +
          number(defaults.crackColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
-         ",\"overlay\":" + (spec.overlay ? "true" : "false") +
+         ",\"overlay\":" + (spec.overlay ? "true" : "false") + ",\"framing\":" + framingData(spec) +
          ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
          number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
          jsonString(shortNumber(hi)) + "],\"stops\":[" + stops + "],\"meshes\":[" + meshes + "]}";
@@ -369,6 +381,8 @@ void ViewerPageSpec::validate() const {
   if (meshes.empty()) fail("meshes", "is empty: give at least one mesh");
   if (stripeCount < 1 || stripeCount > 1000) fail("stripeCount", "must be in [1, 1000]");
   if (!(stripeWidth > 0.0 && stripeWidth < 1.0)) fail("stripeWidth", "must be in (0, 1)");
+  if (!framingPoints.allFinite()) fail("framingPoints", "has a coordinate that is not finite");
+  if (!viewDirection.allFinite()) fail("viewDirection", "is not finite");
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     validateMesh(meshes[i], i);
     validateModes(meshes[i], i);

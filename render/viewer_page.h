@@ -73,6 +73,12 @@ struct ViewerPageSpec {
   std::string fieldTitle;    // the legend's title (Field style)
   bool diverging = false;    // the field is signed: the diverging map on [-M, M]
   std::string title = "flexure view";
+  // The camera's framing. Empty: every frame of every mesh, seen from the renderer's azimuth at
+  // 60° elevation. Else the bounding sphere of these points (#P by 3), seen along viewDirection
+  // (toward the viewer; zero: the default direction) — a faired region along its mean normal, as
+  // flexure fair's figure frames it.
+  modeling::Positions framingPoints;
+  Eigen::Vector3d viewDirection = Eigen::Vector3d::Zero();
 
   void validate() const;  // throws InputError
 };

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "modeling/boundary_rings.h"
 #include "modeling/errors.h"
 #include "modeling/fairing_region.h"
 #include "modeling/mesh_io.h"
@@ -27,6 +28,23 @@ std::string reportPath(const std::string& report, const std::string& path) {
   return std::filesystem::exists(beside) ? beside.string() : path;
 }
 
+// The page framed on `region` of `result` and its rings (addFairingReport), on every mesh of
+// `meshes` with the result's vertices.
+void frameOnRegion(render::ViewerPageSpec& page, const std::vector<modeling::Mesh>& meshes,
+                   const modeling::Mesh& result, const std::vector<bool>& region) {
+  const Eigen::VectorXi rings = modeling::ringDistances(
+      modeling::compileStencils(result), region, modeling::kHeldRings + modeling::kContextRings);
+  std::vector<Eigen::RowVector3d> points;
+  for (const modeling::Mesh& m : meshes)
+    if (m.vertexCount() == result.vertexCount())
+      for (int v = 0; v < m.vertexCount(); ++v)
+        if (rings[v] >= 0) points.push_back(m.positions.row(v));
+  page.framingPoints.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    page.framingPoints.row(static_cast<Eigen::Index>(i)) = points[i];
+  page.viewDirection = modeling::regionNormal(result, region);
+}
+
 }  // namespace
 
 render::ViewerSegments regionOutlineSegments(const modeling::Mesh& mesh,
@@ -44,7 +62,7 @@ bool isFairingReport(const std::string& path) {
          json.contains("input");
 }
 
-std::vector<render::ViewerMesh> readFairingReport(const std::string& path) {
+void addFairingReport(render::ViewerPageSpec& page, const std::string& path) {
   const nlohmann::json report = readJson(path);
   if (!report.is_object() || !report.contains("region") || !report["input"].is_string())
     throw InputError(path + ": not a flexure fair report");
@@ -72,7 +90,6 @@ std::vector<render::ViewerMesh> readFairingReport(const std::string& path) {
     region[v.get<std::size_t>()] = true;
   }
   const render::ViewerSegments outline = regionOutlineSegments(result, region);
-  std::vector<render::ViewerMesh> out;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const bool sameVertices =
         meshes[i].vertexCount() == result.vertexCount() && meshes[i].triangles == result.triangles;
@@ -86,9 +103,9 @@ std::vector<render::ViewerMesh> readFairingReport(const std::string& path) {
     m.triangles = meshes[i].triangles;
     m.frames.push_back(meshes[i].positions);
     if (sameVertices) m.outline = outline;
-    out.push_back(std::move(m));
+    page.meshes.push_back(std::move(m));
   }
-  return out;
+  frameOnRegion(page, meshes, result, region);
 }
 
 }  // namespace flexure::reports

@@ -19,12 +19,14 @@ render::ViewerSegments regionOutlineSegments(const modeling::Mesh& mesh,
 // Whether `path` is a fairing report: a JSON object with "measures", "region" and "input".
 bool isFairingReport(const std::string& path);
 
-// The meshes of a fairing report: "input" (for a hole fill, the mesh with its holes: no outline,
-// other vertices), "cgal_output" when written, and "output", each path as written in the report —
-// relative to the working directory, else to the report's folder. The outline is of the report's
-// region "indices", on each mesh with the result's vertices. InputError naming the report or the
-// file: not a fairing report, no region indices, an output not written (an unconverged fair),
-// a mesh missing or with another vertex count.
-std::vector<render::ViewerMesh> readFairingReport(const std::string& path);
+// The meshes of a fairing report added to `page`: "input" (for a hole fill, the mesh with its
+// holes: no outline, other vertices), "cgal_output" when written, and "output", each path as
+// written in the report — relative to the working directory, else to the report's folder. The
+// outline is of the report's region "indices", on each mesh with the result's vertices; the page
+// is framed as flexure fair's figure: the region and modeling::kHeldRings +
+// modeling::kContextRings rings around it on those meshes, seen along the region's mean normal on
+// the result. InputError naming the report or the file: not a fairing report, no region indices,
+// an output not written (an unconverged fair), a mesh missing or with another vertex count.
+void addFairingReport(render::ViewerPageSpec& page, const std::string& path);
 
 }  // namespace flexure::reports

@@ -48,8 +48,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   page.overlay = a.overlay;
   for (const auto& [name, F, frames, times, source] : items) {
     if (!source.empty() && reports::isFairingReport(source)) {
-      for (render::ViewerMesh& m : reports::readFairingReport(source))
-        page.meshes.push_back(std::move(m));
+      reports::addFairingReport(page, source);
       continue;
     }
     if (reports::isModesFolder(source)) {

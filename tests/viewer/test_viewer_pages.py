@@ -165,6 +165,16 @@ def fairing_page(browser, shots):
     clean(browser, "fair.html")
 
 
+def cap_page(browser):
+    """A fairing report of a cap at +x of a sphere: the camera looks at it along its mean normal
+    (+x, a known answer), as flexure fair's figure does."""
+    load(browser, "cap.html")
+    e = browser.evaluate("(() => { const c = flexureViewer.camera.position.clone()"
+                         ".sub(flexureViewer.controls.target).normalize(); return [c.x, c.y, c.z]; })()")
+    check(e[0] > 0.999, "cap.html: the camera looks at the cap along +x %s" % e)
+    clean(browser, "cap.html")
+
+
 # Pixels of the obstacles' orange (0.86, 0.62, 0.36), lit: red well above blue.
 ORANGE = """(() => {
   flexureViewer.draw();
@@ -295,6 +305,9 @@ def main():
     flexure(binary, "fair", "bumpy.obj", "--region", "sphere:0,0,0.05,0.28", "-o", "faired.obj",
             "--cgal-output", "cgal.obj", "--report", "fair.json", "--quiet")
     flexure(binary, "view", "fair.json", "-o", "fair.html", "--quiet")
+    flexure(binary, "fair", "sphere.obj", "--region", "sphere:0.5,0,0,0.2", "-o", "cap.obj",
+            "--report", "cap.json", "--quiet")
+    flexure(binary, "view", "cap.json", "-o", "cap.html", "--quiet")
     simulation_folder("sheet.obj", "sag-obstacles", 3,
                       obstacles=["sphere:0,0,-0.8,0.25", "plane:0,0,1,-1.2"])
     flexure(binary, "view", "sag-obstacles", "-o", "obstacles.html", "--quiet")
@@ -374,6 +387,7 @@ def main():
 
         modes_page(browser, shots)
         fairing_page(browser, shots)
+        cap_page(browser)
         obstacles_page(browser, shots)
         tear_page(browser, shots)
 
