@@ -105,18 +105,6 @@ def clean(browser, page):
     check(others == [], page + ": no request but the page itself " + str(others))
 
 
-# Pixels of the nodal lines' red (the reflection stripes are grey).
-RED = """(() => {
-  flexureViewer.draw();
-  const gl = flexureViewer.renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const p = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  let black = 0;
-  for (let i = 0; i < p.length; i += 4) if (p[i] > 150 && p[i + 1] < 90 && p[i + 2] < 90) black += 1;
-  return black;
-})()"""
-
 def bumpy_bowl(bowl, out):
     """The bowl with a cone-shaped bump of height 0.05 and radius 0.2 at its apex: a region to fair."""
     positions, faces = read_obj(bowl)
@@ -124,6 +112,30 @@ def bumpy_bowl(bowl, out):
         d = math.hypot(p[0], p[1])
         p[2] += 0.05 * max(0.0, 1.0 - d / 0.2)
     write_obj(out, positions, faces)
+
+
+def pixel_count(condition):
+    """A script counting the drawn pixels whose colour (r, g, b: 0..255) meets `condition`."""
+    return """(() => {
+  flexureViewer.draw();
+  const gl = flexureViewer.renderer.getContext();
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const p = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  let n = 0;
+  for (let i = 0; i < p.length; i += 4) {
+    const r = p[i], g = p[i + 1], b = p[i + 2];
+    if (%s) n += 1;
+  }
+  return n;
+})()""" % condition
+
+
+# The nodal lines' red (the reflection stripes are grey), the obstacles' orange (0.86, 0.62, 0.36)
+# lit: red well above blue, and the cracks' magenta (the renderer's crack colour).
+RED = pixel_count("r > 150 && g < 90 && b < 90")
+ORANGE = pixel_count("r > 80 && r > g + 20 && g > b + 20")
+MAGENTA = pixel_count("r > 200 && g < 80 && b > 150")
 
 
 # Pixels of the outline's green (0, 0.8, 0.2) in each third of the canvas.
@@ -175,20 +187,6 @@ def cap_page(browser):
     clean(browser, "cap.html")
 
 
-# Pixels of the obstacles' orange (0.86, 0.62, 0.36), lit: red well above blue.
-ORANGE = """(() => {
-  flexureViewer.draw();
-  const gl = flexureViewer.renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const p = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  let orange = 0;
-  for (let i = 0; i < p.length; i += 4)
-    if (p[i] > 80 && p[i] > p[i + 1] + 20 && p[i + 1] > p[i + 2] + 20) orange += 1;
-  return orange;
-})()"""
-
-
 def obstacles_page(browser, shots):
     """A simulation folder whose report lists a sphere and a plane: both drawn, in orange."""
     load(browser, "obstacles.html")
@@ -205,19 +203,6 @@ def obstacles_page(browser, shots):
     if shots:
         browser.screenshot(os.path.join(shots, "view-obstacles.png"))
     clean(browser, "obstacles.html")
-
-
-# Pixels of the cracks' magenta (the renderer's crack colour).
-MAGENTA = """(() => {
-  flexureViewer.draw();
-  const gl = flexureViewer.renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const p = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  let n = 0;
-  for (let i = 0; i < p.length; i += 4) if (p[i] > 200 && p[i + 1] < 80 && p[i + 2] > 150) n += 1;
-  return n;
-})()"""
 
 
 def tear_page(browser, shots):
