@@ -95,10 +95,7 @@ std::optional<render::RenderOptions> frameLook(const SimulateOptions& o) {
           "--yield-strain");
     look.emplace();
     look->style = render::RenderStyle::Plastic;
-    if (o.plasticity.yieldCurvature && o.plasticity.yieldStrain)
-      look->plasticLabel = "plastic strain / yield value";
-    else if (o.plasticity.yieldStrain)
-      look->plasticLabel = "membrane plastic strain (Green)";
+    look->plasticLabel = plasticityOptions(o.plasticity).measureName();
   } else if (o.renderStyle != "none") {
     look.emplace();
     look->style = render::parseRenderStyle(o.renderStyle);

@@ -152,11 +152,26 @@ void writeCrackLips(const Recording& recording, const std::string& path) {
   modeling::writeFileAtomically(path, nlohmann::json{{"lips", lips}}.dump() + "\n");
 }
 
+// DIR/plastic.json: {"measure": its name, "frames": [frame 0's values, …]}, the plastic measure
+// of every vertex at each frame (PlasticDynamics::vertexPlasticMeasure, what the plastic render
+// style colours), for `flexure view --style plastic`.
+void writePlasticMeasure(const SimulateOptions& o, const Recording& recording,
+                         const std::string& path) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const Eigen::VectorXd& values : recording.framePlastic)
+    frames.push_back(std::vector<double>(values.begin(), values.end()));
+  modeling::writeFileAtomically(
+      path,
+      nlohmann::json{{"measure", plasticityOptions(o.plasticity).measureName()}, {"frames", frames}}
+              .dump() +
+          "\n");
+}
+
 }  // namespace
 
 bool isSimulationFile(const std::string& name) {
   if (name == "energies.csv" || name == "energies.png" || name == "report.json" ||
-      name == "cracks.json")
+      name == "cracks.json" || name == "plastic.json")
     return true;
   const bool obj = name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0;
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
@@ -174,6 +189,10 @@ void writeOutputs(const SimulateOptions& o, const std::optional<render::RenderOp
   for (const auto& [name, mesh] : recording.frames) {
     modeling::writeMesh((dir / name).string(), mesh);
     written.push_back(name);
+  }
+  if (!recording.framePlastic.empty()) {
+    writePlasticMeasure(o, recording, (dir / "plastic.json").string());
+    written.push_back("plastic.json");
   }
   if (dynamics.fractures()) {
     writeCrackLips(recording, (dir / "cracks.json").string());

@@ -78,13 +78,16 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
   render::ViewerPageSpec& page = o.page;
   // The command's styles: the library's reflection, isophote and shaded, and its field style with
   // the field named (curvature, displacement).
-  const bool curvatureStyle = o.style == "curvature", displacementStyle = o.style == "displacement";
+  const bool curvatureStyle = o.style == "curvature", displacementStyle = o.style == "displacement",
+             plasticStyle = o.style == "plastic";
   if (o.style != "reflection" && o.style != "isophote" && o.style != "shaded" && !curvatureStyle &&
-      !displacementStyle)
-    throw InputError("--style '" + o.style +
-                     "': expected reflection, isophote, shaded, curvature or displacement");
-  page.style = curvatureStyle || displacementStyle ? render::ViewerStyle::Field
-                                                   : render::parseViewerStyle(o.style);
+      !displacementStyle && !plasticStyle)
+    throw InputError(
+        "--style '" + o.style +
+        "': expected reflection, isophote, shaded, curvature, displacement or plastic");
+  page.style = curvatureStyle || displacementStyle || plasticStyle
+                   ? render::ViewerStyle::Field
+                   : render::parseViewerStyle(o.style);
   if (!curvatureStyle && !o.curvatureEnergy.empty())
     throw InputError("--curvature-energy applies to --style curvature only");
   if (curvatureStyle) curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
@@ -109,6 +112,7 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
       page.meshes.push_back(std::move(m));
   }
   if (curvatureStyle) reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
+  if (plasticStyle) reports::addPlasticFields(page, o.inputs);
   if (displacementStyle) {
     modeling::Positions rest;
     if (!o.reference.empty()) rest = modeling::readMesh(o.reference).positions;
@@ -148,7 +152,8 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
       ->required();
   files->output("-o,--output", o.output, "Output page (.html)")->required();
   sub->add_option("--style", o.style,
-                  "reflection | isophote | shaded | curvature | displacement (default reflection)");
+                  "reflection | isophote | shaded | curvature | displacement | plastic (a "
+                  "simulation's plastic strain; default reflection)");
   sub->add_option("--stripes", o.page.stripeCount,
                   "Number of reflection stripes / isophote bands (default 12)")
       ->check(inRange(1, 1000));

@@ -128,4 +128,48 @@ render::ViewerMesh readSimulationFolder(const std::string& dir) {
   return m;
 }
 
+void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::string>& folders,
+                      std::size_t first) {
+  page.style = render::ViewerStyle::Field;
+  page.diverging = false;
+  for (std::size_t k = 0; k < folders.size(); ++k) {
+    if (!isSimulationFolder(folders[k]))
+      throw InputError(folders[k] +
+                       ": the plastic style colours a simulation folder's plastic strain, and "
+                       "this is no folder");
+    const fs::path path = fs::path(folders[k]) / "plastic.json";
+    std::ifstream file(path);
+    if (!file)
+      throw InputError(folders[k] +
+                       ": no plastic.json (a simulation with a yield value writes it)");
+    const nlohmann::json plastic = nlohmann::json::parse(file, nullptr, false);
+    render::ViewerMesh& m = page.meshes.at(first + k);
+    if (plastic.is_discarded() || !plastic.contains("frames") || !plastic["frames"].is_array() ||
+        !plastic.contains("measure") || !plastic["measure"].is_string() ||
+        plastic["frames"].size() != m.frames.size())
+      throw InputError(path.string() + ": not a measure name and one list of values per frame (" +
+                       std::to_string(m.frames.size()) + " frames)");
+    const std::string measure = plastic["measure"].get<std::string>();
+    if (k > 0 && measure != page.fieldTitle)
+      throw InputError(path.string() + ": measures " + measure + ", another folder " +
+                       page.fieldTitle);
+    page.fieldTitle = measure;
+    m.fields.clear();
+    for (std::size_t f = 0; f < m.frames.size(); ++f) {
+      const nlohmann::json& values = plastic["frames"][f];
+      if (!values.is_array() || values.size() != static_cast<std::size_t>(m.frames[f].rows()))
+        throw InputError(path.string() + ": frame " + std::to_string(f) +
+                         " has not one value per vertex");
+      Eigen::VectorXd field(m.frames[f].rows());
+      for (Eigen::Index v = 0; v < field.size(); ++v) {
+        if (!values[v].is_number())
+          throw InputError(path.string() + ": frame " + std::to_string(f) + ": a value " +
+                           values[v].dump() + " is no number");
+        field[v] = values[v].get<double>();
+      }
+      m.fields.push_back(std::move(field));
+    }
+  }
+}
+
 }  // namespace flexure::reports

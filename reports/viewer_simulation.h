@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "render/viewer_page.h"
 
@@ -21,5 +22,13 @@ bool isSimulationFolder(const std::string& dir);
 // without changing the faces, or that changes the faces in a folder without cracks.json;
 // cracks.json when it does not match the frames; the report when an obstacle cannot be read.
 render::ViewerMesh readSimulationFolder(const std::string& dir);
+
+// The plastic measure of DIR/plastic.json (written by a simulation with plasticity: per vertex
+// at each frame, what its plastic frames colour) as the field of `page.meshes[first + k]`, read
+// from folders[k], on the sequential map titled by the measure's name. InputError naming a
+// folders[k] that is no folder or has no plastic.json, and plastic.json when it does not match the
+// frames or the folders measure different things.
+void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::string>& folders,
+                      std::size_t first = 0);
 
 }  // namespace flexure::reports

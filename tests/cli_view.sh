@@ -31,6 +31,18 @@ run 2 view tear-broken -o page.html; stderr_has "tear-broken/cracks.json"; absen
 cp -r tear tear-nolips; rm tear-nolips/cracks.json
 run 2 view tear-nolips -o page.html; stderr_has "tear-nolips/frame-00003.obj"; absent page.html
 
+# A run with plasticity: its plastic.json coloured (--style plastic), the legend titled by it.
+run 0 mesh --family patch48 --n 8 -o plate8.obj --quiet
+run 0 simulate --rest plate8.obj --energy hinge --stiffness 0.05 --membrane stvk --young 1000 \
+  --pin box:-0.5,-0.4,-1,1,-1,1 --pin "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57" \
+  --yield-curvature 2 --damping rayleigh:4,0 --dt 0.02 --duration 0.6 --fps 10 \
+  --render-style none -o bent --quiet
+test -f bent/plastic.json || fail "a run with a yield value wrote no plastic.json"
+run 0 view bent --style plastic -o plastic.html; stderr_has "(1 meshes, 7 frames"
+grep -q '"fieldTitle":"plastic strain (1 / length)"' plastic.html || fail "plastic.html's legend"
+run 2 view bent sheet.obj --style plastic -o page.html; stderr_has "sheet.obj"; absent page.html
+run 2 view tear --style plastic -o page.html; stderr_has "tear: no plastic.json"; absent page.html
+
 # A modes folder (flexure modes --write-shapes): each energy's mesh with its modes.
 run 0 modes --family patch48 --n 6 --energy midedge,cotan --count 3 --write-shapes -o modes --quiet
 test -f modes/rest.obj || fail "flexure modes --write-shapes wrote no rest.obj"

@@ -150,6 +150,12 @@ bool settle(Problem& problem, PlasticState& state, const PlasticityOptions& plas
 
 }  // namespace
 
+std::string PlasticityOptions::measureName() const {
+  if (yieldCurvature && yieldStrain) return "plastic strain / yield value";
+  if (yieldStrain) return "membrane plastic strain (Green)";
+  return "plastic strain (1 / length)";
+}
+
 void PlasticityOptions::validate() const {
   const auto positive = [](const std::optional<double>& v) {
     return !v || (std::isfinite(*v) && *v > 0.0);

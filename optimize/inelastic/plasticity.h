@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "optimize/problem.h"
@@ -26,6 +27,10 @@ struct PlasticityOptions {
   double hardening = 0.0;  // γ ≥ 0, linear kinematic hardening
 
   bool enabled() const { return yieldCurvature.has_value() || yieldStrain.has_value(); }
+  // What PlasticDynamics::vertexPlasticMeasure is, in words for a legend: the plastic curvature
+  // (1 / length) with κ_y alone, the membrane's Green plastic strain with ε_y alone, the strain
+  // over its yield value with both.
+  std::string measureName() const;
   // InputError naming the field: a yield value that is not positive and finite, γ < 0.
   void validate() const;
 };

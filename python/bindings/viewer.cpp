@@ -41,8 +41,13 @@ using ViewerItem =
 // The page's HTML, as `flexure view` writes it for the same meshes and style.
 py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments& a) {
   render::ViewerPageSpec page;
-  const bool curvatureStyle = a.style == "curvature", displacementStyle = a.style == "displacement";
-  if (!curvatureStyle && !displacementStyle) page.style = render::parseViewerStyle(a.style);
+  const bool curvatureStyle = a.style == "curvature", displacementStyle = a.style == "displacement",
+             plasticStyle = a.style == "plastic";
+  if (!curvatureStyle && !displacementStyle && !plasticStyle)
+    page.style = render::parseViewerStyle(a.style);
+  std::vector<std::string> folders;  // the plastic style's: each item's folder, or its name
+  for (const auto& item : items)
+    folders.push_back(std::get<4>(item).empty() ? std::get<0>(item) : std::get<4>(item));
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
@@ -76,6 +81,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   if (curvatureStyle)
     reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());
   if (displacementStyle) reports::addDisplacementFields(page, a.rest.value_or(Positions()), "rest");
+  if (plasticStyle) reports::addPlasticFields(page, folders);
   page.validate();
   return py::bytes(render::viewerPageHtml(page));
 }

@@ -10,7 +10,7 @@ import numpy as np
 from . import _checks
 from . import _flexure
 
-_STYLES = ("reflection", "isophote", "shaded", "curvature", "displacement")
+_STYLES = ("reflection", "isophote", "shaded", "curvature", "displacement", "plastic")
 
 
 class View:
@@ -76,7 +76,8 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
     outlined). Each mesh has its own view with one linked
     camera, or all one view with ``overlay``. style: "reflection" | "isophote" | "shaded" |
     "curvature" (mean curvature H, the default curvature energy) | "displacement" (|x − rest|,
-    ``rest`` #V×3, else each mesh's first frame); stripes, stripe_width as in ``flexure render``;
+    ``rest`` #V×3, else each mesh's first frame) | "plastic" (a ``flexure simulate`` folder's
+    plastic strain, from its ``plastic.json``); stripes, stripe_width as in ``flexure render``;
     names: a label per mesh; times: the frames' times (of every mesh with frames); height: the
     notebook iframe's pixels.
     """

@@ -123,6 +123,28 @@ def test_fractured_simulation_same_page_as_the_cli(cli, tmp_path, monkeypatch):
     assert mesh["cracks"]["starts"] == [0] + list(np.cumsum([len(f) for f in lips]))
 
 
+def test_plastic_style_same_page_as_the_cli(cli, tmp_path, monkeypatch):
+    """A run with a yield value: its plastic.json on the page as the field of every frame."""
+    monkeypatch.chdir(tmp_path)
+    cli("-q", "mesh", "--family", "patch48", "--n", "8", "-o", "plate8.obj")
+    cli("-q", "simulate", "--rest", "plate8.obj", "--energy", "hinge", "--stiffness", "0.05",
+        "--membrane", "stvk", "--young", "1000", "--pin", "box:-0.5,-0.4,-1,1,-1,1", "--pin",
+        "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "2",
+        "--damping", "rayleigh:4,0", "--dt", "0.02", "--duration", "0.6", "--fps", "10",
+        "--render-style", "none", "-o", "bent")
+    cli("-q", "view", "bent", "--style", "plastic", "-o", "bent.html")
+    python = flexure.view("bent", style="plastic").html
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    assert strip(python) == strip((tmp_path / "bent.html").read_text())
+    data = page_data(python)
+    plastic = json.loads((tmp_path / "bent" / "plastic.json").read_text())
+    expected = np.concatenate([np.asarray(f, dtype=np.float32) for f in plastic["frames"]])
+    assert data["fieldTitle"] == plastic["measure"] and expected.max() > 0
+    np.testing.assert_array_equal(data["meshes"][0]["fields"], expected)
+    with pytest.raises(ValueError, match="plastic"):
+        flexure.view("plate8.obj", style="plastic")
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])

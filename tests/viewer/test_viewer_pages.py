@@ -205,6 +205,23 @@ def obstacles_page(browser, shots):
     clean(browser, "obstacles.html")
 
 
+def plastic_page(browser, shots):
+    """A run with plasticity, --style plastic: the legend spans [0, the largest value of its
+    plastic.json] and is titled by its measure; the last frame is coloured."""
+    with open(os.path.join("bent", "plastic.json")) as f:
+        plastic = json.load(f)
+    largest = max(max(frame) for frame in plastic["frames"])
+    load(browser, "plastic.html")
+    browser.evaluate("flexureViewer.setFrame(%d)" % (len(plastic["frames"]) - 1))
+    hi = float(browser.evaluate("document.getElementById('legend-max').textContent"))
+    title = browser.evaluate("document.getElementById('legend-title').textContent")
+    check(title == plastic["measure"] and abs(hi - largest) <= 0.01 * largest,
+          "plastic.html: legend '%s' up to %g ~ %g" % (title, hi, largest))
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-plastic.png"))
+    clean(browser, "plastic.html")
+
+
 def tear_page(browser, shots):
     """examples/tear-strip.json's folder: a cut changes the faces (128 → 129) at frame 3, whose
     crack lips (cracks.json) are drawn magenta; the first frame has neither."""
@@ -299,6 +316,12 @@ def main():
     examples = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
     flexure(binary, "--quiet", "run", os.path.join(examples, "tear-strip.json"))
     flexure(binary, "view", "tear", "-o", "tear.html", "--quiet")
+    flexure(binary, "simulate", "--rest", "sheet.obj", "--energy", "hinge", "--stiffness", "0.05",
+            "--membrane", "stvk", "--young", "1000", "--pin", "box:-0.5,-0.4,-1,1,-1,1", "--pin",
+            "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "2",
+            "--damping", "rayleigh:4,0", "--dt", "0.02", "--duration", "0.6", "--fps", "10",
+            "--render-style", "none", "-o", "bent", "--quiet")
+    flexure(binary, "view", "bent", "--style", "plastic", "-o", "plastic.html", "--quiet")
 
     browser = Browser()
     try:
@@ -375,6 +398,7 @@ def main():
         cap_page(browser)
         obstacles_page(browser, shots)
         tear_page(browser, shots)
+        plastic_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
