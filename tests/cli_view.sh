@@ -35,7 +35,7 @@ run 2 view tear-nolips -o page.html; stderr_has "tear-nolips/frame-00003.obj"; a
 run 0 mesh --family patch48 --n 8 -o plate8.obj --quiet
 run 0 simulate --rest plate8.obj --energy hinge --stiffness 0.05 --membrane stvk --young 1000 \
   --pin box:-0.5,-0.4,-1,1,-1,1 --pin "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57" \
-  --yield-curvature 2 --damping rayleigh:4,0 --dt 0.02 --duration 0.6 --fps 10 \
+  --yield-curvature 0.5 --damping rayleigh:4,0 --dt 0.02 --duration 0.6 --fps 10 \
   --render-style none -o bent --quiet
 test -f bent/plastic.json || fail "a run with a yield value wrote no plastic.json"
 run 0 view bent --style plastic -o plastic.html; stderr_has "(1 meshes, 7 frames"

@@ -129,7 +129,7 @@ def test_plastic_style_same_page_as_the_cli(cli, tmp_path, monkeypatch):
     cli("-q", "mesh", "--family", "patch48", "--n", "8", "-o", "plate8.obj")
     cli("-q", "simulate", "--rest", "plate8.obj", "--energy", "hinge", "--stiffness", "0.05",
         "--membrane", "stvk", "--young", "1000", "--pin", "box:-0.5,-0.4,-1,1,-1,1", "--pin",
-        "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "2",
+        "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "0.5",
         "--damping", "rayleigh:4,0", "--dt", "0.02", "--duration", "0.6", "--fps", "10",
         "--render-style", "none", "-o", "bent")
     cli("-q", "view", "bent", "--style", "plastic", "-o", "bent.html")

@@ -318,7 +318,7 @@ def main():
     flexure(binary, "view", "tear", "-o", "tear.html", "--quiet")
     flexure(binary, "simulate", "--rest", "sheet.obj", "--energy", "hinge", "--stiffness", "0.05",
             "--membrane", "stvk", "--young", "1000", "--pin", "box:-0.5,-0.4,-1,1,-1,1", "--pin",
-            "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "2",
+            "box:0.4,0.5,-1,1,-1,1@rotate:0,-1,0,0,0,0,1.57", "--yield-curvature", "0.5",
             "--damping", "rayleigh:4,0", "--dt", "0.02", "--duration", "0.6", "--fps", "10",
             "--render-style", "none", "-o", "bent", "--quiet")
     flexure(binary, "view", "bent", "--style", "plastic", "-o", "plastic.html", "--quiet")
