@@ -12,12 +12,11 @@
 #include <utility>
 
 #include "modeling/errors.h"
+#include "modeling/mesh_info.h"
 
 namespace flexure::modeling {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3d rowOf(const Positions& x, int v) {
   return x.row(v).transpose();
@@ -286,13 +285,7 @@ CrackPath budge(CrackPath path, double budge) {
 }
 
 double smallestAngleDegrees(const Positions& x, const std::array<int, 3>& face) {
-  double smallest = 180.0;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d u = rowOf(x, face[(k + 1) % 3]) - rowOf(x, face[k]);
-    const Eigen::Vector3d w = rowOf(x, face[(k + 2) % 3]) - rowOf(x, face[k]);
-    smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180.0 / kPi);
-  }
-  return smallest;
+  return modeling::smallestAngleDegrees(x, face[0], face[1], face[2]);
 }
 
 // Triangles of the convex polygon `polygon` (counter-clockwise): itself, or a quadrilateral split

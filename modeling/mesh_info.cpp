@@ -1,6 +1,8 @@
 #include "modeling/mesh_info.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "modeling/boundary_rings.h"
@@ -31,6 +33,19 @@ MeshInfo describeMesh(const Mesh& mesh) {
   info.boxMin = mesh.positions.colwise().minCoeff().transpose();
   info.boxMax = mesh.positions.colwise().maxCoeff().transpose();
   return info;
+}
+
+double smallestAngleDegrees(const Positions& x, int a, int b, int c) {
+  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+  const int corner[3] = {a, b, c};
+  double smallest = 180.0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d p = x.row(corner[k]);
+    const Eigen::Vector3d u = Eigen::Vector3d(x.row(corner[(k + 1) % 3])) - p;
+    const Eigen::Vector3d w = Eigen::Vector3d(x.row(corner[(k + 2) % 3])) - p;
+    smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * kDegrees);
+  }
+  return smallest;
 }
 
 }  // namespace flexure::modeling

@@ -26,4 +26,8 @@ struct MeshInfo {
 // `mesh` must pass checkMesh().
 MeshInfo describeMesh(const Mesh& mesh);
 
+// The smallest interior angle of the triangle (x_a, x_b, x_c) of `x`, in degrees: at each corner
+// atan2(|u × w|, u · w) of the edges u, w leaving it (accurate for slivers, unlike acos).
+double smallestAngleDegrees(const Positions& x, int a, int b, int c);
+
 }  // namespace flexure::modeling

@@ -15,6 +15,7 @@
 
 #include "modeling/cgal_surface_mesh.h"
 #include "modeling/errors.h"
+#include "modeling/mesh_info.h"
 
 namespace flexure::modeling {
 namespace {
@@ -26,25 +27,21 @@ using Triangle = CgalKernel::Triangle_3;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<
     CgalKernel, CGAL::AABB_triangle_primitive<CgalKernel, std::vector<Triangle>::const_iterator>>>;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxIterations = 100;
+// The most faces a remeshing may make: a target length that would cover the region with more
+// (≈ its area over an equilateral face of side ℓ, √3 ℓ² / 4) is refused before any work.
+constexpr double kMaxRemeshedFaces = 2e6;
 // Samples per face of the distance measures: barycentric (i, j, k)/n with i + j + k = n.
 constexpr int kSampleDivisions = 4;
 
-// The smallest interior angle of the faces with `kept[f]`, in degrees (atan2 of |a × b| and a · b).
+// The smallest interior angle of the faces with `kept[f]`, in degrees.
 double minAngleDegrees(const Mesh& mesh, const std::vector<bool>& kept) {
   double smallest = 180.0;
-  for (int f = 0; f < mesh.faceCount(); ++f) {
-    if (!kept[f]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d p = mesh.positions.row(mesh.triangles(f, k));
-      const Eigen::Vector3d a =
-          Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, (k + 1) % 3))) - p;
-      const Eigen::Vector3d b =
-          Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, (k + 2) % 3))) - p;
-      smallest = std::min(smallest, std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi);
-    }
-  }
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    if (kept[f])
+      smallest =
+          std::min(smallest, smallestAngleDegrees(mesh.positions, mesh.triangles(f, 0),
+                                                  mesh.triangles(f, 1), mesh.triangles(f, 2)));
   return smallest;
 }
 
@@ -166,6 +163,21 @@ RemeshedRegion remeshRegion(const Mesh& mesh, const std::vector<bool>& region,
 
   RemeshedRegion out;
   out.targetEdgeLength = options.targetEdgeLength.value_or(meanFaceEdgeLength(mesh, remeshed));
+  double area = 0.0;
+  for (int f = 0; f < mesh.faceCount(); ++f)
+    if (remeshed[f])
+      area += 0.5 * (Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 1))) -
+                     Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 0))))
+                        .cross(Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 2))) -
+                               Eigen::Vector3d(mesh.positions.row(mesh.triangles(f, 0))))
+                        .norm();
+  const double expectedFaces =
+      area / (std::sqrt(3.0) / 4.0 * out.targetEdgeLength * out.targetEdgeLength);
+  if (expectedFaces > kMaxRemeshedFaces)
+    throw InputError("RemeshOptions.targetEdgeLength " + numberText(out.targetEdgeLength) +
+                     ": would cover the region (area " + numberText(area) + ") with about " +
+                     numberText(expectedFaces) + " faces, over the " +
+                     numberText(kMaxRemeshedFaces) + " a remeshing may make");
   out.iterations = options.iterations;
   out.facesBefore = static_cast<int>(std::count(remeshed.begin(), remeshed.end(), true));
   out.minAngleDegreesBefore = minAngleDegrees(mesh, remeshed);

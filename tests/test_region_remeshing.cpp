@@ -154,6 +154,9 @@ TEST(RegionRemeshing, BadOptionsAndRegionsAreRefusedNamingThem) {
   o.targetEdgeLength = -1.0;
   EXPECT_THAT(inputErrorOf([&] { modeling::remeshRegion(grid, region, o); }),
               HasSubstr("RemeshOptions.targetEdgeLength -1"));
+  o.targetEdgeLength = 1e-4;  // some 1e9 faces on the grid's region: refused before any work
+  EXPECT_THAT(inputErrorOf([&] { modeling::remeshRegion(grid, region, o); }),
+              HasSubstr("faces, over the 2e+06 a remeshing may make"));
   o.targetEdgeLength.reset();
   o.iterations = 0;
   EXPECT_THAT(inputErrorOf([&] { modeling::remeshRegion(grid, region, o); }),

@@ -37,6 +37,24 @@ PinMotion::Kind parsePinMotionKind(std::string_view name) {
   throw InputError("PinMotion.kind " + std::string(name) + ": expected none, rotate or translate");
 }
 
+PinMotion makePinMotion(std::string_view kind, const Eigen::Vector3d& axis,
+                        const Eigen::Vector3d& point, double omega, const Eigen::Vector3d& velocity,
+                        const std::string& place) {
+  try {
+    switch (parsePinMotionKind(kind)) {
+      case PinMotion::Kind::Rotate:
+        return PinMotion::rotation(axis, point, omega);
+      case PinMotion::Kind::Translate:
+        return PinMotion::translation(velocity);
+      case PinMotion::Kind::None:
+        break;
+    }
+  } catch (const InputError& e) {
+    throw InputError(place + ": " + e.what());
+  }
+  return {};
+}
+
 Eigen::Vector3d PinMotion::position(const Eigen::Vector3d& start, double t) const {
   switch (kind) {
     case Kind::None:

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <string_view>
 
 namespace flexure::optimize {
@@ -30,5 +31,11 @@ struct PinMotion {
 };
 // "none" | "rotate" | "translate"; InputError naming PinMotion.kind otherwise.
 PinMotion::Kind parsePinMotionKind(std::string_view name);
+// The motion of `kind` from its parameters (a rotation's axis, point and ω; a translation's
+// velocity; the others ignored). InputError as parsePinMotionKind, rotation and translation give,
+// prefixed by `place` (where the motion was given, e.g. "pin_groups[1] motion").
+PinMotion makePinMotion(std::string_view kind, const Eigen::Vector3d& axis,
+                        const Eigen::Vector3d& point, double omega, const Eigen::Vector3d& velocity,
+                        const std::string& place);
 
 }  // namespace flexure::optimize

@@ -92,26 +92,6 @@ struct SimulationArguments : MembraneFields {
   std::optional<optimize::FractureOptions> fracture;  // empty: the shell never cracks
 };
 
-// The motion `kind` (none | rotate | translate) with its parameters (the library's rules);
-// `source` names the argument in the library's message.
-optimize::PinMotion pinMotion(const std::string& kind, const Eigen::Vector3d& axis,
-                              const Eigen::Vector3d& point, double omega,
-                              const Eigen::Vector3d& velocity, const std::string& source) {
-  try {
-    switch (optimize::parsePinMotionKind(kind)) {
-      case optimize::PinMotion::Kind::Rotate:
-        return optimize::PinMotion::rotation(axis, point, omega);
-      case optimize::PinMotion::Kind::Translate:
-        return optimize::PinMotion::translation(velocity);
-      case optimize::PinMotion::Kind::None:
-        break;
-    }
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());  // the argument's name, no rule
-  }
-  return {};
-}
-
 std::string groupName(size_t k) {
   return "pin_groups[" + std::to_string(k) + "]";
 }
@@ -124,13 +104,14 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   d.rayleighMass = a.rayleighMass;
   d.rayleighStiffness = a.rayleighStiffness;
   d.bendingDamping = a.bendingDamping;
-  d.pinMotion = pinMotion(a.pinMotion, a.axis, a.point, a.omega, a.velocity, "pin_motion");
+  d.pinMotion =
+      optimize::makePinMotion(a.pinMotion, a.axis, a.point, a.omega, a.velocity, "pin_motion");
   for (size_t k = 0; k < a.pinGroups.size(); ++k) {
     const PinGroupArguments& g = a.pinGroups[k];
-    d.pinGroups.push_back(
-        {{},
-         pinMotion(g.motion, g.axis, g.point, g.omega, g.velocity, groupName(k) + " motion"),
-         g.releaseTime});
+    d.pinGroups.push_back({{},
+                           optimize::makePinMotion(g.motion, g.axis, g.point, g.omega, g.velocity,
+                                                   groupName(k) + " motion"),
+                           g.releaseTime});
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.stepTolerance = a.stepTolerance;
@@ -157,7 +138,8 @@ optimize::ProblemOptions bodyOptions(const SimulationArguments& a) {
     const std::string name = "mesh_obstacles[" + std::to_string(k) + "]";
     p.meshObstacles.push_back(
         {modeling::Mesh{m.positions, m.faces},
-         pinMotion(m.motion, m.axis, m.point, m.omega, m.velocity, name + " motion"), name});
+         optimize::makePinMotion(m.motion, m.axis, m.point, m.omega, m.velocity, name + " motion"),
+         name});
   }
   p.selfContact = a.selfContact;
   p.contactOffset = a.contactOffset;

@@ -18,16 +18,18 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cdp import Browser  # noqa: E402
 
-# Counts over the drawing buffer: pixels that are not the white background, dark ones
-# (stripes: the shader's dark colour is 0.06), light ones (0.96), for the whole canvas and for
-# each half (side-by-side views).
-PIXELS = """(() => {
-  flexureViewer.draw();
+# The start of every pixel script: the page drawn and its drawing buffer (w × h, RGBA) read into p.
+READ = """  flexureViewer.draw();
   const gl = flexureViewer.renderer.getContext();
   const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
   const p = new Uint8Array(4 * w * h);
   gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  const r = {drawn: 0, dark: 0, light: 0, left: 0, right: 0, total: w * h, sum: 0};
+"""
+
+# Counts over the drawing buffer: pixels that are not the white background, dark ones
+# (stripes: the shader's dark colour is 0.06), light ones (0.96), for the whole canvas and for
+# each half (side-by-side views).
+PIXELS = "(() => {\n" + READ + """  const r = {drawn: 0, dark: 0, light: 0, left: 0, right: 0, total: w * h, sum: 0};
   for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
     const i = 4 * (y * w + x), c = p[i] + p[i + 1] + p[i + 2];
     r.sum += (x * 7 + y * 13) % 251 * c;
@@ -116,13 +118,7 @@ def bumpy_bowl(bowl, out):
 
 def pixel_count(condition):
     """A script counting the drawn pixels whose colour (r, g, b: 0..255) meets `condition`."""
-    return """(() => {
-  flexureViewer.draw();
-  const gl = flexureViewer.renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const p = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  let n = 0;
+    return "(() => {\n" + READ + """  let n = 0;
   for (let i = 0; i < p.length; i += 4) {
     const r = p[i], g = p[i + 1], b = p[i + 2];
     if (%s) n += 1;
@@ -139,13 +135,7 @@ MAGENTA = pixel_count("r > 200 && g < 80 && b > 150")
 
 
 # Pixels of the outline's green (0, 0.8, 0.2) in each third of the canvas.
-GREEN = """(() => {
-  flexureViewer.draw();
-  const gl = flexureViewer.renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const p = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, p);
-  const thirds = [0, 0, 0];
+GREEN = "(() => {\n" + READ + """  const thirds = [0, 0, 0];
   for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
     const i = 4 * (y * w + x);
     if (p[i + 1] > 150 && p[i] < 80 && p[i + 2] < 120) thirds[Math.min(2, Math.floor(3 * x / w))] += 1;
