@@ -1,6 +1,7 @@
 // flexure view: one self-contained HTML page (render/viewer_page.h) of meshes and simulation
-// folders, with a linked orbit camera, reflection lines or isophotes, a mean-curvature or
-// displacement field with its legend, a simulation's frames on a time slider, and a modes folder's
+// folders, with a linked orbit camera, reflection lines or isophotes, a field with its legend
+// (mean curvature, displacement, plastic strain, each face's smallest angle, the error against a
+// reference surface), a simulation's frames on a time slider, and a modes folder's
 // vibration modes animated with their nodal lines; --open opens it.
 // This file reads the inputs and maps the flags to a ViewerPageSpec; the page is the library's.
 #include <spawn.h>
@@ -72,27 +73,48 @@ void openPage(const std::string& page) {
               << " (set $BROWSER); the page is written\n";
 }
 
+// The field of the page's style at every frame of its meshes (reports/viewer_fields.h).
+void addFields(render::ViewerPageSpec& page, reports::ViewerField field,
+               const ViewCommandOptions& o, const modeling::Mesh& reference) {
+  switch (field) {
+    case reports::ViewerField::None:
+      return;
+    case reports::ViewerField::Curvature:
+      return reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
+    case reports::ViewerField::Plastic:
+      return reports::addPlasticFields(page, o.inputs);
+    case reports::ViewerField::Angle:
+      return reports::addSmallestAngleFields(page);
+    case reports::ViewerField::Error:
+      return reports::addReferenceDistanceFields(
+          page, reference, std::filesystem::path(o.reference).filename().string());
+    case reports::ViewerField::Displacement:
+      for (const render::ViewerMesh& m : page.meshes)
+        if (reference.vertexCount() == 0 && m.frames.size() == 1)
+          throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
+      return reports::addDisplacementFields(page, reference.positions,
+                                            "--reference " + o.reference);
+  }
+}
+
 void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
   if (!endsWithHtml(o.output))
     throw InputError("--output '" + o.output + "': flexure view writes an HTML page (.html)");
   render::ViewerPageSpec& page = o.page;
-  // The command's styles: the library's reflection, isophote and shaded, and its field style with
-  // the field named (curvature, displacement).
-  const bool curvatureStyle = o.style == "curvature", displacementStyle = o.style == "displacement",
-             plasticStyle = o.style == "plastic";
-  if (o.style != "reflection" && o.style != "isophote" && o.style != "shaded" && !curvatureStyle &&
-      !displacementStyle && !plasticStyle)
-    throw InputError(
-        "--style '" + o.style +
-        "': expected reflection, isophote, shaded, curvature, displacement or plastic");
-  page.style = curvatureStyle || displacementStyle || plasticStyle
-                   ? render::ViewerStyle::Field
-                   : render::parseViewerStyle(o.style);
-  if (!curvatureStyle && !o.curvatureEnergy.empty())
+  const reports::ViewStyle style = reports::parseViewStyle(o.style);
+  page.style = style.drawing;
+  if (style.field != reports::ViewerField::Curvature && !o.curvatureEnergy.empty())
     throw InputError("--curvature-energy applies to --style curvature only");
-  if (curvatureStyle) curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
-  if (!displacementStyle && !o.reference.empty())
-    throw InputError("--reference applies to --style displacement only");
+  if (style.field == reports::ViewerField::Curvature)
+    curvatureEnergy(o.curvatureEnergy);  // refuses a name before any work
+  const bool referenced = style.field == reports::ViewerField::Displacement ||
+                          style.field == reports::ViewerField::Error;
+  if (!referenced && !o.reference.empty())
+    throw InputError("--reference applies to --style displacement and error only");
+  if (style.field == reports::ViewerField::Error && o.reference.empty())
+    throw InputError("--style error needs --reference SURFACE, the mesh to measure against");
+  const modeling::Mesh reference =
+      o.reference.empty() ? modeling::Mesh{} : modeling::readMesh(o.reference);
 
   for (const std::string& input : o.inputs) {
     if (reports::isFairingReport(input)) {  // input, CGAL's fair and the result, region outlined
@@ -111,16 +133,7 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
     for (render::ViewerMesh& m : reports::readModesFolder(input, page.style))
       page.meshes.push_back(std::move(m));
   }
-  if (curvatureStyle) reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
-  if (plasticStyle) reports::addPlasticFields(page, o.inputs);
-  if (displacementStyle) {
-    modeling::Positions rest;
-    if (!o.reference.empty()) rest = modeling::readMesh(o.reference).positions;
-    for (const render::ViewerMesh& m : page.meshes)
-      if (rest.rows() == 0 && m.frames.size() == 1)
-        throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
-    reports::addDisplacementFields(page, rest, "--reference " + o.reference);
-  }
+  addFields(page, style.field, o, reference);
   page.title = "flexure view: " + o.inputs.front() + (o.inputs.size() > 1 ? " ..." : "");
   // Its own batch, committed here, so that the page is in place before --open shows it.
   modeling::OutputBatch batch;
@@ -152,8 +165,9 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
       ->required();
   files->output("-o,--output", o.output, "Output page (.html)")->required();
   sub->add_option("--style", o.style,
-                  "reflection | isophote | shaded | curvature | displacement | plastic (a "
-                  "simulation's plastic strain; default reflection)");
+                  reports::viewStyleNames() +
+                      " (plastic: a simulation's plastic strain; angle: each face's smallest "
+                      "angle; error: the distance to --reference; default reflection)");
   sub->add_option("--stripes", o.page.stripeCount,
                   "Number of reflection stripes / isophote bands (default 12)")
       ->check(inRange(1, 1000));
@@ -161,7 +175,8 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
                   "Dark fraction of each stripe period, in (0, 1) (default 0.5)");
   sub->add_option("--curvature-energy", o.curvatureEnergy, curvatureEnergyHelp());
   files->input("--reference", o.reference,
-               "Displacement style: the rest mesh (default: a simulation's first frame)");
+               "Displacement style: the rest mesh (default: a simulation's first frame); error "
+               "style: the reference surface (any mesh)");
   sub->add_flag("--overlay", o.page.overlay, "Every input in one view instead of one view each");
   sub->add_flag("--open", o.open, "Open the page with $BROWSER or xdg-open once written");
   sub->footer(

@@ -1,8 +1,5 @@
 #include "modeling/region_remeshing.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <Eigen/Geometry>
@@ -16,6 +13,7 @@
 #include "modeling/cgal_surface_mesh.h"
 #include "modeling/errors.h"
 #include "modeling/mesh_info.h"
+#include "modeling/surface_distance.h"
 
 namespace flexure::modeling {
 namespace {
@@ -23,9 +21,6 @@ namespace {
 namespace PMP = CGAL::Polygon_mesh_processing;
 using Vertex = CgalSurfaceMesh::Vertex_index;
 using Face = CgalSurfaceMesh::Face_index;
-using Triangle = CgalKernel::Triangle_3;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<
-    CgalKernel, CGAL::AABB_triangle_primitive<CgalKernel, std::vector<Triangle>::const_iterator>>>;
 
 constexpr int kMaxIterations = 100;
 // The most faces a remeshing may make: a target length that would cover the region with more
@@ -62,19 +57,10 @@ double meanFaceEdgeLength(const Mesh& mesh, const std::vector<bool>& kept) {
 }
 
 // The largest distance from the sample points of the faces of `from` with `fromKept[f]`
-// (kSampleDivisions above) to the faces of `to` with `toKept[f]`, by CGAL's AABB-tree closest
-// points on the triangles (a triangle soup: the face sets need not be manifold where they pinch).
+// (kSampleDivisions above) to the faces of `to` with `toKept[f]` (surface_distance.h).
 double sampledDistance(const Mesh& from, const std::vector<bool>& fromKept, const Mesh& to,
                        const std::vector<bool>& toKept) {
-  const auto point = [](const Mesh& mesh, int f, int k) {
-    const auto x = mesh.positions.row(mesh.triangles(f, k));
-    return CgalKernel::Point_3(x(0), x(1), x(2));
-  };
-  std::vector<Triangle> triangles;
-  for (int f = 0; f < to.faceCount(); ++f)
-    if (toKept[f]) triangles.emplace_back(point(to, f, 0), point(to, f, 1), point(to, f, 2));
-  Tree tree(triangles.begin(), triangles.end());
-  tree.accelerate_distance_queries();
+  const SurfaceDistance distance(to, toKept);
   const int n = kSampleDivisions;
   double largest = 0.0;
   for (int f = 0; f < from.faceCount(); ++f) {
@@ -82,15 +68,11 @@ double sampledDistance(const Mesh& from, const std::vector<bool>& fromKept, cons
     const Eigen::Vector3d x0 = from.positions.row(from.triangles(f, 0)),
                           x1 = from.positions.row(from.triangles(f, 1)),
                           x2 = from.positions.row(from.triangles(f, 2));
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; i + j <= n; ++j) {
-        const Eigen::Vector3d p = (i * x0 + j * x1 + (n - i - j) * x2) / n;
-        largest =
-            std::max(largest, tree.squared_distance(CgalKernel::Point_3(p.x(), p.y(), p.z())));
-      }
-    }
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j)
+        largest = std::max(largest, distance((i * x0 + j * x1 + (n - i - j) * x2) / n));
   }
-  return std::sqrt(largest);
+  return largest;
 }
 
 // The Surface_mesh back as a Mesh, its removed elements skipped and the rest kept in index order

@@ -102,6 +102,7 @@ std::string shortNumber(double x) {
 // The colour map's range over every field of every mesh: [min, max] for a sequential field;
 // [-M, M] for a diverging one, M the 98th percentile of |value| (render/'s curvature default).
 std::pair<double, double> fieldRange(const ViewerPageSpec& spec) {
+  if (spec.fieldRange) return *spec.fieldRange;
   std::vector<double> values;
   for (const ViewerMesh& m : spec.meshes)
     for (const Eigen::VectorXd& f : m.fields) values.insert(values.end(), f.begin(), f.end());
@@ -180,12 +181,19 @@ std::vector<float> paddedFrames(const ViewerMesh& m, Eigen::Index vertices) {
   return positions;
 }
 
-std::vector<float> paddedFields(const ViewerMesh& m, Eigen::Index vertices) {
+// The fields, each padded to `count` values (vertices, or faces) with copies of its first.
+std::vector<float> paddedFields(const ViewerMesh& m, Eigen::Index count) {
   std::vector<float> fields;
   for (const Eigen::VectorXd& f : m.fields)
-    for (Eigen::Index v = 0; v < vertices; ++v)
+    for (Eigen::Index v = 0; v < count; ++v)
       fields.push_back(static_cast<float>(v < f.size() ? f[v] : f[0]));
   return fields;
+}
+
+Eigen::Index largestFaceCount(const ViewerMesh& m) {
+  Eigen::Index count = m.triangles.rows();
+  for (const ViewerFaceChange& c : m.faceChanges) count = std::max(count, c.triangles.rows());
+  return count;
 }
 
 // The face changes ("[{\"frame\":k,\"triangles\":…},…]") and each frame's cracks (segmentsData
@@ -206,14 +214,15 @@ std::string cutsData(const ViewerMesh& m) {
   return changes + "],\"cracks\":{" + segmentsData(cracks) + ",\"starts\":" + starts + "}";
 }
 
-std::string meshData(const ViewerMesh& m) {
-  const Eigen::Index vertices = largestVertexCount(m);
+std::string meshData(const ViewerMesh& m, bool fieldOnFaces) {
+  const Eigen::Index vertices = largestVertexCount(m), faces = largestFaceCount(m);
   const std::vector<float> positions = paddedFrames(m, vertices),
-                           fields = paddedFields(m, vertices);
+                           fields = paddedFields(m, fieldOnFaces ? faces : vertices);
   std::string times = "[";
   for (std::size_t i = 0; i < m.frameTimes.size(); ++i)
     times += (i ? "," : "") + number(m.frameTimes[i]);
   return "{\"name\":" + jsonString(m.name) + ",\"vertexCount\":" + std::to_string(vertices) +
+         ",\"faceCount\":" + std::to_string(faces) +
          ",\"frameCount\":" + std::to_string(m.frames.size()) +
          ",\"fieldCount\":" + std::to_string(m.fields.size()) + ",\"times\":" + times + "]" +
          ",\"triangles\":\"" + base64Words(triangleWords(m.triangles)) + "\",\"positions\":\"" +
@@ -248,7 +257,8 @@ std::string pageData(const ViewerPageSpec& spec) {
                                                                 : 4;
   const RenderOptions defaults;  // the offscreen renderer's light and stripe angle
   std::string meshes;
-  for (const ViewerMesh& m : spec.meshes) meshes += (meshes.empty() ? "" : ",") + meshData(m);
+  for (const ViewerMesh& m : spec.meshes)
+    meshes += (meshes.empty() ? "" : ",") + meshData(m, spec.fieldOnFaces);
   return "{\"style\":" + std::to_string(styleNumber) +
          ",\"stripeCount\":" + std::to_string(spec.stripeCount) +
          ",\"stripeWidth\":" + number(spec.stripeWidth) +
@@ -261,8 +271,9 @@ std::string pageData(const ViewerPageSpec& spec) {
          number(defaults.crackColour.r) + "," + number(defaults.crackColour.g) + "," +
          number(defaults.crackColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
          ",\"overlay\":" + (spec.overlay ? "true" : "false") + ",\"framing\":" + framingData(spec) +
-         ",\"fieldTitle\":" + jsonString(spec.fieldTitle) + ",\"range\":[" + number(lo) + "," +
-         number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
+         ",\"fieldTitle\":" + jsonString(spec.fieldTitle) +
+         ",\"fieldOnFaces\":" + (spec.fieldOnFaces ? "true" : "false") + ",\"range\":[" +
+         number(lo) + "," + number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
          jsonString(shortNumber(hi)) + "],\"stops\":[" + stops + "],\"meshes\":[" + meshes + "]}";
 }
 
@@ -322,23 +333,34 @@ void validateFaces(const ViewerMesh& m, const std::string& at) {
   }
 }
 
-void validateMesh(const ViewerMesh& m, std::size_t i) {
+// The fields: one, or one per frame; each a finite value per vertex (per face when `onFaces`) of
+// its frame, a single one its first frame's.
+void validateFields(const ViewerMesh& m, bool onFaces, const std::string& at) {
+  if (m.fields.size() > 1 && m.fields.size() != m.frames.size())
+    fail(at + ".fields", "has " + std::to_string(m.fields.size()) + " fields for " +
+                             std::to_string(m.frames.size()) + " frames (give one or one each)");
+  if (onFaces && m.fields.size() == 1 && !m.faceChanges.empty())
+    fail(at + ".fields", "has one per-face field for frames whose faces change");
+  if (onFaces && !m.fields.empty() && !m.modes.empty())
+    fail(at + ".fields", "are per face on a mesh with modes (their fields are per vertex)");
+  for (std::size_t k = 0; k < m.fields.size(); ++k) {
+    const std::size_t frame = m.fields.size() == 1 ? 0 : k;
+    const Eigen::Index count = onFaces ? m.trianglesAt(frame).rows() : m.frames[frame].rows();
+    if (m.fields[k].size() != count)
+      fail(at + ".fields", "has " + std::to_string(m.fields[k].size()) + " values for " +
+                               std::to_string(count) + (onFaces ? " faces" : " vertices"));
+    if (!m.fields[k].allFinite()) fail(at + ".fields", "has a value that is not finite");
+  }
+}
+
+void validateMesh(const ViewerMesh& m, std::size_t i, bool fieldOnFaces) {
   const std::string at = "meshes[" + std::to_string(i) + "]";
   if (m.frames.empty()) fail(at + ".frames", "is empty: a mesh needs at least one frame");
   validateFaces(m, at);
   if (!m.frameTimes.empty() && m.frameTimes.size() != m.frames.size())
     fail(at + ".frameTimes", "has " + std::to_string(m.frameTimes.size()) + " times for " +
                                  std::to_string(m.frames.size()) + " frames");
-  if (m.fields.size() > 1 && m.fields.size() != m.frames.size())
-    fail(at + ".fields", "has " + std::to_string(m.fields.size()) + " fields for " +
-                             std::to_string(m.frames.size()) + " frames (give one or one each)");
-  for (std::size_t k = 0; k < m.fields.size(); ++k) {
-    const Eigen::Index vertices = m.frames[m.fields.size() == 1 ? 0 : k].rows();
-    if (m.fields[k].size() != vertices)
-      fail(at + ".fields", "has " + std::to_string(m.fields[k].size()) + " values for " +
-                               std::to_string(vertices) + " vertices");
-    if (!m.fields[k].allFinite()) fail(at + ".fields", "has a value that is not finite");
-  }
+  validateFields(m, fieldOnFaces, at);
   if (!m.frameCracks.empty() && m.frameCracks.size() != m.frames.size())
     fail(at + ".frameCracks", "has " + std::to_string(m.frameCracks.size()) + " lists for " +
                                   std::to_string(m.frames.size()) + " frames");
@@ -383,8 +405,11 @@ void ViewerPageSpec::validate() const {
   if (!(stripeWidth > 0.0 && stripeWidth < 1.0)) fail("stripeWidth", "must be in (0, 1)");
   if (!framingPoints.allFinite()) fail("framingPoints", "has a coordinate that is not finite");
   if (!viewDirection.allFinite()) fail("viewDirection", "is not finite");
+  if (fieldRange && !(std::isfinite(fieldRange->first) && std::isfinite(fieldRange->second) &&
+                      fieldRange->first < fieldRange->second))
+    fail("fieldRange", "must be finite with its low end below its high end");
   for (std::size_t i = 0; i < meshes.size(); ++i) {
-    validateMesh(meshes[i], i);
+    validateMesh(meshes[i], i, fieldOnFaces);
     validateModes(meshes[i], i);
   }
   const bool anyField = std::any_of(meshes.begin(), meshes.end(),

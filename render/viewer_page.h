@@ -2,12 +2,14 @@
 // embedded, the meshes as base64 Float32/Uint32 arrays) that draws meshes side by side or
 // overlaid with one linked camera, reflection lines and isophotes computed in the fragment shader
 // from the same camera-locked environment as the offscreen renderer (render/mesh_shaders.cpp), a
-// per-vertex field with its legend, a simulation's frames with a time slider, and vibration
-// modes animated about the rest shape with their nodal lines.
+// per-vertex or per-face field with its legend, a simulation's frames with a time slider, and
+// vibration modes animated about the rest shape with their nodal lines.
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "modeling/mesh.h"
@@ -50,10 +52,12 @@ struct ViewerMesh {
   std::vector<ViewerFaceChange> faceChanges;  // in frame order; empty: one set of faces
   // The cracks' lips at each frame (empty, or one list per frame), drawn in the crack colour.
   std::vector<ViewerSegments> frameCracks;
-  std::vector<double> frameTimes;       // one per frame, or empty (frames are numbered)
-  std::vector<Eigen::VectorXd> fields;  // empty, one, or one per frame; each #V
-  std::vector<ViewerMode> modes;        // empty, or modes of a one-frame mesh (a selector)
-  ViewerSegments outline;  // drawn green on every frame, e.g. a faired region's boundary
+  std::vector<double> frameTimes;  // one per frame, or empty (frames are numbered)
+  // Empty, one, or one per frame; each #V values, or #F of the frame's faces when the page's
+  // fieldOnFaces (one field then belongs to the first frame's faces).
+  std::vector<Eigen::VectorXd> fields;
+  std::vector<ViewerMode> modes;  // empty, or modes of a one-frame mesh (a selector)
+  ViewerSegments outline;         // drawn green on every frame, e.g. a faired region's boundary
   // A simulation's obstacles, drawn in its view in the renderer's obstacle colour: the spheres,
   // and each plane as a square of half side the framed radius about the foot of the frames' centre.
   std::vector<SphereObstacle> spheres;
@@ -67,11 +71,14 @@ struct ViewerMesh {
 struct ViewerPageSpec {
   std::vector<ViewerMesh> meshes;
   ViewerStyle style = ViewerStyle::Reflection;
-  int stripeCount = 12;      // stripes (reflection) or bands (isophote) across [-1, 1]
-  double stripeWidth = 0.5;  // dark fraction of a stripe period, in (0, 1)
-  bool overlay = false;      // every mesh in one view, instead of one view each
-  std::string fieldTitle;    // the legend's title (Field style)
-  bool diverging = false;    // the field is signed: the diverging map on [-M, M]
+  int stripeCount = 12;       // stripes (reflection) or bands (isophote) across [-1, 1]
+  double stripeWidth = 0.5;   // dark fraction of a stripe period, in (0, 1)
+  bool overlay = false;       // every mesh in one view, instead of one view each
+  std::string fieldTitle;     // the legend's title (Field style)
+  bool diverging = false;     // the field is signed: the diverging map on [-M, M]
+  bool fieldOnFaces = false;  // the fields are per face, each face drawn in one colour
+  // The legend's range; empty: from the values ([min, max], or [-M, M] when diverging).
+  std::optional<std::pair<double, double>> fieldRange;
   std::string title = "flexure view";
   // The camera's framing. Empty: every frame of every mesh, seen from the renderer's azimuth at
   // 60° elevation. Else the bounding sphere of these points (#P by 3), seen along viewDirection

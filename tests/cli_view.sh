@@ -43,6 +43,19 @@ grep -q '"fieldTitle":"plastic strain (1 / length)"' plastic.html || fail "plast
 run 2 view bent sheet.obj --style plastic -o page.html; stderr_has "sheet.obj"; absent page.html
 run 2 view tear --style plastic -o page.html; stderr_has "tear: no plastic.json"; absent page.html
 
+# Per-face and reference fields: each face's smallest angle (on the cut faces of a fracture too),
+# each vertex's distance to another mesh's surface.
+run 0 view sheet.obj tear --style angle -o angle.html; stderr_has "(2 meshes, 8 frames"
+grep -q '"fieldOnFaces":true' angle.html || fail "angle.html has no per-face field"
+grep -q '"range":\[0,60\]' angle.html || fail "angle.html's legend is not [0, 60]"
+run 0 view sphere.obj --style error --reference sheet.obj -o error.html --quiet
+grep -q '"fieldTitle":"error: distance to sheet.obj"' error.html || fail "error.html's legend"
+run 2 view sphere.obj --style error -o page.html; stderr_has "--reference"; absent page.html
+run 2 view sphere.obj --style angle --reference sheet.obj -o page.html
+stderr_has "--reference applies to --style displacement and error"; absent page.html
+run 2 view sphere.obj --style error --reference nowhere.obj -o page.html; stderr_has "nowhere.obj"
+absent page.html
+
 # A modes folder (flexure modes --write-shapes): each energy's mesh with its modes.
 run 0 modes --family patch48 --n 6 --energy midedge,cotan --count 3 --write-shapes -o modes --quiet
 test -f modes/rest.obj || fail "flexure modes --write-shapes wrote no rest.obj"
@@ -93,6 +106,7 @@ cp -r modes badreport; echo '{"energies": 3' >badreport/modes.json
 run 2 view badreport -o page.html; stderr_has "badreport/modes.json"; absent page.html
 run 2 view modes --style curvature -o page.html; stderr_has "modes: a modes folder"
 absent page.html
+run 2 view modes --style angle -o page.html; stderr_has "modes: a modes folder"; absent page.html
 # A fairing report without its result, without region indices, with a result of other vertices.
 sed 's/"output": "faired.obj"/"output": null/' fair.json >unconverged.json
 run 2 view unconverged.json -o page.html; stderr_has "unconverged.json: the fair did not converge"

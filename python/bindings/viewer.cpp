@@ -24,12 +24,37 @@ namespace flexure::python {
 namespace {
 
 struct ViewerArguments {
-  std::string style = "reflection";  // reflection | isophote | shaded | curvature | displacement
+  std::string style = "reflection";  // reports::parseViewStyle's names
   int stripes = 12;
   double stripeWidth = 0.5;
   bool overlay = false;
   std::optional<Positions> rest;  // displacement: the rest positions (else each first frame)
+  // error: the reference surface (V, F) and its name in the legend.
+  std::optional<std::pair<Positions, Triangles>> reference;
+  std::string referenceName = "the reference";
 };
+
+// The field of the page's style at every frame of its meshes (reports/viewer_fields.h);
+// `folders` the plastic style's.
+void addFields(render::ViewerPageSpec& page, reports::ViewerField field, const ViewerArguments& a,
+               const std::vector<std::string>& folders) {
+  switch (field) {
+    case reports::ViewerField::None:
+      return;
+    case reports::ViewerField::Curvature:
+      return reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());
+    case reports::ViewerField::Displacement:
+      return reports::addDisplacementFields(page, a.rest.value_or(Positions()), "rest");
+    case reports::ViewerField::Plastic:
+      return reports::addPlasticFields(page, folders);
+    case reports::ViewerField::Angle:
+      return reports::addSmallestAngleFields(page);
+    case reports::ViewerField::Error:
+      return reports::addReferenceDistanceFields(
+          page, checkedMesh(a.reference.value().first, a.reference.value().second, "reference"),
+          a.referenceName);
+  }
+}
 
 // One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
 // `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
@@ -41,10 +66,8 @@ using ViewerItem =
 // The page's HTML, as `flexure view` writes it for the same meshes and style.
 py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments& a) {
   render::ViewerPageSpec page;
-  const bool curvatureStyle = a.style == "curvature", displacementStyle = a.style == "displacement",
-             plasticStyle = a.style == "plastic";
-  if (!curvatureStyle && !displacementStyle && !plasticStyle)
-    page.style = render::parseViewerStyle(a.style);
+  const reports::ViewStyle style = reports::parseViewStyle(a.style);
+  page.style = style.drawing;
   std::vector<std::string> folders;  // the plastic style's: each item's folder, or its name
   for (const auto& item : items)
     folders.push_back(std::get<4>(item).empty() ? std::get<0>(item) : std::get<4>(item));
@@ -57,9 +80,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
       continue;
     }
     if (reports::isModesFolder(source)) {
-      const render::ViewerStyle style =
-          curvatureStyle || displacementStyle ? render::ViewerStyle::Field : page.style;
-      for (render::ViewerMesh& m : reports::readModesFolder(source, style))
+      for (render::ViewerMesh& m : reports::readModesFolder(source, page.style))
         page.meshes.push_back(std::move(m));
       continue;
     }
@@ -78,10 +99,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
     m.frameTimes = times;
     page.meshes.push_back(std::move(m));
   }
-  if (curvatureStyle)
-    reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());
-  if (displacementStyle) reports::addDisplacementFields(page, a.rest.value_or(Positions()), "rest");
-  if (plasticStyle) reports::addPlasticFields(page, folders);
+  addFields(page, style.field, a, folders);
   page.validate();
   return py::bytes(render::viewerPageHtml(page));
 }
@@ -95,8 +113,11 @@ void bindViewer(py::module_& m) {
       .def_readwrite("stripes", &ViewerArguments::stripes)
       .def_readwrite("stripe_width", &ViewerArguments::stripeWidth)
       .def_readwrite("overlay", &ViewerArguments::overlay)
-      .def_readwrite("rest", &ViewerArguments::rest);
+      .def_readwrite("rest", &ViewerArguments::rest)
+      .def_readwrite("reference", &ViewerArguments::reference)
+      .def_readwrite("reference_name", &ViewerArguments::referenceName);
   m.def("viewer_page", &viewerPage);
+  m.def("view_style_names", [] { return reports::viewStyleNames(); });
 }
 
 }  // namespace flexure::python

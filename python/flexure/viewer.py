@@ -10,7 +10,7 @@ import numpy as np
 from . import _checks
 from . import _flexure
 
-_STYLES = ("reflection", "isophote", "shaded", "curvature", "displacement", "plastic")
+_STYLES = tuple(_flexure.view_style_names().split(" | "))
 
 
 class View:
@@ -63,8 +63,8 @@ def _item(item, k):
     return f"mesh {k + 1}", F, frames, [], ""
 
 
-def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, overlay=False,
-         names=None, times=None, height=480):
+def view(*meshes, style="reflection", rest=None, reference=None, stripes=12, stripe_width=0.5,
+         overlay=False, names=None, times=None, height=480):
     """An interactive page of ``meshes``, as ``flexure view`` writes it: a ``View`` (``.html``,
     ``.save(path)``, shown inline in a notebook).
 
@@ -77,7 +77,9 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
     camera, or all one view with ``overlay``. style: "reflection" | "isophote" | "shaded" |
     "curvature" (mean curvature H, the default curvature energy) | "displacement" (|x − rest|,
     ``rest`` #V×3, else each mesh's first frame) | "plastic" (a ``flexure simulate`` folder's
-    plastic strain, from its ``plastic.json``); stripes, stripe_width as in ``flexure render``;
+    plastic strain, from its ``plastic.json``) | "angle" (each face's smallest angle, per face,
+    0°–60°) | "error" (each vertex's distance to the surface ``reference``: (V, F) or a mesh
+    file, any mesh); stripes, stripe_width as in ``flexure render``;
     names: a label per mesh; times: the frames' times (of every mesh with frames); height: the
     notebook iframe's pixels.
     """
@@ -104,5 +106,20 @@ def view(*meshes, style="reflection", rest=None, stripes=12, stripe_width=0.5, o
         if style != "displacement":
             raise ValueError("rest: applies to style='displacement' only")
         a.rest = _checks.positions(rest, "rest")
+    if (reference is None) != (style != "error"):
+        raise ValueError("reference: needed by style='error', and only by it")
+    if reference is not None:
+        name = "the reference"
+        if isinstance(reference, (str, os.PathLike)):
+            from . import read_mesh
+            name = os.path.basename(os.fspath(reference))
+            reference = read_mesh(os.fspath(reference))
+        try:
+            V, F = reference
+        except (TypeError, ValueError):
+            raise ValueError("reference: expected (V, F) or a mesh file") from None
+        V = _checks.positions(V, "reference V")
+        a.reference = (V, _checks.faces(F, V.shape[0], "reference F"))
+        a.reference_name = name
     page = bytes(_flexure.viewer_page(items, a)).decode("utf-8")
     return View(page, height=int(height))

@@ -145,6 +145,33 @@ def test_plastic_style_same_page_as_the_cli(cli, tmp_path, monkeypatch):
         flexure.view("plate8.obj", style="plastic")
 
 
+def test_angle_and_error_styles_same_page_as_the_cli(cli, plate, tmp_path, monkeypatch):
+    """Each face's smallest angle (per face) and each vertex's distance to a reference surface,
+    given as a file or as arrays: the command's page."""
+    monkeypatch.chdir(tmp_path)
+    V, F = plate
+    flexure.write_mesh("plate.obj", V, F)
+    flexure.write_mesh("bent.obj", bent(V, 3), F)
+    strip = lambda p: re.sub(r"<title>.*?</title>", "", p)
+    cli("-q", "view", "bent.obj", "--style", "angle", "-o", "angle.html")
+    python = flexure.view("bent.obj", style="angle").html
+    assert strip(python) == strip((tmp_path / "angle.html").read_text())
+    data = page_data(python)
+    assert data["fieldOnFaces"] and len(data["meshes"][0]["fields"]) == len(F)
+    cli("-q", "view", "bent.obj", "--style", "error", "--reference", "plate.obj", "-o", "e.html")
+    python = flexure.view("bent.obj", style="error", reference="plate.obj").html
+    assert strip(python) == strip((tmp_path / "e.html").read_text())
+    arrays = page_data(flexure.view("bent.obj", style="error", reference=(V, F)).html)
+    assert arrays["fieldTitle"] == "error: distance to the reference"
+    np.testing.assert_array_equal(arrays["meshes"][0]["fields"], page_data(python)["meshes"][0]["fields"])
+    with pytest.raises(ValueError, match="reference"):
+        flexure.view("bent.obj", style="error")
+    with pytest.raises(ValueError, match="reference"):
+        flexure.view("bent.obj", style="angle", reference=(V, F))
+    with pytest.raises(ValueError, match="reference F"):
+        flexure.view("bent.obj", style="error", reference=(V, F + len(V)))
+
+
 def test_arrays_frames_and_fields(plate):
     V, F = plate
     frames = np.stack([V + [0, 0, 0.1 * k] for k in range(4)])

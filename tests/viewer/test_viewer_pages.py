@@ -276,6 +276,52 @@ def modes_page(browser, shots):
     clean(browser, "modes.html")
 
 
+# The sequential map's ends: its top (yellow, an equilateral face at 60°) and its bottom
+# (dark purple, a sliver).
+YELLOW = pixel_count("r > 200 && g > 190 && b < 90")
+PURPLE = pixel_count("r < 110 && g < 70 && b > 60")
+
+
+def angle_page(browser, shots):
+    """--style angle on an equilateral face (60°) and a sliver (6.8°): each face is one colour,
+    the top and the bottom of the map, and the legend spans [0, 60]."""
+    load(browser, "angle.html")
+    lo = browser.evaluate("document.getElementById('legend-min').textContent")
+    hi = browser.evaluate("document.getElementById('legend-max').textContent")
+    yellow, purple = browser.evaluate(YELLOW), browser.evaluate(PURPLE)
+    drawn = browser.evaluate(PIXELS)["drawn"]
+    check(lo == "0" and hi == "60", "angle.html: legend [%s, %s]" % (lo, hi))
+    # Per vertex the two faces would blend across their shared edge; per face each is one colour
+    # (the legend's own pixels are a few hundred of each).
+    check(yellow > 0.5 * drawn and purple > 0.02 * drawn,
+          "angle.html: the equilateral face yellow, the sliver purple (%d, %d of %d pixels)"
+          % (yellow, purple, drawn))
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-angle.png"))
+    clean(browser, "angle.html")
+    # A run that fractured: the per-face field follows the faces the cut changes.
+    load(browser, "tear-angle.html")
+    browser.evaluate("flexureViewer.setFrame(6)")
+    browser.wait_for("document.body.dataset.drawnFrame === '6'")
+    check(browser.evaluate("document.body.dataset.shownFaces") == "129",
+          "tear-angle.html: frame 6 shows the cut faces")
+    clean(browser, "tear-angle.html")
+
+
+def error_page(browser, shots):
+    """--style error of the bowl z = x² + y² against the flat sheet z = 0 under it: each vertex's
+    error is its height, so the legend's top is the bowl's largest z."""
+    load(browser, "error.html")
+    top = max(p[2] for p in read_obj("bowl.obj")[0])
+    hi = float(browser.evaluate("document.getElementById('legend-max').textContent"))
+    title = browser.evaluate("document.getElementById('legend-title').textContent")
+    check(title == "error: distance to sheet.obj" and abs(hi - top) <= 0.005 * top,
+          "error.html: legend '%s' up to %g ~ %g" % (title, hi, top))
+    if shots:
+        browser.screenshot(os.path.join(shots, "view-error.png"))
+    clean(browser, "error.html")
+
+
 def main():
     binary, work = sys.argv[1], sys.argv[2]
     shots = sys.argv[sys.argv.index("--screenshots") + 1] if "--screenshots" in sys.argv else None
@@ -312,6 +358,13 @@ def main():
             "--damping", "rayleigh:4,0", "--dt", "0.02", "--duration", "0.6", "--fps", "10",
             "--render-style", "none", "-o", "bent", "--quiet")
     flexure(binary, "view", "bent", "--style", "plastic", "-o", "plastic.html", "--quiet")
+    # An equilateral face (60°) and a sliver under it (atan(0.06 / 0.5) = 6.8°).
+    write_obj("slivers.obj", [[0, 0, 0], [1, 0, 0], [0.5, 0.8660254, 0], [0.5, -0.06, 0]],
+              [[0, 1, 2], [0, 3, 1]])
+    flexure(binary, "view", "slivers.obj", "--style", "angle", "-o", "angle.html", "--quiet")
+    flexure(binary, "view", "tear", "--style", "angle", "-o", "tear-angle.html", "--quiet")
+    flexure(binary, "view", "bowl.obj", "--style", "error", "--reference", "sheet.obj", "-o",
+            "error.html", "--quiet")
 
     browser = Browser()
     try:
@@ -389,6 +442,8 @@ def main():
         obstacles_page(browser, shots)
         tear_page(browser, shots)
         plastic_page(browser, shots)
+        angle_page(browser, shots)
+        error_page(browser, shots)
 
         # The driver does see a console error and a request when a page makes them.
         browser.evaluate("console.error('probe'); fetch('http://127.0.0.1:9/x').catch(() => 0)")
