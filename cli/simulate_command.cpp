@@ -72,7 +72,7 @@ Run simulate(const SimulateOptions& o, const optimize::TimeSteps& timeSteps, boo
     recording.sample(stepper);
     if (stepper.time() >= nextFrame - 1e-9 * o.dt || k == steps) {
       recording.frame(stepper, dynamics.restMesh());
-      if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
+      if (plastic != nullptr) recording.framePlasticity(*plastic);
       while (nextFrame <= stepper.time() + 1e-9 * o.dt) nextFrame += frameInterval;
     }
     if (o.checkpointEvery > 0 && k % o.checkpointEvery == 0)
@@ -89,7 +89,7 @@ Run simulate(const SimulateOptions& o, const optimize::TimeSteps& timeSteps, boo
   if (!run.failure.empty() && stepper.time() > recording.history.back()[0]) {
     recording.sample(stepper);
     recording.frame(stepper, dynamics.restMesh());
-    if (plastic != nullptr) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
+    if (plastic != nullptr) recording.framePlasticity(*plastic);
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
   return run;
@@ -129,7 +129,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& global) {
                       plastic.has_value());
   recording.sample(stepper);
   recording.frame(stepper, restMesh);
-  if (plastic) recording.framePlastic.push_back(plastic->vertexPlasticMeasure());
+  if (plastic) recording.framePlasticity(*plastic);
   const std::string checksum = meshChecksum(restMesh);
   Run start;
   start.smallestStep = o.dt;

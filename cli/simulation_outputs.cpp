@@ -152,19 +152,24 @@ void writeCrackLips(const Recording& recording, const std::string& path) {
   modeling::writeFileAtomically(path, nlohmann::json{{"lips", lips}}.dump() + "\n");
 }
 
-// DIR/plastic.json: {"measure": its name, "frames": [frame 0's values, …]}, the plastic measure
-// of every vertex at each frame (PlasticDynamics::vertexPlasticMeasure, what the plastic render
-// style colours), for `flexure view --style plastic`.
+// DIR/plastic.json: {"measure": its name, "frames": [frame 0's values, …], "faces": [frame 0's
+// values, …]}, the plastic measure at each frame of every vertex (PlasticDynamics::
+// vertexPlasticMeasure, what the plastic render style colours) and of every face
+// (facePlasticMeasure, what `flexure view --style plastic` colours).
 void writePlasticMeasure(const SimulateOptions& o, const Recording& recording,
                          const std::string& path) {
-  nlohmann::json frames = nlohmann::json::array();
-  for (const Eigen::VectorXd& values : recording.framePlastic)
-    frames.push_back(std::vector<double>(values.begin(), values.end()));
+  const auto lists = [](const std::vector<Eigen::VectorXd>& frames) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const Eigen::VectorXd& values : frames)
+      out.push_back(std::vector<double>(values.begin(), values.end()));
+    return out;
+  };
   modeling::writeFileAtomically(
-      path,
-      nlohmann::json{{"measure", plasticityOptions(o.plasticity).measureName()}, {"frames", frames}}
-              .dump() +
-          "\n");
+      path, nlohmann::json{{"measure", plasticityOptions(o.plasticity).measureName()},
+                           {"frames", lists(recording.framePlastic)},
+                           {"faces", lists(recording.frameFacePlastic)}}
+                    .dump() +
+                "\n");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "curvature/energy_term.h"
 #include "modeling/mesh.h"
 #include "optimize/dynamics/time_stepping.h"
+#include "optimize/inelastic/plastic_dynamics.h"
 
 namespace flexure::cli {
 
@@ -39,7 +40,8 @@ struct Recording {
   std::vector<double> frameTimes;              // s, one per frame
   std::vector<modeling::Positions> frameRest;  // each frame's rest positions (a cut changes them)
   std::vector<double> frameDissipation;        // the plastic dissipation at each frame
-  std::vector<Eigen::VectorXd> framePlastic;   // with plasticity: each frame's vertex strains
+  // With plasticity, each frame's plastic measure (PlasticDynamics): per vertex, and per face.
+  std::vector<Eigen::VectorXd> framePlastic, frameFacePlastic;
   double smallestDistance = std::numeric_limits<double>::infinity();  // to an obstacle
 
   Recording(const std::vector<const curvature::EnergyTerm*>& terms, bool withContact,
@@ -82,6 +84,12 @@ struct Recording {
     frameTimes.push_back(stepper.time());
     frameRest.push_back(restMesh.positions);
     frameDissipation.push_back(stepper.balance().plastic);
+  }
+
+  // The plastic measure of the frame just recorded.
+  void framePlasticity(const optimize::PlasticDynamics& plasticity) {
+    framePlastic.push_back(plasticity.vertexPlasticMeasure());
+    frameFacePlastic.push_back(plasticity.facePlasticMeasure());
   }
 };
 

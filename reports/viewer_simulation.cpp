@@ -132,6 +132,7 @@ void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::strin
                       std::size_t first) {
   page.style = render::ViewerStyle::Field;
   page.diverging = false;
+  page.fieldOnFaces = true;
   for (std::size_t k = 0; k < folders.size(); ++k) {
     if (!isSimulationFolder(folders[k]))
       throw InputError(folders[k] +
@@ -144,10 +145,12 @@ void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::strin
                        ": no plastic.json (a simulation with a yield value writes it)");
     const nlohmann::json plastic = nlohmann::json::parse(file, nullptr, false);
     render::ViewerMesh& m = page.meshes.at(first + k);
-    if (plastic.is_discarded() || !plastic.contains("frames") || !plastic["frames"].is_array() ||
+    if (plastic.is_discarded() || !plastic.contains("faces") || !plastic["faces"].is_array() ||
         !plastic.contains("measure") || !plastic["measure"].is_string() ||
-        plastic["frames"].size() != m.frames.size())
-      throw InputError(path.string() + ": not a measure name and one list of values per frame (" +
+        plastic["faces"].size() != m.frames.size())
+      throw InputError(path.string() +
+                       ": not a measure name and one list of face values per "
+                       "frame (\"faces\", " +
                        std::to_string(m.frames.size()) + " frames)");
     const std::string measure = plastic["measure"].get<std::string>();
     if (k > 0 && measure != page.fieldTitle)
@@ -156,16 +159,17 @@ void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::strin
     page.fieldTitle = measure;
     m.fields.clear();
     for (std::size_t f = 0; f < m.frames.size(); ++f) {
-      const nlohmann::json& values = plastic["frames"][f];
-      if (!values.is_array() || values.size() != static_cast<std::size_t>(m.frames[f].rows()))
+      const nlohmann::json& values = plastic["faces"][f];
+      const Eigen::Index faces = m.trianglesAt(f).rows();
+      if (!values.is_array() || values.size() != static_cast<std::size_t>(faces))
         throw InputError(path.string() + ": frame " + std::to_string(f) +
-                         " has not one value per vertex");
-      Eigen::VectorXd field(m.frames[f].rows());
-      for (Eigen::Index v = 0; v < field.size(); ++v) {
-        if (!values[v].is_number())
+                         " has not one value per face");
+      Eigen::VectorXd field(faces);
+      for (Eigen::Index j = 0; j < faces; ++j) {
+        if (!values[j].is_number())
           throw InputError(path.string() + ": frame " + std::to_string(f) + ": a value " +
-                           values[v].dump() + " is no number");
-        field[v] = values[v].get<double>();
+                           values[j].dump() + " is no number");
+        field[j] = values[j].get<double>();
       }
       m.fields.push_back(std::move(field));
     }

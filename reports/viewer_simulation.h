@@ -23,9 +23,9 @@ bool isSimulationFolder(const std::string& dir);
 // cracks.json when it does not match the frames; the report when an obstacle cannot be read.
 render::ViewerMesh readSimulationFolder(const std::string& dir);
 
-// The plastic measure of DIR/plastic.json (written by a simulation with plasticity: per vertex
-// at each frame, what its plastic frames colour) as the field of `page.meshes[first + k]`, read
-// from folders[k], on the sequential map titled by the measure's name. InputError naming a
+// The plastic measure of each face at each frame, DIR/plastic.json's "faces" (written by a
+// simulation with plasticity), as the per-face field of `page.meshes[first + k]`, read from
+// folders[k], on the sequential map titled by the measure's name. InputError naming a
 // folders[k] that is no folder or has no plastic.json, and plastic.json when it does not match the
 // frames or the folders measure different things.
 void addPlasticFields(render::ViewerPageSpec& page, const std::vector<std::string>& folders,

@@ -40,6 +40,7 @@ run 0 simulate --rest plate8.obj --energy hinge --stiffness 0.05 --membrane stvk
 test -f bent/plastic.json || fail "a run with a yield value wrote no plastic.json"
 run 0 view bent --style plastic -o plastic.html; stderr_has "(1 meshes, 7 frames"
 grep -q '"fieldTitle":"plastic strain (1 / length)"' plastic.html || fail "plastic.html's legend"
+grep -q '"fieldOnFaces":true' plastic.html || fail "plastic.html's field is not per face"
 run 2 view bent sheet.obj --style plastic -o page.html; stderr_has "sheet.obj"; absent page.html
 run 2 view tear --style plastic -o page.html; stderr_has "tear: no plastic.json"; absent page.html
 

@@ -9,14 +9,25 @@
 namespace flexure::optimize {
 namespace {
 
-// Per vertex the largest of `values` over the mesh faces (`ids`) it belongs to.
-Eigen::VectorXd vertexMaxima(const modeling::Stencils& stencils, const Eigen::VectorXd& values,
-                             const std::vector<int>& ids) {
+// Per mesh face the largest value of the elements on it (`values[e]` of mesh face ids[e]); 0 on
+// a face without one.
+Eigen::VectorXd faceValues(const modeling::Stencils& stencils, const Eigen::VectorXd& values,
+                           const std::vector<int>& ids) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(stencils.faceCount());
+  for (Eigen::Index e = 0; e < values.size(); ++e) {
+    double& face = out[ids[static_cast<size_t>(e)]];
+    face = std::max(face, values[e]);
+  }
+  return out;
+}
+
+// Per vertex the largest of the per-face `values` over the faces it belongs to.
+Eigen::VectorXd vertexMaxima(const modeling::Stencils& stencils, const Eigen::VectorXd& values) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(stencils.vertexCount());
-  for (Eigen::Index e = 0; e < values.size(); ++e)
+  for (int f = 0; f < stencils.faceCount(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const int v = stencils.faces(ids[static_cast<size_t>(e)], k);
-      out[v] = std::max(out[v], values[e]);
+      const int v = stencils.faces(f, k);
+      out[v] = std::max(out[v], values[f]);
     }
   return out;
 }
@@ -182,27 +193,39 @@ std::vector<int> PlasticDynamics::yieldedFaces() const {
   return ids;
 }
 
-Eigen::VectorXd PlasticDynamics::vertexPlasticCurvatures() const {
-  if (state_.yielded.empty()) return Eigen::VectorXd::Zero(problem_->stencils.vertexCount());
+Eigen::VectorXd PlasticDynamics::facePlasticCurvatures() const {
+  if (state_.yielded.empty()) return Eigen::VectorXd::Zero(problem_->stencils.faceCount());
   const curvature::RestCurvatureState& rest = *problem_->terms.front()->restCurvatureState();
   std::vector<int> ids(state_.yielded.size());
   for (size_t e = 0; e < ids.size(); ++e) ids[e] = rest.elementId(static_cast<int>(e));
-  return vertexMaxima(problem_->stencils, equivalentPlasticCurvatures(state_), ids);
+  return faceValues(problem_->stencils, equivalentPlasticCurvatures(state_), ids);
 }
 
-Eigen::VectorXd PlasticDynamics::vertexPlasticStrains() const {
-  if (membrane_ == nullptr) return Eigen::VectorXd::Zero(problem_->stencils.vertexCount());
+Eigen::VectorXd PlasticDynamics::facePlasticStrains() const {
+  if (membrane_ == nullptr) return Eigen::VectorXd::Zero(problem_->stencils.faceCount());
   const curvature::RestMetricState& metric = *membrane_->restMetricState();
   std::vector<int> ids(state_.membraneYielded.size());
   for (size_t f = 0; f < ids.size(); ++f) ids[f] = metric.elementId(static_cast<int>(f));
-  return vertexMaxima(problem_->stencils, equivalentPlasticStrains(state_), ids);
+  return faceValues(problem_->stencils, equivalentPlasticStrains(state_), ids);
+}
+
+Eigen::VectorXd PlasticDynamics::facePlasticMeasure() const {
+  if (!options_.yieldStrain) return facePlasticCurvatures();
+  if (!options_.yieldCurvature) return facePlasticStrains();
+  return (facePlasticCurvatures() / *options_.yieldCurvature)
+      .cwiseMax(facePlasticStrains() / *options_.yieldStrain);
+}
+
+Eigen::VectorXd PlasticDynamics::vertexPlasticCurvatures() const {
+  return vertexMaxima(problem_->stencils, facePlasticCurvatures());
+}
+
+Eigen::VectorXd PlasticDynamics::vertexPlasticStrains() const {
+  return vertexMaxima(problem_->stencils, facePlasticStrains());
 }
 
 Eigen::VectorXd PlasticDynamics::vertexPlasticMeasure() const {
-  if (!options_.yieldStrain) return vertexPlasticCurvatures();
-  if (!options_.yieldCurvature) return vertexPlasticStrains();
-  return (vertexPlasticCurvatures() / *options_.yieldCurvature)
-      .cwiseMax(vertexPlasticStrains() / *options_.yieldStrain);
+  return vertexMaxima(problem_->stencils, facePlasticMeasure());
 }
 
 }  // namespace flexure::optimize

@@ -71,14 +71,19 @@ class PlasticDynamics {
   // strain.
   std::vector<int> yieldedFaces() const;
   int membraneFaceCount() const { return static_cast<int>(state_.membraneYielded.size()); }
-  // #V: per vertex the largest equivalentPlasticCurvatures of the faces it belongs to (0
-  // without a yield curvature).
+  // #F: per mesh face its equivalentPlasticCurvatures (0 for a face without a bending element,
+  // and without a yield curvature).
+  Eigen::VectorXd facePlasticCurvatures() const;
+  // #F: per mesh face its equivalentPlasticStrains (0 without a yield strain).
+  Eigen::VectorXd facePlasticStrains() const;
+  // #F: the plastic measure of each face — facePlasticCurvatures with a yield curvature alone,
+  // facePlasticStrains with a yield strain alone, and with both the larger of the two divided by
+  // its yield value (κ_p/κ_y, ε_p/ε_y: dimensionless).
+  Eigen::VectorXd facePlasticMeasure() const;
+  // #V: per vertex the largest of its faces' facePlasticCurvatures, facePlasticStrains and
+  // facePlasticMeasure (what the plastic render style colours).
   Eigen::VectorXd vertexPlasticCurvatures() const;
-  // #V: per vertex the largest equivalentPlasticStrains of its faces (0 without a yield strain).
   Eigen::VectorXd vertexPlasticStrains() const;
-  // #V: what the plastic render style colours — vertexPlasticCurvatures with a yield curvature
-  // alone, vertexPlasticStrains with a yield strain alone, and with both the larger of the two
-  // divided by its yield value (κ_p/κ_y, ε_p/ε_y: dimensionless).
   Eigen::VectorXd vertexPlasticMeasure() const;
 
  private:

@@ -77,7 +77,7 @@ def view(*meshes, style="reflection", rest=None, reference=None, stripes=12, str
     camera, or all one view with ``overlay``. style: "reflection" | "isophote" | "shaded" |
     "curvature" (mean curvature H, the default curvature energy) | "displacement" (|x − rest|,
     ``rest`` #V×3, else each mesh's first frame) | "plastic" (a ``flexure simulate`` folder's
-    plastic strain, from its ``plastic.json``) | "angle" (each face's smallest angle, per face,
+    plastic strain per face, from its ``plastic.json``) | "angle" (each face's smallest angle, per face,
     0°–60°) | "error" (each vertex's distance to the surface ``reference``: (V, F) or a mesh
     file, any mesh); stripes, stripe_width as in ``flexure render``;
     names: a label per mesh; times: the frames' times (of every mesh with frames); height: the

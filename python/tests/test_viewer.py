@@ -138,9 +138,15 @@ def test_plastic_style_same_page_as_the_cli(cli, tmp_path, monkeypatch):
     assert strip(python) == strip((tmp_path / "bent.html").read_text())
     data = page_data(python)
     plastic = json.loads((tmp_path / "bent" / "plastic.json").read_text())
-    expected = np.concatenate([np.asarray(f, dtype=np.float32) for f in plastic["frames"]])
-    assert data["fieldTitle"] == plastic["measure"] and expected.max() > 0
+    expected = np.concatenate([np.asarray(f, dtype=np.float32) for f in plastic["faces"]])
+    assert data["fieldTitle"] == plastic["measure"] and data["fieldOnFaces"] and expected.max() > 0
     np.testing.assert_array_equal(data["meshes"][0]["fields"], expected)
+    # The per-vertex values (the PNG frames') are the largest of each vertex's faces'.
+    _, F = flexure.read_mesh(tmp_path / "bent" / "frame-00000.obj")
+    for faces, vertices in zip(plastic["faces"], plastic["frames"]):
+        largest = np.zeros(len(vertices))
+        np.maximum.at(largest, F.ravel(), np.repeat(faces, 3))
+        np.testing.assert_array_equal(largest, vertices)
     with pytest.raises(ValueError, match="plastic"):
         flexure.view("plate8.obj", style="plastic")
 

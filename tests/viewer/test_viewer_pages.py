@@ -196,11 +196,11 @@ def obstacles_page(browser, shots):
 
 
 def plastic_page(browser, shots):
-    """A run with plasticity, --style plastic: the legend spans [0, the largest value of its
+    """A run with plasticity, --style plastic: the legend spans [0, the largest face value of its
     plastic.json] and is titled by its measure; the last frame is coloured."""
     with open(os.path.join("bent", "plastic.json")) as f:
         plastic = json.load(f)
-    largest = max(max(frame) for frame in plastic["frames"])
+    largest = max(max(frame) for frame in plastic["faces"])
     load(browser, "plastic.html")
     browser.evaluate("flexureViewer.setFrame(%d)" % (len(plastic["frames"]) - 1))
     hi = float(browser.evaluate("document.getElementById('legend-max').textContent"))
