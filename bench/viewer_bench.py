@@ -15,7 +15,9 @@ frames, as `flexure simulate` writes one. Measured:
   frame as a user's drag is (a drag slower than 30 frames/s goes on at half resolution), over
   ``--seconds``; and the same with every frame at the full pixel ratio, the baseline (two
   alternating trials of each, the fastest kept);
-- a draw: one frame's GL work alone (drawn, then a pixel read back so that it has finished).
+- a draw: one frame's GL work alone (drawn, then a pixel read back so that it has finished);
+- the orbit and the draw again on the same page written with ``--multisample`` (4× samples),
+  the two pages alternating.
 
 A table on stderr, JSON on stdout.
 """
@@ -75,6 +77,11 @@ ORBIT = """new Promise(done => {
 })"""
 
 
+def open_page(browser, page):
+    browser.load("file://" + os.path.abspath(page), timeout=300)
+    browser.wait_for("document.body.dataset.drawnFrame === '0'", timeout=300)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--flexure", default=str(ROOT / "build" / "cli" / "flexure"))
@@ -97,14 +104,15 @@ def main():
         subprocess.run([flexure, "--quiet", "view", "sim", "--style", "displacement", "-o",
                         "page.html"], check=True)
         results["write_seconds"] = time.perf_counter() - start
+        subprocess.run([flexure, "--quiet", "view", "sim", "--style", "displacement",
+                        "--multisample", "-o", "multisampled.html"], check=True)
         results["page_megabytes"] = os.path.getsize("page.html") / 1e6
         results["vertices"] = (args.n + 1) ** 2
         results["frames"] = args.frames
         browser = Browser(width, height)
         try:
             start = time.perf_counter()
-            browser.load("file://" + os.path.abspath("page.html"), timeout=300)
-            browser.wait_for("document.body.dataset.drawnFrame === '0'", timeout=300)
+            open_page(browser, "page.html")
             results["load_seconds"] = time.perf_counter() - start
             frames = random.Random(1).sample(range(1, args.frames), args.steps)
             start = time.perf_counter()
@@ -112,25 +120,27 @@ def main():
                 browser.evaluate("flexureViewer.setFrame(%d)" % k)
                 browser.wait_for("document.body.dataset.drawnFrame === '%d'" % k)
             results["slider_step_seconds"] = (time.perf_counter() - start) / len(frames)
-            orbit = {}
-            for trial in range(2):  # alternating, the fastest of each kept
-                for adaptive in ("true", "false"):
-                    fps = browser.evaluate(ORBIT % (adaptive, 1000 * args.seconds),
-                                           timeout=60 + args.seconds)
-                    orbit[adaptive] = max(orbit.get(adaptive, 0.0), fps)
-            results["orbit_fps"] = orbit["true"]
-            results["orbit_fps_full_ratio"] = orbit["false"]
-            results["draw_seconds"] = browser.evaluate(DRAW % (20, 20), timeout=120)
+            for trial in range(2):  # the pages alternating, the fastest of each kept
+                for page, key in (("page.html", ""), ("multisampled.html", "multisampled_")):
+                    if trial or key:
+                        open_page(browser, page)
+                    for adaptive, name in (("true", "orbit_fps"), ("false", "orbit_fps_full_ratio")):
+                        fps = browser.evaluate(ORBIT % (adaptive, 1000 * args.seconds),
+                                               timeout=60 + args.seconds)
+                        results[key + name] = max(results.get(key + name, 0.0), fps)
+                    draw = browser.evaluate(DRAW % (20, 20), timeout=120)
+                    results[key + "draw_seconds"] = min(results.get(key + "draw_seconds", 1e9), draw)
         finally:
             browser.close()
     print("flexure view of %d vertices x %d frames: written in %.2f s (%.1f MB); opened in "
           "%.2f s; a slider step %.3f s; orbit %.1f frames/s (%.1f with every frame at the full "
-          "pixel ratio); a draw alone %.3f s (headless Chromium, SwiftShader, %d cores, %s "
-          "window)" % (
+          "pixel ratio); a draw alone %.3f s; with --multisample: orbit %.1f (%.1f), a draw "
+          "%.3f s (headless Chromium, SwiftShader, %d cores, %s window)" % (
               results["vertices"], results["frames"], results["write_seconds"],
               results["page_megabytes"], results["load_seconds"], results["slider_step_seconds"],
               results["orbit_fps"], results["orbit_fps_full_ratio"], results["draw_seconds"],
-              os.cpu_count(), args.size),
+              results["multisampled_orbit_fps"], results["multisampled_orbit_fps_full_ratio"],
+              results["multisampled_draw_seconds"], os.cpu_count(), args.size),
           file=sys.stderr)
     json.dump(results, sys.stdout, indent=1)
     print()

@@ -178,6 +178,9 @@ void registerViewCommand(CLI::App& app, const GlobalOptions& global) {
                "Displacement style: the rest mesh (default: a simulation's first frame); error "
                "style: the reference surface (any mesh)");
   sub->add_flag("--overlay", o.page.overlay, "Every input in one view instead of one view each");
+  sub->add_flag("--multisample", o.page.multisample,
+                "Draw 4x multisampled: smoother silhouettes, about half the frame rate on "
+                "software rendering");
   sub->add_flag("--open", o.open, "Open the page with $BROWSER or xdg-open once written");
   sub->footer(
       "Example: flexure view bowl.obj faired.obj --style curvature -o bowl.html --open\n"

@@ -270,8 +270,9 @@ std::string pageData(const ViewerPageSpec& spec) {
          number(defaults.obstacleColour.b) + "]" + ",\"crackColour\":[" +
          number(defaults.crackColour.r) + "," + number(defaults.crackColour.g) + "," +
          number(defaults.crackColour.b) + "]" + ",\"elevationDegrees\":" + number(60.0) +
-         ",\"overlay\":" + (spec.overlay ? "true" : "false") + ",\"framing\":" + framingData(spec) +
-         ",\"fieldTitle\":" + jsonString(spec.fieldTitle) +
+         ",\"overlay\":" + (spec.overlay ? "true" : "false") +
+         ",\"multisample\":" + (spec.multisample ? "true" : "false") +
+         ",\"framing\":" + framingData(spec) + ",\"fieldTitle\":" + jsonString(spec.fieldTitle) +
          ",\"fieldOnFaces\":" + (spec.fieldOnFaces ? "true" : "false") + ",\"range\":[" +
          number(lo) + "," + number(hi) + "],\"rangeText\":[" + jsonString(shortNumber(lo)) + "," +
          jsonString(shortNumber(hi)) + "],\"stops\":[" + stops + "],\"meshes\":[" + meshes + "]}";

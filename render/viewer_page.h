@@ -71,9 +71,13 @@ struct ViewerMesh {
 struct ViewerPageSpec {
   std::vector<ViewerMesh> meshes;
   ViewerStyle style = ViewerStyle::Reflection;
-  int stripeCount = 12;       // stripes (reflection) or bands (isophote) across [-1, 1]
-  double stripeWidth = 0.5;   // dark fraction of a stripe period, in (0, 1)
-  bool overlay = false;       // every mesh in one view, instead of one view each
+  int stripeCount = 12;      // stripes (reflection) or bands (isophote) across [-1, 1]
+  double stripeWidth = 0.5;  // dark fraction of a stripe period, in (0, 1)
+  bool overlay = false;      // every mesh in one view, instead of one view each
+  // Draw 4× multisampled (smoother silhouettes and lines). Off by default: the stripes are
+  // smoothed in the shader either way, and on software rendering the samples cost about as much
+  // as the rest of a frame (scripts/bench view).
+  bool multisample = false;
   std::string fieldTitle;     // the legend's title (Field style)
   bool diverging = false;     // the field is signed: the diverging map on [-M, M]
   bool fieldOnFaces = false;  // the fields are per face, each face drawn in one colour

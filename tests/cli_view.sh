@@ -14,6 +14,9 @@ grep -q "REVISION=\"111\"\|REVISION = \"111\"\|\"111\"" two.html || fail "two.ht
 if grep -qE "(src|href)=\"https?:" two.html; then fail "two.html loads something from the network"; fi
 run 0 view sheet.obj sphere.obj -o again.html --quiet
 cmp -s two.html again.html || fail "the same inputs gave different pages"
+grep -q '"multisample":false' two.html || fail "two.html is multisampled by default"
+run 0 view sheet.obj -o smooth.html --multisample --quiet
+grep -q '"multisample":true' smooth.html || fail "--multisample did not reach the page"
 
 # A simulation folder: its frames, all with the same faces.
 mkdir sim

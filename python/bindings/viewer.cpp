@@ -28,6 +28,7 @@ struct ViewerArguments {
   int stripes = 12;
   double stripeWidth = 0.5;
   bool overlay = false;
+  bool multisample = false;
   std::optional<Positions> rest;  // displacement: the rest positions (else each first frame)
   // error: the reference surface (V, F) and its name in the legend.
   std::optional<std::pair<Positions, Triangles>> reference;
@@ -74,6 +75,7 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
   page.stripeCount = a.stripes;
   page.stripeWidth = a.stripeWidth;
   page.overlay = a.overlay;
+  page.multisample = a.multisample;
   for (const auto& [name, F, frames, times, source] : items) {
     if (!source.empty() && reports::isFairingReport(source)) {
       reports::addFairingReport(page, source);
@@ -113,6 +115,7 @@ void bindViewer(py::module_& m) {
       .def_readwrite("stripes", &ViewerArguments::stripes)
       .def_readwrite("stripe_width", &ViewerArguments::stripeWidth)
       .def_readwrite("overlay", &ViewerArguments::overlay)
+      .def_readwrite("multisample", &ViewerArguments::multisample)
       .def_readwrite("rest", &ViewerArguments::rest)
       .def_readwrite("reference", &ViewerArguments::reference)
       .def_readwrite("reference_name", &ViewerArguments::referenceName);

@@ -64,7 +64,7 @@ def _item(item, k):
 
 
 def view(*meshes, style="reflection", rest=None, reference=None, stripes=12, stripe_width=0.5,
-         overlay=False, names=None, times=None, height=480):
+         overlay=False, multisample=False, names=None, times=None, height=480):
     """An interactive page of ``meshes``, as ``flexure view`` writes it: a ``View`` (``.html``,
     ``.save(path)``, shown inline in a notebook).
 
@@ -79,7 +79,8 @@ def view(*meshes, style="reflection", rest=None, reference=None, stripes=12, str
     ``rest`` #V×3, else each mesh's first frame) | "plastic" (a ``flexure simulate`` folder's
     plastic strain per face, from its ``plastic.json``) | "angle" (each face's smallest angle, per face,
     0°–60°) | "error" (each vertex's distance to the surface ``reference``: (V, F) or a mesh
-    file, any mesh); stripes, stripe_width as in ``flexure render``;
+    file, any mesh); stripes, stripe_width as in ``flexure render``; multisample: draw 4×
+    multisampled (smoother silhouettes, slower on software rendering);
     names: a label per mesh; times: the frames' times (of every mesh with frames); height: the
     notebook iframe's pixels.
     """
@@ -102,6 +103,7 @@ def view(*meshes, style="reflection", rest=None, reference=None, stripes=12, str
     a.stripes = _checks.number(stripes, "stripes", positive=True, integer=True)
     a.stripe_width = _checks.number(stripe_width, "stripe_width", positive=True)
     a.overlay = bool(overlay)
+    a.multisample = bool(multisample)
     if rest is not None:
         if style != "displacement":
             raise ValueError("rest: applies to style='displacement' only")

@@ -193,6 +193,8 @@ def test_arrays_frames_and_fields(plate):
     np.testing.assert_allclose(moving["fields"].reshape(4, -1), np.repeat(
         0.1 * np.arange(4)[:, None], V.shape[0], axis=1), atol=1e-6)
     assert data["rangeText"] == ["0", "0.3"] and data["style"] == 4
+    assert not data["multisample"]
+    assert page_data(flexure.view((V, F), multisample=True).html)["multisample"]
 
 
 def test_repr_html_and_save(plate, tmp_path):
