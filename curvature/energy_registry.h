@@ -56,9 +56,6 @@ struct EnergyEntry {
   // that a plastic strain can move (optimize/inelastic/plasticity.h); cotan's one mean curvature
   // per vertex cannot.
   bool plasticRestCurvature = true;
-  // Whether a crack can cut its mesh (optimize/inelastic/fracturing.h): edge unknowns (midedge's
-  // ξ) do not carry across a cut.
-  bool cuttable() const { return !hasEdgeUnknowns(); }
   // Peak resident memory per vertex of one convergence-study case (five quadratics' linearized
   // solves), measured with /usr/bin/time -v on patch48 between n = 128 and 256 (16 641 and
   // 66 049 vertices), one run each, and rounded up: midedge 9.9 kB (the ξ per edge: four times

@@ -642,6 +642,56 @@ TEST(FracturingDynamics, AStepThatStartsOverTheBandIsNotTried) {
   EXPECT_FALSE(dynamics.cracks().empty());
 }
 
+// Midedge's ξ across a cut: a free strip curved along its length (z = 0.3 x̄², bending energy in
+// its ξ) stretching past ε_f is cut; right after the cut the stepper's ξ has one entry per
+// edge of the cut mesh and minimizes E at the carried positions (re-solving from them changes
+// nothing; before, they were the start's), and the motion goes on through more cuts with the
+// energy balance held.
+TEST(FracturingDynamics, MidedgeUnknownsAreResolvedOnTheCutMesh) {
+  const Mesh rest = patch(8);
+  Positions x = rest.positions;
+  x.col(0) *= std::sqrt(1.08);  // Green strain 0.04 along x, more along the curve
+  x.col(2) = 0.3 * rest.positions.col(0).array().square().matrix();
+  optimize::ProblemOptions options;
+  options.bending.discretization = curvature::Discretization::Midedge;
+  options.boundaryNormals = optimize::BoundaryNormals::Free;  // nothing is held
+  options.membrane = curvature::MembraneOptions{};
+  options.dof = optimize::DofMode::Xyz;
+  options.fixedRings = 0;
+  options.boundaryPositions = x;
+  optimize::Problem problem = optimize::buildProblem(rest, options);
+  ASSERT_TRUE(problem.usesEdgeUnknowns());
+  FractureOptions fracture;
+  fracture.thickness = 0.01;
+  const optimize::FractureCriterion criterion(rest);
+  double largest = 0.0;  // the start's largest principal fibre strain; ε_f just above it
+  for (const auto& face : criterion.principalStrains(criterion.strains(x), fracture.thickness))
+    largest = std::max(largest, face.strain);
+  fracture.fractureStrain = largest + 1e-4;
+  optimize::FracturingDynamics dynamics(rest, std::move(problem), options, {}, fracture);
+  Positions v = Positions::Zero(rest.vertexCount(), 3);
+  v.col(0) = 2.0 * rest.positions.col(0);
+  dynamics.start(x, v);
+  // One step of 1e-4 s stretches past ε_f within the search band: the cut ends the advance.
+  const TimeStepper::Advance first = dynamics.advance(1e-4, 1e-4 / 1024.0, 0);
+  ASSERT_TRUE(first.completed);
+  ASSERT_EQ(first.steps, 1);
+  ASSERT_EQ(dynamics.cracks().size(), 1u);
+  const TimeStepper& cut = dynamics.stepper();
+  ASSERT_EQ(cut.xi().size(), Eigen::Index(dynamics.problem().stencils.edgeCount()));
+  const Eigen::VectorXd again = cut.edgeUnknownsAt(cut.positions(), cut.xi());
+  EXPECT_LE((again - cut.xi()).cwiseAbs().maxCoeff(), 1e-9);
+  long step = 0;
+  for (int k = 0; k < 10; ++k) {
+    const TimeStepper::Advance advance = dynamics.advance(0.002, 0.002 / 1024.0, step);
+    ASSERT_TRUE(advance.completed) << "at step " << step;
+    step += advance.steps;
+  }
+  EXPECT_GE(dynamics.cracks().size(), 2u);
+  EXPECT_TRUE(dynamics.stepper().balance().balancedWithin(0.05))
+      << dynamics.stepper().balance().relativeDrift();
+}
+
 // The event faces after a first crack that stops inside: every face around its open tip, none
 // with a vertex on its lips elsewhere, and every face off the lips.
 TEST(FracturingDynamics, FacesOnACracksLipsAwayFromItsTipAreNoEvent) {

@@ -338,6 +338,10 @@ void TimeStepper::startBeforeRestore(const Positions& x, const Positions& v,
   balance_.start(energies_);
 }
 
+Eigen::VectorXd TimeStepper::edgeUnknownsAt(const Positions& x, const Eigen::VectorXd& from) const {
+  return from.size() > 0 ? minimizeEdgeUnknowns(terms_, x, from, freeEdge_) : from;
+}
+
 TimeStepper::State TimeStepper::state() const {
   const double obstacleStiffness =
       selfContact_.meshObstacles().empty() ? 0.0 : selfContact_.obstacleStiffness();

@@ -375,6 +375,9 @@ class TimeStepper {
   const Positions& positions() const { return x_; }
   const Positions& velocities() const { return v_; }
   const Eigen::VectorXd& xi() const { return xi_; }
+  // Midedge's ξ minimizing E at positions x (#V by 3), the held ones kept from `from`
+  // (least_squares.h minimizeEdgeUnknowns); empty for an energy without edge unknowns.
+  Eigen::VectorXd edgeUnknownsAt(const Positions& x, const Eigen::VectorXd& from) const;
   const Eigen::VectorXd& masses() const { return mass_; }
   const ObstacleBarrier& barrier() const { return barrier_; }
   const SelfContact& selfContact() const { return selfContact_; }

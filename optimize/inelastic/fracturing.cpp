@@ -5,7 +5,6 @@
 #include <limits>
 #include <utility>
 
-#include "curvature/energy_registry.h"
 #include "modeling/errors.h"
 
 namespace flexure::optimize {
@@ -49,12 +48,6 @@ FracturingDynamics::FracturingDynamics(modeling::Mesh rest, Problem problem, Pro
       problem_(std::make_unique<Problem>(std::move(problem))) {
   if (fracture_) {
     fracture_->validate();
-    if (problem_->usesEdgeUnknowns())
-      throw InputError("FractureOptions: the energy owns edge unknowns (" +
-                       curvature::energyNamesWhere(&curvature::EnergyEntry::hasEdgeUnknowns) +
-                       " ξ), which do not carry across a cut; fracture needs " +
-                       curvature::energyNamesWhere(
-                           [](const curvature::EnergyEntry& e) { return e.cuttable(); }));
     if (options_.membraneRest.size() > 0)
       throw InputError(
           "FractureOptions: a separate membrane rest shape does not carry across a "
@@ -170,6 +163,8 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   after.time = before.time;
   after.x = shell->positions;
   after.v = shell->velocities;
+  // Midedge's ξ (massless) re-solved on the cut mesh at the carried positions, from the start's.
+  after.xi = stepper->edgeUnknownsAt(after.x, after.xi);
   after.a = carried(sources, before.a);
   for (std::size_t i = 0; i < sources.size() && before.contactStiffness.size() > 0; ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(i);

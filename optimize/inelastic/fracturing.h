@@ -59,9 +59,8 @@ class FracturingDynamics {
  public:
   // `problem` built by buildProblem(rest, options) (its held vertices options.fixedVertex);
   // `fracture` empty: the run never cracks, and the stepper is the one TimeStepper(problem,
-  // dynamics) makes. InputError for invalid fracture options, or fracture with an energy that owns
-  // edge unknowns (midedge: its ξ do not carry across a cut) or with a separate membrane rest
-  // shape.
+  // dynamics) makes. InputError for invalid fracture options, or fracture with a separate membrane
+  // rest shape. Midedge's ξ (massless) are re-solved on each cut mesh at the carried positions.
   FracturingDynamics(modeling::Mesh rest, Problem problem, ProblemOptions options,
                      DynamicsOptions dynamics, std::optional<FractureOptions> fracture);
 

@@ -45,12 +45,6 @@ void validatePlasticity(const SimulationSpec& s) {
 void validateFracture(const SimulationSpec& s) {
   if (!s.fracture) return;
   s.fracture->validate();
-  const curvature::EnergyEntry& energy = curvature::energyEntry(s.body.bending.discretization);
-  if (!energy.cuttable())
-    throw InputError(
-        "FractureOptions.fractureStrain: not with BendingOptions.discretization " + energy.name +
-        " (its edge unknowns do not carry across a cut); use " +
-        curvature::energyNamesWhere([](const curvature::EnergyEntry& e) { return e.cuttable(); }));
   if (s.checkpointed)
     throw InputError(
         "FractureOptions.fractureStrain: not with SimulationSpec.checkpointed (a checkpoint keeps "

@@ -159,8 +159,8 @@ class Simulation:
     stvk membrane's Green strain), either or both (one radial return per face for the combined
     yield): the rest metric moves. Fracture: fracture_strain ε_f and thickness
     h (fibres at ± h/2); a face whose principal fibre strain passes ε_f cracks across it, and the
-    motion goes on on the cut mesh (not with midedge; with plasticity each piece of a cut face
-    keeps its plastic strain). Bad values raise the library's ValueError naming the keyword
+    motion goes on on the cut mesh (midedge's ξ re-solved on it; with plasticity each piece of a
+    cut face keeps its plastic strain). Bad values raise the library's ValueError naming the keyword
     (hardening, thickness).
 
     Self-contact (docs/dynamics.md "Self-contact"): self_contact True (the default) makes every

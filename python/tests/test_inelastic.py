@@ -274,7 +274,6 @@ def test_no_crack_below_the_fracture_strain():
     ({"yield_curvature": 0.1, "hardening": -0.5}, "^hardening"),
     ({"fracture_strain": 0.0}, "^fracture_strain"),
     ({"fracture_strain": 0.01, "thickness": -0.01}, "^thickness"),
-    ({"fracture_strain": 0.01, "energy": "midedge"}, "^fracture_strain: not with energy midedge"),
     ({"yield_curvature": 0.1, "energy": "cotan"}, "cotan"),
     ({"hardening": 0.5}, "hardening"),
     ({"thickness": 0.01}, "thickness"),

@@ -22,9 +22,6 @@ BASE_KEYWORDS = {"energy": "hinge", "membrane": "stvk"}
 # (case, the flags, the keyword arguments, what the command names, what Python names, the reason
 # both give). A value "EMPTY" is the path of an empty vertex list.
 CASES = [
-    ("fracture with midedge", ["--energy", "midedge", "--fracture-strain", "0.01"],
-     {"energy": "midedge", "fracture_strain": 0.01}, "--fracture-strain: not with --energy midedge",
-     "fracture_strain: not with energy midedge", "its edge unknowns do not carry across a cut"),
     ("bending plasticity with cotan", ["--energy", "cotan", "--yield-curvature", "0.1"],
      {"energy": "cotan", "yield_curvature": 0.1}, "--yield-curvature: the cotan energy",
      "yield_curvature: the cotan energy", "no per-element rest curvature"),
