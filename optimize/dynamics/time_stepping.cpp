@@ -189,6 +189,9 @@ void DynamicsOptions::validate() const {
                      "mesh's bounding-box diagonal)");
   if (!(energyTolerance > 0.0))
     throw InputError("DynamicsOptions.energyTolerance: expected a fraction > 0");
+  if (quasiNewtonPairs < 0 || quasiNewtonPairs > 100)
+    throw InputError("DynamicsOptions.quasiNewtonPairs " + std::to_string(quasiNewtonPairs) +
+                     ": expected 0 (chord steps on the kept factor) to 100 L-BFGS pairs");
   if (!(friction >= 0.0) || !std::isfinite(friction))
     throw InputError("DynamicsOptions.friction " + numberText(friction) +
                      ": expected a finite friction coefficient μ ≥ 0");
@@ -784,6 +787,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;
   rule.preconditionedSteps = o.preconditionedSteps;
+  rule.quasiNewtonPairs = o.quasiNewtonPairs;
   Outcome outcome = moveObstacles(phi, y, h, rule);
   if (!outcome.converged) return outcome;
   const NewtonResult newton = im.loop.run(phi, y, rule);

@@ -69,6 +69,10 @@ struct StepStopRule {
   // 1e-1, 8 → 2.12; 0.3, 4 → 2.09 (more Hessians: the inexact steps contract less).
   double pcgTolerance = 0.1;
   int pcgMaxIterations = 4;
+  // With chordSteps, m > 0: each chord step is the L-BFGS step δ = −H_k∇f on H₀ = F⁻¹ with the
+  // last m pairs of accepted steps since F was factored in this run (lbfgs_update.h), under the
+  // chord step's tests; 0: δ = −F⁻¹∇f.
+  int quasiNewtonPairs = 0;
 };
 
 struct NewtonResult {
@@ -129,6 +133,7 @@ class NewtonLoop {
     bool preconditionedSteps = false;  // StepStopRule's
     double pcgTolerance = 0.1;
     int pcgMaxIterations = 4;
+    int quasiNewtonPairs = 0;  // StepStopRule's
     LineSearch search;
     bool progress = false;  // one line per accepted step on stderr
   };
