@@ -5,7 +5,16 @@
 // Every iteration has f and ∇f at the iterate y and, while a factor F of an earlier Hessian is at
 // hand, the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step
 // (modified Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is
-// assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step. Where the
+// assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step.
+// The step rule may take quasi-Newton steps on F instead (StepStopRule::quasiNewtonPairs = m > 0;
+// Liu, Bouaziz & Kavan 2017, "Quasi-Newton methods for real-time simulation of hyperelastic
+// materials"; DOT's L-BFGS-H, Li et al. 2019): δ = −H_k∇f with H_k the L-BFGS inverse Hessian of
+// the last m pairs s = y_{j+1} − y_j, t = ∇f_{j+1} − ∇f_j of the steps accepted since F was
+// factored within this run, on H₀ = F⁻¹ (the two-loop recursion, lbfgs_update.h: one solve with F
+// and 4m vector operations; H_k t = s for the newest pair). Such a step is taken while λ² shrinks
+// at least 2-fold per iteration (near contact a Newton step itself contracts λ² only 0.1–0.7-fold,
+// so a factorization bought by the chord step's tenfold test often gains nothing), under the
+// chord step's other tests (descent, trials, vertex step bounds); otherwise the Newton step. Where the
 // Hessian is not positive definite (away from a minimizer: a fairing start, a compressed membrane
 // about to buckle) the indefinite-Hessian rule factors another matrix (IndefiniteHessian; the
 // Gauss–Newton matrix JᵀJ by default), shifted by μI where singular. Steps are searched on the
