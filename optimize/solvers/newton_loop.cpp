@@ -432,6 +432,8 @@ NewtonResult NewtonLoop::iterate(Objective& objective, Eigen::VectorXd& y, const
       // With quasiNewtonPairs, the L-BFGS step −H_k∇f whose H₀ is F⁻¹ (H_k = F⁻¹ without pairs).
       delta = chordHessian_.empty() ? pairs.apply(-at.gradient, solveWithFactor)
                                     : solve(-at.gradient, result);
+      if (chordHessian_.empty() && pairs.size() > 0)
+        objective.keepTranslationResidual(at.gradient, delta);
       // The chord steps of a Hessian solved by PCG are its PCG steps: F alone is older.
       const bool quasiNewton = policy.quasiNewtonPairs > 0 && chordHessian_.empty();
       const bool solved = chordHessian_.empty() ||

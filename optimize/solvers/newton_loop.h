@@ -14,7 +14,9 @@
 // and 4m vector operations; H_k t = s for the newest pair). Such a step is taken while λ² shrinks
 // at least 2-fold per iteration (near contact a Newton step itself contracts λ² only 0.1–0.7-fold,
 // so a factorization bought by the chord step's tenfold test often gains nothing), under the
-// chord step's other tests (descent, trials, vertex step bounds); otherwise the Newton step. Where
+// chord step's other tests (descent, trials, vertex step bounds); otherwise the Newton step.
+// The objective then restores the step's rigid-translation part where it knows it
+// (Objective::keepTranslationResidual: the momentum a step on F cancels exactly). Where
 // the Hessian is not positive definite (away from a minimizer: a fairing start, a compressed
 // membrane about to buckle) the indefinite-Hessian rule factors another matrix (IndefiniteHessian;
 // the Gauss–Newton matrix JᵀJ by default), shifted by μI where singular. Steps are searched on the
