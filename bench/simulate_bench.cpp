@@ -198,12 +198,14 @@ json measureOrderings(const modeling::Mesh& mesh, const std::string& energy, dou
 
 json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps, double dt,
                bool gaussNewton, bool drape, bool chordSteps, bool pcg, bool predict, bool trace,
-               double stepTolerance, json* costs, bool selfContact = false) {
+               double stepTolerance, json* costs, bool selfContact = false,
+               int quasiNewtonPairs = 0) {
   const optimize::ProblemOptions body = sceneBody(mesh, energy, drape, selfContact);
   optimize::DynamicsOptions options;
   if (gaussNewton) options.hessian = curvature::SecondDerivatives::GaussNewton;
   options.chordSteps = chordSteps;
   options.preconditionedSteps = pcg;
+  options.quasiNewtonPairs = quasiNewtonPairs;
   if (stepTolerance > 0.0) options.stepTolerance = stepTolerance;
   options.predictAcceleration = predict;
 
@@ -235,6 +237,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
       return {{"energy", energy},
               {"vertices", mesh.vertexCount()},
               {"pcg", pcg},
+              {"quasi_newton_pairs", quasiNewtonPairs},
               {"hessian", gaussNewton ? "gauss-newton" : "exact"},
               {"error", advance.failure.failure}};
     iterations += advance.attemptedIterations;
@@ -278,6 +281,7 @@ json runEnergy(const modeling::Mesh& mesh, const std::string& energy, int steps,
           {"pcg_iterations_per_step", pcgIterations * perStep},
           {"chord_steps", chordSteps},
           {"pcg", pcg},
+          {"quasi_newton_pairs", quasiNewtonPairs},
           {"predict_acceleration", predict},
           {"halvings", halvings},
           {"smallest_sphere_distance", drape ? json(closest) : json(nullptr)},
@@ -514,6 +518,7 @@ void printTable(const json& records) {
     const json* before = nullptr;
     for (const json& r : records)
       if (!r.value("pcg", true) && r.value("energy", "") == after["energy"] &&
+          r.value("quasi_newton_pairs", 0) == after.value("quasi_newton_pairs", 0) &&
           r.value("vertices", 0) == after["vertices"] && r.value("hessian", "") == after["hessian"])
         before = &r;
     const bool paired = before != nullptr && !before->contains("error");
@@ -545,13 +550,53 @@ void printTable(const json& records) {
   }
 }
 
+// The quasi-Newton table on stderr (markdown): per size, energy and PCG mode, steps/s with chord
+// steps on the kept factor (off) and L-BFGS steps on it (on), their ratio, and the Newton
+// iterations (all iterations) and factorizations per step off → on.
+void printQuasiNewtonTable(const json& records) {
+  std::fprintf(stderr,
+               "\n| vertices | energy | PCG | steps/s off | steps/s on | on/off | iterations/step "
+               "off → on | factorizations/step off → on |\n|---|---|---|---|---|---|---|---|\n");
+  for (const json& on : records) {
+    if (on.value("quasi_newton_pairs", 0) == 0 || on.contains("error")) continue;
+    const json* off = nullptr;
+    for (const json& r : records)
+      if (r.value("quasi_newton_pairs", 1) == 0 && r.value("energy", "") == on["energy"] &&
+          r.value("vertices", 0) == on["vertices"] && r.value("hessian", "") == on["hessian"] &&
+          r.value("pcg", false) == on.value("pcg", false))
+        off = &r;
+    if (off == nullptr || off->contains("error")) {
+      std::fprintf(stderr, "| %d | %s | %s | failed | %.3g | – | – | – |\n",
+                   on["vertices"].get<int>(), on["energy"].get<std::string>().c_str(),
+                   on.value("pcg", false) ? "on" : "off", on["steps_per_second"].get<double>());
+      continue;
+    }
+    const double a = (*off)["steps_per_second"], b = on["steps_per_second"];
+    std::fprintf(stderr, "| %d | %s | %s | %.3g | %.3g | %.2f | %.2f → %.2f | %.2f → %.2f |\n",
+                 on["vertices"].get<int>(), on["energy"].get<std::string>().c_str(),
+                 on.value("pcg", false) ? "on" : "off", a, b, b / a,
+                 (*off)["newton_iterations_per_step"].get<double>(),
+                 on["newton_iterations_per_step"].get<double>(),
+                 (*off)["factorizations_per_step"].get<double>(),
+                 on["factorizations_per_step"].get<double>());
+  }
+}
+
 namespace {
+
+// A stepper compared by the elastic runs: Newton steps by PCG on the kept factor or factoring;
+// the steps on the kept factor L-BFGS with this many pairs, or chord steps (0).
+struct StepperMode {
+  bool pcg = false;
+  int quasiNewtonPairs = 0;
+};
 
 // The bench's options, as the flags give them.
 struct BenchOptions {
   int n = 99, steps = 40, repeat = 1;
   double dt = 1.0 / 200.0, duration = 0.0;
-  std::string scene = "drape", sizes = "49,99", pcgModes = "both";
+  std::string scene = "drape", sizes = "49,99", pcgModes = "both", quasiNewtonModes = "off";
+  int quasiNewtonPairs = 6;  // m of --quasi-newton on
   std::string energies = "hinge,cotan,midedge", hessians = "exact";
   bool orderings = false, inelastic = false, selfContact = false;
   bool chordSteps = true, predict = true;
@@ -572,6 +617,13 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
       ->capture_default_str();
   app.add_option("--pcg", o.pcgModes,
                  "both (before: Newton steps factor; after: PCG on the kept factor), on, off")
+      ->capture_default_str();
+  app.add_option("--quasi-newton", o.quasiNewtonModes,
+                 "off (chord steps on the kept factor), on (L-BFGS steps on it, "
+                 "--quasi-newton-pairs), both (alternated)")
+      ->capture_default_str();
+  app.add_option("--quasi-newton-pairs", o.quasiNewtonPairs,
+                 "L-BFGS pairs m of --quasi-newton on (DynamicsOptions::quasiNewtonPairs)")
       ->capture_default_str();
   app.add_option("--repeat", o.repeat, "Runs of each before/after pair, alternated (best kept)")
       ->capture_default_str();
@@ -618,6 +670,14 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
     std::cerr << "--pcg " << o.pcgModes << ": expected both, on or off\n";
     return 2;
   }
+  if (o.quasiNewtonModes != "both" && o.quasiNewtonModes != "on" && o.quasiNewtonModes != "off") {
+    std::cerr << "--quasi-newton " << o.quasiNewtonModes << ": expected both, on or off\n";
+    return 2;
+  }
+  if (!(o.quasiNewtonPairs >= 1 && o.quasiNewtonPairs <= 100)) {
+    std::cerr << "--quasi-newton-pairs " << o.quasiNewtonPairs << ": expected 1 to 100\n";
+    return 2;
+  }
   if (o.duration > 0.0) o.steps = static_cast<int>(std::lround(o.duration / o.dt)) + 1;
   if (app.count("--n") > 0) {
     o.cells = {o.n};
@@ -629,10 +689,10 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
   return std::nullopt;
 }
 
-// One energy on `mesh` with each Hessian asked for: the best of the repeated runs of each PCG
-// mode (`modes`: true after, false before), appended to `records`.
+// One energy on `mesh` with each Hessian asked for: the best of the repeated runs of each mode
+// (`modes`: PCG on or off, L-BFGS pairs), alternated, appended to `records`.
 void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std::string& energy,
-                    const std::vector<bool>& modes, json& records) {
+                    const std::vector<StepperMode>& modes, json& records) {
   for (const char* hessian : {"exact", "gauss-newton"}) {
     if (o.hessians.find(hessian) == std::string::npos) continue;
     json costs;  // measured once per energy and size, shared by its before and after
@@ -640,8 +700,8 @@ void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std
     for (int run = 0; run < o.repeat; ++run)
       for (size_t m = 0; m < modes.size(); ++m) {
         json record = runEnergy(mesh, energy, o.steps, o.dt, std::string(hessian) == "gauss-newton",
-                                o.scene == "drape", o.chordSteps, modes[m], o.predict, o.trace,
-                                o.stepTolerance, &costs);
+                                o.scene == "drape", o.chordSteps, modes[m].pcg, o.predict, o.trace,
+                                o.stepTolerance, &costs, false, modes[m].quasiNewtonPairs);
         if (best[m].is_null() || record.contains("error") ||
             (!best[m].contains("error") &&
              record["steps_per_second"] > best[m]["steps_per_second"]))
@@ -655,7 +715,7 @@ void runEnergyModes(const BenchOptions& o, const modeling::Mesh& mesh, const std
 }
 
 // Every size and energy: the step Hessian's orderings (--orderings) or the timed runs.
-json runElastic(const BenchOptions& o, const std::vector<bool>& modes) {
+json runElastic(const BenchOptions& o, const std::vector<StepperMode>& modes) {
   json records = json::array();
   for (const int size : o.cells) {
     const modeling::Mesh mesh =
@@ -753,11 +813,15 @@ int main(int argc, char** argv) {
   }
   // PCG (after) first: the last record of an energy is the default stepper's, which
   // bench/python_bench.py compares with Python's Simulation.
-  std::vector<bool> modes;
-  if (o.pcgModes != "off") modes.push_back(true);
-  if (o.pcgModes != "on") modes.push_back(false);
+  std::vector<StepperMode> modes;
+  for (const bool pcg : {true, false}) {
+    if (o.pcgModes == (pcg ? "off" : "on")) continue;
+    if (o.quasiNewtonModes != "off") modes.push_back({pcg, o.quasiNewtonPairs});
+    if (o.quasiNewtonModes != "on") modes.push_back({pcg, 0});
+  }
   const json records = runElastic(o, modes);
-  if (modes.size() == 2) printTable(records);
+  if (o.pcgModes == "both") printTable(records);
+  if (o.quasiNewtonModes == "both") printQuasiNewtonTable(records);
   std::cout << json({{"n", o.cells.size() == 1 ? json(o.cells[0]) : json(o.cells)},
                      {"dt", o.dt},
                      {"scene", o.scene},

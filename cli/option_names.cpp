@@ -66,6 +66,7 @@ std::vector<modeling::FieldName> dynamicsFlags() {
       {"DynamicsOptions.bendingDamping", "--damping bend:c"},
       {"DynamicsOptions.energyTolerance", "--energy-tolerance"},
       {"DynamicsOptions.stepTolerance", "--step-tolerance"},
+      {"DynamicsOptions.quasiNewtonPairs", "--quasi-newton-pairs"},
       {"DynamicsOptions.friction", "--friction"},
       {"DynamicsOptions.pinGroups", "--pin SET@MOTION"},
       {"PinMotion.kind", "--pin-motion"},

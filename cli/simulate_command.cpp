@@ -270,6 +270,10 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "correction |dx|max / dt is below this times the rest mesh's bounding-box "
                   "diagonal per second (1e-9: the strict reference)")
       ->capture_default_str();
+  sub->add_option("--quasi-newton-pairs", o.quasiNewtonPairs,
+                  "m > 0: between factorizations a step's iterations are L-BFGS steps on the "
+                  "kept factor with the last m iterate pairs (0: chord steps on the factor)")
+      ->capture_default_str();
   sub->add_option(
          "--fracture-strain", o.fractureStrain,
          "Fracture: after each step, a face whose largest principal fibre strain exceeds "

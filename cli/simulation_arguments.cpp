@@ -53,6 +53,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulateOptions& o) {
   parseDamping(o.damping, dynamics);
   dynamics.energyTolerance = o.energyTolerance;
   dynamics.stepTolerance = o.stepTolerance;
+  dynamics.quasiNewtonPairs = o.quasiNewtonPairs;
   dynamics.friction = o.friction;
   return dynamics;
 }

@@ -27,8 +27,9 @@ struct SimulateOptions {
   std::vector<std::string> damping;  // rayleigh:α,β and/or bend:c
   double beta = 0.25, gamma = 0.5, dt = 0.0, duration = 0.0, fps = 30.0, minDt = 0.0;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
-  double stepTolerance = optimize::DynamicsOptions().stepTolerance;  // ε_v
-  std::string renderStyle = "shaded";                                // "none": no frame images
+  double stepTolerance = optimize::DynamicsOptions().stepTolerance;     // ε_v
+  int quasiNewtonPairs = optimize::DynamicsOptions().quasiNewtonPairs;  // m; 0: chord steps
+  std::string renderStyle = "shaded";                                   // "none": no frame images
   int renderSize = 480;
   double exaggerate = 1.0;  // frames drawn as rest + exaggerate (x − rest)
   std::string video;        // an MP4 of the frame images (ffmpeg); empty: none

@@ -260,6 +260,26 @@ for bad in 0 -1e-3 inf; do
   run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
     --step-tolerance "$bad" -o bad; stderr_has "--step-tolerance"; absent bad
 done
+# --quasi-newton-pairs m (L-BFGS steps on the kept factor): the sagging plate's last frame within
+# 1e-3 of its diagonal of the chord steps' (the default's); m outside 0..100 refused before any
+# work, naming the flag.
+for m in 0 6; do
+  run 0 simulate --rest plate.obj --energy midedge --membrane stvk --pin rings:2 \
+    --gravity 0,0,-9.81 --damping rayleigh:20,0 --dt 0.01 --duration 0.2 --fps 20 \
+    --render-style none --quasi-newton-pairs $m -o sag-pairs-$m
+done
+python3 -c "
+def vertices(path):
+    return [[float(t) for t in l.split()[1:4]] for l in open(path) if l.startswith('v ')]
+a, b = vertices('sag-pairs-0/frame-00004.obj'), vertices('sag-pairs-6/frame-00004.obj')
+diagonal = sum((max(p[i] for p in a) - min(p[i] for p in a)) ** 2 for i in range(3)) ** 0.5
+assert len(a) == len(b) > 0
+assert max(abs(p[i] - q[i]) for p, q in zip(a, b) for i in range(3)) <= 1e-3 * diagonal
+" || fail "sag-pairs-6: the last frame differs from the chord steps' by more than 1e-3 l"
+for bad in -1 101; do
+  run 2 simulate --rest drape-sheet.obj --energy cotan --membrane stvk --dt 0.01 --duration 0.1 \
+    --quasi-newton-pairs "$bad" -o bad; stderr_has "--quasi-newton-pairs"; absent bad
+done
 
 # --friction μ: a sheet falling on a floor under gravity tilted along x, undamped (report.json
 # carries μ, the work against friction counted as dissipated); μ < 0 or not finite refused before

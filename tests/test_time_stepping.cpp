@@ -492,6 +492,53 @@ TEST(TimeStepping, PreconditionedStepsFollowTheFactoringTrajectory) {
   }
 }
 
+// L-BFGS steps on the kept factor (DynamicsOptions::quasiNewtonPairs, solvers/lbfgs_update.h)
+// instead of chord steps change how each step's minimization proceeds, not its minimizer: on the
+// scene of the step-tolerance test below (a sheet falling onto the sphere and draping, Rayleigh
+// α = 2), hinge, cotan and midedge at the default rule follow the strict reference (ε_v = 1e-9,
+// chord steps) within 1e-3 l, keep their energy balance, and factor less often than the chord
+// steps at the default rule.
+TEST(TimeStepping, QuasiNewtonStepsFollowTheStrictReference) {
+  for (const Discretization d :
+       {Discretization::Hinge, Discretization::Cotan, Discretization::Midedge}) {
+    const testing::Plate plate(modeling::MeshFamily::Patch48, 12, d, 1e3, onTheSphere);
+    DynamicsOptions chord;
+    chord.rayleighMass = 2.0;
+    chord.quasiNewtonPairs = 0;
+    DynamicsOptions quasiNewton = chord, strict = chord;
+    quasiNewton.quasiNewtonPairs = 6;
+    strict.stepTolerance = 1e-9;
+    TimeStepper fast(plate.problem, quasiNewton), today(plate.problem, chord),
+        reference(plate.problem, strict);
+    const modeling::Positions still = modeling::Positions::Zero(plate.mesh.vertexCount(), 3);
+    for (TimeStepper* s : {&fast, &today, &reference})
+      s->start(plate.rest.positions, still, plate.restXi);
+    const double h = 1.0 / 200.0, diagonal = std::sqrt(2.0);
+    int fastFactorizations = 0, todayFactorizations = 0;
+    double worst = 0.0;
+    for (int k = 0; k < 60; ++k) {  // 0.3 s: in contact from about 0.1 s
+      const auto a = fast.advance(h, h / 64.0), b = today.advance(h, h / 64.0),
+                 c = reference.advance(h, h / 64.0);
+      ASSERT_TRUE(a.completed && b.completed && c.completed)
+          << k << ": " << a.failure.failure << b.failure.failure << c.failure.failure;
+      EXPECT_EQ(a.halvings, 0) << k;
+      fastFactorizations += a.factorizations;
+      todayFactorizations += b.factorizations;
+      worst =
+          std::max(worst, (fast.positions() - reference.positions()).rowwise().norm().maxCoeff());
+    }
+    std::printf(
+        "%s: largest distance to the strict reference %.2e l, factorizations %d (chord steps "
+        "%d), drift %.2e\n",
+        std::string(curvature::discretizationName(d)).c_str(), worst / diagonal, fastFactorizations,
+        todayFactorizations, fast.balance().relativeDrift());
+    EXPECT_LT(fast.barrier().smallestDistance(fast.positions()), fast.barrier().layer());
+    EXPECT_LE(worst, 1e-3 * diagonal);
+    EXPECT_EQ(fast.balanceVerdict(), optimize::BalanceVerdict::Balanced);
+    EXPECT_LT(fastFactorizations, todayFactorizations);
+  }
+}
+
 // The default stopping rule (DynamicsOptions::stepTolerance, ε_v: ‖δ‖∞ / h ≤ ε_v l) follows the
 // strict reference ε_v = 1e-9 within 1e-3 l (l the rest diagonal) over a sheet falling onto the
 // sphere and draping (contact; Rayleigh α = 2, as examples/drape-sphere.json), hinge and midedge

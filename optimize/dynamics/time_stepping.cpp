@@ -189,6 +189,9 @@ void DynamicsOptions::validate() const {
                      "mesh's bounding-box diagonal)");
   if (!(energyTolerance > 0.0))
     throw InputError("DynamicsOptions.energyTolerance: expected a fraction > 0");
+  if (quasiNewtonPairs < 0 || quasiNewtonPairs > 100)
+    throw InputError("DynamicsOptions.quasiNewtonPairs " + std::to_string(quasiNewtonPairs) +
+                     ": expected 0 (chord steps on the kept factor) to 100 L-BFGS pairs");
   if (!(friction >= 0.0) || !std::isfinite(friction))
     throw InputError("DynamicsOptions.friction " + numberText(friction) +
                      ": expected a finite friction coefficient μ ≥ 0");
@@ -556,6 +559,33 @@ class TimeStepper::IncrementalPotential : public Objective {
       gravityForce_[k] = vertex ? im.mass[k] * gravity[u % 3] : 0.0;
     }
     dampingOfVHat_ = damping(vHatFree);
+    // Every vertex free, no obstacle (fixed in space) and no friction: E, the self-contact
+    // barrier and the stiffness damping K_s are invariant under a rigid translation τ, so
+    // ∇²Φ τ = (1/(βh²) + γα/(βh)) M τ.
+    int freeVertexCoordinates = 0;
+    for (int k = 0; k < n; ++k) freeVertexCoordinates += unknowns[k] < positionCount;
+    translationInvariant_ = freeVertexCoordinates == positionCount && barrier_.empty() &&
+                            friction_.empty() && selfContact_.meshObstacles().empty();
+  }
+
+  // δ + Σ_d c_d τ_d with τ_dᵀ W (δ + c_d τ_d) = −τ_dᵀ∇Φ, W = (1/(βh²) + γα/(βh)) M, for the
+  // translations τ_d along each axis d (Objective::keepTranslationResidual).
+  void keepTranslationResidual(const Eigen::VectorXd& gradient,
+                               Eigen::VectorXd& delta) const override {
+    if (!translationInvariant_) return;
+    const std::vector<int>& unknowns = im_.assembly.freeUnknowns();
+    const long positionCount = fixedPart().positions.size();
+    const double w = massWeight_ + dampingWeight_ * rayleighMass_;
+    double residual[3] = {0.0, 0.0, 0.0}, mass[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < size(); ++k) {
+      if (unknowns[k] >= positionCount) continue;
+      const int d = unknowns[k] % 3;
+      residual[d] += gradient[k] + w * im_.mass[k] * delta[k];
+      mass[d] += w * im_.mass[k];
+    }
+    for (int k = 0; k < size(); ++k)
+      if (unknowns[k] < positionCount && mass[unknowns[k] % 3] > 0.0)
+        delta[k] -= residual[unknowns[k] % 3] / mass[unknowns[k] % 3];
   }
 
   const Eigen::VectorXd& hat() const { return hat_; }
@@ -658,6 +688,7 @@ class TimeStepper::IncrementalPotential : public Objective {
   const std::vector<double> stiffnessDamping_;
   double massWeight_ = 0.0, dampingWeight_ = 0.0;
   Eigen::VectorXd hat_, gravityForce_, dampingOfVHat_;
+  bool translationInvariant_ = false;  // keepTranslationResidual applies
 };
 
 std::vector<double> TimeStepper::stiffnessDamping() const {
@@ -788,6 +819,7 @@ TimeStepper::Outcome TimeStepper::implicitStep(double h, StepObjective* probe) {
   rule.chordSteps = o.chordSteps;
   rule.hessian = o.hessian;
   rule.preconditionedSteps = o.preconditionedSteps;
+  rule.quasiNewtonPairs = o.quasiNewtonPairs;
   Outcome outcome = moveObstacles(phi, y, h, rule);
   if (!outcome.converged) return outcome;
   const NewtonResult newton = im.loop.run(phi, y, rule);

@@ -124,6 +124,10 @@ struct DynamicsOptions {
   // of one, did not make steps faster (simulate_bench, PCG after/before: 0.7–1.0 at 2 500
   // vertices, midedge 0.84 at 10 000; machine loaded).
   bool preconditionedSteps = false;
+  // With chordSteps, m > 0: the steps on the kept factor F are L-BFGS steps whose initial inverse
+  // Hessian is F⁻¹, with the last m pairs of accepted steps since F was factored within the step
+  // (StepStopRule::quasiNewtonPairs, solvers/lbfgs_update.h); 0: chord steps δ = −F⁻¹∇f.
+  int quasiNewtonPairs = 0;
   // Newton starts from x̂ + β h² a_n (the acceleration kept), and vertices within two barrier
   // layers of an obstacle from x_n, rather than everything from x̂ (a = 0).
   bool predictAcceleration = true;

@@ -5,10 +5,21 @@
 // Every iteration has f and ∇f at the iterate y and, while a factor F of an earlier Hessian is at
 // hand, the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step
 // (modified Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is
-// assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step. Where the
-// Hessian is not positive definite (away from a minimizer: a fairing start, a compressed membrane
-// about to buckle) the indefinite-Hessian rule factors another matrix (IndefiniteHessian; the
-// Gauss–Newton matrix JᵀJ by default), shifted by μI where singular. Steps are searched on the
+// assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step.
+// The step rule may take quasi-Newton steps on F instead (StepStopRule::quasiNewtonPairs = m > 0;
+// Liu, Bouaziz & Kavan 2017, "Quasi-Newton methods for real-time simulation of hyperelastic
+// materials"; DOT's L-BFGS-H, Li et al. 2019): δ = −H_k∇f with H_k the L-BFGS inverse Hessian of
+// the last m pairs s = y_{j+1} − y_j, t = ∇f_{j+1} − ∇f_j of the steps accepted since F was
+// factored within this run, on H₀ = F⁻¹ (the two-loop recursion, lbfgs_update.h: one solve with F
+// and 4m vector operations; H_k t = s for the newest pair). Such a step is taken while λ² shrinks
+// at least 2-fold per iteration (near contact a Newton step itself contracts λ² only 0.1–0.7-fold,
+// so a factorization bought by the chord step's tenfold test often gains nothing), under the
+// chord step's other tests (descent, trials, vertex step bounds); otherwise the Newton step.
+// The objective then restores the step's rigid-translation part where it knows it
+// (Objective::keepTranslationResidual: the momentum a step on F cancels exactly). Where
+// the Hessian is not positive definite (away from a minimizer: a fairing start, a compressed
+// membrane about to buckle) the indefinite-Hessian rule factors another matrix (IndefiniteHessian;
+// the Gauss–Newton matrix JᵀJ by default), shifted by μI where singular. Steps are searched on the
 // objective (Armijo: f(y + αδ) ≤ f(y) − 10⁻⁴ α λ² + roundoff, α halved) from the longest feasible
 // α ≤ 1 (obstacles).
 //
@@ -69,6 +80,10 @@ struct StepStopRule {
   // 1e-1, 8 → 2.12; 0.3, 4 → 2.09 (more Hessians: the inexact steps contract less).
   double pcgTolerance = 0.1;
   int pcgMaxIterations = 4;
+  // With chordSteps, m > 0: each chord step is the L-BFGS step δ = −H_k∇f on H₀ = F⁻¹ with the
+  // last m pairs of accepted steps since F was factored in this run (lbfgs_update.h), under the
+  // chord step's tests; 0: δ = −F⁻¹∇f.
+  int quasiNewtonPairs = 0;
 };
 
 struct NewtonResult {
@@ -129,6 +144,7 @@ class NewtonLoop {
     bool preconditionedSteps = false;  // StepStopRule's
     double pcgTolerance = 0.1;
     int pcgMaxIterations = 4;
+    int quasiNewtonPairs = 0;  // StepStopRule's
     LineSearch search;
     bool progress = false;  // one line per accepted step on stderr
   };

@@ -55,6 +55,13 @@ class Objective {
   // The roundoff of a value near `value` at y, under which the line search cannot judge a
   // decrease.
   virtual double roundoff(const Eigen::VectorXd& y, double value) const = 0;
+  // Where the objective's Hessian maps every rigid translation τ of the free vertices to W τ for
+  // a known diagonal W (nothing held, nothing fixed in space), a step δ solved with such a matrix
+  // has τᵀWδ = −τᵀ∇f: it cancels the momentum residual τᵀ∇f. Adds to δ the translations that
+  // restore that for a δ that lost it (an L-BFGS step: its update does not keep H τ = W τ);
+  // otherwise leaves δ as it is.
+  virtual void keepTranslationResidual(const Eigen::VectorXd& /*gradient*/,
+                                       Eigen::VectorXd& /*delta*/) const {}
 
  protected:
   const HessianAssembly& assembly_;

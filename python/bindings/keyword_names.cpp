@@ -68,6 +68,7 @@ const std::vector<modeling::FieldName>& keywordNames() {
       {"DynamicsOptions.bendingDamping", "bending_damping"},
       {"DynamicsOptions.energyTolerance", "energy_tolerance"},
       {"DynamicsOptions.stepTolerance", "step_tolerance"},
+      {"DynamicsOptions.quasiNewtonPairs", "quasi_newton_pairs"},
       {"DynamicsOptions.friction", "friction"},
       {"DynamicsOptions.pinGroups", "pin_groups"},
       {"PinMotion.kind", "pin_motion"},

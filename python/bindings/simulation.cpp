@@ -86,6 +86,7 @@ struct SimulationArguments : MembraneFields {
   std::vector<PinGroupArguments> pinGroups;
   int maxNewtonIterations = 30;
   double stepTolerance = optimize::DynamicsOptions().stepTolerance;  // ε_v
+  int quasiNewtonPairs = optimize::DynamicsOptions().quasiNewtonPairs;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;
   double friction = 0.0;                              // μ at every contact
   optimize::PlasticityOptions plasticity;             // no yield value: elastic
@@ -115,6 +116,7 @@ optimize::DynamicsOptions dynamicsOptions(const SimulationArguments& a) {
   }
   d.maxNewtonIterations = a.maxNewtonIterations;
   d.stepTolerance = a.stepTolerance;
+  d.quasiNewtonPairs = a.quasiNewtonPairs;
   d.energyTolerance = a.energyTolerance;
   d.friction = a.friction;
   return d;
@@ -442,6 +444,7 @@ void bindSimulation(py::module_& m) {
       .def_readwrite("pin_groups", &SimulationArguments::pinGroups)
       .def_readwrite("max_newton_iterations", &SimulationArguments::maxNewtonIterations)
       .def_readwrite("step_tolerance", &SimulationArguments::stepTolerance)
+      .def_readwrite("quasi_newton_pairs", &SimulationArguments::quasiNewtonPairs)
       .def_readwrite("energy_tolerance", &SimulationArguments::energyTolerance)
       .def_readwrite("friction", &SimulationArguments::friction)
       .def_readwrite("plasticity", &SimulationArguments::plasticity)

@@ -74,6 +74,26 @@ def test_pin_motion_equals_the_cli(cli, plate, tmp_path, motion, cli_motion):
     assert np.abs(s.positions[s.pinned] - V[s.pinned]).max() > 1e-3  # the pins moved
 
 
+def test_quasi_newton_steps_equal_the_cli_frames(cli, plate, tmp_path):
+    V, F = plate
+    flexure.write_mesh(tmp_path / "plate.obj", V, F)
+    cli("-q", "simulate", "--rest", tmp_path / "plate.obj", "--energy", "midedge", "--membrane",
+        "stvk", "--pin", "rings:2", "--gravity", "0,0,-9.81", "--damping", "rayleigh:2,0",
+        "--dt", "0.01", "--duration", "0.05", "--fps", "100", "--render-style", "none",
+        "--quasi-newton-pairs", "6", "-o", tmp_path / "run")
+    s = flexure.Simulation(V, F, energy="midedge", membrane="stvk", pinned=2,
+                           gravity=[0, 0, -9.81], rayleigh=(2, 0), quasi_newton_pairs=6)
+    chord = flexure.Simulation(V, F, energy="midedge", membrane="stvk", pinned=2,
+                               gravity=[0, 0, -9.81], rayleigh=(2, 0))
+    diagonal = np.linalg.norm(V.max(0) - V.min(0))
+    for k in range(1, 6):
+        s.step(0.01)
+        chord.step(0.01)
+        frame, _ = flexure.read_mesh(tmp_path / "run" / f"frame-{k:05d}.obj")
+        assert np.abs(s.positions - frame).max() <= 1e-12
+        assert np.abs(s.positions - chord.positions).max() <= 1e-3 * diagonal
+
+
 def test_a_step_that_cannot_converge_raises_with_the_report(plate):
     V, F = plate
     s = flexure.Simulation(V, F, energy="hinge", pinned=2, gravity=[0, 0, -1e4],
@@ -182,6 +202,9 @@ def test_friction_is_counted_as_dissipated(plate):
     ({"step_tolerance": 0}, "step_tolerance"),
     ({"step_tolerance": -1e-3}, "step_tolerance"),
     ({"step_tolerance": float("inf")}, "step_tolerance"),
+    ({"quasi_newton_pairs": -1}, "quasi_newton_pairs"),
+    ({"quasi_newton_pairs": 101}, "quasi_newton_pairs"),
+    ({"quasi_newton_pairs": 2.5}, "quasi_newton_pairs"),
 ])
 def test_bad_arguments_name_themselves(plate, arguments, name):
     V, F = plate
