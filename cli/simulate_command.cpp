@@ -190,6 +190,93 @@ std::string motionOptions(const CLI::App& sub) {
   return kept;
 }
 
+// Self-contact and friction.
+void addContactArguments(CLI::App& sub, SimulateOptions& o) {
+  sub.add_option("--self-contact", o.selfContact,
+                 "on: every vertex-face and edge-edge pair of the shell closer than "
+                 "--contact-offset repels (a log barrier), and no step lets two parts pass "
+                 "through each other (continuous collision detection); off: the shell may pass "
+                 "through itself")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
+  sub.add_option("--contact-offset", o.contactOffset,
+                 "Self-contact: the distance below which two parts of the shell repel (default: "
+                 "a quarter of the mean rest edge length)");
+  sub.add_option(
+         "--friction", o.friction,
+         "Coulomb friction coefficient mu >= 0 at every contact: the obstacles and the "
+         "shell's own (smoothed and lagged per step as in incremental potential contact; 0: "
+         "frictionless)")
+      ->capture_default_str();
+}
+
+// The integrator, its damping and steps, and the step's Newton stop.
+void addTimeSteppingArguments(CLI::App& sub, SimulateOptions& o) {
+  sub.add_option("--integrator", o.integrator,
+                 "newmark (average acceleration: conserves energy) | backward-euler "
+                 "(dissipates) | central-difference (explicit)")
+      ->capture_default_str();
+  sub.add_option("--beta", o.beta, "newmark: β")->capture_default_str();
+  sub.add_option("--gamma", o.gamma, "newmark: γ")->capture_default_str();
+  sub.add_option("--damping", o.damping,
+                 "rayleigh:alpha,beta (C = alpha M + beta K, K the Hessian at rest) and/or "
+                 "bend:c (force -c K_bend(x) v: the rate of bending only; repeatable)");
+  sub.add_option("--dt", o.dt, "Time step (s)")->required()->check(positive());
+  sub.add_option("--duration", o.duration, "Simulated time (s)")->required()->check(positive());
+  sub.add_option("--energy-tolerance", o.energyTolerance,
+                 "A step after which the total energy (plus the work done against damping) has "
+                 "grown by more than this fraction of the peak kinetic energy is halved; a run "
+                 "whose balance drifts more exits 3")
+      ->capture_default_str()
+      ->check(positive());
+  sub.add_option("--step-tolerance", o.stepTolerance,
+                 "A step's Newton iterations stop when the largest remaining velocity "
+                 "correction |dx|max / dt is below this times the rest mesh's bounding-box "
+                 "diagonal per second (1e-9: the strict reference)")
+      ->capture_default_str();
+  sub.add_option("--quasi-newton-pairs", o.quasiNewtonPairs,
+                 "m > 0: between factorizations a step's iterations are L-BFGS steps on the "
+                 "kept factor with the last m iterate pairs (0: chord steps on the factor)")
+      ->capture_default_str();
+  sub.add_option("--min-dt", o.minDt,
+                 "Smallest step a failing step is halved to (default --dt / 64)")
+      ->check(positive());
+}
+
+// The frames: their rate, their images and the video.
+void addFrameArguments(CLI::App& sub, CommandFiles& files, SimulateOptions& o) {
+  sub.add_option("--fps", o.fps, "Frames per simulated second")
+      ->capture_default_str()
+      ->check(positive());
+  sub.add_option("--render-style", o.renderStyle,
+                 "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
+                 "shaded | reflection | isophote | displacement (coloured by the distance from "
+                 "the rest mesh) | plastic (coloured by the plastic strain; with "
+                 "--yield-curvature or --yield-strain) | none")
+      ->capture_default_str();
+  sub.add_option("--exaggerate", o.exaggerate,
+                 "Frame images draw rest + K (x - rest): small motions made visible (the frame "
+                 "meshes keep the true positions)")
+      ->capture_default_str()
+      ->check(positive());
+  sub.add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
+      ->capture_default_str()
+      ->check(inRange(32, 4096));
+  files.output("--video", o.video,
+               "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
+}
+
+// Fracture: the strain a face cracks at and the shell's thickness.
+void addFractureArguments(CLI::App& sub, SimulateOptions& o) {
+  sub.add_option("--fracture-strain", o.fractureStrain,
+                 "Fracture: after each step, a face whose largest principal fibre strain exceeds "
+                 "this cracks perpendicular to it (the mesh is cut; DIR/fragment-K.obj at the end)")
+      ->check(positive());
+  sub.add_option("--thickness", o.thickness,
+                 "Fracture: the shell's thickness h, the fibres at +-h/2 (default 0: membrane "
+                 "strain alone)");
+}
+
 }  // namespace
 
 void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
@@ -213,75 +300,10 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
                   "The pinned vertices follow a rigid motion: rotate:ax,ay,az,px,py,pz,omega "
                   "(axis, a point on it, rad/s) | translate:vx,vy,vz (velocity)");
   addLoadArguments(*sub, o.load);
-  sub->add_option("--self-contact", o.selfContact,
-                  "on: every vertex-face and edge-edge pair of the shell closer than "
-                  "--contact-offset repels (a log barrier), and no step lets two parts pass "
-                  "through each other (continuous collision detection); off: the shell may pass "
-                  "through itself")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"on", "off"}));
-  sub->add_option("--contact-offset", o.contactOffset,
-                  "Self-contact: the distance below which two parts of the shell repel (default: "
-                  "a quarter of the mean rest edge length)");
-  sub->add_option(
-         "--friction", o.friction,
-         "Coulomb friction coefficient mu >= 0 at every contact: the obstacles and the "
-         "shell's own (smoothed and lagged per step as in incremental potential contact; 0: "
-         "frictionless)")
-      ->capture_default_str();
-  sub->add_option("--integrator", o.integrator,
-                  "newmark (average acceleration: conserves energy) | backward-euler "
-                  "(dissipates) | central-difference (explicit)")
-      ->capture_default_str();
-  sub->add_option("--beta", o.beta, "newmark: β")->capture_default_str();
-  sub->add_option("--gamma", o.gamma, "newmark: γ")->capture_default_str();
-  sub->add_option("--damping", o.damping,
-                  "rayleigh:alpha,beta (C = alpha M + beta K, K the Hessian at rest) and/or "
-                  "bend:c (force -c K_bend(x) v: the rate of bending only; repeatable)");
-  sub->add_option("--dt", o.dt, "Time step (s)")->required()->check(positive());
-  sub->add_option("--duration", o.duration, "Simulated time (s)")->required()->check(positive());
-  sub->add_option("--fps", o.fps, "Frames per simulated second")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--render-style", o.renderStyle,
-                  "Each frame also as frames/frame-NNNNN.png, with the obstacles and the time: "
-                  "shaded | reflection | isophote | displacement (coloured by the distance from "
-                  "the rest mesh) | plastic (coloured by the plastic strain; with "
-                  "--yield-curvature or --yield-strain) | none")
-      ->capture_default_str();
-  sub->add_option("--exaggerate", o.exaggerate,
-                  "Frame images draw rest + K (x - rest): small motions made visible (the frame "
-                  "meshes keep the true positions)")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--render-size", o.renderSize, "Frame image size in pixels (square)")
-      ->capture_default_str()
-      ->check(inRange(32, 4096));
-  files->output("--video", o.video,
-                "An H.264 MP4 of the frame images at --fps (needs ffmpeg, Debian package ffmpeg)");
-  sub->add_option("--energy-tolerance", o.energyTolerance,
-                  "A step after which the total energy (plus the work done against damping) has "
-                  "grown by more than this fraction of the peak kinetic energy is halved; a run "
-                  "whose balance drifts more exits 3")
-      ->capture_default_str()
-      ->check(positive());
-  sub->add_option("--step-tolerance", o.stepTolerance,
-                  "A step's Newton iterations stop when the largest remaining velocity "
-                  "correction |dx|max / dt is below this times the rest mesh's bounding-box "
-                  "diagonal per second (1e-9: the strict reference)")
-      ->capture_default_str();
-  sub->add_option("--quasi-newton-pairs", o.quasiNewtonPairs,
-                  "m > 0: between factorizations a step's iterations are L-BFGS steps on the "
-                  "kept factor with the last m iterate pairs (0: chord steps on the factor)")
-      ->capture_default_str();
-  sub->add_option(
-         "--fracture-strain", o.fractureStrain,
-         "Fracture: after each step, a face whose largest principal fibre strain exceeds "
-         "this cracks perpendicular to it (the mesh is cut; DIR/fragment-K.obj at the end)")
-      ->check(positive());
-  sub->add_option("--thickness", o.thickness,
-                  "Fracture: the shell's thickness h, the fibres at +-h/2 (default 0: membrane "
-                  "strain alone)");
+  addContactArguments(*sub, o);
+  addTimeSteppingArguments(*sub, o);
+  addFrameArguments(*sub, *files, o);
+  addFractureArguments(*sub, o);
   addYieldArguments(*sub, o.plasticity);
   sub->add_option("--checkpoint", o.checkpointEvery,
                   "Every N steps, DIR/checkpoint.json: the state and the run so far (--resume)")
@@ -289,9 +311,6 @@ void registerSimulateCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--resume", o.resumeDir,
                   "Continue from DIR/checkpoint.json, made by a run with the same mesh and options "
                   "(--duration, --min-dt, the output and the frame images may differ)");
-  sub->add_option("--min-dt", o.minDt,
-                  "Smallest step a failing step is halved to (default --dt / 64)")
-      ->check(positive());
   files
       ->output("-o,--output", o.outputDir,
                "Output directory (created if missing; a previous simulation's files in it are "

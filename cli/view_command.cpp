@@ -73,30 +73,6 @@ void openPage(const std::string& page) {
               << " (set $BROWSER); the page is written\n";
 }
 
-// The field of the page's style at every frame of its meshes (reports/viewer_fields.h).
-void addFields(render::ViewerPageSpec& page, reports::ViewerField field,
-               const ViewCommandOptions& o, const modeling::Mesh& reference) {
-  switch (field) {
-    case reports::ViewerField::None:
-      return;
-    case reports::ViewerField::Curvature:
-      return reports::addMeanCurvatureFields(page, curvatureEnergy(o.curvatureEnergy));
-    case reports::ViewerField::Plastic:
-      return reports::addPlasticFields(page, o.inputs);
-    case reports::ViewerField::Angle:
-      return reports::addSmallestAngleFields(page);
-    case reports::ViewerField::Error:
-      return reports::addReferenceDistanceFields(
-          page, reference, std::filesystem::path(o.reference).filename().string());
-    case reports::ViewerField::Displacement:
-      for (const render::ViewerMesh& m : page.meshes)
-        if (reference.vertexCount() == 0 && m.frames.size() == 1)
-          throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
-      return reports::addDisplacementFields(page, reference.positions,
-                                            "--reference " + o.reference);
-  }
-}
-
 void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
   if (!endsWithHtml(o.output))
     throw InputError("--output '" + o.output + "': flexure view writes an HTML page (.html)");
@@ -133,7 +109,19 @@ void runViewCommand(ViewCommandOptions o, const GlobalOptions& global) {
     for (render::ViewerMesh& m : reports::readModesFolder(input, page.style))
       page.meshes.push_back(std::move(m));
   }
-  addFields(page, style.field, o, reference);
+  if (style.field == reports::ViewerField::Displacement)
+    for (const render::ViewerMesh& m : page.meshes)
+      if (reference.vertexCount() == 0 && m.frames.size() == 1)
+        throw InputError(m.name + ": --style displacement of a mesh needs --reference REST");
+  reports::ViewerFieldSources sources;
+  if (style.field == reports::ViewerField::Curvature)
+    sources.curvatureEnergy = &curvatureEnergy(o.curvatureEnergy);
+  sources.rest = reference.positions;
+  sources.restName = "--reference " + o.reference;
+  sources.reference = reference;
+  sources.referenceName = std::filesystem::path(o.reference).filename().string();
+  sources.folders = o.inputs;
+  reports::addFields(page, style.field, sources);
   page.title = "flexure view: " + o.inputs.front() + (o.inputs.size() > 1 ? " ..." : "");
   // Its own batch, committed here, so that the page is in place before --open shows it.
   modeling::OutputBatch batch;

@@ -7,6 +7,7 @@
 #include "modeling/errors.h"
 #include "modeling/mesh_info.h"
 #include "modeling/surface_distance.h"
+#include "reports/viewer_simulation.h"
 
 namespace flexure::reports {
 
@@ -45,6 +46,25 @@ std::string viewStyleNames() {
   for (const NamedStyle& s : namedStyles())
     names += (names.empty() ? "" : " | ") + std::string(s.name);
   return names;
+}
+
+void addFields(render::ViewerPageSpec& page, ViewerField field, const ViewerFieldSources& sources) {
+  switch (field) {
+    case ViewerField::None:
+      return;
+    case ViewerField::Curvature:
+      return addMeanCurvatureFields(page, sources.curvatureEnergy
+                                              ? *sources.curvatureEnergy
+                                              : curvature::defaultMeanCurvatureEnergy());
+    case ViewerField::Displacement:
+      return addDisplacementFields(page, sources.rest, sources.restName);
+    case ViewerField::Plastic:
+      return addPlasticFields(page, sources.folders);
+    case ViewerField::Angle:
+      return addSmallestAngleFields(page);
+    case ViewerField::Error:
+      return addReferenceDistanceFields(page, sources.reference, sources.referenceName);
+  }
 }
 
 void addMeanCurvatureFields(render::ViewerPageSpec& page, const curvature::EnergyEntry& energy) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "curvature/energy_registry.h"
 #include "modeling/mesh.h"
@@ -25,6 +26,20 @@ struct ViewStyle {
 ViewStyle parseViewStyle(const std::string& name);
 // The names parseViewStyle takes, "reflection | isophote | …".
 std::string viewStyleNames();
+
+// What the field styles read besides the meshes: each its own, unused by the others.
+struct ViewerFieldSources {
+  const curvature::EnergyEntry* curvatureEnergy = nullptr;  // curvature (null: the default)
+  modeling::Positions rest;          // displacement (empty: each mesh's first frame)
+  std::string restName;              // in displacement's messages
+  modeling::Mesh reference;          // error
+  std::string referenceName;         // error's legend
+  std::vector<std::string> folders;  // plastic: each mesh's simulation folder
+};
+
+// The field of `field` at every frame of the page's meshes (the functions below; nothing for
+// None), as `flexure view` and flexure.view both draw it.
+void addFields(render::ViewerPageSpec& page, ViewerField field, const ViewerFieldSources& sources);
 
 // The mean curvature H of `energy`'s kernel (as the renderer's curvature style) at every vertex
 // of every frame, on the diverging map; sets the page's field style and legend title.

@@ -35,28 +35,6 @@ struct ViewerArguments {
   std::string referenceName = "the reference";
 };
 
-// The field of the page's style at every frame of its meshes (reports/viewer_fields.h);
-// `folders` the plastic style's.
-void addFields(render::ViewerPageSpec& page, reports::ViewerField field, const ViewerArguments& a,
-               const std::vector<std::string>& folders) {
-  switch (field) {
-    case reports::ViewerField::None:
-      return;
-    case reports::ViewerField::Curvature:
-      return reports::addMeanCurvatureFields(page, curvature::defaultMeanCurvatureEnergy());
-    case reports::ViewerField::Displacement:
-      return reports::addDisplacementFields(page, a.rest.value_or(Positions()), "rest");
-    case reports::ViewerField::Plastic:
-      return reports::addPlasticFields(page, folders);
-    case reports::ViewerField::Angle:
-      return reports::addSmallestAngleFields(page);
-    case reports::ViewerField::Error:
-      return reports::addReferenceDistanceFields(
-          page, checkedMesh(a.reference.value().first, a.reference.value().second, "reference"),
-          a.referenceName);
-  }
-}
-
 // One mesh: its name, F, its frames (each #V by 3) and their times (empty: numbered); or a
 // `flexure modes` folder or a `flexure fair` report (the last element; the others empty): its
 // meshes, with their modes or the region outlined; or a simulation folder
@@ -101,7 +79,14 @@ py::bytes viewerPage(const std::vector<ViewerItem>& items, const ViewerArguments
     m.frameTimes = times;
     page.meshes.push_back(std::move(m));
   }
-  addFields(page, style.field, a, folders);
+  reports::ViewerFieldSources sources;
+  sources.rest = a.rest.value_or(Positions());
+  sources.restName = "rest";
+  if (a.reference)
+    sources.reference = checkedMesh(a.reference->first, a.reference->second, "reference");
+  sources.referenceName = a.referenceName;
+  sources.folders = std::move(folders);
+  reports::addFields(page, style.field, sources);
   page.validate();
   return py::bytes(render::viewerPageHtml(page));
 }
