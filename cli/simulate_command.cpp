@@ -234,9 +234,11 @@ void addTimeSteppingArguments(CLI::App& sub, SimulateOptions& o) {
                  "correction |dx|max / dt is below this times the rest mesh's bounding-box "
                  "diagonal per second (1e-9: the strict reference)")
       ->capture_default_str();
-  sub.add_option("--quasi-newton-pairs", o.quasiNewtonPairs,
-                 "m > 0: between factorizations a step's iterations are L-BFGS steps on the "
-                 "kept factor with the last m iterate pairs (0: chord steps on the factor)")
+  sub.add_option(
+         "--quasi-newton-pairs", o.quasiNewtonPairs,
+         "m > 0: between factorizations a step's iterations are L-BFGS steps on the "
+         "kept factor with the last m iterate pairs (0: chord steps on the factor, the strict "
+         "reference's)")
       ->capture_default_str();
   sub.add_option("--min-dt", o.minDt,
                  "Smallest step a failing step is halved to (default --dt / 64)")

@@ -108,7 +108,7 @@ Eigen::Vector3d momentum(const optimize::TimeStepper& stepper, const std::vector
 // so that a piece let go gains exactly the momentum of its weight (α, β: Rayleigh damping, for
 // (c)).
 FracturingDynamics pulledStrip(const Mesh& rest, double release, bool fractures = true,
-                               double alpha = 0.0, double beta = 0.0) {
+                               double alpha = 0.0, double beta = 0.0, int quasiNewtonPairs = 6) {
   optimize::ProblemOptions options;
   options.bending.discretization = curvature::Discretization::Hinge;
   options.membrane = curvature::MembraneOptions{};
@@ -126,6 +126,7 @@ FracturingDynamics pulledStrip(const Mesh& rest, double release, bool fractures 
   dynamics.pinGroups = {still, pulled};
   dynamics.rayleighMass = alpha;
   dynamics.rayleighStiffness = beta;
+  dynamics.quasiNewtonPairs = quasiNewtonPairs;
   optimize::FractureOptions fracture;
   fracture.fractureStrain = 0.01;
   fracture.thickness = 0.01;
@@ -186,17 +187,22 @@ void expectHeldAreTheGrips(const FracturingDynamics& dynamics, bool leftHeld, bo
 // falls freely, its momentum growing by M g (t − T), while the left one hangs from its grip.
 // Measured: in two pieces after step 36 (t = 0.18, 8 cuts), let go at 0.205; over the next 0.2 s
 // the momentum law holds to 2.6e-15 (M g (t − T) = 0.044 at the end), the grip's points leave the
-// pin's line by 0.05, the balance drifts 0.14 %.
+// pin's line by 0.05, the balance drifts 0.14 %. Chord steps (m = 0): a step on the factor F of
+// ∇²Φ, with F τ = W τ for the free piece's translations τ, cancels its momentum residual
+// exactly; an L-BFGS step does not, and where a piece is held its translation is not restored
+// (Objective::keepTranslationResidual), so with the default m = 6 the law holds to the step
+// tolerance only (measured 1.5e-9, 3.5e-8 of M g (t − T)).
 TEST(ReleaseWithFracture, AGripLetGoAfterTheTearIsTheSameMaterialPointsAndFallsFreely) {
   const Mesh rest = strip();
   const double area = restArea(rest);
-  FracturingDynamics reference = pulledStrip(rest, std::numeric_limits<double>::infinity());
+  const double never = std::numeric_limits<double>::infinity();
+  FracturingDynamics reference = pulledStrip(rest, never, true, 0.0, 0.0, 0);
   const int torn = stepUntil(reference, 200, [&] { return fragmentCount(reference) == 2; });
   ASSERT_EQ(fragmentCount(reference), 2) << "not torn in 1 s";
   const int releaseStep = torn + 5;
   const double release = releaseStep * kStep;
 
-  FracturingDynamics dynamics = pulledStrip(rest, release);
+  FracturingDynamics dynamics = pulledStrip(rest, release, true, 0.0, 0.0, 0);
   stepUntil(dynamics, releaseStep - 1, [] { return false; });
   stepUntil(reference, releaseStep - 1 - torn, [] { return false; });
   EXPECT_TRUE(dynamics.stepper().positions() == reference.stepper().positions());

@@ -150,7 +150,7 @@ class Simulation:
     largest remaining velocity correction ‖Δx‖∞/h is below ε_v l per second (l the rest mesh's
     bounding-box diagonal; 1e-9 is the strict reference; docs/commands/simulate.md "Step
     tolerance"); quasi_newton_pairs m: with m > 0, between factorizations a step's iterations are
-    L-BFGS steps on the kept factor with the last m iterate pairs (0, the default: chord steps on
+    L-BFGS steps on the kept factor with the last m iterate pairs (6 by default; 0: chord steps on
     the factor; docs/performance.md); energy_tolerance: a step over which the energy
     balance grows by more than this fraction of the peak kinetic energy is halved, and a run
     whose balance drifts more fails (``run`` raises NumericalError; ``balance()["verdict"]``).
@@ -188,7 +188,7 @@ class Simulation:
                  max_newton_iterations=30, step_tolerance=1e-4, yield_curvature=None,
                  yield_strain=None, hardening=0.0, fracture_strain=None, thickness=0.0,
                  energy_tolerance=0.05, self_contact=True, contact_offset=None, friction=0.0,
-                 mesh_obstacles=(), quasi_newton_pairs=0):
+                 mesh_obstacles=(), quasi_newton_pairs=6):
         V_rest = _checks.positions(V_rest, "V_rest")
         F = _checks.faces(F, V_rest.shape[0], "F")
         n = V_rest.shape[0]
