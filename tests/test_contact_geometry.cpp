@@ -475,6 +475,39 @@ TEST(ContactGeometry, BroadPhaseFindsEveryPairThatComesCloseDuringTheMotion) {
   }
 }
 
+// The candidates among some vertices are exactly the full broad phase's pairs with a primitive
+// touching one of them, in the same sorted lists: for a few marked vertices, for all and for none.
+TEST(ContactGeometry, BroadPhaseAmongVerticesIsTheFullPhaseRestricted) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (modeling::Mesh mesh : {crumpledSheet(random), randomTriangles(random, 40)}) {
+    const modeling::IndexPairs edges = meshEdges(mesh);
+    modeling::Positions dx(mesh.vertexCount(), 3);
+    for (int v = 0; v < mesh.vertexCount(); ++v)
+      dx.row(v) << 0.1 * unit(random), 0.1 * unit(random), 0.2 * unit(random);
+    const optimize::CandidatePairs all =
+        optimize::contactCandidates(mesh.positions, dx, mesh.triangles, edges, 0.02);
+    for (const double share : {0.1, 1.0, 0.0}) {
+      std::vector<bool> among(mesh.vertexCount());
+      for (int v = 0; v < mesh.vertexCount(); ++v) among[v] = 0.5 * (unit(random) + 1.0) < share;
+      const auto touches = [&](const auto& row) {
+        return std::any_of(row.data(), row.data() + row.size(), [&](int v) { return among[v]; });
+      };
+      optimize::CandidatePairs expected;
+      for (const auto& [v, f] : all.vertexFace)
+        if (among[v] || touches(mesh.triangles.row(f))) expected.vertexFace.push_back({v, f});
+      for (const auto& [e, g] : all.edgeEdge)
+        if (touches(edges.row(e)) || touches(edges.row(g))) expected.edgeEdge.push_back({e, g});
+      const optimize::CandidatePairs found =
+          optimize::contactCandidatesAmong(mesh.positions, dx, mesh.triangles, edges, 0.02, among);
+      EXPECT_EQ(found.vertexFace, expected.vertexFace) << "share " << share;
+      EXPECT_EQ(found.edgeEdge, expected.edgeEdge) << "share " << share;
+      if (share == 0.1) EXPECT_GT(found.vertexFace.size() + found.edgeEdge.size(), 0u);
+      if (share == 1.0) EXPECT_EQ(found.vertexFace.size(), all.vertexFace.size());
+    }
+  }
+}
+
 TEST(ContactGeometry, BroadPhaseRefusesMismatchedInput) {
   std::mt19937 random(1);
   const modeling::Mesh mesh = randomTriangles(random, 3);
@@ -488,6 +521,9 @@ TEST(ContactGeometry, BroadPhaseRefusesMismatchedInput) {
   modeling::Triangles bad = mesh.triangles;
   bad(0, 0) = 99;
   EXPECT_THROW(optimize::contactCandidates(mesh.positions, modeling::Positions(), bad, edges, 0.1),
+               InputError);
+  EXPECT_THROW(optimize::contactCandidatesAmong(mesh.positions, modeling::Positions(),
+                                                mesh.triangles, edges, 0.1, std::vector<bool>(2)),
                InputError);
 }
 

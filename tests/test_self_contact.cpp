@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -14,8 +15,10 @@
 
 #include "modeling/errors.h"
 #include "modeling/self_intersections.h"
+#include "modeling/stencils.h"
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/self_contact.h"
+#include "optimize/contact/continuous_collision.h"
 #include "optimize/dynamics/time_stepping.h"
 #include "optimize/inelastic/fracture.h"
 #include "optimize/inelastic/fracturing.h"
@@ -92,6 +95,70 @@ TEST(SelfContact, StackedSheetsBarrierDerivativesMatchFiniteDifferences) {
   EXPECT_GT(census.pairs, 10);
   EXPECT_LT(census.smallestDistance, layer);
   expectDerivativesMatch(contact, x);
+}
+
+// The smallest impact time (gap fraction 0.1, SelfContact::stepBound's) of every vertex–face and
+// edge–edge pair that shares no vertex, by brute force.
+double bruteForceBound(const modeling::Stencils& stencils, const Positions& x,
+                       const Positions& dx) {
+  const auto p = [&](int v) -> Eigen::Vector3d { return x.row(v).transpose(); };
+  const auto d = [&](int v) -> Eigen::Vector3d { return dx.row(v).transpose(); };
+  double bound = 1.0;
+  for (int v = 0; v < x.rows(); ++v)
+    for (Eigen::Index f = 0; f < stencils.faces.rows(); ++f) {
+      const auto t = stencils.faces.row(f);
+      if (t[0] == v || t[1] == v || t[2] == v) continue;
+      bound = std::min(bound, optimize::pointTriangleImpactTime(p(v), p(t[0]), p(t[1]), p(t[2]),
+                                                                d(v), d(t[0]), d(t[1]), d(t[2])));
+    }
+  for (Eigen::Index e = 0; e < stencils.edges.rows(); ++e)
+    for (Eigen::Index g = e + 1; g < stencils.edges.rows(); ++g) {
+      const int a = stencils.edges(e, 0), b = stencils.edges(e, 1);
+      const int c = stencils.edges(g, 0), q = stencils.edges(g, 1);
+      if (a == c || a == q || b == c || b == q) continue;
+      bound = std::min(
+          bound, optimize::edgeEdgeImpactTime(p(a), p(b), p(c), p(q), d(a), d(b), d(c), d(q)));
+    }
+  return bound;
+}
+
+// The step bound against brute force, two sheets 3 d̂ apart (d̂ a sixth of an edge): a small motion
+// (the kept candidates), a few vertices thrown at the other sheet (the candidates of the fast
+// vertices' swept boxes) and every vertex moving by up to half the sheet (a wild motion, cut
+// first): the first two exactly the brute-force bound, the wild one feasible — at most the brute
+// force bound, and over the motion it allows no pair comes closer than a tenth of its distance.
+TEST(SelfContact, StepBoundsEqualBruteForceAndAWildMotionIsCutFeasibly) {
+  const double layer = 0.02;
+  const Mesh rest = twoSheets(8, {0.0, 0.0, 1.0});  // apart at rest: nothing exempt
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  const SelfContact contact(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+  const int half = rest.vertexCount() / 2;
+  Positions x = rest.positions;
+  x.bottomRows(half).col(2).setConstant(3.0 * layer);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto randomMotion = [&](double size) {
+    Positions dx(x.rows(), 3);
+    for (Eigen::Index v = 0; v < x.rows(); ++v)
+      dx.row(v) << size * unit(random), size * unit(random), size * unit(random);
+    return dx;
+  };
+  const Positions small = randomMotion(0.2 * layer);
+  Positions thrown = randomMotion(0.2 * layer);
+  for (int v : {half + 20, half + 40, half + 41, half + 60}) thrown(v, 2) = -5.0 * layer;
+  const Positions wild = randomMotion(0.5);
+  for (const Positions* dx : std::initializer_list<const Positions*>{&small, &thrown}) {
+    const double exact = bruteForceBound(stencils, x, *dx);
+    EXPECT_EQ(contact.stepBound(x, *dx), exact);
+  }
+  EXPECT_EQ(contact.stepBound(x, small), 1.0);
+  EXPECT_LT(contact.stepBound(x, thrown), 1.0);
+  const double cut = contact.stepBound(x, wild);
+  std::printf("wild motion: bound %.3g, brute force %.3g\n", cut,
+              bruteForceBound(stencils, x, wild));
+  EXPECT_GT(cut, 0.0);
+  EXPECT_LE(cut, bruteForceBound(stencils, x, wild));
+  EXPECT_EQ(bruteForceBound(stencils, x, cut * wild), 1.0);
 }
 
 // Two triangles whose nearest features are two edges 1e-3 rad from parallel (their mollifier

@@ -169,18 +169,24 @@ class SelfContact {
   const std::vector<std::pair<ContactPair, double>>& activePairs(const Positions& x) const;
   // The candidate pairs (exempt ones left out) that can come within d̂ at x, or whose impact
   // time (stepBound) can be < 1 while x moves to x + dx (dx empty: static). Distances do not change
-  // under a common translation, so the rule measures motion after removing one: ρ(x) is the
-  // largest half-range over the vertices of a coordinate of x − x_k (x_k: where the candidates
-  // were kept), so x is x_k moved by one translation and by at most ρ per coordinate; M(dx) is
-  // max_v |dx_v − c| with c the coordinates' midranges of dx, which bounds ACCD's rate l ≤ 3 M
-  // (continuous_collision.h: each |dx_i − p̄| ≤ ¾ max_j |dx_i − dx_j| ≤ 1.5 M).
-  // The kept candidates are the pairs within d̂ + 2r of x_k (boxes inflated by (d̂ + 2r)/2: two
-  // boxes so inflated overlap whenever their primitives are within d̂ + 2r along every axis); any
-  // other pair is at x more than d̂ + 2r − 2ρ apart along an axis. They serve x when ρ(x) ≤ r (no
-  // other pair within d̂), and a motion dx besides when 3 M(dx) ≤ 0.99 (1 − s) (d̂ + 2r − 2ρ(x)),
-  // so that every other pair's ACCD reaches t = 1 in its first step (s: ACCD's gap fraction).
+  // under a common translation, so the rule measures motion after removing one: M(u) is
+  // max_v |u_v − c| with c the coordinates' midranges of u; ρ(x) = M(x − x_k) (x_k: where the
+  // candidates were kept), so x is x_k moved by one translation and each vertex by at most ρ
+  // besides, and every point of a primitive too (a convex combination of its vertices); M(dx)
+  // bounds ACCD's rate l ≤ 3 M (continuous_collision.h: each |dx_i − p̄| ≤ ¾ max_j |dx_i − dx_j|
+  // ≤ 1.5 M). The kept candidates are the pairs within distance d̂ + 2r of x_k (the broad phase's
+  // boxes inflated by (d̂ + 2r)/2, then each pair's distance; on a smooth sheet with d̂ a quarter
+  // edge that leaves out the ring neighbours a box test keeps); any other pair is at x more than
+  // d̂ + 2r − 2ρ apart. They serve x when ρ(x) ≤ r (no other pair within d̂), and a motion dx
+  // besides when 3 M(dx) ≤ 0.99 (1 − s) (d̂ + 2r − 2ρ(x)), so that every other pair's ACCD reaches
+  // t = 1 in its first step (s: ACCD's gap fraction).
   // Otherwise a new broad phase at x keeps the pairs with r = max(d̂/2, M, the r the motion needs),
-  // or, when that r exceeds d̂/2, returns the pairs whose swept boxes overlap instead, not kept.
+  // or, when that r exceeds d̂/2 (a long motion), returns, not kept, the kept pairs (kept anew at
+  // x with r = d̂/2 unless they serve it) and the pairs whose swept boxes overlap among those with
+  // a fast vertex (fastVertices): every other pair's vertices are slow, so its ACCD rate is
+  // within that bound and its impact time 1, as above (on the 10 000-vertex drape a long motion's
+  // swept boxes paired about 170 000 primitives, most of them ring neighbours no step brings near;
+  // a wild motion is cut before, boundOver).
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
   // A pair's stiffness: κ, or κ_o with an obstacle, times d̂/ℓ_k when inset (the force of a pair
   // at a given fraction of its layer is then the same as an ordinary pair's).
@@ -192,6 +198,13 @@ class SelfContact {
   bool ignored(const ContactPair& pair) const;
   // Whether the kept candidates serve x and the motion dx (nearbyPairs' rule).
   bool keptServe(const Positions& x, const Positions& dx) const;
+  // The vertices too fast for the kept candidates, 3 |dx_v − c| > 0.99 (1 − s) (d̂ + 2r − 2ρ(x))
+  // (nearbyPairs' rule; ACCD's l ≤ 3 max |dx_v − c| over a pair's vertices holds for any centre
+  // c, here the coordinates' medians, which a few far vertices do not pull), the candidates kept
+  // anew at x with r = d̂/2 unless they serve it.
+  std::vector<bool> fastVertices(const Positions& x, const Positions& dx) const;
+  // Keeps the candidates within d̂ + 2 margin of x (nearbyPairs' rule, r = margin).
+  void keep(const Positions& x, double margin) const;
   // Sets moved_ to each vertex's distance at x from where the candidates were kept, after
   // removing the translation of the coordinates' midranges.
   void measureMoves(const Positions& x) const;
@@ -221,8 +234,11 @@ class SelfContact {
   // Whether a pair's primitives are the shell's (each of the two), and whether the pair counts.
   std::array<bool, 2> onShell(const ContactPair& pair) const;
   bool counts(const ContactPair& pair) const;
+  // The broad phase's counted pairs (contact/broad_phase.h), those with a vertex in *among only
+  // when given.
   std::vector<ContactPair> countedCandidates(const Positions& x, const Positions& dx,
-                                             double inflation) const;
+                                             double inflation,
+                                             const std::vector<bool>* among = nullptr) const;
   double boundOver(const Positions& x, const Positions& dx, ContactPair* limiting) const;
   // Which obstacle the collision mesh's vertex / face / edge belongs to (−1: the shell's).
   int ownerOf(const std::vector<int>& starts, int index) const;

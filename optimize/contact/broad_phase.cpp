@@ -253,4 +253,63 @@ CandidatePairs contactCandidates(const Eigen::Ref<const modeling::Positions>& x,
   return pairs;
 }
 
+CandidatePairs contactCandidatesAmong(const Eigen::Ref<const modeling::Positions>& x,
+                                      const Eigen::Ref<const modeling::Positions>& dx,
+                                      const modeling::Triangles& faces,
+                                      const modeling::IndexPairs& edges, double inflation,
+                                      const std::vector<bool>& among) {
+  checkInput(x, dx, faces, edges, inflation);
+  if (among.size() != static_cast<std::size_t>(x.rows()))
+    throw InputError("contact candidates: " + std::to_string(among.size()) + " vertex flags for " +
+                     std::to_string(x.rows()) + " vertices");
+  const auto touches = [&](const auto& row) {
+    for (Eigen::Index i = 0; i < row.size(); ++i)
+      if (among[row[i]]) return true;
+    return false;
+  };
+  std::vector<Box> faceBoxes(faces.rows()), edgeBoxes(edges.rows()), vertexBoxes(x.rows());
+  for (int f = 0; f < faces.rows(); ++f)
+    faceBoxes[f] = motionBox<3>(x, dx, faces.row(f).data(), inflation);
+  for (int e = 0; e < edges.rows(); ++e)
+    edgeBoxes[e] = motionBox<2>(x, dx, edges.row(e).data(), inflation);
+  for (int v = 0; v < x.rows(); ++v) vertexBoxes[v] = motionBox<1>(x, dx, &v, inflation);
+
+  // Vertex–face: a vertex of `among` against every face, then every other vertex against the
+  // faces that touch `among` (found from those faces' side).
+  CandidatePairs pairs;
+  const BoxGrid faceGrid(faceBoxes), vertexGrid(vertexBoxes);
+  for (int v = 0; v < x.rows(); ++v)
+    if (among[v])
+      overlapping(
+          faceGrid, faceBoxes, vertexBoxes[v], -1,
+          [&](int f) { return !shareVertex(&v, 1, faces.row(f).data(), 3); },
+          [&](int f) {
+            pairs.vertexFace.push_back({v, f});
+          });
+  for (int f = 0; f < faces.rows(); ++f)
+    if (touches(faces.row(f)))
+      overlapping(
+          vertexGrid, vertexBoxes, faceBoxes[f], -1,
+          [&](int v) { return !among[v] && !shareVertex(&v, 1, faces.row(f).data(), 3); },
+          [&](int v) {
+            pairs.vertexFace.push_back({v, f});
+          });
+  // Edge–edge: each edge touching `among` against every edge, a pair of two such edges once.
+  const BoxGrid edgeGrid(edgeBoxes);
+  for (int e = 0; e < edges.rows(); ++e)
+    if (touches(edges.row(e)))
+      overlapping(
+          edgeGrid, edgeBoxes, edgeBoxes[e], -1,
+          [&](int g) {
+            return (g > e || !touches(edges.row(g))) &&
+                   !shareVertex(edges.row(e).data(), 2, edges.row(g).data(), 2);
+          },
+          [&](int g) {
+            pairs.edgeEdge.push_back({std::min(e, g), std::max(e, g)});
+          });
+  std::sort(pairs.vertexFace.begin(), pairs.vertexFace.end());
+  std::sort(pairs.edgeEdge.begin(), pairs.edgeEdge.end());
+  return pairs;
+}
+
 }  // namespace flexure::optimize

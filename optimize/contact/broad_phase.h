@@ -32,4 +32,13 @@ CandidatePairs contactCandidates(const Eigen::Ref<const modeling::Positions>& x,
                                  const modeling::Triangles& faces,
                                  const modeling::IndexPairs& edges, double inflation);
 
+// The same candidates restricted to the pairs with a vertex in `among` (#V flags): a primitive
+// touching one of them on either side. O(n) for the boxes, and queries for the primitives that
+// touch `among` only, so a motion in which few vertices move far costs little beyond the boxes.
+CandidatePairs contactCandidatesAmong(const Eigen::Ref<const modeling::Positions>& x,
+                                      const Eigen::Ref<const modeling::Positions>& dx,
+                                      const modeling::Triangles& faces,
+                                      const modeling::IndexPairs& edges, double inflation,
+                                      const std::vector<bool>& among);
+
 }  // namespace flexure::optimize
