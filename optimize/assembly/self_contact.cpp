@@ -362,28 +362,32 @@ constexpr double kImpactGap = 0.1;
 // start distance has impact time 1 (its first step reaches t = 1 with room for rounding).
 constexpr double kFirstStepMargin = 0.99;
 // A wild motion: more than this share of the vertices fast (SelfContact::fastVertices). Measured
-// on the 10 000-vertex hinge drape with self-contact (50 steps, collision detection seconds, run
-// seconds): 1/2 8.2, 28.2; 1/8 3.8, 21.2 (without the cut 18.2, 40.6; self-contact off 13.8).
+// on the 10 000-vertex hinge drape with self-contact (50 steps, one run each; detection seconds,
+// run seconds): 1/2 8.2, 28.2; 1/8 3.8, 21.2 (without the cut 18.2, 40.6; self-contact off 13.8).
 constexpr double kWildShare = 0.125;
 // Its cut, below the largest at which no vertex is fast (room for rounding).
 constexpr double kWildCut = 0.999;
+
+double SelfContact::neededMargin(double motion) const {
+  return 0.5 * (kRateBound * motion / (kFirstStepMargin * (1.0 - kImpactGap)) - layer_);
+}
+
+double SelfContact::rateAllowance(double rho) const {
+  return kFirstStepMargin * (1.0 - kImpactGap) * (layer_ + 2.0 * (keptMargin_ - rho));
+}
 
 bool SelfContact::keptServe(const Positions& x, const Positions& dx) const {
   if (keptAt_.rows() != x.rows()) return false;
   const double rho = relativeMotion(x - keptAt_);
   if (!(rho <= keptMargin_)) return false;
-  return dx.size() == 0 ||
-         kRateBound * relativeMotion(dx) <=
-             kFirstStepMargin * (1.0 - kImpactGap) * (layer_ + 2.0 * (keptMargin_ - rho));
+  return dx.size() == 0 || kRateBound * relativeMotion(dx) <= rateAllowance(rho);
 }
 
 const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
                                                          const Positions& dx) const {
   if (keptServe(x, dx)) return kept_;
   const double motion = dx.size() == 0 ? 0.0 : relativeMotion(dx);
-  // The r that makes 3 M ≤ 0.99 (1 − s) (d̂ + 2r) at x_k = x.
-  const double needed =
-      0.5 * (kRateBound * motion / (kFirstStepMargin * (1.0 - kImpactGap)) - layer_);
+  const double needed = neededMargin(motion);
   if (needed <= kLongestKeptMotion * layer_) {
     keep(x, std::max({0.5 * layer_, motion, needed}));
     return kept_;
@@ -409,8 +413,7 @@ const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
 
 std::vector<bool> SelfContact::fastVertices(const Positions& x, const Positions& dx) const {
   if (!keptServe(x, Positions())) keep(x, 0.5 * layer_);
-  const double rho = relativeMotion(x - keptAt_);
-  const double reach = kFirstStepMargin * (1.0 - kImpactGap) * (layer_ + 2.0 * (keptMargin_ - rho));
+  const double reach = rateAllowance(relativeMotion(x - keptAt_));
   const Eigen::RowVector3d centre = median(dx);
   std::vector<bool> fast(x.rows());
   for (Eigen::Index v = 0; v < x.rows(); ++v)
@@ -639,17 +642,24 @@ double SelfContact::boundOver(const Positions& x, const Positions& dx,
   // pairs alone bound it: a smaller bound than the exact one, still feasible (and the line search
   // then starts there).
   const double motion = dx.size() == 0 ? 0.0 : relativeMotion(dx);
-  if (kRateBound * motion > kFirstStepMargin * (1.0 - kImpactGap) * 2.0 * layer_) {
-    const std::vector<bool> fast = fastVertices(x, dx);
+  double bound = 1.0;
+  if (!keptServe(x, dx) && neededMargin(motion) > kLongestKeptMotion * layer_) {
+    const std::vector<bool> fast = fastVertices(x, dx);  // the kept pairs serve x from here on
     if (kWildShare * x.rows() < std::count(fast.begin(), fast.end(), true)) {
-      const double rho = relativeMotion(x - keptAt_);
-      const double reach =
-          kFirstStepMargin * (1.0 - kImpactGap) * (layer_ + 2.0 * (keptMargin_ - rho));
-      const double cut = kWildCut * reach / (kRateBound * motion);
+      const double cut =
+          kWildCut * rateAllowance(relativeMotion(x - keptAt_)) / (kRateBound * motion);
+      bound = cut * pairsBound(x, cut * dx, limiting);
       detectionSeconds_ += secondsSince(start);
-      return cut * boundOver(x, cut * dx, limiting);
+      return bound;
     }
   }
+  bound = pairsBound(x, dx, limiting);
+  detectionSeconds_ += secondsSince(start);
+  return bound;
+}
+
+double SelfContact::pairsBound(const Positions& x, const Positions& dx,
+                               ContactPair* limiting) const {
   double bound = 1.0;
   const std::vector<ContactPair>& pairs = nearbyPairs(x, dx);
   const bool kept = &pairs == &kept_;
@@ -672,7 +682,6 @@ double SelfContact::boundOver(const Positions& x, const Positions& dx,
     if (t < bound && limiting != nullptr) *limiting = pair;
     bound = std::min(bound, t);
   }
-  detectionSeconds_ += secondsSince(start);
   return bound;
 }
 

@@ -198,6 +198,11 @@ class SelfContact {
   bool ignored(const ContactPair& pair) const;
   // Whether the kept candidates serve x and the motion dx (nearbyPairs' rule).
   bool keptServe(const Positions& x, const Positions& dx) const;
+  // The ACCD rate under which a pair the kept candidates leave out has impact time 1 at x with
+  // ρ(x) = rho: 0.99 (1 − s) (d̂ + 2r − 2ρ); and the r that makes a motion M's 3 M equal it at
+  // x_k = x (nearbyPairs' rule).
+  double rateAllowance(double rho) const;
+  double neededMargin(double motion) const;
   // The vertices too fast for the kept candidates, 3 |dx_v − c| > 0.99 (1 − s) (d̂ + 2r − 2ρ(x))
   // (nearbyPairs' rule; ACCD's l ≤ 3 max |dx_v − c| over a pair's vertices holds for any centre
   // c, here the coordinates' medians, which a few far vertices do not pull), the candidates kept
@@ -239,7 +244,10 @@ class SelfContact {
   std::vector<ContactPair> countedCandidates(const Positions& x, const Positions& dx,
                                              double inflation,
                                              const std::vector<bool>* among = nullptr) const;
+  // stepBound over the collision mesh's x and dx: a wild motion (many vertices fast) cut first;
+  // pairsBound, the smallest impact time over nearbyPairs.
   double boundOver(const Positions& x, const Positions& dx, ContactPair* limiting) const;
+  double pairsBound(const Positions& x, const Positions& dx, ContactPair* limiting) const;
   // Which obstacle the collision mesh's vertex / face / edge belongs to (−1: the shell's).
   int ownerOf(const std::vector<int>& starts, int index) const;
   std::string vertexText(int v) const;

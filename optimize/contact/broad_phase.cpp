@@ -63,6 +63,17 @@ Box motionBox(const Eigen::Ref<const modeling::Positions>& x,
   return box;
 }
 
+// The motion boxes of the rows of `primitives` (faces: N = 3, edges: N = 2; row-major indices).
+template <int N, class Rows>
+std::vector<Box> motionBoxes(const Eigen::Ref<const modeling::Positions>& x,
+                             const Eigen::Ref<const modeling::Positions>& dx,
+                             const Rows& primitives, double inflation) {
+  std::vector<Box> boxes(primitives.rows());
+  for (Eigen::Index k = 0; k < primitives.rows(); ++k)
+    boxes[k] = motionBox<N>(x, dx, primitives.row(k).data(), inflation);
+  return boxes;
+}
+
 bool shareVertex(const int* a, int aCount, const int* b, int bCount) {
   for (int i = 0; i < aCount; ++i)
     for (int j = 0; j < bCount; ++j)
@@ -219,11 +230,8 @@ CandidatePairs contactCandidates(const Eigen::Ref<const modeling::Positions>& x,
                                  const modeling::Triangles& faces,
                                  const modeling::IndexPairs& edges, double inflation) {
   checkInput(x, dx, faces, edges, inflation);
-  std::vector<Box> faceBoxes(faces.rows()), edgeBoxes(edges.rows());
-  for (int f = 0; f < faces.rows(); ++f)
-    faceBoxes[f] = motionBox<3>(x, dx, faces.row(f).data(), inflation);
-  for (int e = 0; e < edges.rows(); ++e)
-    edgeBoxes[e] = motionBox<2>(x, dx, edges.row(e).data(), inflation);
+  const std::vector<Box> faceBoxes = motionBoxes<3>(x, dx, faces, inflation);
+  const std::vector<Box> edgeBoxes = motionBoxes<2>(x, dx, edges, inflation);
 
   // Each vertex's and each edge's pairs are found together and sorted among themselves: the
   // lists come out sorted.
@@ -267,11 +275,9 @@ CandidatePairs contactCandidatesAmong(const Eigen::Ref<const modeling::Positions
       if (among[row[i]]) return true;
     return false;
   };
-  std::vector<Box> faceBoxes(faces.rows()), edgeBoxes(edges.rows()), vertexBoxes(x.rows());
-  for (int f = 0; f < faces.rows(); ++f)
-    faceBoxes[f] = motionBox<3>(x, dx, faces.row(f).data(), inflation);
-  for (int e = 0; e < edges.rows(); ++e)
-    edgeBoxes[e] = motionBox<2>(x, dx, edges.row(e).data(), inflation);
+  const std::vector<Box> faceBoxes = motionBoxes<3>(x, dx, faces, inflation);
+  const std::vector<Box> edgeBoxes = motionBoxes<2>(x, dx, edges, inflation);
+  std::vector<Box> vertexBoxes(x.rows());
   for (int v = 0; v < x.rows(); ++v) vertexBoxes[v] = motionBox<1>(x, dx, &v, inflation);
 
   // Vertex–face: a vertex of `among` against every face, then every other vertex against the

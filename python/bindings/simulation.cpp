@@ -73,7 +73,7 @@ struct SimulationArguments : MembraneFields {
   bool selfContact = true;
   double contactOffset = 0.0;  // d̂; 0: the rule's
   std::string integrator = "newmark";
-  double beta = 0.25, gamma = 0.5;
+  double beta = optimize::DynamicsOptions().beta, gamma = optimize::DynamicsOptions().gamma;
   double rayleighMass = 0.0, rayleighStiffness = 0.0, bendingDamping = 0.0;
   // The pins' rigid motion (optimize::PinMotion): "none", "rotate" (about `axis` through
   // `point` at `omega` rad/s) or "translate" (at `velocity`).
@@ -84,7 +84,7 @@ struct SimulationArguments : MembraneFields {
   // Pinned groups, each with its own motion (instead of pinned and pinMotion; the groups are
   // disjoint, DynamicsOptions::validatePinGroups).
   std::vector<PinGroupArguments> pinGroups;
-  int maxNewtonIterations = 30;
+  int maxNewtonIterations = optimize::DynamicsOptions().maxNewtonIterations;
   double stepTolerance = optimize::DynamicsOptions().stepTolerance;  // ε_v
   int quasiNewtonPairs = optimize::DynamicsOptions().quasiNewtonPairs;
   double energyTolerance = optimize::DynamicsOptions().energyTolerance;

@@ -263,3 +263,15 @@ def test_backward_euler_dissipates_without_failing(plate):
     balance = s.balance()
     assert balance["verdict"] == "dissipated" and balance["failure"] is None
     assert balance["relative_drift"] > 0.05
+
+
+def test_time_stepping_defaults_are_the_library_s():
+    # Simulation's keyword defaults restate DynamicsOptions' (the arguments start from them): a
+    # change of the library's default must reach Python too.
+    import inspect
+    from flexure import _flexure
+    defaults = inspect.signature(flexure.Simulation.__init__).parameters
+    library = _flexure.SimulationArguments()
+    for name in ("step_tolerance", "quasi_newton_pairs", "energy_tolerance",
+                 "max_newton_iterations", "beta", "gamma"):
+        assert defaults[name].default == getattr(library, name), name
