@@ -629,7 +629,7 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
       ->capture_default_str();
   app.add_option("--steps", o.steps, "Steps per energy")->capture_default_str();
   app.add_flag("--inelastic", o.inelastic,
-               "Elastic vs plastic vs fracture runs of the drape, nothing yielding (issue #29), "
+               "Elastic vs plastic vs fracture runs of the drape, nothing yielding, "
                "and the parts of the rebuild after a cut");
   app.add_flag("--self-contact", o.selfContact,
                "The drape with self-contact off and on, alternated --repeat times (best kept): "

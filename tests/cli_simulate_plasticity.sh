@@ -57,6 +57,28 @@ p = json.load(open("turned/report.json"))["plasticity"]
 assert p["element"] == "face" and p["yielded_elements"] > 0 and p["plastic_dissipation"] > 0, p
 PY
 
+# A plastic can (a vertical cylinder of height 1) pressed onto the floor by its top ring, pinned
+# and moving down at 0.5 for 0.8 s: every step converges (exit 0), most faces yield, the wall
+# spreads on the floor without crossing it or itself (self-contact on: the smallest distance
+# between repelling primitives stays positive, and some pairs repel), and the top ends where the
+# pins put it (z = 0.5 − 0.4).
+run 0 mesh --family cylinder --n 32 -o can.obj --quiet
+run 0 simulate --rest can.obj --energy hinge --stiffness 0.2 --membrane stvk --young 1000 \
+  --gravity 0,0,-9.81 --obstacle plane:0,0,1,-0.52 --pin "box:-1,1,-1,1,0.49,1@translate:0,0,-0.5" \
+  --yield-curvature 1 --damping rayleigh:4,0 --dt 0.005 --duration 0.8 --fps 10 \
+  --render-style none -o pressed
+python3 - <<'PY' || fail "can pressed by pins: report or last frame"
+import json
+r = json.load(open("pressed/report.json"))
+assert r["completed"] and not r["partial"] and r["frames"] == 9, r["failure"]
+p, c = r["plasticity"], r["contact"]
+assert p["yielded_elements"] > p["elements"] / 2, p["yielded_elements"]
+assert c["self_contact"] and c["pairs_per_step"]["peak"] > 0 and c["smallest_distance"] > 0, c
+assert r["smallest_obstacle_distance"] > 0, r["smallest_obstacle_distance"]
+z = [float(l.split()[3]) for l in open("pressed/frame-00008.obj") if l.startswith("v ")]
+assert min(z) > -0.52 and abs(max(z) - 0.1) < 1e-9, (min(z), max(z))
+PY
+
 # Nothing reaches a yield curvature of 1e6: the same frames, byte for byte, as without plasticity;
 # and without it no plasticity section nor column.
 run 0 simulate --rest flat.obj --init bent.obj --energy midedge --membrane stvk --dt 0.01 \
