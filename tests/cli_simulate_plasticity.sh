@@ -59,9 +59,10 @@ PY
 
 # A plastic can (a vertical cylinder of height 1) pressed onto the floor by its top ring, pinned
 # and moving down at 0.5 for 0.8 s: every step converges (exit 0), most faces yield, the wall
-# spreads on the floor without crossing it or itself (self-contact on: the smallest distance
-# between repelling primitives stays positive, and some pairs repel), and the top ends where the
-# pins put it (z = 0.5 − 0.4).
+# ends above the floor, self-contact pairs repel and the smallest distance between repelling
+# primitives (and to the floor) stays positive at every step's end, and the top ends where the
+# pins put it (z = 0.5 − 0.4). (The exact face-pair crossing test of self-contact runs is in
+# tests/test_self_contact.cpp; the command has no crossing check of its own.)
 run 0 mesh --family cylinder --n 32 -o can.obj --quiet
 run 0 simulate --rest can.obj --energy hinge --stiffness 0.2 --membrane stvk --young 1000 \
   --gravity 0,0,-9.81 --obstacle plane:0,0,1,-0.52 --pin "box:-1,1,-1,1,0.49,1@translate:0,0,-0.5" \
