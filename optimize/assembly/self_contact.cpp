@@ -642,18 +642,14 @@ double SelfContact::boundOver(const Positions& x, const Positions& dx,
   // pairs alone bound it: a smaller bound than the exact one, still feasible (and the line search
   // then starts there).
   const double motion = dx.size() == 0 ? 0.0 : relativeMotion(dx);
-  double bound = 1.0;
+  double cut = 1.0;
   if (!keptServe(x, dx) && neededMargin(motion) > kLongestKeptMotion * layer_) {
     const std::vector<bool> fast = fastVertices(x, dx);  // the kept pairs serve x from here on
-    if (kWildShare * x.rows() < std::count(fast.begin(), fast.end(), true)) {
-      const double cut =
-          kWildCut * rateAllowance(relativeMotion(x - keptAt_)) / (kRateBound * motion);
-      bound = cut * pairsBound(x, cut * dx, limiting);
-      detectionSeconds_ += secondsSince(start);
-      return bound;
-    }
+    if (kWildShare * x.rows() < std::count(fast.begin(), fast.end(), true))
+      cut = kWildCut * rateAllowance(relativeMotion(x - keptAt_)) / (kRateBound * motion);
   }
-  bound = pairsBound(x, dx, limiting);
+  const double bound =
+      cut < 1.0 ? cut * pairsBound(x, cut * dx, limiting) : pairsBound(x, dx, limiting);
   detectionSeconds_ += secondsSince(start);
   return bound;
 }
