@@ -418,7 +418,7 @@ TEST(SelfContact, OpenLipsMovesTwinsIntoTheirOwnSidesAtRestAndInPlace) {
   shell.heldVertex = {false, false, false, true, false, false};
   const double gap = 1e-2;
   const Positions restBefore = shell.rest.positions, before = shell.positions;
-  EXPECT_EQ(optimize::openLips(shell, gap), 3);  // 0, 1, 2; the held 3 stays
+  EXPECT_EQ(optimize::openLips(shell, shell.rest.positions, gap), 3);  // 0, 1, 2; the held 3 stays
   for (int v : {0, 1, 2}) {
     EXPECT_NEAR((shell.rest.positions.row(v) - restBefore.row(v)).norm(), gap, 1e-15);
     EXPECT_NEAR((shell.positions.row(v) - before.row(v)).norm(), gap, 1e-15);
@@ -432,6 +432,38 @@ TEST(SelfContact, OpenLipsMovesTwinsIntoTheirOwnSidesAtRestAndInPlace) {
       EXPECT_NEAR((shell.positions.row(a) - shell.positions.row(b)).norm(),
                   (shell.rest.positions.row(a) - shell.rest.positions.row(b)).norm(), 1e-12);
     }
+}
+
+// A crack through an earlier lip: the earlier lip's vertex on the cracked side becomes twins (same
+// rest point, same position) that open, at rest from the run's opened rest and in place alike;
+// the other side's vertex, apart already, keeps both its rest and its position.
+TEST(SelfContact, OpenLipsOpensACrackThroughAnEarlierLip) {
+  // Around the rest point O: the earlier lip 0 = 1 (above, y > 0) | 2 (below); the new crack
+  // runs from O up along x = 0 through the twins 5 | 6, splitting the upper side into faces
+  // (0, 3, 5) at x > 0 and (1, 6, 4) at x < 0.
+  optimize::FracturedShell shell;
+  shell.rest.positions.resize(9, 3);
+  shell.rest.positions << 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0.5, 0, -1, 0.5, 0, 0, 1, 0, 0, 1, 0, 1, -1,
+      0, -1, -1, 0;
+  shell.rest.triangles.resize(3, 3);
+  shell.rest.triangles << 0, 3, 5, 1, 6, 4, 2, 7, 8;
+  const double gap = 1e-2;
+  Positions carriedRest = shell.rest.positions;  // the earlier cut opened 0 = 1 and 2 at rest
+  carriedRest.row(0) = carriedRest.row(1) = Eigen::RowVector3d(0, gap, 0);
+  carriedRest.row(2) = Eigen::RowVector3d(0, -gap, 0);
+  const Eigen::RowVector3d moved(2, 0, 1);
+  shell.positions = carriedRest.rowwise() + moved;  // the run translated the shell
+  const Positions before = shell.positions;
+  EXPECT_EQ(optimize::openLips(shell, carriedRest, gap), 4);  // 0, 1, 5, 6
+  for (int v : {0, 1, 5, 6}) {
+    EXPECT_NEAR((shell.rest.positions.row(v) - carriedRest.row(v)).norm(), gap, 1e-15);
+    EXPECT_LT((shell.positions.row(v) - shell.rest.positions.row(v) - moved).norm(), 1e-15);
+  }
+  EXPECT_GT(shell.rest.positions(0, 0), 0.0);  // into its own side of the new crack
+  EXPECT_LT(shell.rest.positions(1, 0), 0.0);
+  EXPECT_EQ(shell.rest.positions.row(2), carriedRest.row(2));
+  EXPECT_EQ(shell.positions.row(2), before.row(2));
+  EXPECT_THROW(optimize::openLips(shell, carriedRest.topRows(8), gap), InputError);
 }
 
 // A pinned sheet punctured by a small box mesh moving through it at 1 (ε_f = 0.002): it tears, and

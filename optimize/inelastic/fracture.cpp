@@ -462,27 +462,36 @@ int moveIntoFans(const std::vector<int>& twins, const modeling::Triangles& faces
 
 }  // namespace
 
-int openLips(FracturedShell& shell, double gap) {
-  modeling::Positions& rest = shell.rest.positions;
+int openLips(FracturedShell& shell, const modeling::Positions& carriedRest, double gap) {
+  const modeling::Positions& cutRest = shell.rest.positions;  // lips coincide
+  if (carriedRest.rows() != cutRest.rows() || carriedRest.cols() != 3)
+    throw InputError("openLips: the carried rest positions have " +
+                     std::to_string(carriedRest.rows()) + " rows, the cut mesh " +
+                     std::to_string(cutRest.rows()) + " vertices");
   const modeling::Triangles& faces = shell.rest.triangles;
-  std::vector<std::vector<int>> fans(rest.rows());
+  std::vector<std::vector<int>> fans(cutRest.rows());
   for (Eigen::Index f = 0; f < faces.rows(); ++f)
     for (int k = 0; k < 3; ++k) fans[faces(f, k)].push_back(static_cast<int>(f));
-  // The vertices at each rest position (exact: a fresh cut's twins are copies).
-  std::map<std::array<double, 3>, std::vector<int>> at;
-  for (Eigen::Index v = 0; v < rest.rows(); ++v)
-    at[{rest(v, 0), rest(v, 1), rest(v, 2)}].push_back(static_cast<int>(v));
-  int moved = 0;
-  for (const auto& [position, twins] : at) {
-    if (twins.size() < 2) continue;
-    // Lips of earlier cuts (rest copies, positions apart) are opened at rest only: in place they
-    // are where the run took them.
-    const bool fresh = std::all_of(twins.begin(), twins.end(), [&](int v) {
-      return shell.positions.row(v) == shell.positions.row(twins.front());
-    });
-    if (fresh) moved += moveIntoFans(twins, faces, fans, shell.heldVertex, gap, shell.positions);
-    moveIntoFans(twins, faces, fans, shell.heldVertex, gap, rest);
+  // The vertices at each point of the cut rest mesh, and among them the fresh twins: those that
+  // also share their position (a cut's copies; a lip of an earlier cut is where the run took it,
+  // and a crack through it makes twins of one of its sides only).
+  using Point = std::array<double, 3>;
+  const auto point = [](const modeling::Positions& x, int v) {
+    return Point{x(v, 0), x(v, 1), x(v, 2)};
+  };
+  std::map<std::pair<Point, Point>, std::vector<int>> twinsAt;
+  for (Eigen::Index v = 0; v < cutRest.rows(); ++v) {
+    const int i = static_cast<int>(v);
+    twinsAt[{point(cutRest, i), point(shell.positions, i)}].push_back(i);
   }
+  modeling::Positions opened = carriedRest;
+  int moved = 0;
+  for (const auto& [where, twins] : twinsAt) {
+    if (twins.size() < 2) continue;
+    moved += moveIntoFans(twins, faces, fans, shell.heldVertex, gap, shell.positions);
+    moveIntoFans(twins, faces, fans, shell.heldVertex, gap, opened);
+  }
+  shell.rest.positions = std::move(opened);
   return moved;
 }
 

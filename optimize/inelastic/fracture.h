@@ -145,16 +145,19 @@ std::optional<FracturedShell> fractureShell(const FractureCriterion& criterion,
 std::vector<Eigen::Vector3d> openCrackTips(const modeling::Mesh& rest,
                                            const std::vector<Eigen::Vector3d>& candidates);
 
-// Opens the lips of `shell` by `gap` > 0 at rest, and its fresh lips in its positions too (so that
-// no strain is added): every free vertex that shares its rest position with another (a cut's
-// twins, rest copies) moves by `gap` towards the mean of its faces' centroids, into its own side of
-// the crack, at rest; and in the positions when the twins are there copies too (a fresh cut's;
-// older lips are where the run took them). Self-contact cannot repel pairs that touch (a log
+// Opens the fresh lips of `shell` by `gap` > 0, at rest and in its positions alike (so that no
+// strain is added): the vertices that share both their cut rest point and their position (a cut's
+// twins; a crack through an earlier lip makes twins of that lip's vertex on one side only) each
+// move by `gap` towards the mean of their faces' centroids, into their own side of the crack, in
+// both. The rest starts from `carriedRest` (#V' by 3: the rest positions the run had before the
+// cut, carried to the cut mesh), so earlier lips keep the opening they were given, and it replaces
+// shell.rest.positions; held vertices stay. Self-contact cannot repel pairs that touch (a log
 // barrier is infinite at d = 0); lips apart by a small gap are pairs it inset-repels from the next
 // step on (optimize/assembly/self_contact.h), so abutting fragments cannot pass through each
 // other even by a sliver. The fracture bookkeeping needs the unopened rest mesh (lips are rest
-// points of two or more vertices). Returns how many vertices moved in the positions.
-int openLips(FracturedShell& shell, double gap);
+// points of two or more vertices). Returns how many vertices moved in the positions; InputError
+// when `carriedRest` does not fit the cut mesh.
+int openLips(FracturedShell& shell, const modeling::Positions& carriedRest, double gap);
 
 // The connected components of `mesh` (through shared vertices), each its own mesh with its
 // vertices renumbered in their order: the fragments a fractured shell is written as.

@@ -140,7 +140,8 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   // point of two or more vertices, a tip one of a single vertex).
   modeling::Mesh cutRest = shell->rest;
   const SelfContact& contact = stepper_->selfContact();
-  if (!contact.empty() && contact.shellPairs()) openLips(*shell, 1e-2 * contact.layer());
+  if (!contact.empty() && contact.shellPairs())
+    openLips(*shell, carried(sources, problem_->rest.positions), 1e-2 * contact.layer());
   seconds.cut = secondsSince(clock);
 
   ProblemOptions options = options_;
