@@ -402,6 +402,29 @@ TEST(SelfContact, PairsCloseAtRestRepelOnTheirInsetLayers) {
                InputError);
 }
 
+// Lips together (closer than d̂/1000 at rest and in place) stay inset at ℓ = 0; a pair apart at
+// rest (opened lips, an earlier cut's) found that close in place is inset at half its distance,
+// and one that touches (d = 0) cannot be.
+TEST(SelfContact, PairsApartAtRestAreInsetAtAnyDistance) {
+  const double layer = 0.05;
+  const auto insetLayers = [&](double restGap, double gap) {
+    const Mesh rest = twoSheets(2, {0.0, 0.0, restGap});
+    const modeling::Stencils stencils = modeling::compileStencils(rest);
+    SelfContact contact(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+    Positions x = twoSheets(2, {0.0, 0.0, gap}).positions;
+    contact.exemptClosePairs(x);
+    contact.liftExemptions(x);
+    std::vector<double> layers;
+    for (const optimize::InsetPair& p : contact.insets()) layers.push_back(p.layer);
+    return layers;
+  };
+  const std::vector<double> apart = insetLayers(0.1 * layer, 5e-4 * layer);
+  ASSERT_GT(apart.size(), 10u);
+  for (const double l : apart) EXPECT_GE(l, 2.5e-4 * layer * (1 - 1e-12));
+  for (const double l : insetLayers(5e-4 * layer, 5e-4 * layer)) EXPECT_EQ(l, 0.0);
+  for (const double l : insetLayers(0.1 * layer, 0.0)) EXPECT_EQ(l, 0.0);
+}
+
 // A cut's fresh lips open by the gap at rest and in place: each twin moves into its own faces'
 // side, held vertices stay, and a rigid motion's edge lengths stay those of the rest mesh.
 TEST(SelfContact, OpenLipsMovesTwinsIntoTheirOwnSidesAtRestAndInPlace) {

@@ -320,8 +320,10 @@ void SelfContact::exemptClosePairs(const Positions& x) {
   }
 }
 
-// An exempt pair's inset layer starts once it is this many d̂ apart: closer, CCD would hold the
-// lips' every motion to tiny steps.
+// An exempt pair's inset layer starts once it is this many d̂ apart, in place or at rest: lips
+// closer in both are still together (closer, CCD would hold their every motion to tiny steps). A
+// pair apart at rest (a cut's lips opened, fracture.h's openLips, or a lip of an earlier cut that a
+// new crack splits) is inset at any distance above 0 at which it is found.
 constexpr double kSmallestInset = 1e-3;
 
 void SelfContact::liftExemptions(const Positions& shell) {
@@ -334,7 +336,10 @@ void SelfContact::liftExemptions(const Positions& shell) {
       changed = true;
       continue;
     }
-    if (d >= kSmallestInset * layer_ && 0.5 * d > k->second) {
+    const double together = kSmallestInset * layer_;
+    const bool apart = d >= together ||
+                       (d > 0.0 && squaredDistance(pairOf(k->first), rest_) >= together * together);
+    if (apart && 0.5 * d > k->second) {
       k->second = 0.5 * d;
       changed = true;
     }

@@ -28,7 +28,9 @@
 // the neighbours of a sliver-rich rest mesh may lie within d̂ of each other; repelling them at d̂
 // would push lips apart and strain an unloaded mesh. Such a pair (within d̂ both in the rest state
 // and at the start, exemptClosePairs) repels on its own inset layer ℓ_k < d̂ instead: ℓ_k = 0 (no
-// repulsion) while it is closer than d̂/1000 — lips still together —, then half the largest distance
+// repulsion) while it is closer than d̂/1000 both at rest and in place — lips still together (a
+// cut opens its fresh lips at rest and in place, fracture.h's openLips, so a pair apart at rest is
+// inset at any distance above 0) —, then half the largest distance
 // it has been found at (liftExemptions, before each time step: ℓ_k ← max(ℓ_k, d/2), which leaves
 // B_k = 0 where it is), until it is found at d ≥ d̂ and repels on d̂ like any other pair. So
 // abutting lips stay where they are, separate freely and may touch again, but once apart they
@@ -118,8 +120,8 @@ class SelfContact {
   // Insets the pairs within d̂ both in the rest state and at x (the start of a run, a cut), and
   // only those, with ℓ_k = 0.
   void exemptClosePairs(const Positions& x);
-  // Raises each inset pair's ℓ_k to half its distance d at x when d ≥ d̂/1000, and lifts the inset
-  // of every pair at d ≥ d̂.
+  // Raises each inset pair's ℓ_k to half its distance d at x when d ≥ d̂/1000, or d > 0 and the
+  // pair is d̂/1000 apart at rest, and lifts the inset of every pair at d ≥ d̂.
   void liftExemptions(const Positions& x);
   int exemptCount() const { return static_cast<int>(exempt_.size()); }
   // The inset pairs, in a fixed order, and a replacement for them (a state a run reached: its
