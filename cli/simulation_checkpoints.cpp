@@ -86,6 +86,7 @@ void writeCheckpoint(const SimulateOptions& o, optimize::TimeStepper& stepper,
       {"contact_couplings", st.contactCouplings},
       {"mesh_obstacle_stiffness", st.obstacleStiffness},
       {"contact_insets", insetsJson(*st.contactInsets)},
+      {"self_contact_stiffness", matrixJson(st.selfContactStiffness)},
       {"balance",
        {b.initial, b.dissipated, b.stiffening, b.peakKinetic, b.peakElastic, b.last, b.largestDrift,
         b.driftTime, static_cast<double>(b.driftStep), static_cast<double>(b.steps)}},
@@ -129,6 +130,9 @@ long resumeCheckpoint(const SimulateOptions& o, const std::string& checksum,
     st.contactCouplings = c.at("contact_couplings").get<std::vector<std::array<int, 2>>>();
     st.obstacleStiffness = c.value("mesh_obstacle_stiffness", 0.0);
     if (c.contains("contact_insets")) st.contactInsets = insetsFrom(c.at("contact_insets"));
+    if (c.contains("self_contact_stiffness"))
+      st.selfContactStiffness =
+          matrixFrom(c.at("self_contact_stiffness"), c.at("self_contact_stiffness").size(), 1);
     for (const std::array<int, 2>& pair : st.contactCouplings)
       if (pair[0] < 0 || pair[0] >= pair[1] || pair[1] >= n)
         throw InputError("a contact coupling (" + std::to_string(pair[0]) + ", " +

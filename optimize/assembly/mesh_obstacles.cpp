@@ -15,6 +15,14 @@ modeling::Positions MeshObstacle::positionsAt(double t) const {
   return x;
 }
 
+modeling::Positions MeshObstacle::velocitiesAt(double t) const {
+  modeling::Positions v = modeling::Positions::Zero(mesh.positions.rows(), 3);
+  if (!moves()) return v;
+  for (Eigen::Index k = 0; k < v.rows(); ++k)
+    v.row(k) = motion.velocityAt(mesh.positions.row(k).transpose(), t).transpose();
+  return v;
+}
+
 std::string meshObstacleName(const std::vector<MeshObstacle>& obstacles, int index) {
   const std::string& label = obstacles[static_cast<std::size_t>(index)].label;
   return label.empty() ? "mesh obstacle " + std::to_string(index) : label;

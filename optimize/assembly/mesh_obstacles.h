@@ -24,6 +24,8 @@ struct MeshObstacle {
 
   // Where its vertices are at time t (#W by 3).
   modeling::Positions positionsAt(double t) const;
+  // Its vertices' velocities at time t (#W by 3; zero when static).
+  modeling::Positions velocitiesAt(double t) const;
   bool moves() const { return motion.kind != PinMotion::Kind::None; }
 };
 

@@ -104,36 +104,36 @@ ObstacleBarrier::ObstacleBarrier(std::vector<Obstacle> obstacles, double layer,
       stiffness_(std::move(stiffness)),
       ruleStiffness_(stiffness_) {}
 
+double adaptedStiffness(double stiffness, double ruleStiffness, const VertexApproach& a,
+                        double layer, double budget, double& spent) {
+  const double absorb = 2.0 / (layer * layer * std::log(2.0));  // κ per m w²
+  if (a.closest >= layer) return std::max(ruleStiffness, absorb * a.impact);
+  double raised = std::max(stiffness, absorb * a.nearImpact);
+  if (a.closest < 0.1 * layer) raised *= std::min(2.0, 0.1 * layer / a.closest);
+  // The raise adds (κ_new − κ_v) Σ b/κ_v to the motion: at most what is left of the budget.
+  if (a.unitBarrier > 0.0)
+    raised = std::min(raised, stiffness + std::max(0.0, budget - spent) / a.unitBarrier);
+  spent += (raised - stiffness) * a.unitBarrier;
+  return raised;
+}
+
 double ObstacleBarrier::adapt(const Positions& x, const Positions& velocity,
                               const Eigen::VectorXd& mass, double budget) {
-  if (obstacles_.empty()) return 0.0;                             // no stiffness to adapt
-  const double absorb = 2.0 / (layer_ * layer_ * std::log(2.0));  // κ per m w²
+  if (obstacles_.empty()) return 0.0;  // no stiffness to adapt
   double added = 0.0;
   for (Eigen::Index v = 0; v < x.rows(); ++v) {
-    // w over every obstacle, and over those within 2 d̂; Σ_o b(d_o)/κ_v, the barrier per unit κ.
-    double closest = std::numeric_limits<double>::infinity(), approach = 0.0, nearApproach = 0.0;
-    double unitBarrier = 0.0;
+    // m w² over every obstacle, and over those within 2 d̂; Σ_o b(d_o)/κ_v, the barrier per unit κ.
+    VertexApproach a;
     for (const Obstacle& o : obstacles_) {
       Eigen::Vector3d n;
       const double d = o.signedDistance(x.row(v).transpose(), &n);
-      closest = std::min(closest, d);
-      const double w = -velocity.row(v).dot(n);
-      approach = std::max(approach, w);
-      if (d < 2.0 * layer_) nearApproach = std::max(nearApproach, w);
-      unitBarrier += barrierPotential(d, layer_);
+      a.closest = std::min(a.closest, d);
+      const double w = std::max(0.0, -velocity.row(v).dot(n));
+      a.impact = std::max(a.impact, mass[v] * w * w);
+      if (d < 2.0 * layer_) a.nearImpact = std::max(a.nearImpact, mass[v] * w * w);
+      a.unitBarrier += barrierPotential(d, layer_);
     }
-    if (closest >= layer_) {
-      stiffness_[v] = std::max(ruleStiffness_[v], absorb * mass[v] * approach * approach);
-      continue;
-    }
-    double raised = std::max(stiffness_[v], absorb * mass[v] * nearApproach * nearApproach);
-    if (closest < 0.1 * layer_) raised *= std::min(2.0, 0.1 * layer_ / closest);
-    // The raise adds (κ_new − κ_v) Σ_o b(d_o)/κ_v to the motion: at most what is left of the
-    // budget.
-    if (unitBarrier > 0.0)
-      raised = std::min(raised, stiffness_[v] + std::max(0.0, budget - added) / unitBarrier);
-    added += (raised - stiffness_[v]) * unitBarrier;
-    stiffness_[v] = raised;
+    stiffness_[v] = adaptedStiffness(stiffness_[v], ruleStiffness_[v], a, layer_, budget, added);
   }
   return added;
 }

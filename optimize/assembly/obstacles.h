@@ -135,6 +135,20 @@ class ObstacleBarrier {
   Eigen::VectorXd ruleStiffness_;  // κ̄_v, as constructed
 };
 
+// What the adaptive stiffness rule above knows of one vertex's barriers at the start of a step:
+// its smallest distance (∞ without any); m w², twice the kinetic energy of its largest approach,
+// over all of them and over those within 2 d̂ (m_v w² against an obstacle; a pair's reduced mass
+// in self-contact, self_contact.h); and Σ b/κ over them, its barrier energy per unit of κ_v.
+struct VertexApproach {
+  double closest = std::numeric_limits<double>::infinity();
+  double impact = 0.0, nearImpact = 0.0, unitBarrier = 0.0;
+};
+// κ_v's next value by the adaptive stiffness rule above, from its `stiffness` now, the rule's
+// `ruleStiffness` κ̄_v and its `approach`, in a layer d̂ = `layer`; a raise inside the layer adds its
+// energy to `spent`, and stops where `spent` would pass `budget`.
+double adaptedStiffness(double stiffness, double ruleStiffness, const VertexApproach& approach,
+                        double layer, double budget, double& spent);
+
 // The free index of each vertex coordinate 3v + c of `assembly` (3 #V entries; −1 when fixed).
 std::vector<int> vertexUnknownIndex(const HessianAssembly& assembly, Eigen::Index vertexCount);
 // Adds vertex v's gradient (3) and, when e.values is filled, its 3 × 3 Hessian block to `e`, on

@@ -89,6 +89,7 @@ SelfContact::SelfContact(modeling::Triangles faces, modeling::IndexPairs edges, 
       rest_(std::move(rest)),
       layer_(layer),
       stiffness_(stiffness),
+      vertexStiffness_(Eigen::VectorXd::Constant(rest_.rows(), stiffness)),
       shellVertices_(static_cast<int>(rest_.rows())),
       shellFaces_(static_cast<int>(faces_.rows())),
       shellEdges_(static_cast<int>(edges_.rows())),
@@ -128,6 +129,7 @@ void SelfContact::addObstacles(std::vector<MeshObstacle> obstacles, bool shellPa
 }
 
 void SelfContact::setObstacleTime(double t) {
+  obstacleTime_ = t;
   for (std::size_t k = 0; k < obstacles_.size(); ++k)
     if (obstacles_[k].moves())
       obstaclePositions_.middleRows(vertexStart_[k] - shellVertices_,
@@ -140,6 +142,93 @@ void SelfContact::setObstacleStiffness(double stiffness) {
     throw InputError("SelfContact: the mesh obstacles' stiffness must be at least κ = " +
                      numberText(stiffness_) + ", got " + numberText(stiffness));
   obstacleStiffness_ = stiffness;
+}
+
+void SelfContact::resetStiffness() {
+  vertexStiffness_.setConstant(stiffness_);
+}
+
+void SelfContact::setVertexStiffness(const Eigen::VectorXd& stiffness) {
+  if (stiffness.size() != shellVertices_ || !stiffness.allFinite() ||
+      !(stiffness.size() == 0 || stiffness.minCoeff() >= stiffness_))
+    throw InputError("SelfContact: expected " + std::to_string(shellVertices_) +
+                     " finite vertex stiffnesses of at least κ = " + numberText(stiffness_) +
+                     ", got " + std::to_string(stiffness.size()));
+  vertexStiffness_ = stiffness;
+}
+
+double SelfContact::reducedMass(const ContactPair& pair, const std::array<int, 4>& v,
+                                const Eigen::VectorXd& mass) const {
+  const int split = pair.kind == ContactPair::Kind::VertexFace ? 1 : 2;
+  double side[2] = {0.0, 0.0};
+  for (int i = 0; i < 4; ++i) {
+    const int s = i < split ? 0 : 1;
+    const int count = s == 0 ? split : 4 - split;
+    side[s] += v[i] < shellVertices_ ? mass[v[i]] / count : std::numeric_limits<double>::infinity();
+  }
+  if (!std::isfinite(side[0])) return side[1];
+  if (!std::isfinite(side[1])) return side[0];
+  return side[0] * side[1] / (side[0] + side[1]);
+}
+
+std::vector<VertexApproach> SelfContact::approaches(const std::vector<ContactPair>& pairs,
+                                                    const Positions& x, const Positions& velocity,
+                                                    const Eigen::VectorXd& mass,
+                                                    double step) const {
+  std::vector<VertexApproach> approach(static_cast<std::size_t>(shellVertices_));
+  for (const ContactPair& pair : pairs) {
+    const std::array<int, 4> v = vertices(pair);
+    Vector12 sGradient;
+    const double s = pair.kind == ContactPair::Kind::VertexFace
+                         ? pointTriangleDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]),
+                                                        row(x, v[3]), &sGradient)
+                         : edgeEdgeDistanceSquared(row(x, v[0]), row(x, v[1]), row(x, v[2]),
+                                                   row(x, v[3]), &sGradient);
+    const double d = std::sqrt(s);
+    if (!(d > 0.0)) continue;
+    // w = −ḋ = −∇s · ẋ / (2d) (0 when receding), with the pair's reduced mass μ = m₁m₂/(m₁ + m₂)
+    // of its two primitives' mean vertex masses (an obstacle's is ∞: μ = m₁); an inset pair's
+    // distance counts in units of its own layer.
+    double w = 0.0;
+    for (int i = 0; i < 4; ++i) w -= sGradient.segment<3>(3 * i).dot(velocity.row(v[i])) / (2 * d);
+    const double impact = reducedMass(pair, v, mass) * std::max(0.0, w) * w;
+    const double layer = pairLayer(pair), scaled = d * layer_ / layer;
+    const double unitBarrier =
+        d < layer ? layer_ / layer * mollifier(pair, x) * barrierPotential(d, layer) : 0.0;
+    for (int i = 0; i < 4; ++i) {
+      if (v[i] >= shellVertices_) continue;
+      VertexApproach& a = approach[static_cast<std::size_t>(v[i])];
+      a.closest = std::min(a.closest, scaled);
+      a.impact = std::max(a.impact, impact);
+      if (scaled < 2.0 * layer_ && w * step >= 0.5 * d)
+        a.nearImpact = std::max(a.nearImpact, impact);
+      a.unitBarrier += unitBarrier;
+    }
+  }
+  return approach;
+}
+
+double SelfContact::adapt(const Positions& shell, const Positions& velocity,
+                          const Eigen::VectorXd& mass, double step, double budget) {
+  if (empty()) return 0.0;
+  const auto start = std::chrono::steady_clock::now();
+  const Positions x = stacked(shell);
+  Positions obstacleVelocity(obstaclePositions_.rows(), 3);
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    obstacleVelocity.middleRows(vertexStart_[k] - shellVertices_,
+                                obstacles_[k].mesh.vertexCount()) =
+        obstacles_[k].velocitiesAt(obstacleTime_);
+  const Positions speed = stackedMotion(velocity, obstacleVelocity);
+  const Positions sweep = step > 0.0 ? Positions(step * speed) : Positions();
+  const std::vector<VertexApproach> approach =
+      approaches(approachingPairs(x, sweep), x, speed, mass, step);
+  detectionSeconds_ += secondsSince(start);
+  double added = 0.0;
+  for (int v = 0; v < shellVertices_; ++v)
+    vertexStiffness_[v] =
+        adaptedStiffness(vertexStiffness_[v], stiffness_, approach[static_cast<std::size_t>(v)],
+                         layer_, budget, added);
+  return added;
 }
 
 bool SelfContact::obstaclesMove() const {
@@ -416,6 +505,21 @@ const std::vector<ContactPair>& SelfContact::nearbyPairs(const Positions& x,
   return moving_;
 }
 
+std::vector<ContactPair> SelfContact::approachingPairs(const Positions& x,
+                                                       const Positions& sweep) const {
+  const double motion = sweep.size() == 0 ? 0.0 : relativeMotion(sweep);
+  if (motion > kLongestKeptMotion * layer_) {
+    std::vector<ContactPair> pairs = countedCandidates(x, sweep, 0.5 * layer_);
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                               [&](const ContactPair& p) { return ignored(p); }),
+                pairs.end());
+    return pairs;
+  }
+  if (!(keptAt_.rows() == x.rows() && relativeMotion(x - keptAt_) + motion <= keptMargin_))
+    keep(x, std::max(0.5 * layer_, motion));
+  return kept_;
+}
+
 std::vector<bool> SelfContact::fastVertices(const Positions& x, const Positions& dx) const {
   if (!keptServe(x, Positions())) keep(x, 0.5 * layer_);
   const double reach = rateAllowance(relativeMotion(x - keptAt_));
@@ -483,18 +587,22 @@ const std::vector<std::pair<ContactPair, double>>& SelfContact::activePairs(
 
 double SelfContact::unmollifiedStiffness(const ContactPair& pair) const {
   const std::array<bool, 2> shell = onShell(pair);
-  const double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  double kappa = shell[0] && shell[1] ? stiffness_ : obstacleStiffness_;
+  for (int v : vertices(pair))
+    if (v < shellVertices_) kappa = std::max(kappa, vertexStiffness_[v]);
   return kappa * layer_ / pairLayer(pair);
 }
 
-double SelfContact::pairStiffness(const ContactPair& pair, const Positions& x) const {
-  const double kappa = unmollifiedStiffness(pair);
-  if (pair.kind == ContactPair::Kind::VertexFace) return kappa;
+double SelfContact::mollifier(const ContactPair& pair, const Positions& x) const {
+  if (pair.kind == ContactPair::Kind::VertexFace) return 1.0;
   const std::array<int, 4> v = vertices(pair);
   const double threshold = edgeEdgeMollifierThreshold(row(rest_, v[0]), row(rest_, v[1]),
                                                       row(rest_, v[2]), row(rest_, v[3]));
-  return kappa *
-         edgeEdgeMollifier(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]), threshold);
+  return edgeEdgeMollifier(row(x, v[0]), row(x, v[1]), row(x, v[2]), row(x, v[3]), threshold);
+}
+
+double SelfContact::pairStiffness(const ContactPair& pair, const Positions& x) const {
+  return unmollifiedStiffness(pair) * mollifier(pair, x);
 }
 
 double SelfContact::pairBarrier(const ContactPair& pair, double squaredDistance, const Positions& x,

@@ -21,7 +21,23 @@
 //
 // Layer and stiffness (the stated rule, as the obstacles'): d̂ = ¼ of the rest mesh's mean edge
 // length unless given, κ = m̄ max(|g|, 1) / d̂ with m̄ the mean lumped vertex mass: a vertex resting
-// on a face holds about its weight at half the layer.
+// on a face holds about its weight at half the layer. That κ holds a vertex's weight but not its
+// momentum: a light vertex of a fresh crack lip flung at 100–1000 m/s towards a pair 5e-4 apart
+// (the 2 698-vertex light bulb) met a barrier ~600× weaker than its step's inertia, and Newton
+// crawled towards d ≈ 5e-8 in steps the collision filter cut to 2–7 % of their length. So time
+// steps adapt it per shell vertex by the obstacles' rule (obstacles.h, adaptedStiffness): `adapt`
+// sets κ_v from μ_k w_k², twice the kinetic energy of approach of the vertex's pairs that the
+// step's motion at the present velocities can bring within d̂ (w_k = −ḋ_k = −∇d_k · ẋ over the
+// pair's four vertices, an obstacle's vertices moving by their motion; μ_k the pair's reduced
+// mass, so a heavy vertex meeting a light fast one is not stiffened by the light one's speed
+// alone), freely outside the layer and raised within the stiffening budget inside it, there by
+// the pairs within 2 d̂ that would close at least half their distance in the step (w_k h ≥ d_k/2:
+// a sheet sliding on another has pairs whose closest points lie on an edge of the face below,
+// and their distances shrink while the sheet's does not; raising κ for them pumped energy into
+// a sliding sheet and slowed it by 2.6 %); a pair's stiffness is the largest of κ (κ_o with an
+// obstacle) and its shell vertices' κ_v. Raising κ_v by
+// Δ raises each of its pairs' by at most Δ, so the budget counts Δ times Σ of its pairs' barriers
+// per unit κ. Static solves keep κ.
 //
 // Pairs close at rest and at the start are inset (the seed's fracture-aware rule, Gingold et al.
 // 2004 §5, which insets the repulsion along fresh crack lips): a cut's lips start coincident, and
@@ -65,6 +81,7 @@
 #include "optimize/assembly/friction.h"
 #include "optimize/assembly/hessian_assembly.h"
 #include "optimize/assembly/mesh_obstacles.h"
+#include "optimize/assembly/obstacles.h"
 
 namespace flexure::optimize {
 
@@ -116,6 +133,20 @@ class SelfContact {
   bool empty() const { return faces_.rows() == 0; }
   double layer() const { return layer_; }
   double stiffness() const { return stiffness_; }
+
+  // Before a time step of length `step` at x with vertex velocities `velocity` (#V by 3), the
+  // obstacles where setObstacleTime put them: the adaptive stiffness above with the lumped masses
+  // `mass` (#V) over the pairs the motion x + step · velocity can bring within d̂ (step 0: those
+  // within d̂ now), the raises inside the layer adding at most `budget` to the barrier energy.
+  // Returns that bound on the energy they added.
+  double adapt(const Positions& x, const Positions& velocity, const Eigen::VectorXd& mass,
+               double step, double budget = std::numeric_limits<double>::infinity());
+  // Back to κ at every vertex (the start of a run).
+  void resetStiffness();
+  // κ_v per shell vertex (#V), and a replacement as a checkpoint or a cut kept it (InputError
+  // for a wrong size or a value below κ or not finite).
+  const Eigen::VectorXd& vertexStiffness() const { return vertexStiffness_; }
+  void setVertexStiffness(const Eigen::VectorXd& stiffness);
 
   // Insets the pairs within d̂ both in the rest state and at x (the start of a run, a cut), and
   // only those, with ℓ_k = 0.
@@ -190,14 +221,34 @@ class SelfContact {
   // swept boxes paired about 170 000 primitives, most of them ring neighbours no step brings near;
   // a wild motion is cut before, boundOver).
   const std::vector<ContactPair>& nearbyPairs(const Positions& x, const Positions& dx) const;
-  // A pair's stiffness: κ, or κ_o with an obstacle, times d̂/ℓ_k when inset (the force of a pair
-  // at a given fraction of its layer is then the same as an ordinary pair's).
+  // A pair's stiffness: the largest of κ (κ_o with an obstacle) and its shell vertices' κ_v, times
+  // d̂/ℓ_k when inset (the force of a pair at a given fraction of its layer is then the same as an
+  // ordinary pair's).
   double unmollifiedStiffness(const ContactPair& pair) const;
-  // κ m_k of a pair at x: its stiffness times its mollifier.
+  // m_k of a pair at x (1 for a vertex–face pair), and κ m_k: its stiffness times its mollifier.
+  double mollifier(const ContactPair& pair, const Positions& x) const;
   double pairStiffness(const ContactPair& pair, const Positions& x) const;
+  // What adapt knows of each shell vertex's pairs at x moving with `velocity` (the collision
+  // mesh's rows) over the candidates `pairs`, with the shell's lumped masses `mass` (#V), before
+  // a step of length `step` (the near impacts: the pairs within 2 d̂ closing at least half their
+  // distance in the step).
+  std::vector<VertexApproach> approaches(const std::vector<ContactPair>& pairs, const Positions& x,
+                                         const Positions& velocity, const Eigen::VectorXd& mass,
+                                         double step) const;
+  // The reduced mass m₁m₂/(m₁ + m₂) of a pair with vertices v: m_i the mean mass of primitive i's
+  // vertices, ∞ for an obstacle's (then the other's).
+  double reducedMass(const ContactPair& pair, const std::array<int, 4>& v,
+                     const Eigen::VectorXd& mass) const;
   // A pair's layer: ℓ_k when inset, else d̂; and whether it is ignored (inset with ℓ_k = 0).
   double pairLayer(const ContactPair& pair) const;
   bool ignored(const ContactPair& pair) const;
+  // The pairs (exempt ones left out) that may come within d̂ while x moves to x + sweep (a
+  // superset). A pair the kept candidates leave out is more than d̂ + 2r − 2ρ(x) apart at x
+  // (nearbyPairs' rule), and each of its points moves by at most M(sweep) besides a common
+  // translation: the kept ones serve when ρ(x) + M ≤ r, and are kept anew at x with
+  // r = max(d̂/2, M) otherwise; a motion longer than nearbyPairs' longest kept one takes the
+  // broad phase's pairs whose swept boxes come within d̂.
+  std::vector<ContactPair> approachingPairs(const Positions& x, const Positions& sweep) const;
   // Whether the kept candidates serve x and the motion dx (nearbyPairs' rule).
   bool keptServe(const Positions& x, const Positions& dx) const;
   // The ACCD rate under which a pair the kept candidates leave out has impact time 1 at x with
@@ -258,6 +309,8 @@ class SelfContact {
   modeling::IndexPairs edges_;
   Positions rest_;
   double layer_ = 0.0, stiffness_ = 0.0;
+  Eigen::VectorXd vertexStiffness_;                   // κ_v per shell vertex (adapt)
+  double obstacleTime_ = 0.0;                         // where setObstacleTime put the obstacles
   std::unordered_map<std::uint64_t, double> exempt_;  // inset pairs (key) and their ℓ_k
   int shellVertices_ = 0, shellFaces_ = 0, shellEdges_ = 0;
   bool shellPairs_ = true;

@@ -332,8 +332,11 @@ void TimeStepper::startBeforeRestore(const Positions& x, const Positions& v,
   contactStatistics_ = ContactStatistics();
   time_ = 0.0;
   if (implicit_) implicit_->loop.forget();
+  // The next step's contact stiffness (obstacles.h, self_contact.h).
   barrier_.resetStiffness();
-  barrier_.adapt(x_, v_, mass_);  // the next step's contact stiffness (obstacles.h)
+  barrier_.adapt(x_, v_, mass_);
+  selfContact_.resetStiffness();
+  selfContact_.adapt(x_, v_, mass_, 0.0);
   // With damping the initial acceleration also carries −M⁻¹ C v₀; a start at rest (v₀ = 0, the
   // usual case) has none, and a moving start takes the undamped one.
   a_ = accelerationFromForces(x_, xi_);
@@ -358,7 +361,8 @@ TimeStepper::State TimeStepper::state() const {
           contactStatistics_,
           couplings_,
           obstacleStiffness,
-          selfContact_.insets()};
+          selfContact_.insets(),
+          selfContact_.vertexStiffness()};
 }
 
 void TimeStepper::restore(const State& state) {
@@ -375,6 +379,8 @@ void TimeStepper::restore(const State& state) {
   if (state.obstacleStiffness > 0.0 && !selfContact_.meshObstacles().empty())
     selfContact_.setObstacleStiffness(state.obstacleStiffness);
   if (!barrier_.empty()) barrier_.setStiffness(state.contactStiffness);
+  if (!selfContact_.empty() && state.selfContactStiffness.size() > 0)
+    selfContact_.setVertexStiffness(state.selfContactStiffness);
   time_ = state.time;
   x_ = state.x;
   v_ = state.v;
@@ -1019,15 +1025,17 @@ TimeStepper::Outcome TimeStepper::commitStep(double t, Positions& x, Positions& 
   xi_ = std::move(xi);
   time_ = t;
   double stiffeningWork = 0.0;
-  if (!barrier_.empty()) {
-    // The next step's contact stiffness (obstacles.h). Its raises inside the layer add energy:
-    // with S at most D + ½ tolerance × the scale they never lift the total above E(0) by more
-    // than half the tolerance (damping's work D pays for the rest).
-    const double budget = 0.5 * options_.energyTolerance * balance_.scale(e) + balance_.dissipated +
-                          dissipation - balance_.stiffening;
-    const double before = barrier_.energy(x_);
-    barrier_.adapt(x_, v_, mass_, std::max(0.0, budget));
-    stiffeningWork = barrier_.energy(x_) - before;
+  if (!barrier_.empty() || !selfContact_.empty()) {
+    // The next step's contact stiffness (obstacles.h, self_contact.h). Its raises inside the layer
+    // add energy: with S at most D + ½ tolerance × the scale they never lift the total above E(0)
+    // by more than half the tolerance (damping's work D pays for the rest).
+    const double budget =
+        std::max(0.0, 0.5 * options_.energyTolerance * balance_.scale(e) + balance_.dissipated +
+                          dissipation - balance_.stiffening);
+    const double before = barrier_.energy(x_) + selfContact_.energy(x_);
+    const double spent = barrier_.adapt(x_, v_, mass_, budget);
+    selfContact_.adapt(x_, v_, mass_, h, std::max(0.0, budget - spent));
+    stiffeningWork = barrier_.energy(x_) + selfContact_.energy(x_) - before;
   }
   balance_.record(e, dissipation, stiffeningWork, roundoff);
   e.contact += stiffeningWork;

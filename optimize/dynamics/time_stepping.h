@@ -314,6 +314,8 @@ class TimeStepper {
     // The self-contact's inset pairs (SelfContact::insets); none: inset anew where the state is
     // (a cut's state, whose mesh has other pairs).
     std::optional<std::vector<InsetPair>> contactInsets;
+    // SelfContact::vertexStiffness (empty: κ at every vertex).
+    Eigen::VectorXd selfContactStiffness;
   };
   State state() const;
   // Continues from `state` (after start() with the run's own start, which places the pins' rest

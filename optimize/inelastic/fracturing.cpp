@@ -24,6 +24,17 @@ modeling::Positions carried(const std::vector<modeling::VertexSource>& sources,
 
 // A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
 // of its source are (as the held vertices carry, fracture.h).
+// A per-vertex contact stiffness carried to the cut mesh: each new vertex keeps the larger of
+// its sources' and its own (none when either side has none).
+void carryStiffness(const std::vector<modeling::VertexSource>& sources, const Eigen::VectorXd& from,
+                    Eigen::VectorXd& to) {
+  if (from.size() == 0 || to.size() == 0) return;
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i);
+    to[k] = std::max({to[k], from[sources[i].a], from[sources[i].b]});
+  }
+}
+
 std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
                              const std::vector<bool>& set) {
   std::vector<bool> out(sources.size());
@@ -167,12 +178,8 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   // Midedge's ξ (massless) re-solved on the cut mesh at the carried positions, from the start's.
   after.xi = stepper->edgeUnknownsAt(after.x, after.xi);
   after.a = carried(sources, before.a);
-  for (std::size_t i = 0; i < sources.size() && before.contactStiffness.size() > 0; ++i) {
-    const Eigen::Index k = static_cast<Eigen::Index>(i);
-    after.contactStiffness[k] =
-        std::max({after.contactStiffness[k], before.contactStiffness[sources[i].a],
-                  before.contactStiffness[sources[i].b]});
-  }
+  carryStiffness(sources, before.contactStiffness, after.contactStiffness);
+  carryStiffness(sources, before.selfContactStiffness, after.selfContactStiffness);
   after.obstacleStiffness = std::max(after.obstacleStiffness, before.obstacleStiffness);
   after.balance = before.balance;
   after.contact = before.contact;  // the run's self-contact statistics go on
