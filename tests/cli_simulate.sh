@@ -318,6 +318,15 @@ run 0 mesh --family patch48 --n 7 -o sheet7.obj --quiet
 run 2 simulate ${A/sheet.obj/sheet7.obj} --duration 0.45 -o other --resume stopped
 stderr_has "another rest mesh"; absent other
 run 2 simulate $A --duration 0.45 -o other --resume sag; stderr_has "no checkpoint"; absent other
+# A checkpoint whose per-vertex self-contact stiffness does not fit the mesh: refused, nothing
+# rewritten.
+cp -r stopped broken
+python3 -c "import json; p='broken/checkpoint.json'; c=json.load(open(p)); \
+c['self_contact_stiffness'] = c['self_contact_stiffness'][:-1]; json.dump(c, open(p, 'w'))"
+cp broken/energies.csv broken-energies.csv
+run 2 simulate $A --duration 0.45 -o broken --resume broken
+stderr_has "broken/checkpoint.json"; stderr_has "vertex stiffnesses"
+cmp -s broken/energies.csv broken-energies.csv || fail "a refused resume rewrote energies.csv"
 
 # Fracture: a strip 1 x 0.25 hanging from its pinned end (x >= 0.45) under gravity along -x, with
 # a fracture strain below the peak membrane strain at the pins (about 0.011 at t = 0.04): it tears

@@ -22,8 +22,6 @@ modeling::Positions carried(const std::vector<modeling::VertexSource>& sources,
   return out;
 }
 
-// A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
-// of its source are (as the held vertices carry, fracture.h).
 // A per-vertex contact stiffness carried to the cut mesh: each new vertex keeps the larger of
 // its sources' and its own (none when either side has none).
 void carryStiffness(const std::vector<modeling::VertexSource>& sources, const Eigen::VectorXd& from,
@@ -35,6 +33,8 @@ void carryStiffness(const std::vector<modeling::VertexSource>& sources, const Ei
   }
 }
 
+// A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
+// of its source are (as the held vertices carry, fracture.h).
 std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
                              const std::vector<bool>& set) {
   std::vector<bool> out(sources.size());
