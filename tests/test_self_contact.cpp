@@ -502,6 +502,55 @@ TEST(SelfContact, PairsApartAtRestAreInsetAtAnyDistance) {
   for (const double l : insetLayers(0.1 * layer, 0.0)) EXPECT_EQ(l, 0.0);
 }
 
+// A cut carries the insets of the pairs it leaves whole: on the same sheets renumbered (each
+// vertex a copy of one before), every pair keeps what it was — its inset layer, or none for an
+// ordinary pair — so the barrier pressed shut is the same before and after; a vertex the cut
+// added has no history, and its pairs start as the cut mesh's (ℓ = 0).
+TEST(SelfContact, ACutCarriesTheInsetsOfThePairsItLeavesWhole) {
+  const double layer = 0.05;
+  const Mesh rest = twoSheets(2, {0.0, 0.0, 0.1 * layer});
+  const modeling::Stencils stencils = modeling::compileStencils(rest);
+  SelfContact before(stencils.faces, stencils.edges, rest.positions, layer, 2.0);
+  before.exemptClosePairs(rest.positions);
+  before.liftExemptions(rest.positions);  // ℓ = 0.05 d̂
+  const std::vector<optimize::InsetPair> all = before.insets();
+  std::vector<optimize::InsetPair> half;  // every other one; the others ordinary
+  for (std::size_t k = 0; k < all.size(); k += 2) half.push_back(all[k]);
+  before.setInsets(half);
+  Positions pressed = rest.positions;
+  const int upper = rest.vertexCount() / 2;
+  pressed.bottomRows(upper).col(2).array() -= 0.08 * layer;  // 0.02 d̂ apart
+  // The cut mesh: the same vertices in reverse order.
+  const int n = rest.vertexCount();
+  std::vector<int> ancestor(static_cast<std::size_t>(n));
+  Mesh cut = rest;
+  Positions cutPressed = pressed;
+  for (int i = 0; i < n; ++i) {
+    ancestor[static_cast<std::size_t>(i)] = n - 1 - i;
+    cut.positions.row(i) = rest.positions.row(n - 1 - i);
+    cutPressed.row(i) = pressed.row(n - 1 - i);
+  }
+  cut.triangles = (n - 1) - rest.triangles.array();
+  const modeling::Stencils cutStencils = modeling::compileStencils(cut);
+  SelfContact after(cutStencils.faces, cutStencils.edges, cut.positions, layer, 2.0);
+  after.exemptClosePairs(cut.positions);
+  ASSERT_GT(after.exemptCount(), static_cast<int>(half.size()));
+  const std::vector<optimize::InsetPair> carried = after.carriedInsets(before, ancestor);
+  EXPECT_EQ(carried.size(), half.size());
+  after.setInsets(carried);
+  const double shut = before.energy(pressed);
+  ASSERT_GT(shut, 0.0);
+  EXPECT_NEAR(after.energy(cutPressed), shut, 1e-12 * shut);
+  // A vertex the cut added: its pairs keep ℓ = 0 and no longer repel.
+  after.exemptClosePairs(cut.positions);
+  ancestor[0] = -1;
+  const std::vector<optimize::InsetPair> fresh = after.carriedInsets(before, ancestor);
+  EXPECT_GT(fresh.size(), half.size());
+  after.setInsets(fresh);
+  EXPECT_LT(after.energy(cutPressed), shut);
+  EXPECT_THROW(after.carriedInsets(before, std::vector<int>(3, 0)), InputError);
+}
+
 // A cut's fresh lips open by the gap at rest and in place: each twin moves into its own faces'
 // side, held vertices stay, and a rigid motion's edge lengths stay those of the rest mesh.
 TEST(SelfContact, OpenLipsMovesTwinsIntoTheirOwnSidesAtRestAndInPlace) {

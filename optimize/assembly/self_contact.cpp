@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "modeling/errors.h"
 #include "modeling/self_intersections.h"
@@ -370,6 +371,57 @@ std::vector<InsetPair> SelfContact::insets() const {
   std::sort(sorted.begin(), sorted.end());
   std::vector<InsetPair> out;
   for (const auto& [id, layer] : sorted) out.push_back({pairOf(id), layer});
+  return out;
+}
+
+namespace {
+
+// A pair named by its vertices, independently of the edge and face numbering: (kind, the vertex
+// or the first edge's ends, then the face's corners or the second edge's ends), each primitive's
+// vertices sorted and, for two edges, the edges in order.
+using PairSignature = std::array<int, 5>;
+
+PairSignature signature(ContactPair::Kind kind, std::array<int, 4> v) {
+  if (kind == ContactPair::Kind::VertexFace) {
+    std::sort(v.begin() + 1, v.end());
+    return {0, v[0], v[1], v[2], v[3]};
+  }
+  std::array<int, 2> a = {std::min(v[0], v[1]), std::max(v[0], v[1])};
+  std::array<int, 2> b = {std::min(v[2], v[3]), std::max(v[2], v[3])};
+  if (b < a) std::swap(a, b);
+  return {1, a[0], a[1], b[0], b[1]};
+}
+
+}  // namespace
+
+std::vector<InsetPair> SelfContact::carriedInsets(const SelfContact& before,
+                                                  const std::vector<int>& ancestor) const {
+  if (ancestor.size() != static_cast<std::size_t>(shellVertices_))
+    throw InputError("SelfContact: " + std::to_string(ancestor.size()) +
+                     " vertex ancestors for a mesh of " + std::to_string(shellVertices_) +
+                     " vertices");
+  std::map<PairSignature, double> earlier;
+  for (const auto& [id, layer] : before.exempt_) {
+    const ContactPair pair = pairOf(id);
+    earlier.emplace(signature(pair.kind, before.vertices(pair)), layer);
+  }
+  std::vector<InsetPair> out;
+  for (const InsetPair& inset : insets()) {
+    std::array<int, 4> v = vertices(inset.pair);
+    bool whole = true;
+    for (int& u : v) {
+      u = ancestor[static_cast<std::size_t>(u)];
+      whole = whole && u >= 0;
+    }
+    std::array<int, 4> sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    if (!whole || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+      out.push_back(inset);  // a fresh lip's pair: as exemptClosePairs left it
+      continue;
+    }
+    const auto found = earlier.find(signature(inset.pair.kind, v));
+    if (found != earlier.end()) out.push_back({inset.pair, found->second});
+  }
   return out;
 }
 

@@ -33,6 +33,15 @@ void carryStiffness(const std::vector<modeling::VertexSource>& sources, const Ei
   }
 }
 
+// Each vertex of the cut mesh's vertex of the mesh before the cut when it is a copy of one, else
+// −1 (a vertex the cut added on an edge).
+std::vector<int> ancestors(const std::vector<modeling::VertexSource>& sources) {
+  std::vector<int> out(sources.size(), -1);
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    if (sources[i].a == sources[i].b) out[i] = sources[i].a;
+  return out;
+}
+
 // A vertex set of the mesh before a cut, carried to the cut mesh: a vertex is in it when both ends
 // of its source are (as the held vertices carry, fracture.h).
 std::vector<bool> carriedSet(const std::vector<modeling::VertexSource>& sources,
@@ -185,6 +194,12 @@ bool FracturingDynamics::checkFracture(long step, const std::vector<double>& str
   after.contact = before.contact;  // the run's self-contact statistics go on
   after.contactInsets.reset();     // the cut mesh's pairs, inset where they are
   stepper->restore(after);
+  // ... with the history of the pairs the cut leaves whole (a lip pressed shut keeps its layer).
+  if (!stepper->selfContact().empty()) {
+    after.contactInsets =
+        stepper->selfContact().carriedInsets(stepper_->selfContact(), ancestors(sources));
+    stepper->restore(after);
+  }
   const double released = totalBefore - stepper->energies().total();
   after.balance.initial -= released;
   after.balance.last -= released;
