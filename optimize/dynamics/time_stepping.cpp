@@ -597,13 +597,15 @@ class TimeStepper::IncrementalPotential : public Objective {
   const Eigen::VectorXd& hat() const { return hat_; }
 
   // Φ and ∇Φ at y, and ∇²Φ on the pattern with ∇²E exact or its Gauss–Newton part (`kind`):
-  // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere).
+  // ∇²E + ∇²B + M/(βh²) + γ C/(βh) (C's α M on the diagonal, its stiffness part everywhere); the
+  // contact barriers' ∇²B exact with the exact ∇²E, else each vertex's or pair's projected to
+  // positive semidefinite.
   HessianEvaluation evaluate(const Eigen::VectorXd& y, curvature::SecondDerivatives kind) override {
     const Configuration at = configuration(y);
     HessianEvaluation e =
         im_.assembly.evaluate(at.positions, at.xi, HessianProjection::Exact, nullptr, kind);
     barrier_.add(im_.assembly, at.positions, e, kind != curvature::SecondDerivatives::Exact);
-    selfContact_.add(im_.assembly, at.positions, e);
+    selfContact_.add(im_.assembly, at.positions, e, kind != curvature::SecondDerivatives::Exact);
     if (!friction_.empty()) friction_.add(im_.assembly, at.positions, e);
     Eigen::VectorXd extraGradient;
     e.energy += inertiaDampingGravity(y, &extraGradient);
