@@ -33,8 +33,8 @@ void carryStiffness(const std::vector<modeling::VertexSource>& sources, const Ei
   }
 }
 
-// Each vertex of the cut mesh's vertex of the mesh before the cut when it is a copy of one, else
-// −1 (a vertex the cut added on an edge).
+// For each vertex of the cut mesh, the vertex of the mesh before the cut it copies, or −1 (a
+// vertex the cut added on an edge).
 std::vector<int> ancestors(const std::vector<modeling::VertexSource>& sources) {
   std::vector<int> out(sources.size(), -1);
   for (std::size_t i = 0; i < sources.size(); ++i)
