@@ -132,18 +132,20 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
       ->capture_default_str();
   app.add_option("--energies", o.energies, "flexure energies to run")->delimiter(',');
   app.add_option("--solvers", o.solvers, "newton, ceres")->delimiter(',');
-  app.add_option("--metrics", o.metrics, "input, current: whose metric the bending energy reads")
+  app.add_option("--metrics", o.metrics,
+                 "input, current, current-exact: whose metric the bending energy reads")
       ->delimiter(',');
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  for (const std::string& metric : o.metrics)
-    if (metric != "input" && metric != "current") {
-      std::cerr << "fair_bench: --metrics " << metric << ": expected input or current\n";
-      return 2;
-    }
+  try {
+    for (const std::string& metric : o.metrics) optimize::parseFairingMetric(metric);
+  } catch (const std::exception& e) {
+    std::cerr << "fair_bench: --metrics: " << e.what() << "\n";
+    return 2;
+  }
   return std::nullopt;
 }
 
@@ -221,8 +223,7 @@ void runNonlinear(const BenchOptions& o, CaseTable& table) {
     for (const std::string& solver : o.solvers) {
       for (const std::string& metric : o.metrics) {
         optimize::FairingOptions options =
-            optimize::defaultFairingOptions(metric == "current" ? optimize::FairingMetric::Current
-                                                                : optimize::FairingMetric::Input);
+            optimize::defaultFairingOptions(optimize::parseFairingMetric(metric));
         options.bending.discretization = curvature::parseDiscretization(energy);
         options.solver.solver =
             solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;

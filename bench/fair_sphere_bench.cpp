@@ -82,8 +82,8 @@ void addOptions(CLI::App& app, BenchOptions& o) {
   app.add_option("--energies", o.energies, "Bending energies of flexure's fairing");
   app.add_option("--noise", o.noise, "Radial noise amplitude / radius");
   app.add_option("--jitter", o.jitter, "Vertex jitter / edge length");
-  app.add_option("--metric", o.metric, "current | input")
-      ->check(CLI::IsMember({"current", "input"}));
+  app.add_option("--metric", o.metric, "current | current-exact | input")
+      ->check(CLI::IsMember({"current", "current-exact", "input"}));
   app.add_option("--shape", o.shape, "Membrane rest shape: start | input")
       ->check(CLI::IsMember({"start", "input"}));
   app.add_option("--membrane-weight", o.weight,
@@ -144,8 +144,8 @@ void writeSpoiled(const std::string& stem, const modeling::Mesh& spoiled,
 
 // flexure's fairing with `energy`, as the options ask.
 optimize::FairingOptions fairingOptions(const BenchOptions& o, const std::string& energy) {
-  optimize::FairingOptions options = optimize::defaultFairingOptions(
-      o.metric == "input" ? optimize::FairingMetric::Input : optimize::FairingMetric::Current);
+  optimize::FairingOptions options =
+      optimize::defaultFairingOptions(optimize::parseFairingMetric(o.metric));
   options.bending.discretization = curvature::parseDiscretization(energy);
   options.bending.restCurvature = curvature::RestCurvature::Flat;
   if (!o.vertexArea.empty()) {

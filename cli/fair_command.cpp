@@ -728,7 +728,8 @@ void registerFairCommand(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--metric", options->spec.metric,
                   "Whose metric the bending energy measures curvature in: input (an elastic "
                   "energy of the displacement from the input) | current (the surface's own: a "
-                  "geometric, Willmore-type energy whose minimizers approach spheres)")
+                  "geometric, Willmore-type energy whose minimizers approach spheres; its metric "
+                  "capped on slivers under 2.56 degrees) | current-exact (the same, uncapped)")
       ->capture_default_str();
   addSolverArguments(*sub, options->solverArguments);
   addSolverLimits(*sub, options->spec.solver, /*tolerances=*/false);

@@ -61,6 +61,9 @@ struct BendingOptions {
   HingeAngle hingeAngle = HingeAngle::Theta;
   RestCurvature restCurvature = RestCurvature::FromRest;
   CurvatureMetric metric = CurvatureMetric::Rest;
+  // On the current metric: each edge's ℓ² / 2A capped on slivers (curvature/current_metric.h, the
+  // secure metric; hinge, triavg and midedge), or the exact metric.
+  bool secureMetric = true;
 };
 
 // The registered energy of that name, case-insensitive ("hinge" | "triavg" | "cotan" | "midedge" |

@@ -68,6 +68,63 @@ T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, con
   return T(6.0) * dot(e, e) / (norm(cross(e, xk - xi)) + norm(cross(xl - xi, e)));
 }
 
+// The secure metric on slivers. Every metric factor of the face energies is a multiple of an
+// edge's ℓ_i² / (2 A_T) = cot α_j + cot α_k (α_j, α_k the face's angles at the edge's ends; e.g.
+// ℓ_i / A_T = 2 (ℓ_i² / 2A_T) / ℓ_i). On a sliver it grows without bound, as 1 / sin of its
+// smallest angle, and with it the curvature read from the sliver's bending angles, whose
+// derivatives already grow as 1 / (the sliver's height): the current metric's Hessian then grows as
+// the square of both and Newton stalls (blade.off's trailing edge, 0.47°). The secure metric caps
+// it at 2 cot α_s, α_s = arccos 0.999 = 2.5626°: the bound CGAL's secure cotangent weights put on
+// each cotangent (|cos| ≤ 0.999, CGAL Weights/cotangent_weights.h). A face whose angles are all at
+// least α_s keeps its exact metric (cot α_j + cot α_k ≤ 2 cot α_s there); on a sliver the factor is
+// that of a face of angles α_s at the edge.
+inline constexpr double kSecureAngleDegrees = 2.5626;
+inline constexpr double kSecureEdgeFactor =
+    2.0 * 22.3439;  // 2 cot α_s, cot α_s = 0.999/√(1−0.999²)
+
+// min(1, kSecureEdgeFactor / (ℓ² / 2A)): what multiplies the exact ℓ² / (2A) of an edge of
+// squared length ℓ² in a face of twice the area 2A.
+template <class T>
+T secureEdgeScale(const T& squaredLength, const T& twiceArea) {
+  const T factor = squaredLength / twiceArea;
+  return scalarPart(factor) > kSecureEdgeFactor ? T(kSecureEdgeFactor) / factor : T(1.0);
+}
+
+// currentEdgeTensors with the secure metric: ℓ_i n̂_i n̂_iᵀ times secureEdgeScale, so that
+// (ℓ_i / A_T) n̂_i n̂_iᵀ, the face energies' shape-operator tensors, is at most 2 kSecureEdgeFactor
+// / ℓ_i.
+template <class T>
+std::array<Sym2<T>, 3> secureEdgeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame) {
+  std::array<Sym2<T>, 3> tensors = currentEdgeTensors(x, frame);
+  for (int i = 0; i < 3; ++i) {
+    const Vec3<T> e = x[(i + 2) % 3] - x[(i + 1) % 3];
+    const T scale = secureEdgeScale(dot(e, e), T(2.0) * frame.area);
+    tensors[i] = {scale * tensors[i].a, scale * tensors[i].b, scale * tensors[i].c};
+  }
+  return tensors;
+}
+
+// The shape-operator tensors of the current face: secureEdgeTensors, or (secure false) the exact
+// currentEdgeTensors.
+template <class T>
+std::array<Sym2<T>, 3> currentShapeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame,
+                                           bool secure) {
+  return secure ? secureEdgeTensors(x, frame) : currentEdgeTensors(x, frame);
+}
+
+// hingeMetricFactor with the secure metric: 3 ℓ² / (A_f + A_g) = 6 / (1 / c_f + 1 / c_g) with
+// c = ℓ² / (2A) of each face, each capped at kSecureEdgeFactor.
+template <class T>
+T secureHingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk,
+                          const Vec3<T>& xl) {
+  const Vec3<T> e = xj - xi;
+  const T squaredLength = dot(e, e);
+  const T twiceAreaF = norm(cross(e, xk - xi)), twiceAreaG = norm(cross(xl - xi, e));
+  const T cF = squaredLength / twiceAreaF * secureEdgeScale(squaredLength, twiceAreaF);
+  const T cG = squaredLength / twiceAreaG * secureEdgeScale(squaredLength, twiceAreaG);
+  return T(6.0) / (T(1.0) / cF + T(1.0) / cG);
+}
+
 // The share of the face (x_v, x_a, x_b) in x_v's area, with a = x_a − x_v and b = x_b − x_v:
 // mixed Voronoi (modeling/mixed_area.h, the rest state's formula on the current positions) or
 // barycentric (a third of the face).

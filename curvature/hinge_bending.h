@@ -21,6 +21,7 @@ struct HingeBendingResidual {
   double restMeasure;  // φ(θ̄_e)
   HingeAngle measure;
   bool currentMetric = false;  // the factor 3ℓ²/(A_f + A_g) from x
+  bool secureMetric = true;    // with the current metric: the factor capped on slivers
 
   template <class T>
   T angle(T const* const* x) const {
@@ -31,8 +32,11 @@ struct HingeBendingResidual {
   bool operator()(T const* const* x, T* r) const {
     using std::sqrt;
     r[0] = sqrtWeight * (hingeAngleMeasure(angle(x), measure) - T(restMeasure));
-    if (currentMetric)
-      r[0] = r[0] * sqrt(hingeMetricFactor(load(x[0]), load(x[1]), load(x[2]), load(x[3])));
+    if (currentMetric) {
+      const Vec3<T> xi = load(x[0]), xj = load(x[1]), xk = load(x[2]), xl = load(x[3]);
+      r[0] = r[0] * sqrt(secureMetric ? secureHingeMetricFactor(xi, xj, xk, xl)
+                                      : hingeMetricFactor(xi, xj, xk, xl));
+    }
     return isFiniteScalar(r[0]);
   }
 };

@@ -87,6 +87,7 @@ std::unique_ptr<EnergyTerm> makeHinge(const Stencils& s, const RestState& rest,
     HingeBendingResidual r;
     for (int k = 0; k < 4; ++k) r.vertices[k] = s.hinges(h, k);
     r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.secureMetric = o.secureMetric;
     // 3 ℓ̄² / (Ā_f + Ā_g): the current metric's factor at the rest positions.
     const double restFactor =
         hingeMetricFactor(restPoint(rest, r.vertices[0]), restPoint(rest, r.vertices[1]),

@@ -109,11 +109,11 @@ bool restMetricHessian(const MidedgeResidual& residual, const std::vector<const 
   return out.gradient.allFinite() && out.hessian.allFinite();
 }
 
-// The face's T_0, T_1, T_2 (a, b, c each) and A_T as jets of its F unknowns (9,
+// The face's T_0, T_1, T_2 (a, b, c each; secure or exact) and A_T as jets of its F unknowns (9,
 // or 3 z's).
 template <int F>
 void currentFaceQuantities(const std::vector<const double*>& blocks, Derivatives derivatives,
-                           std::array<SecondOrderJet<F>, kFaceQuantities>& q) {
+                           bool secure, std::array<SecondOrderJet<F>, kFaceQuantities>& q) {
   using Jet = SecondOrderJet<F>;
   Jet seeded[3][3];
   for (int v = 0; v < 3; ++v)
@@ -125,7 +125,7 @@ void currentFaceQuantities(const std::vector<const double*>& blocks, Derivatives
                              {seeded[1][0], seeded[1][1], seeded[1][2]},
                              {seeded[2][0], seeded[2][1], seeded[2][2]}};
   const CurrentFrame<Jet> frame = currentFrame(face[0], face[1], face[2]);
-  const std::array<Sym2<Jet>, 3> tensors = currentEdgeTensors(face, frame);
+  const std::array<Sym2<Jet>, 3> tensors = currentShapeTensors(face, frame, secure);
   for (int i = 0; i < 3; ++i) {
     q[3 * i] = tensors[i].a;
     q[3 * i + 1] = tensors[i].b;
@@ -164,7 +164,7 @@ bool currentMetricHessian(const MidedgeResidual& residual, const std::vector<con
   thread_local EdgeAngles angles;
   edgeAngles(residual, blocks, derivatives, jacobian, angles);
   std::array<FaceJet, kFaceQuantities> face;
-  currentFaceQuantities<F>(blocks, derivatives, face);
+  currentFaceQuantities<F>(blocks, derivatives, residual.secureMetric, face);
   Eigen::Matrix<double, kSums, 1> y;
   for (int i = 0; i < 3; ++i) y[i] = angles.gamma[i];
   for (int m = 0; m < kFaceQuantities; ++m) {

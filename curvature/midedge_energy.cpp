@@ -45,6 +45,7 @@ std::unique_ptr<EnergyTerm> makeMidedge(const Stencils& s, const RestState& rest
   for (int f = 0; f < s.faceCount(); ++f) {
     MidedgeResidual r = midedgeStencil(s, rest, f);
     r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.secureMetric = o.secureMetric;
     r.weights = koiterWeights(o, poisson, rest.faceAreas[f]);
     r.restShapeOperator = {0.0, 0.0, 0.0};
     if (o.restCurvature == RestCurvature::FromRest) {

@@ -11,7 +11,7 @@
 //
 // Blocks: ξ0, ξ1, ξ2 (one double each), x0, x1, x2, then the flap vertices of the interior edges
 // in edge order (0 to 3 of them). On the current metric (current_metric.h) ℓ_i, A_T and n̂_i are
-// the current face's.
+// the current face's, ℓ_i / A_T capped on slivers (the secure metric).
 #pragma once
 
 #include <array>
@@ -34,6 +34,7 @@ struct MidedgeResidual {
   Sym2<double> restShapeOperator;           // S̄_T
   KoiterWeights weights;       // make(ν, 2 k_B Ā_T); on the current metric make(ν, 2 k_B)
   bool currentMetric = false;  // ℓ_i / A_T n̂_i n̂_iᵀ and A_T from x
+  bool secureMetric = true;    // with the current metric: ℓ_i / A_T capped on slivers
 
   template <class T>
   Sym2<T> shapeOperator(T const* const* b) const {
@@ -51,7 +52,7 @@ struct MidedgeResidual {
     if (currentMetric) {
       const Vec3<T> face[3] = {load(b[3]), load(b[4]), load(b[5])};
       const CurrentFrame<T> frame = currentFrame(face[0], face[1], face[2]);
-      const std::array<Sym2<T>, 3> tensors = currentEdgeTensors(face, frame);
+      const std::array<Sym2<T>, 3> tensors = currentShapeTensors(face, frame, secureMetric);
       for (int i = 0; i < 3; ++i) addScaled(s, gamma[i] / frame.area, tensors[i]);
       return s;
     }

@@ -24,6 +24,7 @@ struct TriangleAveragedResidual {
   Sym2<double> restShapeOperator;           // S̄_T
   KoiterWeights weights;       // make(ν, 2 k_B Ā_T); on the current metric make(ν, 2 k_B)
   bool currentMetric = false;  // ℓ_i / (2 A_T) n̂_i n̂_iᵀ and A_T from x
+  bool secureMetric = true;    // with the current metric: ℓ_i / A_T capped on slivers
 
   // φ_i, the measure of the bending angle across edge i.
   template <class T>
@@ -40,7 +41,7 @@ struct TriangleAveragedResidual {
     if (currentMetric) {
       const Vec3<T> face[3] = {load(x[0]), load(x[1]), load(x[2])};
       const CurrentFrame<T> frame = currentFrame(face[0], face[1], face[2]);
-      const std::array<Sym2<T>, 3> tensors = currentEdgeTensors(face, frame);
+      const std::array<Sym2<T>, 3> tensors = currentShapeTensors(face, frame, secureMetric);
       for (int i = 0; i < 3; ++i)
         addScaled(s, edgeMeasure(x, i) / (T(2.0) * frame.area), tensors[i]);
       return s;

@@ -34,6 +34,7 @@ std::unique_ptr<EnergyTerm> makeTriangleAveraged(const Stencils& s, const RestSt
       r.edgeTensors[i] = edgeTensor(s, rest, f, i, rest.faceEdgeLengths(f, i) / (2.0 * area));
     }
     r.currentMetric = o.metric == CurvatureMetric::Current;
+    r.secureMetric = o.secureMetric;
     r.weights = koiterWeights(o, poisson, area);
     r.restShapeOperator = {0.0, 0.0, 0.0};
     if (o.restCurvature == RestCurvature::FromRest) {

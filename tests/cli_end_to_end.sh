@@ -596,7 +596,7 @@ run 0 fair "$CGAL_MESHES/nefertiti.off" --region all-interior --metric current -
   --report nef.json --quiet
 run 0 fair "$shark" --region holes --metric current -o shark-current.off \
   --report shark-current.json --quiet
-run 2 fair "$shark" --region holes --metric present -o e.off; stderr_has "--metric present: expected input or current"; absent e.off
+run 2 fair "$shark" --region holes --metric present -o e.off; stderr_has "--metric present: expected input, current or current-exact"; absent e.off
 python3 - <<'PY' || fail "fair: --metric current reports"
 import json
 for name in ("nef.json", "shark-current.json"):
@@ -767,6 +767,25 @@ assert 0 < r["hausdorff_distance"] < 0.1 * r["target_edge_length"], r
 assert r["hausdorff_distance"] == max(r["hausdorff_input_to_remeshed"], r["hausdorff_remeshed_to_input"])
 assert dome["converged"] and dome["measures"]["input"]["triangle_quality"]["min_angle_degrees"] > 0
 PY
+# The secure metric: on a mesh whose faces all have angles of 2.56 degrees or more, --metric
+# current and current-exact give the same result byte for byte; on a bowl of the sliver grid
+# (corners of 0.58 degrees) they differ.
+run 0 fair dome.off --region all-interior --metric current -o dome-secure.off --quiet
+run 0 fair dome.off --region all-interior --metric current-exact -o dome-exact.off --quiet
+cmp -s dome-secure.off dome-exact.off || fail "fair --metric current-exact: differs without slivers"
+python3 - <<'PY'
+words = open("slivers.off").read().split()
+n, m = int(words[1]), int(words[2])
+xyz = [[float(w) for w in words[4 + 3 * v:7 + 3 * v]] for v in range(n)]
+with open("sliver-bowl.off", "w") as f:
+    f.write(f"OFF\n{n} {m} 0\n")
+    f.writelines(f"{x} {y} {0.02 * ((x - 6) ** 2 + (y - 6) ** 2)}\n" for x, y, _ in xyz)
+    faces = words[4 + 3 * n:]
+    f.writelines(" ".join(faces[4 * k:4 * k + 4]) + "\n" for k in range(m))
+PY
+run 0 fair sliver-bowl.off --region all-interior --metric current -o bowl-secure.off --quiet
+run 0 fair sliver-bowl.off --region all-interior --metric current-exact -o bowl-exact.off --quiet
+cmp -s bowl-secure.off bowl-exact.off && fail "fair --metric current-exact: the same on slivers"
 # With holes, the fills and the faces around them are remeshed (13.2 -> 15.9 degrees measured).
 run 0 fair "$shark" --region holes --remesh -o shark-remeshed.off --report shark-remeshed.json \
   --quiet

@@ -39,7 +39,9 @@ FairingStart parseFairingStart(std::string_view name) {
 FairingMetric parseFairingMetric(std::string_view name) {
   if (name == "input") return FairingMetric::Input;
   if (name == "current") return FairingMetric::Current;
-  throw InputError("FairingOptions.metric " + std::string(name) + ": expected input or current");
+  if (name == "current-exact") return FairingMetric::CurrentExact;
+  throw InputError("FairingOptions.metric " + std::string(name) +
+                   ": expected input, current or current-exact");
 }
 
 FairingMethod parseFairingMethod(std::string_view name) {
@@ -233,7 +235,7 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
                                                         p.bending.stiffness, angleFloorRadians,
                                                         kAngleBarrierBandDegrees * kPi / 180.0));
   // No hinge folds past the ceiling (or further than at the start): FairingOptions::foldBarrier.
-  if (options.foldBarrier && options.metric == FairingMetric::Current)
+  if (options.foldBarrier && options.metric != FairingMetric::Input)
     problem.terms.push_back(curvature::makeDihedralBarrier(
         problem.stencils, regionHinges(patch, problem.stencils), start, p.bending.stiffness,
         kFoldCeilingDegrees * kPi / 180.0, kFoldBarrierBandDegrees * kPi / 180.0,
@@ -287,8 +289,9 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   ProblemOptions p;
   // E_bend as minimized: flat rest, on the input's or the current metric.
   p.bending = flatRest(options.bending);
-  p.bending.metric = options.metric == FairingMetric::Current ? curvature::CurvatureMetric::Current
-                                                              : curvature::CurvatureMetric::Rest;
+  p.bending.metric = options.metric == FairingMetric::Input ? curvature::CurvatureMetric::Rest
+                                                            : curvature::CurvatureMetric::Current;
+  p.bending.secureMetric = options.metric != FairingMetric::CurrentExact;
   const auto [start, startKind] = fairingStart(patch, stencils, rest, p.bending, options.start);
   double edgeLengthSum = 0.0;
   for (int f : region)

@@ -47,9 +47,12 @@ FairingStart parseFairingStart(std::string_view name);
 //           surface alone, a discretization of ∫ (4H² − 2(1 − ν)K) dA with the derivatives
 //           through the metric taken exactly (autodiff, as every kernel's), so its critical points
 //           approximate Willmore surfaces — spheres and the Clifford torus among them. Measured by
-//           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp).
-enum class FairingMetric { Input, Current };
-// "input" | "current"; InputError naming FairingOptions.metric otherwise.
+//           scripts/bench fair-sphere (bench/fair_sphere_bench.cpp). Each edge's ℓ² / 2A is
+//           capped on slivers (the secure metric: faces of angles ≥ 2.56° are unchanged).
+//  CurrentExact: the current surface's without the secure metric's cap on slivers
+//           (curvature/current_metric.h): the exact discretization, for comparison.
+enum class FairingMetric { Input, Current, CurrentExact };
+// "input" | "current" | "current-exact"; InputError naming FairingOptions.metric otherwise.
 FairingMetric parseFairingMetric(std::string_view name);
 // `flexure fair`'s membrane weight on the current metric (1 on the input's): the membrane pulls the
 // result towards the start's triangle shapes, which on the current metric is the error that
@@ -106,7 +109,7 @@ struct FairingOptions {
 inline FairingOptions defaultFairingOptions(FairingMetric metric) {
   FairingOptions options;
   options.metric = metric;
-  if (metric == FairingMetric::Current) {
+  if (metric != FairingMetric::Input) {
     options.membraneWeight = kCurrentMetricMembraneWeight;
     options.membraneFadeStages = kCurrentMetricMembraneFadeStages;
     options.bending.vertexArea = curvature::VertexArea::Barycentric;

@@ -18,12 +18,13 @@ def fair(V, F, region, energy="midedge", poisson=None, stiffness=1.0, vertex_are
     bending energy as in ``flexure.energy`` (vertex_area None: the metric's default); membrane:
     "mips" | "conformal" | "stvk" | "springs", of weight ``membrane_weight`` (None: 1 on the
     input's metric, 0.1 on the current one); start: "best" | "biharmonic" | "input"; metric:
-    "input" | "current"; method: "flexure" (nonlinear bending + membrane) | "cgal" (CGAL's
-    linear fair); allow_slivers: no angle barrier and the smallest-angle rule not applied (the
-    CLI's --allow-slivers); max_iterations: the solver's (None: its default); remesh: the faces
-    touching the region remeshed first by CGAL's isotropic remeshing, their border and the rest
-    kept (the CLI's --remesh), to the target remesh_edge_length (None: the mean edge length of
-    those faces) in remesh_iterations rounds (None: 3).
+    "input" | "current" (capped on slivers) | "current-exact"; method: "flexure" (nonlinear
+    bending + membrane) | "cgal" (CGAL's linear fair); allow_slivers: no angle barrier and the
+    smallest-angle rule not applied (the CLI's --allow-slivers); max_iterations: the solver's
+    (None: its default); remesh: the faces touching the region remeshed first by CGAL's
+    isotropic remeshing, their border and the rest kept (the CLI's --remesh), to the target
+    remesh_edge_length (None: the mean edge length of those faces) in remesh_iterations rounds
+    (None: 3).
 
     Returns ``(V', report)``: V' #V×3 float64; report a dict: converged (the solve, the checks
     and the smallest-angle rule, as ``flexure fair``'s exit 0), failure (in words, "" when

@@ -167,7 +167,7 @@ FAIR_CASES = [
     ("unknown start", ["--start", "middle"], {"start": "middle"}, "--start middle",
      "start middle", "expected best, biharmonic or input"),
     ("unknown metric", ["--metric", "intrinsic"], {"metric": "intrinsic"}, "--metric intrinsic",
-     "metric intrinsic", "expected input or current"),
+     "metric intrinsic", "expected input, current or current-exact"),
     ("unknown method", ["--method", "laplace"], {"method": "laplace"}, "--method laplace",
      "method laplace", "expected flexure or cgal"),
     ("unknown membrane", ["--membrane", "rubber"], {"membrane": "rubber"}, "membrane 'rubber'",
