@@ -72,15 +72,15 @@ T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, con
 // edge's ℓ_i² / (2 A_T) = cot α_j + cot α_k (α_j, α_k the face's angles at the edge's ends; e.g.
 // ℓ_i / A_T = 2 (ℓ_i² / 2A_T) / ℓ_i). On a sliver it grows without bound, as 1 / sin of its
 // smallest angle, and with it the curvature read from the sliver's bending angles, whose
-// derivatives already grow as 1 / (the sliver's height): the current metric's Hessian then grows as
-// the square of both and Newton stalls (blade.off's trailing edge, 0.47°). The secure metric caps
-// it at 2 cot α_s, α_s = arccos 0.999 = 2.5626°: the bound CGAL's secure cotangent weights put on
-// each cotangent (|cos| ≤ 0.999, CGAL Weights/cotangent_weights.h). A face whose angles are all at
-// least α_s keeps its exact metric (cot α_j + cot α_k ≤ 2 cot α_s there); on a sliver the factor is
-// that of a face of angles α_s at the edge.
+// derivatives already grow as 1 / (the sliver's height): the current metric's Hessian grows as the
+// square of both. The secure metric caps it at 2 cot α_s, α_s = arccos 0.999 = 2.5626°: the bound
+// CGAL's secure cotangent weights put on each cotangent (|cos| ≤ 0.999, CGAL
+// Weights/cotangent_weights.h). A face whose angles are all at least α_s keeps its exact metric
+// (cot α_j + cot α_k ≤ 2 cot α_s there); on a sliver the factor is that of a face of angles α_s at
+// the edge. It does not bound the bending angles' own derivatives.
 inline constexpr double kSecureAngleDegrees = 2.5626;
-inline constexpr double kSecureEdgeFactor =
-    2.0 * 22.3439;  // 2 cot α_s, cot α_s = 0.999/√(1−0.999²)
+// 2 cot α_s, with cot α_s = 0.999 / √(1 − 0.999²) = 22.3439.
+inline constexpr double kSecureEdgeFactor = 2.0 * 22.3439;
 
 // min(1, kSecureEdgeFactor / (ℓ² / 2A)): what multiplies the exact ℓ² / (2A) of an edge of
 // squared length ℓ² in a face of twice the area 2A.
