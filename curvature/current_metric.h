@@ -45,29 +45,6 @@ void scaleByCurrentArea(T const* const* x, T* r) {
   for (int k = 0; k < 3; ++k) r[k] = root * r[k];
 }
 
-// ℓ_i n̂_i n̂_iᵀ for the edges i = 0, 1, 2 of (x0, x1, x2) (edge i runs x_{i+1} → x_{i+2}), n̂_i its
-// outward unit normal in the face's plane, in the current frame. With e_i = (e_u, e_v) in the
-// frame, ℓ_i n̂_i = e_i × n = (e_v, −e_u), so ℓ_i n̂_i n̂_iᵀ = (e_v², −e_u e_v, e_u²) / ℓ_i.
-template <class T>
-std::array<Sym2<T>, 3> currentEdgeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame) {
-  std::array<Sym2<T>, 3> tensors;
-  for (int i = 0; i < 3; ++i) {
-    const Vec3<T> e = x[(i + 2) % 3] - x[(i + 1) % 3];
-    const T eu = dot(e, frame.u), ev = dot(e, frame.v);
-    const T length = norm(e);
-    tensors[i] = {ev * ev / length, T(-1.0) * eu * ev / length, eu * eu / length};
-  }
-  return tensors;
-}
-
-// The hinge's metric factor 3 ℓ_e² / (A_f + A_g) at (x_i, x_j, x_k, x_l) (hinge_bending.h).
-template <class T>
-T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, const Vec3<T>& xl) {
-  const Vec3<T> e = xj - xi;
-  // A_f + A_g = (|e × (x_k − x_i)| + |(x_l − x_i) × e|) / 2.
-  return T(6.0) * dot(e, e) / (norm(cross(e, xk - xi)) + norm(cross(xl - xi, e)));
-}
-
 // The secure metric on slivers. Every metric factor of the face energies is a multiple of an
 // edge's ℓ_i² / (2 A_T) = cot α_j + cot α_k (α_j, α_k the face's angles at the edge's ends; e.g.
 // ℓ_i / A_T = 2 (ℓ_i² / 2A_T) / ℓ_i). On a sliver it grows without bound, as 1 / sin of its
@@ -76,8 +53,9 @@ T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, con
 // square of both. The secure metric caps it at 2 cot α_s, α_s = arccos 0.999 = 2.5626°: the bound
 // CGAL's secure cotangent weights put on each cotangent (|cos| ≤ 0.999, CGAL
 // Weights/cotangent_weights.h). A face whose angles are all at least α_s keeps its exact metric
-// (cot α_j + cot α_k ≤ 2 cot α_s there); on a sliver the factor is that of a face of angles α_s at
-// the edge. It does not bound the bending angles' own derivatives.
+// (cot α_j + cot α_k ≤ 2 cot α_s there; its factors are multiplied by exactly 1); on a sliver the
+// factor is that of a face of angles α_s at the edge. It does not bound the bending angles' own
+// derivatives.
 inline constexpr double kSecureAngleDegrees = 2.5626;
 // 2 cot α_s, with cot α_s = 0.999 / √(1 − 0.999²) = 22.3439.
 inline constexpr double kSecureEdgeFactor = 2.0 * 22.3439;
@@ -90,39 +68,43 @@ T secureEdgeScale(const T& squaredLength, const T& twiceArea) {
   return scalarPart(factor) > kSecureEdgeFactor ? T(kSecureEdgeFactor) / factor : T(1.0);
 }
 
-// currentEdgeTensors with the secure metric: ℓ_i n̂_i n̂_iᵀ times secureEdgeScale, so that
-// (ℓ_i / A_T) n̂_i n̂_iᵀ, the face energies' shape-operator tensors, is at most 2 kSecureEdgeFactor
-// / ℓ_i.
+// ℓ_i n̂_i n̂_iᵀ for the edges i = 0, 1, 2 of (x0, x1, x2) (edge i runs x_{i+1} → x_{i+2}), n̂_i its
+// outward unit normal in the face's plane, in the current frame. With e_i = (e_u, e_v) in the
+// frame, ℓ_i n̂_i = e_i × n = (e_v, −e_u), so ℓ_i n̂_i n̂_iᵀ = (e_v², −e_u e_v, e_u²) / ℓ_i.
+// `secure`: times secureEdgeScale, so that (ℓ_i / A_T) n̂_i n̂_iᵀ, the face energies'
+// shape-operator tensors, is at most 2 kSecureEdgeFactor / ℓ_i.
 template <class T>
-std::array<Sym2<T>, 3> secureEdgeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame) {
-  std::array<Sym2<T>, 3> tensors = currentEdgeTensors(x, frame);
+std::array<Sym2<T>, 3> currentEdgeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame,
+                                          bool secure = false) {
+  std::array<Sym2<T>, 3> tensors;
   for (int i = 0; i < 3; ++i) {
     const Vec3<T> e = x[(i + 2) % 3] - x[(i + 1) % 3];
-    const T scale = secureEdgeScale(dot(e, e), T(2.0) * frame.area);
-    tensors[i] = {scale * tensors[i].a, scale * tensors[i].b, scale * tensors[i].c};
+    const T eu = dot(e, frame.u), ev = dot(e, frame.v);
+    const T length = norm(e);
+    tensors[i] = {ev * ev / length, T(-1.0) * eu * ev / length, eu * eu / length};
+    if (secure) {
+      const T scale = secureEdgeScale(dot(e, e), T(2.0) * frame.area);
+      tensors[i] = {scale * tensors[i].a, scale * tensors[i].b, scale * tensors[i].c};
+    }
   }
   return tensors;
 }
 
-// The shape-operator tensors of the current face: secureEdgeTensors, or (secure false) the exact
-// currentEdgeTensors.
+// The hinge's metric factor 3 ℓ_e² / (A_f + A_g) at (x_i, x_j, x_k, x_l) (hinge_bending.h).
+// `secure`: each face's c = ℓ² / 2A capped at kSecureEdgeFactor, i.e. 3 ℓ² / (A_f + A_g) =
+// 6 / (1 / c_f + 1 / c_g) with c → c s, s = secureEdgeScale: 2A → 2A / s in the sum below.
 template <class T>
-std::array<Sym2<T>, 3> currentShapeTensors(const Vec3<T> (&x)[3], const CurrentFrame<T>& frame,
-                                           bool secure) {
-  return secure ? secureEdgeTensors(x, frame) : currentEdgeTensors(x, frame);
-}
-
-// hingeMetricFactor with the secure metric: 3 ℓ² / (A_f + A_g) = 6 / (1 / c_f + 1 / c_g) with
-// c = ℓ² / (2A) of each face, each capped at kSecureEdgeFactor.
-template <class T>
-T secureHingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk,
-                          const Vec3<T>& xl) {
+T hingeMetricFactor(const Vec3<T>& xi, const Vec3<T>& xj, const Vec3<T>& xk, const Vec3<T>& xl,
+                    bool secure = false) {
   const Vec3<T> e = xj - xi;
   const T squaredLength = dot(e, e);
-  const T twiceAreaF = norm(cross(e, xk - xi)), twiceAreaG = norm(cross(xl - xi, e));
-  const T cF = squaredLength / twiceAreaF * secureEdgeScale(squaredLength, twiceAreaF);
-  const T cG = squaredLength / twiceAreaG * secureEdgeScale(squaredLength, twiceAreaG);
-  return T(6.0) / (T(1.0) / cF + T(1.0) / cG);
+  // 2A_f + 2A_g = |e × (x_k − x_i)| + |(x_l − x_i) × e|.
+  T twiceAreaF = norm(cross(e, xk - xi)), twiceAreaG = norm(cross(xl - xi, e));
+  if (secure) {
+    twiceAreaF = twiceAreaF / secureEdgeScale(squaredLength, twiceAreaF);
+    twiceAreaG = twiceAreaG / secureEdgeScale(squaredLength, twiceAreaG);
+  }
+  return T(6.0) * squaredLength / (twiceAreaF + twiceAreaG);
 }
 
 // The share of the face (x_v, x_a, x_b) in x_v's area, with a = x_a − x_v and b = x_b − x_v:

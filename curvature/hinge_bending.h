@@ -32,11 +32,9 @@ struct HingeBendingResidual {
   bool operator()(T const* const* x, T* r) const {
     using std::sqrt;
     r[0] = sqrtWeight * (hingeAngleMeasure(angle(x), measure) - T(restMeasure));
-    if (currentMetric) {
-      const Vec3<T> xi = load(x[0]), xj = load(x[1]), xk = load(x[2]), xl = load(x[3]);
-      r[0] = r[0] * sqrt(secureMetric ? secureHingeMetricFactor(xi, xj, xk, xl)
-                                      : hingeMetricFactor(xi, xj, xk, xl));
-    }
+    if (currentMetric)
+      r[0] = r[0] *
+             sqrt(hingeMetricFactor(load(x[0]), load(x[1]), load(x[2]), load(x[3]), secureMetric));
     return isFiniteScalar(r[0]);
   }
 };

@@ -125,7 +125,7 @@ void currentFaceQuantities(const std::vector<const double*>& blocks, Derivatives
                              {seeded[1][0], seeded[1][1], seeded[1][2]},
                              {seeded[2][0], seeded[2][1], seeded[2][2]}};
   const CurrentFrame<Jet> frame = currentFrame(face[0], face[1], face[2]);
-  const std::array<Sym2<Jet>, 3> tensors = currentShapeTensors(face, frame, secure);
+  const std::array<Sym2<Jet>, 3> tensors = currentEdgeTensors(face, frame, secure);
   for (int i = 0; i < 3; ++i) {
     q[3 * i] = tensors[i].a;
     q[3 * i + 1] = tensors[i].b;

@@ -52,7 +52,7 @@ struct MidedgeResidual {
     if (currentMetric) {
       const Vec3<T> face[3] = {load(b[3]), load(b[4]), load(b[5])};
       const CurrentFrame<T> frame = currentFrame(face[0], face[1], face[2]);
-      const std::array<Sym2<T>, 3> tensors = currentShapeTensors(face, frame, secureMetric);
+      const std::array<Sym2<T>, 3> tensors = currentEdgeTensors(face, frame, secureMetric);
       for (int i = 0; i < 3; ++i) addScaled(s, gamma[i] / frame.area, tensors[i]);
       return s;
     }

@@ -41,7 +41,7 @@ struct TriangleAveragedResidual {
     if (currentMetric) {
       const Vec3<T> face[3] = {load(x[0]), load(x[1]), load(x[2])};
       const CurrentFrame<T> frame = currentFrame(face[0], face[1], face[2]);
-      const std::array<Sym2<T>, 3> tensors = currentShapeTensors(face, frame, secureMetric);
+      const std::array<Sym2<T>, 3> tensors = currentEdgeTensors(face, frame, secureMetric);
       for (int i = 0; i < 3; ++i)
         addScaled(s, edgeMeasure(x, i) / (T(2.0) * frame.area), tensors[i]);
       return s;

@@ -33,8 +33,7 @@ Face isosceles(double angle) {
 // ℓ_i / A_T times the trace of the edge's n̂ n̂ᵀ (= 1): the edge factor the shape operators use.
 double edgeFactor(const Face& f, int i, bool secure) {
   const curvature::CurrentFrame<double> frame = curvature::currentFrame(f.x[0], f.x[1], f.x[2]);
-  const auto t =
-      secure ? curvature::secureEdgeTensors(f.x, frame) : curvature::currentEdgeTensors(f.x, frame);
+  const auto t = curvature::currentEdgeTensors(f.x, frame, secure);
   return (t[i].a + t[i].c) / frame.area;
 }
 
@@ -67,14 +66,14 @@ TEST(SecureMetric, FacesWithEveryAngleAboveTheSecureAngleAreExact) {
     ++tested;
     const auto frame = curvature::currentFrame(f.x[0], f.x[1], f.x[2]);
     const auto exact = curvature::currentEdgeTensors(f.x, frame);
-    const auto secure = curvature::secureEdgeTensors(f.x, frame);
+    const auto secure = curvature::currentEdgeTensors(f.x, frame, true);
     for (int i = 0; i < 3; ++i) {
       EXPECT_EQ(secure[i].a, exact[i].a);
       EXPECT_EQ(secure[i].b, exact[i].b);
       EXPECT_EQ(secure[i].c, exact[i].c);
     }
-    EXPECT_DOUBLE_EQ(curvature::secureHingeMetricFactor(f.x[0], f.x[1], f.x[2], flap),
-                     curvature::hingeMetricFactor(f.x[0], f.x[1], f.x[2], flap));
+    EXPECT_EQ(curvature::hingeMetricFactor(f.x[0], f.x[1], f.x[2], flap, true),
+              curvature::hingeMetricFactor(f.x[0], f.x[1], f.x[2], flap));
   }
 }
 
@@ -110,7 +109,7 @@ TEST(SecureMetric, AHingeOnASliverIsBoundedByItsOtherFace) {
   const Vec3<double> below{0.5, -0.5, 0.1};  // the other face (x1, x0, below)
   const double exact = curvature::hingeMetricFactor(sliver.x[0], sliver.x[1], sliver.x[2], below);
   const double secure =
-      curvature::secureHingeMetricFactor(sliver.x[0], sliver.x[1], sliver.x[2], below);
+      curvature::hingeMetricFactor(sliver.x[0], sliver.x[1], sliver.x[2], below, true);
   const double cG =
       1.0 / curvature::norm(curvature::cross(below - sliver.x[0], sliver.x[1] - sliver.x[0]));
   EXPECT_NEAR(secure, 6.0 / (1.0 / curvature::kSecureEdgeFactor + 1.0 / cG), 1e-12 * secure);
