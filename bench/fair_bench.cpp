@@ -12,10 +12,12 @@
 //   linear_fair   optimize::fairBiharmonic (the same system with CHOLMOD, x, y, z);
 //   <energy>/<solver>[/current]  optimize::fairNonlinear with the metric's default options
 //                 (defaultFairingOptions: mips membrane, w = 1 on the input's metric, 0.1 faded to
-//                 0.01 on the current one; start = the better of input and linear fair), 2
-//                 threads, on each solver of --solvers (newton: flexure's Newton, the default;
-//                 ceres: Ceres' LM) and metric of --metrics (input, the default, and current),
-//                 with its iterations, factorizations and linear-solver seconds.
+//                 0.01 on the current one, quasi-Newton chord steps there; start = the better
+//                 of input and linear fair), 2 threads, on each solver of --solvers (newton:
+//                 flexure's Newton, the default; ceres: Ceres' LM) and metric of --metrics
+//                 (input, the default, and current), with its iterations, factorizations and
+//                 linear-solver seconds. --membrane-fade-stages N replaces the metric's fade
+//                 (0: the solve at the first w alone); --progress prints each iteration.
 //                 bending_energy_after: all five energies of the result (flat rest, the input's
 //                 metric), so solvers compare in each.
 // Every case carries checkFairing's verdict (checks_passed, failed_check; for flexure's the
@@ -120,6 +122,8 @@ struct BenchOptions {
   int refine = 1, regionVertices = 50000, seedVertex = 0;
   std::vector<std::string> energies = {"midedge"}, solvers = {"newton", "ceres"};
   std::vector<std::string> metrics = {"input"};
+  bool progress = false;
+  std::optional<int> fadeStages;  // the metric's default when not given
 };
 
 // The command line into `o`; the exit code when it asks for help or is refused.
@@ -135,6 +139,10 @@ std::optional<int> parseArguments(int argc, char** argv, BenchOptions& o) {
   app.add_option("--metrics", o.metrics,
                  "input, current, current-exact: whose metric the bending energy reads")
       ->delimiter(',');
+  app.add_flag("--progress", o.progress, "One line per solver iteration on stderr");
+  app.add_option("--membrane-fade-stages", o.fadeStages,
+                 "Stages of the membrane's fade (default: the metric's)")
+      ->check(CLI::NonNegativeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -227,6 +235,8 @@ void runNonlinear(const BenchOptions& o, CaseTable& table) {
         options.bending.discretization = curvature::parseDiscretization(energy);
         options.solver.solver =
             solver == "ceres" ? optimize::Solver::Ceres : optimize::Solver::Newton;
+        options.solver.progress = o.progress;
+        options.membraneFadeStages = o.fadeStages.value_or(options.membraneFadeStages);
         resetPeakMemory();
         const auto start = Clock::now();
         const optimize::FairingResult r = optimize::fairNonlinear(table.patch, options);

@@ -502,6 +502,77 @@ TEST(NonlinearMinimize, FoldedSheetWithMembraneReturnsFlat) {
   EXPECT_LT((r.positions - mesh.positions).cwiseAbs().maxCoeff(), 1e-7);
 }
 
+// A sheet in xyz (midedge, flat rest, + StVK of Young's modulus 10) whose two boundary rings are
+// held on a saddle: a minimizer away from rest, with bending and stretching both at work. Both
+// stiffnesses times `scale`: the same minimizer, the Hessian there `scale` times as large.
+optimize::Problem saddleSheet(const modeling::Mesh& mesh, double scale = 1.0) {
+  optimize::ProblemOptions sheet;
+  sheet.bending = energy(Discretization::Midedge);
+  sheet.bending.stiffness = scale;
+  curvature::MembraneOptions membrane;
+  membrane.young = 10.0 * scale;
+  sheet.membrane = membrane;
+  sheet.dof = optimize::DofMode::Xyz;
+  sheet.boundarySurface = PolynomialSurface::quadratic(0.3, -0.7, 0.5);
+  return optimize::buildProblem(mesh, sheet);
+}
+
+// Quasi-Newton chord steps (MinimizeOptions::quasiNewton) reach the minimizer the chord steps
+// reach, and factor no more often on the way.
+TEST(NonlinearMinimize, QuasiNewtonChordStepsReachTheSameMinimizer) {
+  const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Delaunay, 8, 5, {}});
+  const optimize::Problem problem = saddleSheet(mesh);
+  optimize::MinimizeOptions chord;
+  chord.start = optimize::Start::AsGiven;  // from rest: several Newton steps
+  optimize::MinimizeOptions quasiNewton = chord;
+  quasiNewton.quasiNewton = true;
+  const optimize::MinimizeResult a = optimize::minimize(problem, chord);
+  const optimize::MinimizeResult b = optimize::minimize(problem, quasiNewton);
+  ASSERT_TRUE(a.report.converged) << a.report.termination;
+  ASSERT_TRUE(b.report.converged) << b.report.termination;
+  EXPECT_GT(a.report.finalEnergy, 1e-3);
+  EXPECT_NEAR(b.report.finalEnergy, a.report.finalEnergy, 1e-10 * a.report.finalEnergy);
+  EXPECT_LT((b.positions - a.positions).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LE(b.report.factorizations, a.report.factorizations);
+}
+
+// A KeptFactorization carries a solve's analysis and factor to the next solve on the same pattern.
+// The factor of the same sheet 10⁶ times as stiff is 10⁶ times the Hessian at the minimizer, so
+// started near it the softer sheet's first chord step predicts a decrease 10⁶ times too small,
+// below the tolerance: that is not taken as convergence (the result is the minimizer the solve
+// finds without the kept factor). A problem with another pattern analyses its own.
+TEST(NonlinearMinimize, AKeptFactorizationServesTheNextSolveOnItsPattern) {
+  const modeling::Mesh mesh = modeling::generateMesh({MeshFamily::Delaunay, 8, 5, {}});
+  const optimize::Problem stiff = saddleSheet(mesh, 1e6), soft = saddleSheet(mesh);
+  optimize::MinimizeOptions options;
+  options.start = optimize::Start::AsGiven;
+  const optimize::MinimizeResult reference = optimize::minimize(soft, options);
+  ASSERT_TRUE(reference.report.converged) << reference.report.termination;
+
+  optimize::KeptFactorization kept;
+  EXPECT_TRUE(kept.empty());
+  ASSERT_TRUE(optimize::minimize(stiff, options, &kept).report.converged);
+  EXPECT_FALSE(kept.empty());
+  optimize::BoundaryConditions near = soft.boundary;
+  near.start = reference.positions;
+  near.xi = reference.xi;
+  for (int v = 0; v < mesh.vertexCount(); ++v)
+    if (!near.fixedVertex[v]) near.start(v, 2) += 1e-5 * std::sin(3.0 * v);
+  const optimize::MinimizeResult r = optimize::minimize(soft, near, options, &kept);
+  ASSERT_TRUE(r.report.converged) << r.report.termination;
+  EXPECT_LT((r.positions - reference.positions).cwiseAbs().maxCoeff(), 1e-7);
+  EXPECT_NE(r.report.termination.find(" chord steps"), std::string::npos);
+  EXPECT_EQ(r.report.termination.find(" 0 chord steps"), std::string::npos)
+      << r.report.termination;  // the first step was on the kept factor
+
+  const modeling::Mesh other = modeling::generateMesh({MeshFamily::Delaunay, 9, 5, {}});
+  const optimize::Problem otherSheet = saddleSheet(other);
+  const optimize::MinimizeResult o = optimize::minimize(otherSheet, options, &kept);
+  EXPECT_TRUE(o.report.converged) << o.report.termination;
+  const optimize::MinimizeResult fresh = optimize::minimize(otherSheet, options);
+  EXPECT_EQ(o.positions, fresh.positions);  // a fresh analysis: the same solve, bit for bit
+}
+
 TEST(MinimizeErrors, IllPosedProblemsAreRefusedWithAReason) {
   const testing::TestProblem problem(modeling::generateMesh({MeshFamily::Patch48, 4, 1, {}}),
                                      energy(Discretization::Hinge));

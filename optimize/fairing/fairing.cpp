@@ -212,7 +212,9 @@ namespace {
 // minimized from `from` (ξ from `xiFrom`; empty: `from` is `start`, ξ their minimizer). The
 // dihedral barrier is built at `start`, the first stage's start, so every stage has the same
 // ceilings. ξ's minimizer at `start` does not depend on w (no membrane or barrier reads ξ): an
-// earlier stage's `startXi` is passed on as `knownStartXi` (empty: computed).
+// earlier stage's `startXi` is passed on as `knownStartXi` (empty: computed). Every stage has the
+// same unknowns and Hessian pattern, so `kept` carries CHOLMOD's analysis and the last factor from
+// one stage to the next: a stage starts with chord steps on the factor its predecessor ended with.
 struct FairingStage {
   MinimizeResult result;
   Eigen::VectorXd startXi;         // ξ minimized for `start` (midedge; else empty)
@@ -225,7 +227,7 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
                                const FairingOptions& options, ProblemOptions p, double weight,
                                double meanEdge, const Positions& start, const Positions& from,
                                const Eigen::VectorXd& xiFrom, const Eigen::VectorXd& knownStartXi,
-                               double angleFloorRadians) {
+                               double angleFloorRadians, KeptFactorization& kept) {
   const std::vector<int> region = regionFaces(patch);
   p.membrane = fairingMembrane(options.membrane, weight, p.bending.stiffness, meanEdge);
   p.boundaryPositions = from;
@@ -262,7 +264,7 @@ FairingStage solveFairingStage(const modeling::FairingPatch& patch,
   MinimizeOptions solver = options.solver;
   solver.linearized = false;
   solver.start = Start::AsGiven;
-  stage.result = minimize(problem, solver);
+  stage.result = minimize(problem, solver, &kept);
   stage.finalGradientNorm = freeGradientNorm(stage.result.positions, stage.result.xi);
   return stage;
 }
@@ -306,9 +308,10 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
                                ? fairBiharmonic(patch, stencils, rest)
                                : start;
   const double angleFloor = angleFloorDegrees(patch, region, linear) * kPi / 180.0;
+  KeptFactorization kept;
   FairingStage stage =
       solveFairingStage(patch, stencils, rest, options, p, options.membraneWeight, meanEdge, start,
-                        start, Eigen::VectorXd(), Eigen::VectorXd(), angleFloor);
+                        start, Eigen::VectorXd(), Eigen::VectorXd(), angleFloor, kept);
   // The fade (FairingOptions::membraneFadeStages): w_k = w / 10^k, each stage started at the last
   // converged result; a stage that does not converge or fails checkFairing's checks is dropped and
   // the fade stops there, so the result is the last stage that converged — unless the solver's
@@ -318,9 +321,9 @@ FairingResult fairNonlinear(const modeling::FairingPatch& patch, const FairingOp
   for (int k = 0; k < options.membraneFadeStages && stage.result.report.converged; ++k) {
     weight *= kMembraneFadeFactor;
     try {
-      FairingStage next =
-          solveFairingStage(patch, stencils, rest, options, p, weight, meanEdge, start,
-                            stage.result.positions, stage.result.xi, stage.startXi, angleFloor);
+      FairingStage next = solveFairingStage(patch, stencils, rest, options, p, weight, meanEdge,
+                                            start, stage.result.positions, stage.result.xi,
+                                            stage.startXi, angleFloor, kept);
       if (next.result.report.stop == NewtonStop::Stopped) {
         stage.result.report.converged = false;
         stage.result.report.stop = NewtonStop::Stopped;

@@ -67,6 +67,13 @@ inline constexpr double kMembraneFadeFactor = 0.1;
 // gains 2–3 % more at 1.3 times the time. The noisy cap's error falls by under 6 % at any lower w:
 // the membrane is not its floor.
 inline constexpr int kCurrentMetricMembraneFadeStages = 1;
+// The fairing's quasi-Newton chord steps on the current metric (MinimizeOptions::quasiNewton):
+// its Hessian, through the metric, costs more to assemble than the input metric's, so steps on a
+// kept factor pay. Measured on the bunny region (scripts/bench fair, midedge, medians of three
+// runs; together with the fade's KeptFactorization): 54.3 s → 42.3 s, 9 factorizations → 6 (5
+// Newton steps → 3 at w = 0.1, 2 at w = 0.01), the same result. On the input's metric they change
+// nothing worth a default (one run: 6 factorizations → 5, 24.1 s → 24.6 s).
+inline constexpr bool kCurrentMetricQuasiNewton = true;
 // The membrane's rest triangle shapes: the start's (the default: the membrane costs nothing at
 // the start and holds the triangles against sliding) or the input's (noisy or flattened shapes
 // included).
@@ -102,7 +109,8 @@ struct FairingOptions {
 };
 
 // The options a fairing on `metric` starts from. On the current metric: the membrane weight
-// kCurrentMetricMembraneWeight faded in kCurrentMetricMembraneFadeStages stages, and cotan's
+// kCurrentMetricMembraneWeight faded in kCurrentMetricMembraneFadeStages stages, quasi-Newton chord
+// steps (kCurrentMetricQuasiNewton), and cotan's
 // barycentric vertex area — the mixed Voronoi area switches formula where a current angle crosses
 // 90°, and on the current metric that kink stalls Newton (the shark's holes: 200 iterations). On
 // the input's: w = 1 and the Voronoi area.
@@ -112,6 +120,7 @@ inline FairingOptions defaultFairingOptions(FairingMetric metric) {
   if (metric != FairingMetric::Input) {
     options.membraneWeight = kCurrentMetricMembraneWeight;
     options.membraneFadeStages = kCurrentMetricMembraneFadeStages;
+    options.solver.quasiNewton = kCurrentMetricQuasiNewton;
     options.bending.vertexArea = curvature::VertexArea::Barycentric;
   }
   return options;

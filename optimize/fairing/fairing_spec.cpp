@@ -50,7 +50,9 @@ FairingOptions FairingSpec::options() const {
   o.membraneWeight = membraneWeight.value_or(o.membraneWeight);
   o.start = parseFairingStart(start);
   o.angleBarrier = !allowSlivers;
+  const bool metricQuasiNewton = o.solver.quasiNewton;
   o.solver = solver;
+  o.solver.quasiNewton = solver.quasiNewton || metricQuasiNewton;
   return o;
 }
 

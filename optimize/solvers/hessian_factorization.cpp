@@ -42,8 +42,7 @@ HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
                                            FillReducingOrder computed, bool simplicial)
     : cholmod_(
           new Cholmod{CholeskyFactor(assembly.size(), assembly.columnStart(), assembly.rowIndex(),
-                                     order, hessianCholeskyOptions(computed))}),
-      assembly_(assembly) {
+                                     order, hessianCholeskyOptions(computed))}) {
   if (simplicial) {
     simplicial_ = std::make_unique<Simplicial>();
     simplicial_->columnStart = assembly.columnStart();
@@ -54,6 +53,14 @@ HessianFactorization::HessianFactorization(const HessianAssembly& assembly,
 }
 
 HessianFactorization::~HessianFactorization() = default;
+
+bool HessianFactorization::serves(const HessianAssembly& assembly) const {
+  if (simplicial_)
+    return simplicial_->columnStart == assembly.columnStart() &&
+           simplicial_->rowIndex == assembly.rowIndex();
+  return cholmod_->factor.columnStart() == assembly.columnStart() &&
+         cholmod_->factor.rowIndex() == assembly.rowIndex();
+}
 
 bool HessianFactorization::factor(const std::vector<double>& values, double shift) {
   if (simplicial_) {

@@ -12,7 +12,8 @@ namespace flexure::optimize {
 
 // A sparse Cholesky factorization (CHOLMOD, supernodal) of the assembled Hessian whose symbolic
 // analysis — the fill-reducing order and the factor's structure — is computed once, at
-// construction, and reused by every numerical factorization.
+// construction, and reused by every numerical factorization. It keeps its own copy of the
+// pattern, so it serves any later assembly with the same pattern (KeptFactorization, minimize.h).
 class HessianFactorization {
  public:
   // `order`: the elimination order of the free unknowns, or empty for the one CHOLMOD computes
@@ -26,6 +27,9 @@ class HessianFactorization {
   HessianFactorization(const HessianFactorization&) = delete;
   HessianFactorization& operator=(const HessianFactorization&) = delete;
 
+  // Whether `assembly` has the pattern this factorization was analysed for.
+  bool serves(const HessianAssembly& assembly) const;
+
   // Factors H + μ I. false when it is not positive definite (or CHOLMOD fails).
   bool factor(const std::vector<double>& values, double shift = 0.0);
   // H⁻¹ b with the last successful factor.
@@ -36,7 +40,6 @@ class HessianFactorization {
   struct Simplicial;
   std::unique_ptr<Cholmod> cholmod_;
   std::unique_ptr<Simplicial> simplicial_;
-  const HessianAssembly& assembly_;
 };
 
 // The fill-reducing order for `assembly`'s free unknowns: geometric nested dissection of the free

@@ -13,6 +13,7 @@
 #include "optimize/linear/linear_algebra_threads.h"
 #include "optimize/linear/linearized_solver.h"
 #include "optimize/problem.h"
+#include "optimize/solvers/hessian_factorization.h"
 #include "optimize/solvers/newton_solver.h"
 
 namespace flexure::optimize {
@@ -295,7 +296,13 @@ void MinimizeOptions::validate() const {
                      "Hessian)");
 }
 
-MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options) {
+KeptFactorization::KeptFactorization() = default;
+KeptFactorization::~KeptFactorization() = default;
+KeptFactorization::KeptFactorization(KeptFactorization&&) noexcept = default;
+KeptFactorization& KeptFactorization::operator=(KeptFactorization&&) noexcept = default;
+
+MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options,
+                        KeptFactorization* kept) {
   const std::vector<bool>& heldEdge = problem.boundary.fixedEdge;
   if (options.linearized != problem.linearizedClamp &&
       std::find(heldEdge.begin(), heldEdge.end(), true) != heldEdge.end())
@@ -303,11 +310,11 @@ MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options) 
                      (options.linearized ? "true" : "false") +
                      " but the problem's boundary ξ are clamped for the other solve "
                      "(ProblemOptions.linearizedClamp): build the problem with the same value");
-  return minimize(problem, problem.boundary, options);
+  return minimize(problem, problem.boundary, options, kept);
 }
 
 MinimizeResult minimize(const Problem& problem, const BoundaryConditions& conditions,
-                        const MinimizeOptions& options) {
+                        const MinimizeOptions& options, KeptFactorization* kept) {
   const std::vector<const EnergyTerm*> terms = problem.termPointers();
   const Positions& rest = problem.rest.positions;
   const Eigen::VectorXd& restXi = problem.restXi;
@@ -325,7 +332,7 @@ MinimizeResult minimize(const Problem& problem, const BoundaryConditions& condit
   if (options.linearized) {
     result = minimizeLinearized(terms, conditions, rest, restXi, problem.dof);
   } else if (options.solver == Solver::Newton) {
-    result = minimizeNewton(problem, conditions, options);
+    result = minimizeNewton(problem, conditions, options, kept);
   } else if (options.start == Start::Linearized) {
     const MinimizeResult predictor =
         minimizeLinearized(terms, conditions, rest, restXi, problem.dof);

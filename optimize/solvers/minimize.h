@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +50,10 @@ Start parseStart(std::string_view name);
 Solver parseSolver(std::string_view name);
 HessianMode parseHessianMode(std::string_view name);
 
+// The pairs of MinimizeOptions::quasiNewton's L-BFGS steps, as the time steps' default
+// (DynamicsOptions::quasiNewtonPairs).
+inline constexpr int kQuasiNewtonPairs = 6;
+
 // How a Problem (problem.h: the terms, the unknown layout, the boundary, the load, the
 // obstacles) is minimized.
 struct MinimizeOptions {
@@ -62,6 +67,11 @@ struct MinimizeOptions {
   double gradientTolerance = 1e-10;   // max-norm of the gradient over the free unknowns
   double parameterTolerance = 1e-12;  // Ceres: |Δx| / |x|
   int threads = 2;
+  // Newton: each chord step is the L-BFGS step on the kept factor F with the last
+  // kQuasiNewtonPairs accepted steps since F was factored (newton_loop.h: H₀ = F⁻¹, taken while λ²
+  // halves per step) instead of −F⁻¹∇E. Fewer factorizations where a Hessian is dear (the fairing
+  // on the current metric, fairing.h).
+  bool quasiNewton = false;
   bool progress = false;  // one line per iteration on stderr
   // Called at every iteration of the nonlinear solvers (not the linearized solve); true stops the
   // solve, reported as MinimizeReport::stop NewtonStop::Stopped, not converged.
@@ -100,6 +110,31 @@ struct MinimizeResult {
 };
 
 struct Problem;
+class HessianFactorization;
+
+// What a Newton solve keeps for the next solve of the same unknowns with the same Hessian pattern —
+// a continuation in a parameter, as the fairing's membrane fade (the same terms, another weight):
+// CHOLMOD's symbolic analysis (the fill-reducing order and the factor's structure) and the last
+// numerical factor. The next solve checks the pattern (another one is analysed afresh and replaces
+// it) and takes its first steps as chord steps on the kept factor, under the chord step's tests
+// (newton_loop.h): a Newton step at its own iterate as soon as they no longer contract tenfold, and
+// no convergence on the kept factor's decrement until a chord step on it has contracted. Empty
+// until a Newton solve fills it; the other solvers neither read nor fill it.
+class KeptFactorization {
+ public:
+  KeptFactorization();
+  ~KeptFactorization();
+  KeptFactorization(KeptFactorization&&) noexcept;
+  KeptFactorization& operator=(KeptFactorization&&) noexcept;
+
+  bool empty() const { return factorization_ == nullptr; }
+
+ private:
+  friend MinimizeResult minimizeNewton(const Problem&, const BoundaryConditions&,
+                                       const MinimizeOptions&, KeptFactorization*);
+  std::unique_ptr<HessianFactorization> factorization_;
+  bool haveFactor_ = false;  // it holds a numerical factor (the last solve's last one)
+};
 
 // The minimizer of the problem's terms over its free unknowns, with its boundary values — or with
 // `conditions` in their place (other held sets and values on the same problem, as the C2 study
@@ -114,8 +149,11 @@ struct Problem;
 // clamped for the other kind of solve (MinimizeOptions.linearized against
 // ProblemOptions.linearizedClamp). Does not throw on non-convergence: the report says so
 // (converged = false).
-MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options);
+// `kept` (Newton only): the analysis and factor of the last solve on the same pattern, taken and
+// refilled (KeptFactorization).
+MinimizeResult minimize(const Problem& problem, const MinimizeOptions& options,
+                        KeptFactorization* kept = nullptr);
 MinimizeResult minimize(const Problem& problem, const BoundaryConditions& conditions,
-                        const MinimizeOptions& options);
+                        const MinimizeOptions& options, KeptFactorization* kept = nullptr);
 
 }  // namespace flexure::optimize

@@ -339,8 +339,9 @@ class NewtonLoop::StaticStop {
     return result.stop != NewtonStop::Running;
   }
   bool converged(const HessianEvaluation& at, const Eigen::VectorXd&, double decrement,
-                 bool) const {
-    return decrement > 0.0 && 0.5 * decrement <= rule_.functionTolerance * std::abs(at.energy);
+                 bool trusted) const {
+    return (trusted || !rule_.inheritedFactor) && decrement > 0.0 &&
+           0.5 * decrement <= rule_.functionTolerance * std::abs(at.energy);
   }
   void finish(NewtonLoop& loop, Objective& objective, Eigen::VectorXd& y,
               const HessianEvaluation& at, const Eigen::VectorXd& delta, double decrement, double,
@@ -517,6 +518,7 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
   policy.chordSteps = rule.chordSteps;
   policy.indefinite = rule.indefinite;
   policy.progress = rule.progress;
+  policy.quasiNewtonPairs = rule.chordSteps ? rule.quasiNewtonPairs : 0;
   policy.search.chordTrials = 5;  // a chord step that needs α < 0.1 asks for a Newton step
   policy.search.smallestStep = 1e-12;
   return iterate(objective, y, StaticStop(rule), policy);

@@ -6,7 +6,7 @@
 // hand, the chord step δ = −F⁻¹∇f with its decrement λ² = −∇fᵀδ. δ is taken as a chord step
 // (modified Newton) while λ² shrinks at least 10-fold per iteration; otherwise the Hessian at y is
 // assembled and factored with CHOLMOD (analysis once per pattern) for a Newton step.
-// The step rule may take quasi-Newton steps on F instead (StepStopRule::quasiNewtonPairs = m > 0;
+// Either rule may take quasi-Newton steps on F instead (quasiNewtonPairs = m > 0;
 // Liu, Bouaziz & Kavan 2017, "Quasi-Newton methods for real-time simulation of hyperelastic
 // materials"; DOT's L-BFGS-H, Li et al. 2019): δ = −H_k∇f with H_k the L-BFGS inverse Hessian of
 // the last m pairs s = y_{j+1} − y_j, t = ∇f_{j+1} − ∇f_j of the steps accepted since F was
@@ -58,10 +58,16 @@ struct StaticStopRule {
   double gradientTolerance = 1e-10;  // on ‖∇f‖∞
   int maxIterations = 200;           // accepted steps
   bool chordSteps = true;            // false: every step factors the Hessian at its iterate
+  // With chordSteps, m > 0: each chord step is the L-BFGS step on F⁻¹, as StepStopRule's.
+  int quasiNewtonPairs = 0;
   IndefiniteHessian indefinite = IndefiniteHessian::GaussNewton;
   bool progress = false;  // one line per iteration on stderr
   // Called at each iterate before the iteration limit is tested (the start included).
   IterationObserver observer;
+  // The loop's factor is of another problem's Hessian (KeptFactorization, minimize.h): a chord
+  // step's decrement on it proves convergence only once a chord step has contracted, as the step
+  // rule's `trusted` (the factor may be stiffer than the Hessian here, its decrement too small).
+  bool inheritedFactor = false;
 };
 
 struct StepStopRule {
@@ -112,8 +118,10 @@ class NewtonLoop {
   NewtonResult run(Objective& objective, Eigen::VectorXd& y, const StaticStopRule& rule);
   NewtonResult run(Objective& objective, Eigen::VectorXd& y, const StepStopRule& rule);
 
-  // Whether a factor from an earlier run (or `factor` below) is at hand; forget() drops it.
+  // Whether a factor from an earlier run (or `factor` below) is at hand; forget() drops it,
+  // adoptFactor() says the factorization holds one from elsewhere (KeptFactorization).
   bool haveFactor() const { return haveFactor_; }
+  void adoptFactor() { haveFactor_ = true; }
   void forget() {
     haveFactor_ = false;
     chordHessian_.clear();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 
 #include "modeling/errors.h"
 #include "optimize/assembly/energy_evaluation.h"
@@ -34,7 +35,10 @@ Eigen::VectorXd unknownVector(const Positions& x, const Eigen::VectorXd& xi, boo
 
 class NewtonSolver {
  public:
-  NewtonSolver(const Problem& problem, const BoundaryConditions& bc, const MinimizeOptions& options)
+  // `kept`: the factorization of an earlier solve, used (with its factor, when `haveFactor`) if
+  // it serves this problem's pattern; else null.
+  NewtonSolver(const Problem& problem, const BoundaryConditions& bc, const MinimizeOptions& options,
+               std::unique_ptr<HessianFactorization> kept, bool haveFactor)
       : terms_(problem.termPointers()),
         bc_(bc),
         rest_(problem.rest.positions),
@@ -48,13 +52,18 @@ class NewtonSolver {
                                              : curvature::Derivatives::All),
         free_(freeUnknowns()),
         assembly_(terms_, free_, static_cast<int>(rest_.rows()), derivatives_),
-        factorization_(assembly_,
-                       options.simplicialBaseline ? std::vector<int>() : eliminationOrder(),
-                       computedOrder(), options.simplicialBaseline),
-        loop_(assembly_, factorization_),
+        inherited_(kept != nullptr && kept->serves(assembly_)),
+        factorization_(inherited_ ? std::move(kept) : analysed()),
+        loop_(assembly_, *factorization_),
         projection_(options.hessian == HessianMode::Projected
                         ? HessianProjection::PositiveSemidefinite
-                        : HessianProjection::Exact) {}
+                        : HessianProjection::Exact) {
+    if (inherited_ && haveFactor) loop_.adoptFactor();
+  }
+
+  // The factorization, and whether it holds a factor, for the next solve (KeptFactorization).
+  std::unique_ptr<HessianFactorization> releaseFactorization() { return std::move(factorization_); }
+  bool haveFactor() const { return loop_.haveFactor(); }
 
   // The fill-reducing order: the geometric nested dissection of the free vertices in height
   // mode without ξ; otherwise one CHOLMOD computes (computedOrder). Measured against AMD, one run
@@ -78,6 +87,12 @@ class NewtonSolver {
   FillReducingOrder computedOrder() const {
     return withXi_ && dof_ == DofMode::Height ? FillReducingOrder::Amd
                                               : FillReducingOrder::NestedDissection;
+  }
+  // The symbolic analysis of this problem's pattern.
+  std::unique_ptr<HessianFactorization> analysed() const {
+    return std::make_unique<HessianFactorization>(
+        assembly_, options_.simplicialBaseline ? std::vector<int>() : eliminationOrder(),
+        computedOrder(), options_.simplicialBaseline);
   }
 
   MinimizeResult run(Clock::time_point start) {
@@ -109,8 +124,10 @@ class NewtonSolver {
     rule.gradientTolerance = options_.gradientTolerance;
     rule.maxIterations = options_.maxIterations;
     rule.chordSteps = !options_.simplicialBaseline;
+    rule.quasiNewtonPairs = options_.quasiNewton ? kQuasiNewtonPairs : 0;
     rule.progress = options_.progress;
     rule.observer = options_.observer;
+    rule.inheritedFactor = inherited_ && loop_.haveFactor();
     if (options_.hessian == HessianMode::Shifted) rule.indefinite = IndefiniteHessian::Shifted;
     if (options_.hessian == HessianMode::ExactOrProjected)
       rule.indefinite = IndefiniteHessian::Projected;
@@ -257,7 +274,8 @@ class NewtonSolver {
   const curvature::Derivatives derivatives_;
   const std::vector<bool> free_;
   HessianAssembly assembly_;
-  HessianFactorization factorization_;
+  const bool inherited_;  // the factorization is a KeptFactorization's
+  std::unique_ptr<HessianFactorization> factorization_;
   NewtonLoop loop_;
   const HessianProjection projection_;
   MinimizeReport report_;
@@ -269,10 +287,16 @@ class NewtonSolver {
 }  // namespace
 
 MinimizeResult minimizeNewton(const Problem& problem, const BoundaryConditions& conditions,
-                              const MinimizeOptions& options) {
+                              const MinimizeOptions& options, KeptFactorization* kept) {
   const auto start = Clock::now();
-  NewtonSolver solver(problem, conditions, options);
-  return solver.run(start);
+  NewtonSolver solver(problem, conditions, options,
+                      kept ? std::move(kept->factorization_) : nullptr, kept && kept->haveFactor_);
+  MinimizeResult result = solver.run(start);
+  if (kept) {
+    kept->haveFactor_ = solver.haveFactor();
+    kept->factorization_ = solver.releaseFactorization();
+  }
+  return result;
 }
 
 }  // namespace flexure::optimize

@@ -19,8 +19,9 @@
 namespace flexure::optimize {
 
 // Called by minimize() for Solver::Newton with the problem's or other boundary conditions; the
-// problem has been checked (requireWellPosed).
+// problem has been checked (requireWellPosed). `kept` (may be null): the analysis and factor of an
+// earlier solve, used where its pattern is this problem's, and refilled with this solve's.
 MinimizeResult minimizeNewton(const Problem& problem, const BoundaryConditions& conditions,
-                              const MinimizeOptions& options);
+                              const MinimizeOptions& options, KeptFactorization* kept);
 
 }  // namespace flexure::optimize
