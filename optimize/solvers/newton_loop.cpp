@@ -165,6 +165,7 @@ bool NewtonLoop::factorShifted(const std::vector<double>& values, NewtonResult& 
     ++result.shiftedFactorizations;
   }
   haveFactor_ = ok;
+  adopted_ = false;
   chordHessian_.clear();
   result.linearSolverSeconds += secondsSince(t);
   return ok;
@@ -186,6 +187,7 @@ bool NewtonLoop::factorNewton(Objective& objective, const Eigen::VectorXd& y,
   const bool exact = factorization_.factor(h.values);
   result.linearSolverSeconds += secondsSince(t);
   chordHessian_.clear();
+  adopted_ = false;
   if (exact) return haveFactor_ = true;
   // Already the fallback's matrix (a step that keeps it), or the rule shifts: H + μI.
   if (fallback || indefinite == IndefiniteHessian::Shifted)

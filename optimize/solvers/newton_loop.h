@@ -119,11 +119,13 @@ class NewtonLoop {
   NewtonResult run(Objective& objective, Eigen::VectorXd& y, const StepStopRule& rule);
 
   // Whether a factor from an earlier run (or `factor` below) is at hand; forget() drops it,
-  // adoptFactor() says the factorization holds one from elsewhere (KeptFactorization).
+  // adoptFactor() says the factorization holds one from elsewhere (KeptFactorization), and
+  // factorAdopted() whether that one is still the factor at hand.
   bool haveFactor() const { return haveFactor_; }
-  void adoptFactor() { haveFactor_ = true; }
+  void adoptFactor() { haveFactor_ = adopted_ = true; }
+  bool factorAdopted() const { return haveFactor_ && adopted_; }
   void forget() {
-    haveFactor_ = false;
+    haveFactor_ = adopted_ = false;
     chordHessian_.clear();
   }
   // Factors h's values, shifted by μI where singular (the static rule's); counts into `result`.
@@ -176,6 +178,7 @@ class NewtonLoop {
   const HessianAssembly& assembly_;
   HessianFactorization& factorization_;
   bool haveFactor_ = false;
+  bool adopted_ = false;  // the factor is adoptFactor()'s, none of this loop's own
   // The step rule's last Hessian when its Newton step was solved by PCG (preconditionedStep):
   // the chord steps solve with it, F as their preconditioner. Empty when F is of the last Hessian.
   std::vector<double> chordHessian_;

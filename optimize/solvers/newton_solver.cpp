@@ -127,7 +127,7 @@ class NewtonSolver {
     rule.quasiNewtonPairs = options_.quasiNewton ? kQuasiNewtonPairs : 0;
     rule.progress = options_.progress;
     rule.observer = options_.observer;
-    rule.inheritedFactor = inherited_ && loop_.haveFactor();
+    rule.inheritedFactor = loop_.factorAdopted();  // not when the predictor factored
     if (options_.hessian == HessianMode::Shifted) rule.indefinite = IndefiniteHessian::Shifted;
     if (options_.hessian == HessianMode::ExactOrProjected)
       rule.indefinite = IndefiniteHessian::Projected;
