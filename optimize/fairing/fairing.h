@@ -72,7 +72,8 @@ inline constexpr int kCurrentMetricMembraneFadeStages = 1;
 // kept factor pay. Measured on the bunny region (scripts/bench fair, midedge, medians of three
 // runs; together with the fade's KeptFactorization): 54.3 s → 42.3 s, 9 factorizations → 6 (5
 // Newton steps → 3 at w = 0.1, 2 at w = 0.01), the same result. On the input's metric they change
-// nothing worth a default (one run: 6 factorizations → 5, 24.1 s → 24.6 s).
+// nothing worth a default (6 factorizations → 5, 24.1 s → 24.6 s: one run each, not side by side,
+// so the times compare only roughly).
 inline constexpr bool kCurrentMetricQuasiNewton = true;
 // The membrane's rest triangle shapes: the start's (the default: the membrane costs nothing at
 // the start and holds the triangles against sliding) or the input's (noisy or flattened shapes
