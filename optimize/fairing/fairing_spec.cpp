@@ -50,9 +50,10 @@ FairingOptions FairingSpec::options() const {
   o.membraneWeight = membraneWeight.value_or(o.membraneWeight);
   o.start = parseFairingStart(start);
   o.angleBarrier = !allowSlivers;
-  const bool metricQuasiNewton = o.solver.quasiNewton;
+  const MinimizeOptions metricSolver = o.solver;
   o.solver = solver;
-  o.solver.quasiNewton = solver.quasiNewton || metricQuasiNewton;
+  o.solver.quasiNewton = solver.quasiNewton || metricSolver.quasiNewton;
+  o.solver.keepGaussNewton = solver.keepGaussNewton || metricSolver.keepGaussNewton;
   return o;
 }
 

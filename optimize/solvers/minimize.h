@@ -72,6 +72,11 @@ struct MinimizeOptions {
   // halves per step) instead of −F⁻¹∇E. Fewer factorizations where a Hessian is dear (the fairing
   // on the current metric, fairing.h).
   bool quasiNewton = false;
+  // Newton: after an indefinite Hessian, its Newton steps factor JᵀJ for as long as they contract
+  // tenfold (newton_loop.h, the time steps' policy), rather than factoring the Hessian first, and
+  // JᵀJ after it fails, at every one. Where most Hessians are indefinite (the fairing on the
+  // current metric, fairing.h) that halves the factorizations of those steps.
+  bool keepGaussNewton = false;
   bool progress = false;  // one line per iteration on stderr
   // Called at every iteration of the nonlinear solvers (not the linearized solve); true stops the
   // solve, reported as MinimizeReport::stop NewtonStop::Stopped, not converged.

@@ -519,6 +519,8 @@ NewtonResult NewtonLoop::run(Objective& objective, Eigen::VectorXd& y, const Sta
   Policy policy;
   policy.chordSteps = rule.chordSteps;
   policy.indefinite = rule.indefinite;
+  policy.keepGaussNewton =
+      rule.keepGaussNewton && rule.indefinite == IndefiniteHessian::GaussNewton;
   policy.progress = rule.progress;
   policy.quasiNewtonPairs = rule.chordSteps ? rule.quasiNewtonPairs : 0;
   policy.search.chordTrials = 5;  // a chord step that needs α < 0.1 asks for a Newton step

@@ -61,6 +61,10 @@ struct StaticStopRule {
   // With chordSteps, m > 0: each chord step is the L-BFGS step on F⁻¹, as StepStopRule's.
   int quasiNewtonPairs = 0;
   IndefiniteHessian indefinite = IndefiniteHessian::GaussNewton;
+  // With the GaussNewton rule: after an indefinite Hessian the Newton steps factor JᵀJ while they
+  // contract tenfold, as StepStopRule's, instead of trying the Hessian (a second factorization)
+  // at every one.
+  bool keepGaussNewton = false;
   bool progress = false;  // one line per iteration on stderr
   // Called at each iterate before the iteration limit is tested (the start included).
   IterationObserver observer;

@@ -125,6 +125,7 @@ class NewtonSolver {
     rule.maxIterations = options_.maxIterations;
     rule.chordSteps = !options_.simplicialBaseline;
     rule.quasiNewtonPairs = options_.quasiNewton ? kQuasiNewtonPairs : 0;
+    rule.keepGaussNewton = options_.keepGaussNewton;
     rule.progress = options_.progress;
     rule.observer = options_.observer;
     rule.inheritedFactor = loop_.factorAdopted();  // not when the predictor factored
