@@ -74,8 +74,9 @@ struct MinimizeOptions {
   bool quasiNewton = false;
   // Newton: after an indefinite Hessian, its Newton steps factor JᵀJ for as long as they contract
   // tenfold (newton_loop.h, the time steps' policy), rather than factoring the Hessian first, and
-  // JᵀJ after it fails, at every one. Where most Hessians are indefinite (the fairing on the
-  // current metric, fairing.h) that halves the factorizations of those steps.
+  // JᵀJ after it fails, at every one: such a step factors once, not twice. Worth it where most
+  // Hessians are indefinite (the fairing on the current metric, fairing.h); where few are, JᵀJ's
+  // linear convergence can cost more Newton steps than it saves.
   bool keepGaussNewton = false;
   bool progress = false;  // one line per iteration on stderr
   // Called at every iteration of the nonlinear solvers (not the linearized solve); true stops the
