@@ -78,10 +78,11 @@ inline constexpr bool kCurrentMetricQuasiNewton = true;
 // The fairing on the current metric keeps JᵀJ after an indefinite Hessian
 // (MinimizeOptions::keepGaussNewton): there most Newton steps meet one (b9_mesh's holes: 109 of
 // 116), each then factored twice. Measured (the fairing on the current metric, defaults otherwise,
-// one run each, in turn): b9_mesh's holes 6.5 s → 5.3 s (257 factorizations → 188), the lion's
-// holes 2.9 → 2.2 s, patch-01's all-interior 3.7 → 3.0 s, lion-head's 14.7 → 11.7 s, the same
-// results (E_midedge to 5 digits, smallest angle to 1e-8 degrees); the bunny region 6
-// factorizations either way (20 iterations against 19: few of its Hessians are indefinite).
+// three runs of the binaries with and without it in turn, medians of the wall time): b9_mesh's
+// holes 5.57 s → 0.82 times that (257 factorizations → 188), lion-head's all-interior 12.66 s →
+// 0.78 times that (18 → 12); the same results (E_midedge to 5 digits, smallest angle to 1e-8
+// degrees); the bunny region 6 factorizations either way (20 iterations against 19: few of its
+// Hessians are indefinite).
 inline constexpr bool kCurrentMetricKeepGaussNewton = true;
 // The membrane's rest triangle shapes: the start's (the default: the membrane costs nothing at
 // the start and holds the triangles against sliding) or the input's (noisy or flattened shapes
